@@ -1,0 +1,42 @@
+// Contact geometry: what the neighbour search and the wall functions hand to the contact law.
+// Layer 2 of 3 (neighbour search -> contact geometry -> contact law).
+#pragma once
+#include "bagdem/vec3.hpp"
+
+namespace bagdem {
+
+// One contact between body i (a particle) and body j (a particle or a wall), seen from i.
+struct ContactGeometry {
+  Vec3 n;           // unit normal pointing from j towards i
+  double overlap;   // delta > 0 (unit: m)
+  double R_eff;     // R* with 1/R* = 1/R_i + 1/R_j, R_j = inf for a wall (unit: m)
+  double m_eff;     // m* with 1/m* = 1/m_i + 1/m_j, m_j = inf for a wall (unit: kg)
+  double arm_i;     // distance from i's centre to the contact point (unit: m)
+  double arm_j;     // same for j (0 for a wall) (unit: m)
+  Vec3 v_rel;       // velocity of i's material point at the contact relative to j's (unit: m/s)
+  Vec3 w_rel;       // angular velocity of i relative to j (unit: rad/s); for rolling resistance
+};
+
+// Sphere-sphere geometry. x, v, w of i and j; r radii; im inverse masses.
+inline bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, ContactGeometry& g) {
+  const Vec3 d = xi - xj;
+  const double dist2 = d.squaredNorm();
+  const double rsum = ri + rj;
+  if (dist2 >= rsum * rsum) return false;
+  const double dist = std::sqrt(dist2);
+  g.n = d / dist;
+  g.overlap = rsum - dist;
+  g.R_eff = ri * rj / rsum;
+  g.arm_i = ri - 0.5 * g.overlap;
+  g.arm_j = rj - 0.5 * g.overlap;
+  return true;
+}
+
+// Relative kinematics at the contact point c (c - x_i = -arm_i n, c - x_j = +arm_j n).
+inline void relative_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
+                              ContactGeometry& g) {
+  g.v_rel = vi - vj - (g.arm_i * wi + g.arm_j * wj).cross(g.n);
+  g.w_rel = wi - wj;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,68 @@
+// Tangential role: Mindlin no-slip spring with history, viscous damping and a Coulomb cap.
+//
+//   S_t = 8 G* sqrt(R* delta)                                   Mindlin (1949); Johnson (1985) eq. 7.41
+//   gamma_t = 2 sqrt(5/6)|beta| sqrt(S_t m*)                   Tsuji et al. (1992)
+//   F_t = F_e - gamma_t v_t,  |F_t| <= mu_s F_n                Coulomb
+// The history is the elastic tangential force F_e. Each step it is rotated into the current tangent
+// plane (magnitude kept, as LIGGGHTS does), then incremented by -S_t v_t dt. When S_t falls
+// (unloading) F_e is scaled by S_t(new)/S_t(old); when S_t rises it is kept (Thornton, Cummins &
+// Cleary 2013 sec. 2.2). Both rules leave the stored energy |F_e|^2/(2 S_t) non-increasing under
+// stiffness changes, so no impact, grazing ones included, can gain energy from the spring.
+// In gross sliding F_t = mu_s F_n t (t the direction of the trial force) and F_e = F_t.
+#pragma once
+#include <cmath>
+
+#include "bagdem/contact/geometry.hpp"
+#include "bagdem/material.hpp"
+
+namespace bagdem {
+
+// History of one contact's tangential spring (zero when the contact opens).
+struct TangentialHistory {
+  Vec3 force = Vec3::Zero();  // elastic tangential force F_e on i (unit: N)
+  double stiffness = 0;       // S_t at the previous step (unit: N/m); 0 = new contact
+};
+
+struct TangentialResult {
+  Vec3 force;          // F_t on i (unit: N)
+  double dissipated;   // energy dissipated in this step by damping and sliding (unit: J)
+};
+
+inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
+                                           double F_n, double dt, TangentialHistory& h) {
+  const Vec3 v_t = g.v_rel - g.v_rel.dot(g.n) * g.n;
+  const double S_t = 8.0 * law.G_star * std::sqrt(g.R_eff * g.overlap);
+  const double gamma_t = law.damping * std::sqrt(S_t * g.m_eff);
+
+  Vec3 Fe = h.force;
+  const double energy_before = h.stiffness > 0 ? Fe.squaredNorm() / (2.0 * h.stiffness) : 0.0;
+  // Rotate into the tangent plane, keeping the magnitude.
+  const double mag2 = Fe.squaredNorm();
+  if (mag2 > 0) {
+    Fe -= Fe.dot(g.n) * g.n;
+    const double rot2 = Fe.squaredNorm();
+    if (rot2 > 0) Fe *= std::sqrt(mag2 / rot2);
+  }
+  if (h.stiffness > S_t) Fe *= S_t / h.stiffness;  // unloading: scale with the stiffness
+  Fe -= S_t * dt * v_t;
+
+  Vec3 Ft = Fe - gamma_t * v_t;
+  const double cap = law.friction * F_n;
+  const double Ft2 = Ft.squaredNorm();
+  if (Ft2 > cap * cap) {
+    Ft *= cap / std::sqrt(Ft2);
+    Fe = Ft;
+  }
+  h.force = Fe;
+  h.stiffness = S_t;
+  // Work done by F_t on the relative motion this step is F_t . v_t dt; what the spring did not store
+  // was dissipated (by the dashpot, by sliding, or lost in the stiffness rules).
+  const double energy_after = Fe.squaredNorm() / (2.0 * S_t);
+  return {Ft, -Ft.dot(v_t) * dt - (energy_after - energy_before)};
+}
+
+inline double mindlin_energy(const TangentialHistory& h) {
+  return h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,89 @@
+// results.h5: the HDF5 file a run writes as it goes, and the XDMF file beside it.
+//
+// Layout (all SI; every dataset has a "unit" string attribute; times in s):
+//   /                      attributes: program_version, case_file, resolved_config (TOML text),
+//                          status ("running", "complete", "failed: <message>"), settle_end (s)
+//   /particles/radius      [N]            m
+//   /particles/material    [N]            int (index into the attribute "materials", comma list)
+//   /frames/time           [F]            s
+//   /frames/position       [F, N, 3]      m
+//   /frames/velocity       [F, N, 3]      m/s
+//   /frames/angular_velocity [F, N, 3]    rad/s
+//   /cavity/time           [S]            s   end of each sample interval
+//   /cavity/position       [S, 3]         m   cavity displacement at the end of the interval
+//   /cavity/velocity       [S, 3]         m/s at the end of the interval
+//   /cavity/force          [S, 3]         N   force the contents exert on the cavity, mean over the
+//                                             interval (impulse / interval), no gravity
+//   /cavity/torque         [S, 3]         N m same, about the cavity reference point
+//                          attribute "interval" (s)
+//   /energy/time           [E]            s
+//   /energy/<name>         [E]            J   for name in EnergySample (see below)
+// Datasets are chunked and extendible; the file is flushed after each frame so that a killed run
+// leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "bagdem/vec3.hpp"
+
+namespace bagdem {
+
+// One row of the energy budget (unit: J). Balance: work_cavity + work_gravity =
+// (kinetic + elastic) - (kinetic + elastic at t = 0) + dissipated_normal + dissipated_tangential
+// + dissipated_rolling.
+struct EnergySample {
+  double kinetic = 0;               // translational + rotational
+  double elastic = 0;               // stored in contact springs (normal, tangential, rolling)
+  double work_cavity = 0;           // cumulative work of the cavity walls on the contents
+  double work_gravity = 0;          // cumulative work of gravity on the contents
+  double dissipated_normal = 0;     // cumulative, normal damping
+  double dissipated_tangential = 0; // cumulative, tangential damping and sliding
+  double dissipated_rolling = 0;    // cumulative, rolling resistance
+};
+
+// Lengths of the time series written so far (stored in checkpoints; resume truncates to them).
+struct SeriesLengths {
+  std::size_t frames = 0, cavity = 0, energy = 0;
+};
+
+class ResultsFile {
+ public:
+  // Creates a new file (truncating any) at `path`. `materials` names the material indices.
+  ResultsFile(const std::string& path, const std::vector<double>& radius,
+              const std::vector<int>& material, const std::vector<std::string>& materials,
+              double cavity_interval);
+  // Reopens an existing file to continue a run: every series is cut to `lengths`.
+  static ResultsFile reopen(const std::string& path, const SeriesLengths& lengths);
+  ResultsFile(ResultsFile&&) noexcept;
+  ResultsFile& operator=(ResultsFile&&) noexcept;
+  ResultsFile(const ResultsFile&) = delete;
+  ~ResultsFile();  // closes the file
+
+  void set_attribute(const std::string& name, const std::string& value);
+  void set_attribute(const std::string& name, double value);
+
+  void append_frame(double t, const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                    const std::vector<Vec3>& angular_velocity);
+  void append_cavity(double t, const Vec3& position, const Vec3& velocity, const Vec3& mean_force,
+                     const Vec3& mean_torque);
+  void append_energy(double t, const EnergySample& e);
+
+  SeriesLengths lengths() const;
+  void flush();
+  void close();  // idempotent
+
+ private:
+  struct Impl;
+  Impl* impl_ = nullptr;
+  explicit ResultsFile(Impl* impl);
+};
+
+// Writes an XDMF 3 file at `xmf_path` that lets ParaView open the particle frames of the HDF5 file
+// `h5_name` (a path relative to the XDMF file): a temporal collection of polyvertex grids with
+// attributes velocity, angular_velocity, radius and material. `times` are the frame times.
+void write_xdmf(const std::string& xmf_path, const std::string& h5_name, std::size_t n_particles,
+                const std::vector<double>& times);
+
+}  // namespace bagdem

@@ -1,0 +1,48 @@
+// Materials, pairwise interaction parameters, and the per-material-pair table
+// the contact kernel reads (effective moduli per physics brief section 4).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace bagdem {
+
+struct Material {
+  std::string name;
+  double density = 0;        // (unit: kg/m^3)
+  double youngs_modulus = 0; // (unit: Pa)
+  double poisson_ratio = 0;  // (dimensionless, in (-1, 0.5))
+};
+
+// What a user states for a pair of materials.
+struct Interaction {
+  double restitution = 0.5;       // normal coefficient of restitution e, in (0, 1]
+  double friction = 0.0;          // Coulomb sliding friction coefficient mu_s >= 0
+  double rolling_friction = 0.0;  // rolling resistance coefficient mu_r >= 0 (0 = off)
+};
+
+// Everything the kernel needs for one pair of materials, computed once at set-up.
+struct PairLaw {
+  double E_star = 0;        // effective Young's modulus 1/E* = sum (1-nu^2)/E (unit: Pa)
+  double G_star = 0;        // effective shear modulus 1/G* = sum 2(2-nu)(1+nu)/E (unit: Pa)
+  double damping = 0;       // 2 sqrt(5/6) |beta|: gamma = damping * sqrt(S m*) (dimensionless)
+  double friction = 0;      // mu_s
+  double rolling = 0;       // mu_r
+  double restitution = 1;   // the requested e (for reports)
+};
+
+// Square table of PairLaw indexed by material index (particles and walls share the index space).
+struct PairLawTable {
+  int n = 0;
+  std::vector<PairLaw> laws;  // n*n, symmetric
+  const PairLaw& operator()(int a, int b) const { return laws[static_cast<size_t>(a * n + b)]; }
+};
+
+// E* and G* of two materials (physics brief section 4; Johnson, Contact Mechanics, 1985).
+double effective_youngs(const Material& a, const Material& b);
+double effective_shear(const Material& a, const Material& b);
+
+// Builds the table from materials and the interaction of each pair (interactions[a*n+b]).
+PairLawTable make_pair_laws(const std::vector<Material>& materials,
+                            const std::vector<Interaction>& interactions);
+
+}  // namespace bagdem

@@ -2,6 +2,7 @@
 // a "vectorizable" fixed size, so it needs no special alignment in containers).
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross(), unitOrthogonal()
 
 namespace bagdem {
 using Vec3 = Eigen::Vector3d;

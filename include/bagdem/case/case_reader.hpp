@@ -1,0 +1,68 @@
+// Reading case.toml: typed access by dotted key with units, defaults, and bookkeeping of every key
+// read, so that any key nobody asked for is reported as unknown. Every error names the file, the
+// key, the value and what is allowed (InputError, exit code 2).
+#pragma once
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "bagdem/units.hpp"
+#include "bagdem/vec3.hpp"
+
+namespace bagdem {
+
+class CaseReader {
+ public:
+  // Parses `file`, then applies overrides "a.b.c=value" (value in TOML syntax; a bare word that is
+  // not valid TOML is taken as a string).
+  CaseReader(const std::string& file, const std::vector<std::string>& overrides);
+
+  const std::string& file() const { return file_; }
+  const toml::table& root() const { return root_; }
+  bool has(const std::string& key) const;
+  // Child keys of a table (e.g. the material names under "materials"); marks the table as read.
+  std::vector<std::string> keys(const std::string& table) const;
+  // Number of elements of an array (of tables) at key, 0 if absent.
+  std::size_t array_size(const std::string& key) const;
+
+  // A quantity: a number (SI) or a string with units of the expected dimension.
+  double quantity(const std::string& key, Dimension d) const;
+  double quantity(const std::string& key, Dimension d, double fallback) const;
+  // A quantity or the word "auto" (nullopt).
+  std::optional<double> quantity_or_auto(const std::string& key, Dimension d) const;
+  Vec3 vector(const std::string& key, Dimension d, const Vec3& fallback) const;
+  Vec3 vector(const std::string& key, Dimension d) const;
+  std::string string(const std::string& key, const std::string& fallback) const;
+  std::string string(const std::string& key) const;
+  // A string that must be one of `allowed`.
+  std::string choice(const std::string& key, const std::vector<std::string>& allowed,
+                     const std::string& fallback) const;
+  long long integer(const std::string& key, long long fallback) const;
+  bool boolean(const std::string& key, bool fallback) const;
+  // Rows of numbers (e.g. explicit positions [[x,y,z], ...]), each a quantity of dimension d.
+  std::vector<Vec3> vector_list(const std::string& key, Dimension d) const;
+
+  // Throws InputError naming `key` and its current value with the message `allowed`.
+  [[noreturn]] void fail(const std::string& key, const std::string& allowed) const;
+  // After everything was read: throws for the first key nobody asked for.
+  void reject_unknown_keys() const;
+  // The TOML text of the case with overrides applied.
+  std::string text() const;
+
+ private:
+  const toml::node* node(const std::string& key) const;  // marks key and parents as read
+  std::string value_text(const std::string& key) const;
+  double to_quantity(const toml::node& n, const std::string& key, Dimension d) const;
+
+  std::string file_;
+  toml::table root_;
+  mutable std::set<std::string> read_;
+};
+
+// Splits "a.b.0.c" into its parts.
+std::vector<std::string> split_key(const std::string& key);
+
+}  // namespace bagdem

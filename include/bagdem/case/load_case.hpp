@@ -1,0 +1,34 @@
+// From a case directory to a resolved Scene: parse case.toml (with --set overrides), validate every
+// value, fill defaults, generate particles, choose the time step and decide what is modelled.
+// Errors are InputError (exit code 2) naming file, key, value and what is allowed.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "bagdem/case/case_reader.hpp"
+#include "bagdem/scene.hpp"
+
+namespace bagdem {
+
+Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides = {});
+
+// Human-readable report of a resolved scene (what `bagdem check` prints).
+std::string describe_scene(const Scene& s);
+
+// ---- pieces of the resolution, one file each under src/case/ ----
+
+// cavity_kinds.cpp: [cavity] -> walls, bounding box and reference point (table of kinds).
+void resolve_cavity(const CaseReader& in, Scene& s, int material);
+
+// particle_fill.cpp: [particles.<group>] -> ParticleInit list (explicit, file, or generated).
+void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::string>& material_names);
+
+// timestep.cpp: the time step (auto or explicit, checked against the critical step).
+void resolve_timestep(const CaseReader& in, Scene& s);
+
+}  // namespace bagdem
+
+namespace bagdem {
+// motion_kinds.cpp: [cavity.motion] -> Motion (table of kinds: fixed, harmonic, table).
+void resolve_motion(const CaseReader& in, Scene& s);
+}  // namespace bagdem

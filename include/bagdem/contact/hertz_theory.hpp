@@ -1,0 +1,28 @@
+// Closed-form results of Hertz theory, used to choose the time step and as test references.
+//   t_c       = 2.87 (m*^2 / (R* E*^2 v))^(1/5)                 contact duration (Johnson 1985, 11.24)
+//   delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5)             maximum overlap (Johnson 1985, 11.23)
+//   dt_R      = pi R sqrt(rho/G) / (0.1631 nu + 0.8766)          Rayleigh time (Li et al. 2005)
+//   delta_static = (3 m g / (4 E* sqrt(R*)))^(2/3)              sphere resting under gravity
+#pragma once
+#include <cmath>
+#include <numbers>
+
+namespace bagdem::hertz {
+
+inline double contact_time(double m_eff, double R_eff, double E_star, double v) {
+  return 2.87 * std::pow(m_eff * m_eff / (R_eff * E_star * E_star * v), 0.2);
+}
+inline double max_overlap(double m_eff, double R_eff, double E_star, double v) {
+  return std::pow(15.0 * m_eff * v * v / (16.0 * E_star * std::sqrt(R_eff)), 0.4);
+}
+inline double rayleigh_time(double R, double density, double E, double nu) {
+  const double G = E / (2 * (1 + nu));
+  return std::numbers::pi * R * std::sqrt(density / G) / (0.1631 * nu + 0.8766);
+}
+inline double static_overlap(double weight, double R_eff, double E_star) {
+  return std::pow(3.0 * weight / (4.0 * E_star * std::sqrt(R_eff)), 2.0 / 3.0);
+}
+// Critical step of velocity Verlet for a damped oscillator of frequency w and damping ratio z.
+inline double critical_step(double w, double z) { return 2.0 / w * (std::sqrt(1 + z * z) - z); }
+
+}  // namespace bagdem::hertz

@@ -1,0 +1,23 @@
+// `bagdem bench`: ns per particle-step on the PD-box scene of ../shared/peers (steel balls of 4 mm in
+// a closed box shaken at 1 mm, 30 Hz, dt = 2e-7 s), so the figures compare with LIGGGHTS and LAMMPS.
+// The start state is the peers' settled bed after one vibration period (runs/N*.vib1.data) when
+// present; otherwise the bed is generated on a lattice and settled first (slower; said so).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace bagdem {
+
+struct BenchOptions {
+  std::vector<int> sizes{100, 1000, 10000};
+  std::vector<int> threads{1, 2};
+  std::vector<std::string> methods{"hash", "kdtree"};
+  int repeats = 3;
+  double step_scale = 1.0;  // multiplies the default timed step counts (1e6, 3e5, 4e4 for 1e2, 1e3, 1e4)
+  std::string peers_dir;    // default: <source>/../shared/peers
+  std::string case_dir;     // default: <source>/cases/pdbox
+};
+
+int run_bench(const BenchOptions& options);
+
+}  // namespace bagdem

@@ -1,0 +1,39 @@
+// Running a resolved scene to completion: the step loop with its recorders (results.h5 as it
+// goes), checkpoints, progress, and the files of a finished run.
+//
+// Files in the output directory (default CASE_DIR/out):
+//   results.h5      written as results.h5.part and renamed when the run ends (complete or failed);
+//                   its root attribute "status" says which
+//   results.xmf     XDMF index of the particle frames for ParaView
+//   summary.json    written last and atomically: its presence marks a complete run
+//   checkpoint.bin  the latest checkpoint (output.checkpoint_interval > 0); --resume continues it
+#pragma once
+#include <string>
+
+#include "bagdem/scene.hpp"
+
+namespace bagdem {
+
+struct RunOptions {
+  std::string out_dir;   // where outputs go
+  int threads = 0;       // OpenMP threads (0 = default)
+  bool quiet = false;    // no progress line
+  bool resume = false;   // continue from out_dir/checkpoint.bin
+  long long stop_after_steps = -1;  // testing aid: stop (as if killed) after this many steps
+};
+
+struct RunReport {
+  bool complete = false;
+  std::string message;                 // failure message, if any
+  double wall_seconds = 0;
+  double ns_per_particle_step = 0;
+  double energy_balance_error = 0;     // relative, see summary.json
+  double dissipated_per_cycle = 0;     // J, harmonic motion only (measured part)
+  double cycles = 0;
+};
+
+// Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that
+// went unstable returns complete = false with the message; results.h5 stays readable).
+RunReport run_scene(const Scene& scene, const RunOptions& options);
+
+}  // namespace bagdem

@@ -1,0 +1,75 @@
+// The resolved scene: what a case file becomes after parsing and validation. SI units, every
+// default filled, and every "what is modelled" decision taken (case/resolve.cpp). The stepper and
+// the recorders read only this.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bagdem/material.hpp"
+#include "bagdem/motion/motion.hpp"
+#include "bagdem/vec3.hpp"
+#include "bagdem/walls/wall.hpp"
+
+namespace bagdem {
+
+struct ParticleInit {
+  Vec3 x = Vec3::Zero();  // (unit: m)
+  Vec3 v = Vec3::Zero();  // (unit: m/s)
+  Vec3 w = Vec3::Zero();  // (unit: rad/s)
+  double radius = 0;      // (unit: m)
+  int material = 0;
+};
+
+// What the scene requires; anything false is not computed at all.
+struct ModelSwitches {
+  bool tangential = true;  // any pair with friction > 0: tangential springs with history
+  bool rolling = false;    // any pair with rolling friction > 0
+  bool rotation = true;    // tangential || rolling: integrate angular velocity
+  bool gravity = true;     // gravity vector non-zero
+  bool energy = true;      // energy budget tallies (output.energy)
+};
+
+struct OutputSettings {
+  double frame_interval = 0;       // particle frames (unit: s); 0 = only first and last
+  double cavity_interval = 0;      // cavity force/kinematics samples (unit: s)
+  double energy_interval = 0;      // energy budget rows (unit: s)
+  double checkpoint_interval = 0;  // checkpoints (unit: s); 0 = none
+};
+
+struct Scene {
+  std::string case_dir;   // directory of the case
+  std::string case_file;  // path of case.toml, for messages
+  std::string resolved;   // the resolved configuration as TOML text (written to results.h5)
+
+  std::vector<Material> materials;
+  PairLawTable laws;
+  std::vector<ParticleInit> particles;
+
+  std::string cavity_kind;        // "box", "cylinder", "planes"
+  std::vector<Wall> walls;        // in the cavity frame (at rest place)
+  Vec3 cavity_lo = Vec3::Zero();  // bounding box of the cavity at rest (unit: m)
+  Vec3 cavity_hi = Vec3::Zero();
+  Vec3 cavity_reference = Vec3::Zero();  // point the cavity torque is taken about (unit: m)
+  std::shared_ptr<const Motion> motion;  // motion time starts when settling ends
+
+  Vec3 gravity = Vec3::Zero();  // (unit: m/s^2)
+  double settle = 0;            // settle phase before the measured part, cavity at rest (unit: s)
+  double duration = 0;          // measured part (unit: s); total simulated = settle + duration
+  double dt = 0;                // time step (unit: s)
+  std::string dt_reason;        // how dt was chosen, for `check`
+  double dt_critical = 0;       // critical (stability) step of the stiffest contact (unit: s)
+  double expected_speed = 0;    // expected maximum impact speed used for dt and checks (unit: m/s)
+
+  ModelSwitches models;
+  std::string broad_phase = "hash";
+  double skin = 0;                     // Verlet skin (unit: m)
+  double max_overlap_fraction = 0.1;   // run stops when an overlap exceeds this fraction of the radius
+  std::uint64_t seed = 0;              // random seed (particle generation)
+  OutputSettings output;
+
+  std::uint64_t total_steps() const;   // ceil((settle + duration) / dt)
+};
+
+}  // namespace bagdem

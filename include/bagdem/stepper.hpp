@@ -1,0 +1,111 @@
+// The stepper: one time step is a fixed list of stages over flat arrays (see Stage).
+//
+//   1. kick_drift      v += dt/2 F/m, x += dt v, w += dt/2 T/I        velocity Verlet, first half
+//   2. move_cavity     cavity position and velocity at t + dt (prescribed)
+//   3. neighbours      rebuild the Verlet pair list when a particle moved more than skin/2
+//   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
+//   5. gather_walls    each particle: sum its pair forces (partner order), then wall contacts, gravity
+//   6. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
+//   7. guards          NaN, excessive overlap, particle outside the cavity -> RunError
+// Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982); velocity-
+// dependent contact forces use the half-step velocity, as in LAMMPS and LIGGGHTS.
+// Determinism: every per-particle sum runs in a fixed order (pairs by partner index, then walls in
+// wall order), and totals are summed over particles in index order, so results are bitwise equal
+// for any thread count.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bagdem/contact/mindlin.hpp"
+#include "bagdem/contact/rolling.hpp"
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/neighbour/broad_phase.hpp"
+#include "bagdem/particles.hpp"
+#include "bagdem/scene.hpp"
+
+namespace bagdem {
+
+enum class Stage { KickDrift, MoveCavity, Neighbours, PairContacts, GatherWalls, Kick, Guards, Count };
+const char* stage_name(Stage s);
+
+// Contact histories and per-pair results on the current candidate pair list.
+struct PairState {
+  CandidatePairs pairs;                      // i < j, canonical order
+  std::vector<std::uint32_t> first;          // i of each pair
+  std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
+  std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
+  std::vector<Vec3> force;                   // force on i (on j: the opposite) (unit: N)
+  std::vector<Vec3> torque_i, torque_j;      // torques on i and on j (unit: N m)
+  std::vector<Vec3> dissipated;              // this step's (normal, tangential, rolling) (unit: J)
+  // Gather CSR: for particle p, entries gather[gather_begin[p] .. gather_begin[p+1]) are
+  // 2*pair + (p is the pair's j), sorted by partner index.
+  std::vector<std::uint32_t> gather_begin, gather;
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+
+  void step();                      // advance one time step
+  const Scene& scene() const { return scene_; }
+  double time() const { return static_cast<double>(step_) * scene_.dt; }
+  std::uint64_t steps_done() const { return step_; }
+  const Particles& particles() const { return p_; }
+  Particles& particles() { return p_; }
+  const CavityState& cavity() const { return cavity_; }
+  std::uint64_t neighbour_builds() const { return builds_; }
+  const PairState& pair_state() const { return ps_; }
+
+  // Kinetic + elastic energy at t = 0 (the reference of the energy balance) (unit: J).
+  double initial_stored_energy() const { return kinetic_elastic0_; }
+  // Energy budget now (sums over particles in index order).
+  EnergySample energy() const;
+  // Mean force and torque the contents exerted on the cavity since the last call (impulse /
+  // elapsed time); resets the impulse tallies.
+  void take_cavity_load(Vec3& force, Vec3& torque);
+  // Number of contacts (pairs and walls) currently closed.
+  std::size_t contact_count() const;
+
+  // Checkpoint support: the complete dynamic state as a flat byte image, and its inverse.
+  std::vector<char> save_state() const;
+  void load_state(const std::vector<char>& image);
+
+ private:
+  void kick_drift();
+  void move_cavity();
+  void update_neighbours(bool force_rebuild);
+  void install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
+                     std::vector<RollingHistory> rolling);
+  void pair_contacts();
+  void gather_walls();
+  void kick();
+  void guards();
+  template <bool Tangential, bool Rolling, bool Energy>
+  void pair_contacts_impl();
+  template <bool Tangential, bool Rolling, bool Energy>
+  void gather_walls_impl();
+  CavityState cavity_at(double t) const;
+  double potential_energy() const;
+  double elastic_energy() const;
+
+  const Scene& scene_;
+  Particles p_;
+  ParticleTallies tally_;
+  PairState ps_;
+  std::unique_ptr<BroadPhase> broad_;
+  std::vector<Vec3> x_at_build_;              // positions at the last neighbour build
+  std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
+  std::vector<RollingHistory> wall_roll_;
+  CavityState cavity_, cavity_prev_;
+  double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
+  std::uint64_t step_ = 0;
+  std::uint64_t builds_ = 0;
+  double load_time_ = 0;                      // time the cavity impulse tallies started
+  double potential0_ = 0, kinetic_elastic0_ = 0;
+  // Guard results of the last step.
+  double max_overlap_ratio_ = 0;
+  double min_wall_distance_ratio_ = 0;
+};
+
+}  // namespace bagdem

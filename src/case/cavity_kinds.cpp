@@ -1,0 +1,103 @@
+// Cavity kinds: each builds its walls from [cavity] keys. The table below is the only list.
+//   box       min, max                   six inward planes
+//   cylinder  center, axis, radius, length   a bore (inner cylinder) capped by two planes
+//   planes    [[cavity.planes]] point, normal (into the cavity); bounds = box the particles stay in
+#include <cmath>
+
+#include "bagdem/case/load_case.hpp"
+
+namespace bagdem {
+namespace {
+
+void box(const CaseReader& in, Scene& s, int material) {
+  const Vec3 lo = in.vector("cavity.min", dim::length), hi = in.vector("cavity.max", dim::length);
+  for (int k = 0; k < 3; ++k)
+    if (!(hi[k] > lo[k])) in.fail("cavity.max", "every component must exceed cavity.min's");
+  const char* axes = "xyz";
+  for (int k = 0; k < 3; ++k) {
+    Wall a, b;
+    a.kind = b.kind = WallKind::Plane;
+    a.material = b.material = material;
+    a.point = lo;
+    a.direction = Vec3::Unit(k);
+    a.name = std::string("box -") + axes[k];
+    b.point = hi;
+    b.direction = -Vec3::Unit(k);
+    b.name = std::string("box +") + axes[k];
+    s.walls.push_back(a);
+    s.walls.push_back(b);
+  }
+  s.cavity_lo = lo;
+  s.cavity_hi = hi;
+}
+
+Vec3 axis_of(const CaseReader& in, const std::string& key) {
+  const std::string a = in.has(key) && in.root().at_path(key).is_string() ? in.string(key) : "";
+  if (a == "x") return Vec3::UnitX();
+  if (a == "y") return Vec3::UnitY();
+  if (a == "z") return Vec3::UnitZ();
+  if (!a.empty()) in.fail(key, "must be \"x\", \"y\", \"z\" or a vector [ax, ay, az]");
+  const Vec3 v = in.vector(key, dim::none, Vec3::UnitX());
+  if (v.norm() == 0) in.fail(key, "must not be the zero vector");
+  return v.normalized();
+}
+
+void cylinder(const CaseReader& in, Scene& s, int material) {
+  const Vec3 c = in.vector("cavity.center", dim::length, Vec3::Zero());
+  const Vec3 u = axis_of(in, "cavity.axis");
+  const double R = in.quantity("cavity.radius", dim::length);
+  const double L = in.quantity("cavity.length", dim::length);
+  if (!(R > 0)) in.fail("cavity.radius", "must be > 0");
+  if (!(L > 0)) in.fail("cavity.length", "must be > 0");
+  Wall bore{WallKind::Cylinder, c, u, R, material, "bore"};
+  Wall cap0{WallKind::Plane, c - 0.5 * L * u, u, 0, material, "cap -axis"};
+  Wall cap1{WallKind::Plane, c + 0.5 * L * u, -u, 0, material, "cap +axis"};
+  s.walls = {bore, cap0, cap1};
+  // Bounding box of a capped cylinder: extent along each world axis k is
+  // L/2 |u_k| + R sqrt(1 - u_k^2).
+  for (int k = 0; k < 3; ++k) {
+    const double e = 0.5 * L * std::abs(u[k]) + R * std::sqrt(std::max(0.0, 1 - u[k] * u[k]));
+    s.cavity_lo[k] = c[k] - e;
+    s.cavity_hi[k] = c[k] + e;
+  }
+}
+
+void planes(const CaseReader& in, Scene& s, int material) {
+  const std::size_t n = in.array_size("cavity.planes");
+  if (n == 0) in.fail("cavity.planes", "needs at least one [[cavity.planes]] with point and normal");
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string key = "cavity.planes." + std::to_string(k);
+    Wall w;
+    w.kind = WallKind::Plane;
+    w.material = material;
+    w.point = in.vector(key + ".point", dim::length);
+    w.direction = in.vector(key + ".normal", dim::none);
+    if (w.direction.norm() == 0) in.fail(key + ".normal", "must not be the zero vector");
+    w.direction.normalize();
+    w.name = "plane " + std::to_string(k);
+    s.walls.push_back(w);
+  }
+  // Planes need not enclose anything: the bounds the particles must stay in are given.
+  s.cavity_lo = in.vector("cavity.min", dim::length);
+  s.cavity_hi = in.vector("cavity.max", dim::length);
+}
+
+struct CavityKind {
+  const char* name;
+  void (*build)(const CaseReader&, Scene&, int);
+};
+
+const CavityKind kCavityKinds[] = {{"box", box}, {"cylinder", cylinder}, {"planes", planes}};
+
+}  // namespace
+
+void resolve_cavity(const CaseReader& in, Scene& s, int material) {
+  std::vector<std::string> names;
+  for (const auto& k : kCavityKinds) names.emplace_back(k.name);
+  s.cavity_kind = in.choice("cavity.kind", names, "box");
+  for (const auto& k : kCavityKinds)
+    if (s.cavity_kind == k.name) k.build(in, s, material);
+  s.cavity_reference = in.vector("cavity.reference", dim::length, 0.5 * (s.cavity_lo + s.cavity_hi));
+}
+
+}  // namespace bagdem

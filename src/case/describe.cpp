@@ -1,0 +1,79 @@
+// `bagdem check`: the resolved scene in words — what is modelled and what is switched off, N, dt and
+// how it was chosen, steps, memory estimate.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <iomanip>
+#include <sstream>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/mindlin.hpp"
+#include "bagdem/contact/rolling.hpp"
+
+namespace bagdem {
+
+std::string describe_scene(const Scene& s) {
+  std::ostringstream o;
+  o << std::setprecision(4);
+  o << "case        " << s.case_file << "\n";
+  for (const auto& m : s.materials)
+    o << "material    " << m.name << ": density " << m.density << " kg/m^3, E " << m.youngs_modulus
+      << " Pa, nu " << m.poisson_ratio << "\n";
+  for (int a = 0; a < s.laws.n; ++a)
+    for (int b = a; b < s.laws.n; ++b) {
+      const PairLaw& l = s.laws(a, b);
+      o << "pair        " << s.materials[static_cast<std::size_t>(a)].name << "-"
+        << s.materials[static_cast<std::size_t>(b)].name << ": e " << l.restitution << " (clamped-law |beta| "
+        << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r " << l.rolling
+        << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
+    }
+  double rmin = 1e300, rmax = 0, mass = 0;
+  for (const auto& p : s.particles) {
+    rmin = std::min(rmin, p.radius);
+    rmax = std::max(rmax, p.radius);
+    mass += s.materials[static_cast<std::size_t>(p.material)].density * 4.0 / 3.0 * std::numbers::pi *
+            std::pow(p.radius, 3);
+  }
+  const std::size_t n = s.particles.size();
+  o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "
+    << mass << " kg\n";
+  o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
+    << "] .. [" << s.cavity_hi.transpose() << "] m\n";
+  o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
+  o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";
+  auto on = [](bool b) { return b ? "on " : "off"; };
+  o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n"
+    << "            tangential Mindlin spring, history, Coulomb cap:       " << on(s.models.tangential)
+    << (s.models.tangential ? "" : " (no pair has friction)") << "\n"
+    << "            rolling resistance (EPSD2):                             " << on(s.models.rolling)
+    << (s.models.rolling ? "" : " (no pair has rolling friction)") << "\n"
+    << "            rotation integration:                                   " << on(s.models.rotation)
+    << (s.models.rotation ? "" : " (nothing creates torque)") << "\n"
+    << "            gravity:                                                " << on(s.models.gravity) << "\n"
+    << "            energy budget tallies:                                  " << on(s.models.energy) << "\n";
+  o << "neighbours  " << s.broad_phase << ", Verlet skin " << s.skin << " m\n";
+  o << "time step   " << s.dt << " s (" << s.dt_reason << ")\n";
+  o << "duration    settle " << s.settle << " s + measured " << s.duration << " s = " << s.total_steps()
+    << " steps\n";
+  o << "output      frames every " << s.output.frame_interval << " s, cavity samples every "
+    << s.output.cavity_interval << " s, energy every " << s.output.energy_interval << " s, checkpoints "
+    << (s.output.checkpoint_interval > 0 ? "every " + std::to_string(s.output.checkpoint_interval) + " s" : "off")
+    << "\n";
+  o << "guards      overlap above " << 100 * s.max_overlap_fraction
+    << "% of a radius, NaN, or a particle outside the cavity stops the run\n";
+  // Memory: hot particle arrays + tallies + ~12 candidate pairs per particle with their buffers.
+  const double per_particle = 5 * 24 + 4 * 8 + 4 + 4 * 24 + 4 * 8 + 24 +
+                              s.walls.size() * ((s.models.tangential ? sizeof(TangentialHistory) : 0) +
+                                                (s.models.rolling ? sizeof(RollingHistory) : 0));
+  const double per_pair = 4 + 4 + 3 * 24 + (s.models.energy ? 24 : 0) + 8 +
+                          (s.models.tangential ? sizeof(TangentialHistory) : 0) +
+                          (s.models.rolling ? sizeof(RollingHistory) : 0);
+  const double mem = static_cast<double>(n) * (per_particle + 12 * per_pair);
+  const double frames = std::floor((s.settle + s.duration) / s.output.frame_interval) + 1;
+  o << "memory      about " << mem / 1048576 << " MiB in the step; results.h5 about "
+    << (frames * static_cast<double>(n) * 72 + (s.settle + s.duration) / s.output.cavity_interval * 120) / 1048576
+    << " MiB\n";
+  return o.str();
+}
+
+}  // namespace bagdem

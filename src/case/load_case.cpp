@@ -1,0 +1,153 @@
+// Case directory -> resolved Scene. The order of resolution matters only where a step reads what an
+// earlier one decided: materials -> interactions -> simulation -> cavity -> motion -> particles ->
+// models -> time step -> output. The full schema is in docs/case-schema.md.
+#include "bagdem/case/load_case.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/neighbour/broad_phase.hpp"
+
+namespace bagdem {
+namespace {
+
+std::vector<std::string> resolve_materials(const CaseReader& in, Scene& s) {
+  const auto names = in.keys("materials");
+  if (names.empty()) in.fail("materials", "needs at least one [materials.<name>] table");
+  for (const auto& name : names) {
+    const std::string m = "materials." + name;
+    Material mat;
+    mat.name = name;
+    mat.density = in.quantity(m + ".density", dim::density);
+    mat.youngs_modulus = in.quantity(m + ".youngs_modulus", dim::pressure);
+    mat.poisson_ratio = in.quantity(m + ".poisson_ratio", dim::none);
+    if (!(mat.density > 0)) in.fail(m + ".density", "must be > 0 (kg/m^3)");
+    if (!(mat.youngs_modulus > 0)) in.fail(m + ".youngs_modulus", "must be > 0 (Pa)");
+    if (!(mat.poisson_ratio > -1 && mat.poisson_ratio < 0.5))
+      in.fail(m + ".poisson_ratio", "must be in (-1, 0.5)");
+    s.materials.push_back(mat);
+  }
+  return names;
+}
+
+Interaction read_interaction(const CaseReader& in, const std::string& key, const Interaction& base) {
+  Interaction it = base;
+  it.restitution = in.quantity(key + ".restitution", dim::none, base.restitution);
+  it.friction = in.quantity(key + ".friction", dim::none, base.friction);
+  it.rolling_friction = in.quantity(key + ".rolling_friction", dim::none, base.rolling_friction);
+  if (!(it.restitution > 0 && it.restitution <= 1)) in.fail(key + ".restitution", "must be in (0, 1]");
+  if (!(it.friction >= 0)) in.fail(key + ".friction", "must be >= 0");
+  if (!(it.rolling_friction >= 0)) in.fail(key + ".rolling_friction", "must be >= 0");
+  return it;
+}
+
+// [interactions.default] for every pair, [interactions.A-B] (A, B material names) for one pair.
+std::vector<Interaction> resolve_interactions(const CaseReader& in, const std::vector<std::string>& names) {
+  const std::size_t n = names.size();
+  if (!in.has("interactions.default.restitution"))
+    in.fail("interactions.default.restitution", "is required: the restitution of every pair not named otherwise");
+  const Interaction def = read_interaction(in, "interactions.default", Interaction{});
+  std::vector<Interaction> table(n * n, def);
+  for (const auto& key : in.keys("interactions")) {
+    if (key == "default") continue;
+    bool found = false;
+    for (std::size_t cut = key.find('-'); cut != std::string::npos && !found; cut = key.find('-', cut + 1)) {
+      const auto a = std::find(names.begin(), names.end(), key.substr(0, cut));
+      const auto b = std::find(names.begin(), names.end(), key.substr(cut + 1));
+      if (a == names.end() || b == names.end()) continue;
+      const auto ia = static_cast<std::size_t>(a - names.begin()), ib = static_cast<std::size_t>(b - names.begin());
+      table[ia * n + ib] = table[ib * n + ia] = read_interaction(in, "interactions." + key, def);
+      found = true;
+    }
+    if (!found) in.fail("interactions." + key, "must be named \"<material>-<material>\" with materials from [materials], or \"default\"");
+  }
+  return table;
+}
+
+void resolve_output(const CaseReader& in, Scene& s) {
+  const double total = s.settle + s.duration;
+  double period = 0;
+  if (in.string("cavity.motion.kind", "fixed") == "harmonic")
+    period = 1.0 / in.quantity("cavity.motion.frequency", dim::frequency);
+  OutputSettings& o = s.output;
+  o.frame_interval = in.quantity("output.frame_interval", dim::time, total / 50);
+  o.cavity_interval = in.quantity("output.cavity_interval", dim::time, period > 0 ? period / 100 : 100 * s.dt);
+  o.energy_interval = in.quantity("output.energy_interval", dim::time, o.cavity_interval);
+  o.checkpoint_interval = in.quantity("output.checkpoint_interval", dim::time, 0.0);
+  if (!(o.frame_interval > 0)) in.fail("output.frame_interval", "must be > 0");
+  if (!(o.cavity_interval >= s.dt)) in.fail("output.cavity_interval", "must be at least one time step (" + std::to_string(s.dt) + " s)");
+  if (!(o.energy_interval >= s.dt)) in.fail("output.energy_interval", "must be at least one time step");
+  if (!(o.checkpoint_interval >= 0)) in.fail("output.checkpoint_interval", "must be >= 0 (0 = no checkpoints)");
+}
+
+}  // namespace
+
+std::uint64_t Scene::total_steps() const {
+  return static_cast<std::uint64_t>(std::ceil((settle + duration) / dt - 1e-9));
+}
+
+Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides) {
+  namespace fs = std::filesystem;
+  const fs::path file = fs::path(case_dir) / "case.toml";
+  if (!fs::is_regular_file(file))
+    throw InputError(file.string(), "", "", "no case.toml here: a case is a directory holding case.toml");
+  CaseReader in(file.string(), overrides);
+  Scene s;
+  s.case_dir = case_dir;
+  s.case_file = file.string();
+
+  const auto names = resolve_materials(in, s);
+  s.laws = make_pair_laws(s.materials, resolve_interactions(in, names));
+
+  s.gravity = in.vector("simulation.gravity", dim::acceleration, Vec3(0, 0, -9.81));
+  s.duration = in.quantity("simulation.duration", dim::time);
+  s.settle = in.quantity("simulation.settle", dim::time, 0.0);
+  if (!(s.duration > 0)) in.fail("simulation.duration", "must be > 0 (s)");
+  if (!(s.settle >= 0)) in.fail("simulation.settle", "must be >= 0 (s)");
+  s.seed = static_cast<std::uint64_t>(in.integer("simulation.seed", 1));
+  std::vector<std::string> kinds;
+  for (const auto& k : broad_phase_kinds()) kinds.emplace_back(k.name);
+  s.broad_phase = in.choice("simulation.neighbour", kinds, "hash");
+  s.max_overlap_fraction = in.quantity("simulation.max_overlap", dim::none, 0.1);
+  if (!(s.max_overlap_fraction > 0 && s.max_overlap_fraction < 1)) in.fail("simulation.max_overlap", "must be in (0, 1)");
+
+  const std::string cav_mat = in.string("cavity.material");
+  const auto cm = std::find(names.begin(), names.end(), cav_mat);
+  if (cm == names.end()) in.fail("cavity.material", "must name a material defined under [materials]");
+  resolve_cavity(in, s, static_cast<int>(cm - names.begin()));
+  resolve_motion(in, s);
+  resolve_particles(in, s, names);
+
+  // Model only what the scene requires: look at the pairs that can occur.
+  std::vector<bool> used(names.size(), false);
+  for (const auto& p : s.particles) used[static_cast<std::size_t>(p.material)] = true;
+  s.models.tangential = s.models.rolling = false;
+  for (std::size_t a = 0; a < names.size(); ++a) {
+    if (!used[a]) continue;
+    for (std::size_t b = 0; b < names.size(); ++b) {
+      if (!(used[b] || static_cast<int>(b) == s.walls.front().material)) continue;
+      const PairLaw& law = s.laws(static_cast<int>(a), static_cast<int>(b));
+      s.models.tangential |= law.friction > 0;
+      s.models.rolling |= law.rolling > 0;
+    }
+  }
+  s.models.rotation = s.models.tangential || s.models.rolling;
+  s.models.gravity = s.gravity.norm() > 0;
+  s.models.energy = in.boolean("output.energy", true);
+
+  double dmax = 0;
+  for (const auto& p : s.particles) dmax = std::max(dmax, 2 * p.radius);
+  s.skin = in.quantity_or_auto("simulation.skin", dim::length).value_or(0.2 * dmax);
+  if (!(s.skin > 0)) in.fail("simulation.skin", "must be > 0 or \"auto\"");
+
+  resolve_timestep(in, s);
+  resolve_output(in, s);
+  in.reject_unknown_keys();
+  s.resolved = in.text();
+  return s;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,70 @@
+// [cavity.motion] kinds. The table below is the only list.
+//   fixed      (no keys)
+//   harmonic   amplitude (m), frequency (Hz), direction [x, y, z] (default x), phase (rad, default 0)
+//   table      file = CSV with header and columns t, x, y, z (SI)
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bagdem/case/load_case.hpp"
+
+namespace bagdem {
+namespace {
+
+std::unique_ptr<Motion> fixed(const CaseReader&, const Scene&) { return make_fixed_motion(); }
+
+std::unique_ptr<Motion> harmonic(const CaseReader& in, const Scene&) {
+  const double X = in.quantity("cavity.motion.amplitude", dim::length);
+  const double f = in.quantity("cavity.motion.frequency", dim::frequency);
+  const Vec3 dir = in.vector("cavity.motion.direction", dim::none, Vec3::UnitX());
+  const double phase = in.quantity("cavity.motion.phase", dim::angle, 0.0);
+  if (!(X >= 0)) in.fail("cavity.motion.amplitude", "must be >= 0");
+  if (!(f > 0)) in.fail("cavity.motion.frequency", "must be > 0");
+  if (dir.norm() == 0) in.fail("cavity.motion.direction", "must not be the zero vector");
+  return make_harmonic_motion(X, f, dir, phase);
+}
+
+std::unique_ptr<Motion> table(const CaseReader& in, const Scene& s) {
+  const std::string key = "cavity.motion.file";
+  const std::string path = (std::filesystem::path(s.case_dir) / in.string(key)).string();
+  std::ifstream file(path);
+  if (!file) in.fail(key, "cannot open the file " + path);
+  std::vector<double> t;
+  std::vector<Vec3> x;
+  std::string line;
+  std::getline(file, line);  // header
+  for (int row = 2; std::getline(file, line); ++row) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    for (char& c : line)
+      if (c == ',') c = ' ';
+    std::istringstream r(line);
+    double tt;
+    Vec3 p;
+    if (!(r >> tt >> p.x() >> p.y() >> p.z()))
+      in.fail(key, path + " row " + std::to_string(row) + ": expected 4 numbers t, x, y, z (SI)");
+    if (!t.empty() && !(tt > t.back()))
+      in.fail(key, path + " row " + std::to_string(row) + ": times must increase strictly");
+    t.push_back(tt);
+    x.push_back(p);
+  }
+  if (t.size() < 2) in.fail(key, path + " needs at least two rows");
+  return make_table_motion(std::move(t), std::move(x), path);
+}
+
+struct MotionKind {
+  const char* name;
+  std::unique_ptr<Motion> (*parse)(const CaseReader&, const Scene&);
+};
+const MotionKind kMotionKinds[] = {{"fixed", fixed}, {"harmonic", harmonic}, {"table", table}};
+
+}  // namespace
+
+void resolve_motion(const CaseReader& in, Scene& s) {
+  std::vector<std::string> names;
+  for (const auto& k : kMotionKinds) names.emplace_back(k.name);
+  const std::string kind = in.choice("cavity.motion.kind", names, "fixed");
+  for (const auto& k : kMotionKinds)
+    if (kind == k.name) s.motion = k.parse(in, s);
+}
+
+}  // namespace bagdem

@@ -1,0 +1,105 @@
+// The time step. `auto` takes the smallest of
+//   (a) timestep_safety x the Rayleigh time of the smallest particle of each material,
+//   (b) the Hertz contact time at the expected impact speed / steps_per_contact,
+//   (c) half the critical step of the stiffest contact (normal, or tangential with the rolling
+//       sphere's effective mass 2/7 m*), at the overlap reached at the expected speed;
+// an explicit step is refused when above (c)'s critical step unless simulation.force_timestep.
+// The expected speed (auto) is 2 x the cavity's peak speed + the free-fall speed over the cavity's
+// extent along gravity + the largest initial particle speed.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/hertz_theory.hpp"
+
+namespace bagdem {
+
+void resolve_timestep(const CaseReader& in, Scene& s) {
+  const double safety = in.quantity("simulation.timestep_safety", dim::none, 0.2);
+  if (!(safety > 0 && safety <= 1)) in.fail("simulation.timestep_safety", "must be in (0, 1]");
+  const double per_contact = in.quantity("simulation.steps_per_contact", dim::none, 40);
+  if (!(per_contact >= 10)) in.fail("simulation.steps_per_contact", "must be >= 10 (30 or more recommended)");
+
+  double v = 0;
+  if (auto given = in.quantity_or_auto("simulation.expected_speed", dim::speed)) {
+    if (!(*given > 0)) in.fail("simulation.expected_speed", "must be > 0");
+    v = *given;
+  } else {
+    double height = 0;
+    if (s.gravity.norm() > 0) {
+      const Vec3 g = s.gravity.normalized();
+      const Vec3 ext = s.cavity_hi - s.cavity_lo;
+      height = std::abs(g.x()) * ext.x() + std::abs(g.y()) * ext.y() + std::abs(g.z()) * ext.z();
+    }
+    double v0 = 0;
+    for (const auto& p : s.particles) v0 = std::max(v0, p.v.norm());
+    v = 2 * s.motion->max_speed() + std::sqrt(2 * s.gravity.norm() * height) + v0;
+    v = std::max(v, 0.01);
+  }
+  s.expected_speed = v;
+
+  // Smallest particle of each material, against every material it can touch (particles and walls).
+  const int nm = static_cast<int>(s.materials.size());
+  std::vector<double> rmin(static_cast<std::size_t>(nm), 0.0);
+  for (const auto& p : s.particles) {
+    double& r = rmin[static_cast<std::size_t>(p.material)];
+    r = r == 0 ? p.radius : std::min(r, p.radius);
+  }
+  double dt_rayleigh = 1e300, dt_contact = 1e300, dt_crit = 1e300;
+  for (int a = 0; a < nm; ++a) {
+    const double r = rmin[static_cast<std::size_t>(a)];
+    if (r == 0) continue;
+    const Material& ma = s.materials[static_cast<std::size_t>(a)];
+    dt_rayleigh = std::min(dt_rayleigh, hertz::rayleigh_time(r, ma.density, ma.youngs_modulus, ma.poisson_ratio));
+    const double m = ma.density * 4.0 / 3.0 * M_PI * r * r * r;
+    for (int b = 0; b < nm; ++b) {
+      const bool wall_material = std::any_of(s.walls.begin(), s.walls.end(), [&](const Wall& w) { return w.material == b; });
+      const bool particle_material = rmin[static_cast<std::size_t>(b)] > 0;
+      const PairLaw& law = s.laws(a, b);
+      auto consider = [&](double R_eff, double m_eff) {
+        dt_contact = std::min(dt_contact, hertz::contact_time(m_eff, R_eff, law.E_star, v) / per_contact);
+        const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
+        const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
+        const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping sqrt(S m*)
+        dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), zeta));
+        if (s.models.tangential) {
+          const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
+          dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), zeta));
+        }
+      };
+      if (particle_material) {
+        const double rb = rmin[static_cast<std::size_t>(b)];
+        const double mb = s.materials[static_cast<std::size_t>(b)].density * 4.0 / 3.0 * M_PI * rb * rb * rb;
+        consider(r * rb / (r + rb), m * mb / (m + mb));
+      }
+      if (wall_material) consider(r, m);
+    }
+  }
+  s.dt_critical = dt_crit;
+
+  std::ostringstream why;
+  if (auto given = in.quantity_or_auto("simulation.timestep", dim::time)) {
+    s.dt = *given;
+    if (!(s.dt > 0)) in.fail("simulation.timestep", "must be > 0 or \"auto\"");
+    if (s.dt > dt_crit && !in.boolean("simulation.force_timestep", false)) {
+      std::ostringstream m;
+      m << "is above the critical step " << dt_crit << " s of the stiffest contact at the expected "
+        << "impact speed " << v << " m/s; the run would be unstable. Use \"auto\", a step below "
+        << dt_crit << " s, or set simulation.force_timestep = true";
+      in.fail("simulation.timestep", m.str());
+    }
+    why << "explicit";
+  } else {
+    const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit;
+    s.dt = std::min({a, b, c});
+    why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a << " s, Hertz contact time / "
+        << per_contact << " = " << b << " s, half the critical step = " << c << " s -> "
+        << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : "critical step") << " limits";
+    in.boolean("simulation.force_timestep", false);
+  }
+  why << "; expected impact speed " << v << " m/s; critical step " << dt_crit << " s";
+  s.dt_reason = why.str();
+}
+
+}  // namespace bagdem

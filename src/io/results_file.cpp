@@ -1,0 +1,381 @@
+// results.h5 writer (layout and units in results_file.hpp) and the XDMF index beside it.
+#include "bagdem/io/results_file.hpp"
+
+#include <hdf5.h>
+
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+namespace bagdem {
+namespace {
+
+static_assert(sizeof(int) == 4, "/particles/material is stored as int32");
+
+// Owns one hid_t and closes it with the matching H5?close.
+class H5 {
+ public:
+  H5() = default;
+  H5(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  H5(H5&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
+  H5& operator=(H5&& o) noexcept {
+    std::swap(id_, o.id_);
+    std::swap(close_, o.close_);
+    return *this;
+  }
+  ~H5() {
+    if (id_ >= 0) close_(id_);
+  }
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+// The fields of each time-series group besides "time" (s), with their units.
+constexpr std::pair<const char*, const char*> kFrameFields[] = {
+    {"position", "m"}, {"velocity", "m/s"}, {"angular_velocity", "rad/s"}};
+constexpr std::pair<const char*, const char*> kCavityFields[] = {
+    {"position", "m"}, {"velocity", "m/s"}, {"force", "N"}, {"torque", "N m"}};
+// Energy datasets (J), named exactly as the EnergySample fields.
+constexpr std::pair<const char*, double EnergySample::*> kEnergyFields[] = {
+    {"kinetic", &EnergySample::kinetic},
+    {"elastic", &EnergySample::elastic},
+    {"work_cavity", &EnergySample::work_cavity},
+    {"work_gravity", &EnergySample::work_gravity},
+    {"dissipated_normal", &EnergySample::dissipated_normal},
+    {"dissipated_tangential", &EnergySample::dissipated_tangential},
+    {"dissipated_rolling", &EnergySample::dissipated_rolling}};
+
+constexpr hsize_t kRowsPerChunk = 1024;  // time, cavity and energy series: 8-24 KiB chunks
+
+// Guard of every operation that needs an open file (a template because Impl is private).
+template <class Impl>
+Impl& open_or_throw(Impl* p) {
+  if (!p) throw std::runtime_error("results file is already closed");
+  return *p;
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    out += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '"' ? "&quot;" : std::string(1, c);
+  return out;
+}
+
+}  // namespace
+
+struct ResultsFile::Impl {
+  std::string path;
+  H5 file;  // declared before the datasets so that it is closed last
+  hsize_t n = 0;
+  SeriesLengths len;
+  std::vector<H5> frames, cavity, energy;  // per group: [0] is "time", then the fields in order
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error("results file " + path + ": " + what);
+  }
+  // HDF5 reports failure as a negative hid_t / herr_t.
+  template <class T>
+  T ok(T r, const std::string& what) const {
+    if (r < 0) fail(what);
+    return r;
+  }
+
+  void flush() { ok(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush"); }
+
+  // Scalar attribute, replacing any of that name (the type may change).
+  void attribute(hid_t obj, const std::string& name, hid_t type, const void* value) {
+    const std::string what = "cannot write attribute " + name;
+    if (ok(H5Aexists(obj, name.c_str()), what) > 0) ok(H5Adelete(obj, name.c_str()), what);
+    H5 space(ok(H5Screate(H5S_SCALAR), what), H5Sclose);
+    H5 attr(ok(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), what),
+            H5Aclose);
+    ok(H5Awrite(attr, type, value), what);
+  }
+  void attribute(hid_t obj, const std::string& name, double value) {
+    attribute(obj, name, H5T_NATIVE_DOUBLE, &value);
+  }
+  // Strings are variable-length UTF-8: the text lives in the global heap, so a long
+  // resolved_config is not bound by the 64 KiB object-header limit of fixed-length attributes.
+  void attribute(hid_t obj, const std::string& name, const std::string& value) {
+    H5 type(ok(H5Tcopy(H5T_C_S1), "cannot copy a type"), H5Tclose);
+    ok(H5Tset_size(type, H5T_VARIABLE), "cannot make a string type");
+    ok(H5Tset_cset(type, H5T_CSET_UTF8), "cannot make a string type");
+    const char* text = value.c_str();
+    attribute(obj, name, type, &text);
+  }
+
+  H5 group(const char* name) {
+    return H5(ok(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 std::string("cannot create group ") + name),
+              H5Gclose);
+  }
+
+  // 1-D per-particle constant of n elements, written once.
+  H5 constant(hid_t group, const char* name, hid_t file_type, hid_t mem_type, const void* data,
+              const char* unit) {
+    const std::string what = std::string("cannot write dataset ") + name;
+    H5 space(ok(H5Screate_simple(1, &n, nullptr), what), H5Sclose);
+    H5 ds(
+        ok(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), what),
+        H5Dclose);
+    ok(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
+    attribute(ds, "unit", unit);
+    return ds;
+  }
+
+  // Empty double series, extendible along rows shaped `row` ({} for scalars, {3}, {N, 3}).
+  H5 series(hid_t group, const char* name, std::vector<hsize_t> row, hsize_t chunk_rows,
+            const char* unit) {
+    const std::string what = std::string("cannot create dataset ") + name;
+    std::vector<hsize_t> dims{0}, maxdims{H5S_UNLIMITED}, chunk{chunk_rows};
+    dims.insert(dims.end(), row.begin(), row.end());
+    maxdims.insert(maxdims.end(), row.begin(), row.end());
+    chunk.insert(chunk.end(), row.begin(), row.end());
+    H5 space(ok(H5Screate_simple(int(dims.size()), dims.data(), maxdims.data()), what), H5Sclose);
+    H5 dcpl(ok(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
+    ok(H5Pset_chunk(dcpl, int(chunk.size()), chunk.data()), what);
+    H5 ds(ok(H5Dcreate2(group, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT), what),
+          H5Dclose);
+    attribute(ds, "unit", unit);
+    return ds;
+  }
+
+  std::vector<hsize_t> dims(hid_t ds) const {
+    H5 space(ok(H5Dget_space(ds), "cannot get a dataspace"), H5Sclose);
+    std::vector<hsize_t> d(ok(H5Sget_simple_extent_ndims(space), "bad dataspace"));
+    ok(H5Sget_simple_extent_dims(space, d.data(), nullptr), "bad dataspace");
+    return d;
+  }
+
+  // Opens `name` and cuts it to `rows` rows; growing it would invent data, so that is an error.
+  H5 open_truncated(const std::string& name, hsize_t rows) {
+    H5 ds(ok(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open dataset " + name), H5Dclose);
+    std::vector<hsize_t> d = dims(ds);
+    if (d.empty() || d[0] < rows)
+      fail(name + " has fewer than the " + std::to_string(rows) + " rows to resume from");
+    d[0] = rows;
+    ok(H5Dset_extent(ds, d.data()), "cannot truncate " + name);
+    return ds;
+  }
+
+  // Grows a series to row + 1 rows and writes row `row` (doubles, row-major).
+  void append_row(hid_t ds, hsize_t row, const double* data) {
+    const std::string what = "cannot append to a dataset";
+    std::vector<hsize_t> d = dims(ds);
+    d[0] = row + 1;
+    ok(H5Dset_extent(ds, d.data()), what);
+    std::vector<hsize_t> start(d.size(), 0), count = d;
+    start[0] = row;
+    count[0] = 1;
+    H5 file_space(ok(H5Dget_space(ds), what), H5Sclose);
+    ok(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                           nullptr),
+       what);
+    H5 mem_space(ok(H5Screate_simple(int(count.size()), count.data(), nullptr), what), H5Sclose);
+    ok(H5Dwrite(ds, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, data), what);
+  }
+};
+
+ResultsFile::ResultsFile(Impl* impl) : impl_(impl) {}
+
+ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& radius,
+                         const std::vector<int>& material,
+                         const std::vector<std::string>& materials, double cavity_interval) {
+  if (radius.empty() || material.size() != radius.size())
+    throw std::invalid_argument("results file " + path +
+                                ": need one radius and one material per particle, at least one");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
+  auto p = std::make_unique<Impl>();
+  p->path = path;
+  p->n = radius.size();
+  p->file = H5(
+      p->ok(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create file"),
+      H5Fclose);
+  p->attribute(p->file, "program_version", std::string(BAGDEM_VERSION));
+
+  H5 particles = p->group("particles");
+  p->constant(particles, "radius", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, radius.data(), "m");
+  H5 mat = p->constant(particles, "material", H5T_STD_I32LE, H5T_NATIVE_INT, material.data(), "1");
+  std::string names;
+  for (const std::string& m : materials) names += (names.empty() ? "" : ",") + m;
+  p->attribute(mat, "materials", names);
+
+  H5 frames = p->group("frames");  // one frame per chunk: frames are written and read whole
+  p->frames.push_back(p->series(frames, "time", {}, kRowsPerChunk, "s"));
+  for (auto [name, unit] : kFrameFields)
+    p->frames.push_back(p->series(frames, name, {p->n, 3}, 1, unit));
+
+  H5 cavity = p->group("cavity");
+  p->attribute(cavity, "interval", cavity_interval);  // s
+  p->cavity.push_back(p->series(cavity, "time", {}, kRowsPerChunk, "s"));
+  for (auto [name, unit] : kCavityFields)
+    p->cavity.push_back(p->series(cavity, name, {3}, kRowsPerChunk, unit));
+
+  H5 energy = p->group("energy");
+  p->energy.push_back(p->series(energy, "time", {}, kRowsPerChunk, "s"));
+  for (auto [name, member] : kEnergyFields)
+    p->energy.push_back(p->series(energy, name, {}, kRowsPerChunk, "J"));
+
+  p->flush();
+  impl_ = p.release();
+}
+
+ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& lengths) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  auto p = std::make_unique<Impl>();
+  p->path = path;
+  p->file =
+      H5(p->ok(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open file"), H5Fclose);
+  p->len = lengths;
+  // group/time, then group/<field> for each field, all cut to `rows`.
+  auto open = [&](std::vector<H5>& out, const std::string& group, const auto& fields,
+                  std::size_t rows) {
+    out.push_back(p->open_truncated(group + "/time", rows));
+    for (const auto& field : fields)
+      out.push_back(p->open_truncated(group + "/" + field.first, rows));
+  };
+  open(p->frames, "/frames", kFrameFields, lengths.frames);
+  open(p->cavity, "/cavity", kCavityFields, lengths.cavity);
+  open(p->energy, "/energy", kEnergyFields, lengths.energy);
+  p->n = p->dims(p->frames[1]).at(1);  // /frames/position is [F, N, 3]
+  p->flush();
+  return ResultsFile(p.release());
+}
+
+ResultsFile::ResultsFile(ResultsFile&& o) noexcept : impl_(std::exchange(o.impl_, nullptr)) {}
+
+ResultsFile& ResultsFile::operator=(ResultsFile&& o) noexcept {
+  ResultsFile old(std::move(o));  // takes o's file; gets this one's and closes it on leaving
+  std::swap(impl_, old.impl_);
+  return *this;
+}
+
+ResultsFile::~ResultsFile() {
+  try {
+    close();
+  } catch (...) {  // a failed last flush cannot be reported from a destructor
+  }
+}
+
+void ResultsFile::set_attribute(const std::string& name, const std::string& value) {
+  Impl& p = open_or_throw(impl_);
+  p.attribute(H5(p.ok(H5Gopen2(p.file, "/", H5P_DEFAULT), "cannot open /"), H5Gclose), name, value);
+}
+
+void ResultsFile::set_attribute(const std::string& name, double value) {
+  Impl& p = open_or_throw(impl_);
+  p.attribute(H5(p.ok(H5Gopen2(p.file, "/", H5P_DEFAULT), "cannot open /"), H5Gclose), name, value);
+}
+
+void ResultsFile::append_frame(double t, const std::vector<Vec3>& position,
+                               const std::vector<Vec3>& velocity,
+                               const std::vector<Vec3>& angular_velocity) {
+  Impl& p = open_or_throw(impl_);
+  const std::vector<Vec3>* fields[] = {&position, &velocity, &angular_velocity};  // kFrameFields
+  for (const std::vector<Vec3>* v : fields)
+    if (v->size() != p.n)
+      throw std::invalid_argument("results file " + p.path + ": a frame has " +
+                                  std::to_string(v->size()) + " particles, the file " +
+                                  std::to_string(p.n));
+  std::vector<double> row(3 * p.n);
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t i = 0; i < p.n; ++i)
+      for (int c = 0; c < 3; ++c) row[3 * i + c] = (*fields[k])[i][c];
+    p.append_row(p.frames[1 + k], p.len.frames, row.data());
+  }
+  p.append_row(p.frames[0], p.len.frames, &t);  // last: a frame is complete once it has a time
+  ++p.len.frames;
+  p.flush();  // a killed run keeps every frame written so far
+}
+
+void ResultsFile::append_cavity(double t, const Vec3& position, const Vec3& velocity,
+                                const Vec3& mean_force, const Vec3& mean_torque) {
+  Impl& p = open_or_throw(impl_);
+  const Vec3* fields[] = {&position, &velocity, &mean_force, &mean_torque};  // kCavityFields
+  p.append_row(p.cavity[0], p.len.cavity, &t);
+  for (std::size_t k = 0; k < 4; ++k)
+    p.append_row(p.cavity[1 + k], p.len.cavity, fields[k]->data());
+  ++p.len.cavity;  // no flush (frequent): the next frame, flush() or close() does it
+}
+
+void ResultsFile::append_energy(double t, const EnergySample& e) {
+  Impl& p = open_or_throw(impl_);
+  p.append_row(p.energy[0], p.len.energy, &t);
+  for (std::size_t k = 0; k < std::size(kEnergyFields); ++k)
+    p.append_row(p.energy[1 + k], p.len.energy, &(e.*kEnergyFields[k].second));
+  ++p.len.energy;  // no flush, as for the cavity
+}
+
+SeriesLengths ResultsFile::lengths() const { return impl_ ? impl_->len : SeriesLengths{}; }
+
+void ResultsFile::flush() {
+  if (impl_) impl_->flush();
+}
+
+void ResultsFile::close() {
+  if (!impl_) return;
+  std::unique_ptr<Impl> p(std::exchange(impl_, nullptr));
+  p->flush();  // the handles close as p goes, even if this throws
+}
+
+void write_xdmf(const std::string& xmf_path, const std::string& h5_name, std::size_t n_particles,
+                const std::vector<double>& times) {
+  const std::string h5 = xml_escape(h5_name), n = std::to_string(n_particles);
+  std::ostringstream x;
+  // Frame f of a [F N 3] dataset: hyperslab start (f 0 0), stride (1 1 1), count (1 N 3).
+  auto frame_slab = [&](std::size_t f, const char* dataset) {
+    x << "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 " << n << " 3\">\n"
+      << "            <DataItem Dimensions=\"3 3\" Format=\"XML\">" << f << " 0 0 1 1 1 1 " << n
+      << " 3</DataItem>\n            <DataItem Dimensions=\"" << times.size() << ' ' << n
+      << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":/frames/" << dataset
+      << "</DataItem>\n          </DataItem>\n";
+  };
+  auto constant = [&](const char* name, const char* type, int precision) {
+    x << "        <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      << "          <DataItem Dimensions=\"" << n << "\" NumberType=\"" << type << "\" Precision=\""
+      << precision << "\" Format=\"HDF\">" << h5 << ":/particles/" << name
+      << "</DataItem>\n        </Attribute>\n";
+  };
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
+    << "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t f = 0; f < times.size(); ++f) {
+    char time[32];  // shortest text that reads back as exactly times[f]
+    const std::string_view t(time, std::to_chars(time, time + sizeof time, times[f]).ptr - time);
+    x << "      <Grid Name=\"frame " << f << "\" GridType=\"Uniform\">\n"
+      << "        <Time Value=\"" << t << "\"/>\n"
+      << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
+      << "        <Geometry GeometryType=\"XYZ\">\n";
+    frame_slab(f, "position");
+    x << "        </Geometry>\n";
+    for (const char* name : {"velocity", "angular_velocity"}) {
+      x << "        <Attribute Name=\"" << name << "\" AttributeType=\"Vector\" Center=\"Node\">\n";
+      frame_slab(f, name);
+      x << "        </Attribute>\n";
+    }
+    constant("radius", "Float", 8);
+    constant("material", "Int", 4);
+    x << "      </Grid>\n";
+  }
+  x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+
+  // Write beside the target, then rename: a reader never sees a half-written file.
+  const std::string part = xmf_path + ".part";
+  std::ofstream out(part, std::ios::binary | std::ios::trunc);
+  out << x.str();
+  out.close();
+  if (!out) throw std::runtime_error("cannot write XDMF file " + part);
+  std::error_code ec;
+  std::filesystem::rename(part, xmf_path, ec);
+  if (ec)
+    throw std::runtime_error("cannot rename " + part + " to " + xmf_path + ": " + ec.message());
+}
+
+}  // namespace bagdem

@@ -1,0 +1,102 @@
+#include "bagdem/run/bench.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/stepper.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+
+// PD-box geometry rule of gen_pdbox.py: n = round(sqrt(N/4.5)) sites a row, L = 1.05 d n, H = 12 d.
+std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
+  const double d = 0.004;
+  const int n = std::max(2, static_cast<int>(std::lround(std::sqrt(N / 4.5))));
+  const double L = n * 1.05 * d, H = 12 * d;
+  std::ostringstream mx;
+  mx << "cavity.max=[" << L << ", " << L << ", " << H << "]";
+  std::vector<std::string> o{mx.str()};
+  if (!data_file.empty()) {
+    o.push_back("particles.bed.file=\"" + data_file + "\"");
+    o.push_back("particles.bed.format=\"lammps-data\"");
+    o.push_back("simulation.settle=0");
+  } else {
+    o.push_back("particles.bed.count=" + std::to_string(N));
+    o.push_back("particles.bed.fill=\"lattice\"");
+    o.push_back("particles.bed.diameter=\"4 mm\"");
+    o.push_back("simulation.settle=\"0.05 s\"");
+  }
+  return o;
+}
+
+double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t* builds) {
+  omp_set_num_threads(threads);
+  Simulation sim(scene);
+  // Settling (if any) is not timed.
+  const auto settle_steps = static_cast<long long>(std::llround(scene.settle / scene.dt));
+  for (long long k = 0; k < settle_steps; ++k) sim.step();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long long k = 0; k < steps; ++k) sim.step();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  *builds = sim.neighbour_builds();
+  return s;
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& opt) {
+  const std::string src = BAGDEM_SOURCE_DIR;
+  const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
+  const std::string case_dir = opt.case_dir.empty() ? src + "/cases/pdbox" : opt.case_dir;
+  std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); median of %d runs; wall clock\n", opt.repeats);
+  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (int N : opt.sizes) {
+    std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
+    if (!fs::exists(data) && fs::exists(data + ".gz")) {
+      const std::string tmp = (fs::temp_directory_path() / ("bagdem_N" + std::to_string(N) + ".vib1.data")).string();
+      if (!fs::exists(tmp) && std::system(("gunzip -c '" + data + ".gz' > '" + tmp + "'").c_str()) != 0) {
+        std::fprintf(stderr, "cannot unpack %s.gz\n", data.c_str());
+        return 1;
+      }
+      data = tmp;
+    }
+    if (!fs::exists(data)) {
+      std::fprintf(stderr, "note: %s not found; generating and settling the bed (0.05 s, not timed)\n", data.c_str());
+      data.clear();
+    }
+    const Scene scene = load_case(case_dir, pdbox_overrides(N, data));
+    const long long base = N <= 100 ? 1000000 : N <= 1000 ? 300000 : 40000;
+    const long long steps = std::max(100LL, static_cast<long long>(base * opt.step_scale));
+    for (const std::string& method : opt.methods) {
+      Scene sc = scene;
+      sc.broad_phase = method;
+      for (int th : opt.threads) {
+        std::vector<double> ns;
+        std::uint64_t builds = 0;
+        for (int r = 0; r < opt.repeats; ++r)
+          ns.push_back(1e9 * timed_run(sc, steps, th, &builds) / (static_cast<double>(steps) * sc.particles.size()));
+        std::vector<double> sorted = ns;
+        std::sort(sorted.begin(), sorted.end());
+        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu |\n", sc.particles.size(), steps, method.c_str(), th,
+                    sorted[sorted.size() / 2], sorted.front(), sorted.back(), static_cast<unsigned long long>(builds));
+        std::fflush(stdout);
+      }
+    }
+  }
+  std::printf("\nPeers on this machine (../shared/peers/README.md, 1 rank): LIGGGHTS 115.7 / 95.7 / 126.9, "
+              "LAMMPS 83.3 / 87.9 / 113.9 ns per particle-step at N = 100 / 1000 / 10000.\n");
+  return 0;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,243 @@
+#include "bagdem/run/runner.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/stepper.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Writes `text` to `path` atomically (temporary name, then rename).
+void write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".part";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (c == '\n') { o += "\\n"; continue; }
+    o += c;
+  }
+  return o;
+}
+
+// Steps between two events of an interval (at least 1).
+std::uint64_t every(double interval, double dt) {
+  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
+}
+
+// Relative closure of the energy budget: |in - (change of stored) - dissipated| / scale.
+double balance_error(const EnergySample& e, double stored0) {
+  const double in = e.work_cavity + e.work_gravity;
+  const double diss = e.dissipated_normal + e.dissipated_tangential + e.dissipated_rolling;
+  const double residual = in - (e.kinetic + e.elastic - stored0) - diss;
+  const double scale = std::max({std::abs(e.work_cavity) + std::abs(e.work_gravity), diss,
+                                 e.kinetic + e.elastic, stored0, 1e-300});
+  return std::abs(residual) / scale;
+}
+
+// What the run loop itself must carry across a restart, beside the simulation state.
+struct RunTallies {
+  SeriesLengths lengths;              // rows written to results.h5
+  double dissipated_at_settle = 0;    // total dissipation when the measured part began (J)
+};
+
+struct Checkpoint {
+  RunTallies tallies;
+  std::vector<char> state;
+};
+
+void save_checkpoint(const fs::path& path, const Simulation& sim, const RunTallies& l) {
+  std::ostringstream s(std::ios::binary);
+  const std::vector<char> state = sim.save_state();
+  const std::uint64_t n = state.size();
+  s.write(reinterpret_cast<const char*>(&l), sizeof l);
+  s.write(reinterpret_cast<const char*>(&n), sizeof n);
+  s.write(state.data(), static_cast<std::streamsize>(n));
+  write_atomically(path, s.str());
+}
+
+Checkpoint load_checkpoint(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path.string(), "", "", "no checkpoint to resume from (run without --resume, with output.checkpoint_interval > 0)");
+  Checkpoint c;
+  std::uint64_t n = 0;
+  f.read(reinterpret_cast<char*>(&c.tallies), sizeof c.tallies);
+  f.read(reinterpret_cast<char*>(&n), sizeof n);
+  c.state.resize(n);
+  f.read(c.state.data(), static_cast<std::streamsize>(n));
+  if (!f) throw InputError(path.string(), "", "", "checkpoint file is truncated or corrupt");
+  return c;
+}
+
+class Progress {
+ public:
+  explicit Progress(bool quiet) : quiet_(quiet), start_(clock::now()), last_(start_) {}
+  void update(std::uint64_t step, std::uint64_t total, double t) {
+    if (quiet_) return;
+    const auto now = clock::now();
+    if (now - last_ < std::chrono::seconds(1) && step != total) return;
+    last_ = now;
+    const double el = std::chrono::duration<double>(now - start_).count();
+    const double frac = static_cast<double>(step) / static_cast<double>(total);
+    const double eta = frac > 0 ? el * (1 - frac) / frac : 0;
+    std::fprintf(stderr, "\r  %5.1f%%  t = %.5g s  elapsed %.0f s  ETA %.0f s   ", 100 * frac, t, el, eta);
+    if (step == total) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  bool quiet_;
+  clock::time_point start_, last_;
+};
+
+}  // namespace
+
+RunReport run_scene(const Scene& scene, const RunOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const fs::path out = opt.out_dir;
+  fs::create_directories(out);
+  const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5";
+  const fs::path ckpt = out / "checkpoint.bin", summary = out / "summary.json";
+  fs::remove(summary);  // a run in progress is not complete
+
+  Simulation sim(scene);
+  const std::uint64_t total = scene.total_steps();
+  const std::uint64_t n_frame = every(scene.output.frame_interval, scene.dt);
+  const std::uint64_t n_cavity = every(scene.output.cavity_interval, scene.dt);
+  const std::uint64_t n_energy = every(scene.output.energy_interval, scene.dt);
+  const std::uint64_t n_ckpt = scene.output.checkpoint_interval > 0 ? every(scene.output.checkpoint_interval, scene.dt) : 0;
+  const std::uint64_t settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
+
+  std::vector<double> frame_times;
+  std::optional<ResultsFile> file;
+  RunTallies run;
+  auto total_dissipation = [](const EnergySample& e) {
+    return e.dissipated_normal + e.dissipated_tangential + e.dissipated_rolling;
+  };
+  if (opt.resume) {
+    Checkpoint c = load_checkpoint(ckpt);
+    if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
+    sim.load_state(c.state);
+    run = c.tallies;
+    file.emplace(ResultsFile::reopen(part.string(), run.lengths));
+    for (std::size_t k = 0; k < run.lengths.frames; ++k) {
+      const std::uint64_t s = std::min<std::uint64_t>(k * n_frame, total);
+      frame_times.push_back(static_cast<double>(s) * scene.dt);
+    }
+  } else {
+    fs::remove(final_h5);
+    std::vector<std::string> mats;
+    for (const auto& m : scene.materials) mats.push_back(m.name);
+    file.emplace(part.string(), sim.particles().radius, sim.particles().material, mats, n_cavity * scene.dt);
+    file->set_attribute("case_file", scene.case_file);
+    file->set_attribute("resolved_config", scene.resolved);
+    file->set_attribute("settle_end", scene.settle);
+    file->set_attribute("timestep", scene.dt);
+    file->set_attribute("status", "running");
+    file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
+    file->append_energy(0, sim.energy());
+    frame_times.push_back(0);
+  }
+
+  RunReport rep;
+  Progress progress(opt.quiet);
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::uint64_t first_step = sim.steps_done();
+
+  try {
+    while (sim.steps_done() < total) {
+      if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps)) {
+        file->flush();
+        return rep;  // simulated kill: nothing finalised
+      }
+      sim.step();
+      const std::uint64_t s = sim.steps_done();
+      const double t = sim.time();
+      if (s == settle_steps) run.dissipated_at_settle = total_dissipation(sim.energy());
+      if (s % n_cavity == 0 || s == total) {
+        Vec3 F, T;
+        sim.take_cavity_load(F, T);
+        file->append_cavity(t, sim.cavity().position, sim.cavity().velocity, F, T);
+      }
+      if (s % n_energy == 0 || s == total) file->append_energy(t, sim.energy());
+      if (s % n_frame == 0 || s == total) {
+        file->append_frame(t, sim.particles().x, sim.particles().v, sim.particles().w);
+        frame_times.push_back(t);
+      }
+      if (n_ckpt && s % n_ckpt == 0 && s != total) {
+        file->flush();
+        run.lengths = file->lengths();
+        save_checkpoint(ckpt, sim, run);
+      }
+      progress.update(s, total, t);
+    }
+  } catch (const RunError& e) {
+    rep.message = e.what();
+    file->set_attribute("status", std::string("failed: ") + e.what());
+    file->close();
+    fs::rename(part, final_h5);
+    write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times);
+    return rep;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Headline numbers.
+  const EnergySample e = sim.energy();
+  rep.complete = true;
+  rep.wall_seconds = wall;
+  const double psteps = static_cast<double>(sim.particles().size()) * static_cast<double>(total - first_step);
+  rep.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
+  rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
+  if (const double f = scene.motion->frequency(); f > 0) {
+    rep.cycles = scene.duration * f;
+    rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_settle) / rep.cycles;
+  }
+  file->set_attribute("status", "complete");
+  file->close();
+  fs::rename(part, final_h5);
+  write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times);
+  fs::remove(ckpt);
+
+  std::ostringstream j;
+  j << std::setprecision(10);
+  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n"
+    << "  \"particles\": " << sim.particles().size() << ",\n  \"steps\": " << total << ",\n"
+    << "  \"dt\": " << scene.dt << ",\n  \"dt_reason\": \"" << json_escape(scene.dt_reason) << "\",\n"
+    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << wall << ",\n"
+    << "  \"particle_steps_per_second\": " << (wall > 0 ? psteps / wall : 0) << ",\n"
+    << "  \"ns_per_particle_step\": " << rep.ns_per_particle_step << ",\n"
+    << "  \"neighbour_builds\": " << sim.neighbour_builds() << ",\n"
+    << "  \"energy_balance_error\": " << rep.energy_balance_error << ",\n"
+    << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
+    << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
+    << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
+    << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling << "},\n"
+    << "  \"cycles_measured\": " << rep.cycles << ",\n"
+    << "  \"dissipated_per_cycle_J\": " << rep.dissipated_per_cycle << "\n}\n";
+  write_atomically(summary, j.str());
+  return rep;
+}
+
+}  // namespace bagdem

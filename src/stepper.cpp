@@ -1,0 +1,455 @@
+// The stepper: the stage list of stepper.hpp, one plain loop per stage.
+#include "bagdem/stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "bagdem/contact/hertz.hpp"
+#include "bagdem/error.hpp"
+
+namespace bagdem {
+
+const char* stage_name(Stage s) {
+  static const char* names[] = {"kick_drift", "move_cavity",   "neighbours", "pair_contacts",
+                                "gather_walls", "kick", "guards"};
+  return names[static_cast<int>(s)];
+}
+
+namespace {
+// Parallel loops below this size run on one thread (fork/join costs more than the work).
+constexpr std::size_t kParallelMin = 512;
+}  // namespace
+
+Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_phase(scene.broad_phase)) {
+  const std::size_t n = scene.particles.size();
+  p_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleInit& q = scene.particles[i];
+    const double rho = scene.materials[static_cast<std::size_t>(q.material)].density;
+    const double m = rho * 4.0 / 3.0 * M_PI * q.radius * q.radius * q.radius;
+    p_.x[i] = q.x;
+    p_.v[i] = q.v;
+    p_.w[i] = q.w;
+    p_.radius[i] = q.radius;
+    p_.mass[i] = m;
+    p_.inv_mass[i] = 1.0 / m;
+    p_.inv_inertia[i] = 1.0 / (0.4 * m * q.radius * q.radius);
+    p_.material[i] = q.material;
+  }
+  tally_.resize(n);
+  const std::size_t nw = scene.walls.size();
+  if (scene.models.tangential) wall_tan_.assign(n * nw, {});
+  if (scene.models.rolling) wall_roll_.assign(n * nw, {});
+  cavity_ = cavity_prev_ = cavity_at(0.0);
+  update_neighbours(true);
+  dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
+  pair_contacts();
+  gather_walls();
+  potential0_ = potential_energy();
+  const EnergySample e0 = energy();
+  kinetic_elastic0_ = e0.kinetic + e0.elastic;
+}
+
+CavityState Simulation::cavity_at(double t) const {
+  if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
+  return scene_.motion->at(t - scene_.settle);
+}
+
+void Simulation::step() {
+  dt_step_ = scene_.dt;
+  kick_drift();
+  move_cavity();
+  update_neighbours(false);
+  pair_contacts();
+  gather_walls();
+  kick();
+  ++step_;
+  guards();
+}
+
+// ---- 1. kick_drift ------------------------------------------------------------------------------
+void Simulation::kick_drift() {
+  const double dt = scene_.dt, h = 0.5 * dt;
+  const std::size_t n = p_.size();
+  const bool rot = scene_.models.rotation;
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  for (std::size_t i = 0; i < n; ++i) {
+    p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
+    p_.x[i] += dt * p_.v[i];
+    if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+  }
+}
+
+// ---- 2. move_cavity -----------------------------------------------------------------------------
+void Simulation::move_cavity() {
+  cavity_prev_ = cavity_;
+  cavity_ = cavity_at(static_cast<double>(step_ + 1) * scene_.dt);
+}
+
+// ---- 3. neighbours ------------------------------------------------------------------------------
+void Simulation::update_neighbours(bool force_rebuild) {
+  const std::size_t n = p_.size();
+  if (!force_rebuild) {
+    const double limit2 = 0.25 * scene_.skin * scene_.skin;
+    bool moved = false;
+#pragma omp parallel for schedule(static) reduction(|| : moved) if (n > kParallelMin)
+    for (std::size_t i = 0; i < n; ++i) moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
+    if (!moved) return;
+  }
+  ++builds_;
+  x_at_build_ = p_.x;
+  CandidatePairs fresh;
+  broad_->find(p_.x, p_.radius, scene_.skin, fresh);
+
+  // Carry contact histories over: merge the old and new partner lists of each i (both sorted).
+  const bool tan = scene_.models.tangential, roll = scene_.models.rolling;
+  std::vector<TangentialHistory> tan_new(tan ? fresh.size() : 0);
+  std::vector<RollingHistory> roll_new(roll ? fresh.size() : 0);
+  if ((tan || roll) && !ps_.pairs.partner.empty()) {
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t a = ps_.pairs.begin[i], b = fresh.begin[i];
+      const std::uint32_t a_end = ps_.pairs.begin[i + 1], b_end = fresh.begin[i + 1];
+      while (a < a_end && b < b_end) {
+        if (ps_.pairs.partner[a] < fresh.partner[b]) { ++a; continue; }
+        if (ps_.pairs.partner[a] > fresh.partner[b]) { ++b; continue; }
+        if (tan) tan_new[b] = ps_.tangential[a];
+        if (roll) roll_new[b] = ps_.rolling[a];
+        ++a, ++b;
+      }
+    }
+  }
+  install_pairs(std::move(fresh), std::move(tan_new), std::move(roll_new));
+}
+
+// Installs a pair list with its histories and derives the per-pair buffers and the gather CSR.
+void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
+                               std::vector<RollingHistory> rolling) {
+  const std::size_t n = p_.size();
+  ps_.pairs = std::move(pairs);
+  ps_.tangential = std::move(tangential);
+  ps_.rolling = std::move(rolling);
+  const std::size_t np = ps_.pairs.size();
+  ps_.force.assign(np, Vec3::Zero());
+  ps_.torque_i.assign(np, Vec3::Zero());
+  ps_.torque_j.assign(np, Vec3::Zero());
+  ps_.dissipated.assign(scene_.models.energy ? np : 0, Vec3::Zero());
+  ps_.first.resize(np);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
+      ps_.first[k] = static_cast<std::uint32_t>(i);
+
+  // Gather CSR, each particle's entries sorted by partner: first the pairs where it is j (partner
+  // i < p, visited in ascending i), then those where it is i (partner j > p, ascending).
+  ps_.gather_begin.assign(n + 1, 0);
+  for (std::size_t k = 0; k < np; ++k) {
+    ++ps_.gather_begin[ps_.first[k] + 1];
+    ++ps_.gather_begin[ps_.pairs.partner[k] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) ps_.gather_begin[i + 1] += ps_.gather_begin[i];
+  ps_.gather.resize(2 * np);
+  std::vector<std::uint32_t> fill(ps_.gather_begin.begin(), ps_.gather_begin.end() - 1);
+  for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.pairs.partner[k]]++] = static_cast<std::uint32_t>(2 * k + 1);
+  for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.first[k]]++] = static_cast<std::uint32_t>(2 * k);
+}
+
+// ---- 4. pair_contacts ---------------------------------------------------------------------------
+void Simulation::pair_contacts() {
+  const bool t = scene_.models.tangential, r = scene_.models.rolling, e = scene_.models.energy;
+  // The contact-law configuration is chosen once here, never inside the loop.
+  if (t && r) e ? pair_contacts_impl<true, true, true>() : pair_contacts_impl<true, true, false>();
+  else if (t) e ? pair_contacts_impl<true, false, true>() : pair_contacts_impl<true, false, false>();
+  else if (r) e ? pair_contacts_impl<false, true, true>() : pair_contacts_impl<false, true, false>();
+  else e ? pair_contacts_impl<false, false, true>() : pair_contacts_impl<false, false, false>();
+}
+
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::pair_contacts_impl() {
+  const std::size_t np = ps_.pairs.size();
+  const double dt = dt_step_;
+  const PairLawTable& laws = scene_.laws;
+  double max_ratio = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) if (np > kParallelMin)
+  for (std::size_t k = 0; k < np; ++k) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    ContactGeometry g;
+    if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) {
+      ps_.force[k].setZero();
+      if constexpr (Tangential || Rolling) {
+        ps_.torque_i[k].setZero();
+        ps_.torque_j[k].setZero();
+      }
+      if constexpr (Tangential) ps_.tangential[k] = {};
+      if constexpr (Rolling) ps_.rolling[k] = {};
+      if constexpr (Energy) ps_.dissipated[k].setZero();
+      continue;
+    }
+    max_ratio = std::max(max_ratio, g.overlap / std::min(p_.radius[i], p_.radius[j]));
+    g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
+    if constexpr (Tangential || Rolling) {
+      relative_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
+    } else {
+      g.v_rel = p_.v[i] - p_.v[j];
+    }
+    const PairLaw& law = laws(p_.material[i], p_.material[j]);
+    const NormalResult nr = hertz_normal(g, law);
+    Vec3 F = nr.force * g.n;
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    if constexpr (Energy) diss.x() = (nr.elastic - nr.force) * g.v_rel.dot(g.n) * dt;
+    if constexpr (Tangential || Rolling) {
+      Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
+      if constexpr (Tangential) {
+        const TangentialResult tr = mindlin_tangential(g, law, nr.force, dt, ps_.tangential[k]);
+        F += tr.force;
+        const Vec3 nxF = g.n.cross(tr.force);
+        Ti = -g.arm_i * nxF;
+        Tj = -g.arm_j * nxF;
+        if constexpr (Energy) diss.y() = tr.dissipated;
+      }
+      if constexpr (Rolling) {
+        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, ps_.rolling[k]);
+        Ti += rr.torque;
+        Tj -= rr.torque;
+        if constexpr (Energy) diss.z() = rr.dissipated;
+      }
+      ps_.torque_i[k] = Ti;
+      ps_.torque_j[k] = Tj;
+    }
+    ps_.force[k] = F;
+    if constexpr (Energy) ps_.dissipated[k] = diss;
+  }
+  max_overlap_ratio_ = max_ratio;
+}
+
+// ---- 5. gather_walls ----------------------------------------------------------------------------
+void Simulation::gather_walls() {
+  const bool t = scene_.models.tangential, r = scene_.models.rolling, e = scene_.models.energy;
+  if (t && r) e ? gather_walls_impl<true, true, true>() : gather_walls_impl<true, true, false>();
+  else if (t) e ? gather_walls_impl<true, false, true>() : gather_walls_impl<true, false, false>();
+  else if (r) e ? gather_walls_impl<false, true, true>() : gather_walls_impl<false, true, false>();
+  else e ? gather_walls_impl<false, false, true>() : gather_walls_impl<false, false, false>();
+}
+
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::gather_walls_impl() {
+  const std::size_t n = p_.size();
+  const std::size_t nw = scene_.walls.size();
+  const double dt = dt_step_;
+  const Vec3 g_acc = scene_.models.gravity ? scene_.gravity : Vec3::Zero();
+  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
+  const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  const PairLawTable& laws = scene_.laws;
+  double max_ratio = max_overlap_ratio_;
+  double min_dist = 1e300;
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(min : min_dist) if (n > kParallelMin)
+  for (std::size_t p = 0; p < n; ++p) {
+    Vec3 F = p_.mass[p] * g_acc;
+    Vec3 T(0, 0, 0);
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    for (std::uint32_t e = ps_.gather_begin[p]; e < ps_.gather_begin[p + 1]; ++e) {
+      const std::uint32_t entry = ps_.gather[e], k = entry >> 1;
+      if (entry & 1u) {
+        F -= ps_.force[k];
+        if constexpr (Tangential || Rolling) T += ps_.torque_j[k];
+      } else {
+        F += ps_.force[k];
+        if constexpr (Tangential || Rolling) T += ps_.torque_i[k];
+      }
+      if constexpr (Energy) diss += 0.5 * ps_.dissipated[k];
+    }
+
+    // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
+    const Vec3 x_local = p_.x[p] - c_pos;
+    const double r = p_.radius[p];
+    Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Wall& wall = scene_.walls[w];
+      ContactGeometry g;
+      const double d = wall_distance(wall, x_local, g.n);
+      min_dist = std::min(min_dist, d / r);
+      g.overlap = r - d;
+      if (g.overlap <= 0) {
+        if constexpr (Tangential) wall_tan_[p * nw + w] = {};
+        if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+        continue;
+      }
+      max_ratio = std::max(max_ratio, g.overlap / r);
+      g.R_eff = r;
+      g.m_eff = p_.mass[p];
+      g.arm_i = r - 0.5 * g.overlap;
+      g.arm_j = 0;
+      if constexpr (Tangential || Rolling) {
+        relative_velocity(p_.v[p], c_vel, p_.w[p], Vec3::Zero(), g);
+      } else {
+        g.v_rel = p_.v[p] - c_vel;
+      }
+      const PairLaw& law = laws(p_.material[p], wall.material);
+      const NormalResult nr = hertz_normal(g, law);
+      Vec3 Fc = nr.force * g.n;
+      if constexpr (Energy) diss.x() += (nr.elastic - nr.force) * g.v_rel.dot(g.n) * dt;
+      if constexpr (Tangential) {
+        const TangentialResult tr = mindlin_tangential(g, law, nr.force, dt, wall_tan_[p * nw + w]);
+        Fc += tr.force;
+        T -= g.arm_i * g.n.cross(tr.force);
+        if constexpr (Energy) diss.y() += tr.dissipated;
+      }
+      if constexpr (Rolling) {
+        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, wall_roll_[p * nw + w]);
+        T += rr.torque;
+        if constexpr (Energy) diss.z() += rr.dissipated;
+      }
+      F += Fc;
+      F_wall += Fc;
+      // Torque on the cavity about its reference point, from the contact point on the wall.
+      T_cavity -= (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+    }
+    p_.f[p] = F;
+    p_.t[p] = T;
+
+    // Tallies: the load on the cavity (always) and the energy budget (when asked).
+    tally_.wall_impulse[p] -= dt * F_wall;
+    tally_.wall_ang_impulse[p] += dt * T_cavity;
+    if constexpr (Energy) {
+      // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
+      tally_.work_cavity[p] += 0.5 * (F_wall + tally_.wall_force_prev[p]).dot(c_step);
+      tally_.wall_force_prev[p] = F_wall;
+      tally_.diss_normal[p] += diss.x();
+      tally_.diss_tangential[p] += diss.y();
+      tally_.diss_rolling[p] += diss.z();
+    }
+  }
+  max_overlap_ratio_ = max_ratio;
+  min_wall_distance_ratio_ = min_dist;
+}
+
+// ---- 6. kick ------------------------------------------------------------------------------------
+void Simulation::kick() {
+  const double h = 0.5 * scene_.dt;
+  const std::size_t n = p_.size();
+  const bool rot = scene_.models.rotation;
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  for (std::size_t i = 0; i < n; ++i) {
+    p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
+    if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+  }
+}
+
+// ---- 7. guards ----------------------------------------------------------------------------------
+void Simulation::guards() {
+  const std::size_t n = p_.size();
+  bool bad = false;
+  for (std::size_t i = 0; i < n && !bad; ++i) bad = !p_.x[i].allFinite() || !p_.v[i].allFinite();
+  const bool overlap = max_overlap_ratio_ > scene_.max_overlap_fraction;
+  const bool escaped = min_wall_distance_ratio_ < 0.0;
+  if (!bad && !overlap && !escaped) return;
+
+  std::ostringstream m;
+  m << "run stopped at t = " << time() << " s (step " << step_ << "): ";
+  if (bad) {
+    m << "a particle position or velocity is not a number. The integration diverged: reduce "
+         "simulation.timestep (or its safety factor), or check the material parameters.";
+  } else if (overlap) {
+    m << "a contact overlap reached " << 100 * max_overlap_ratio_ << "% of a particle radius (limit "
+      << 100 * scene_.max_overlap_fraction
+      << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
+         "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
+         "raise the Young's modulus.";
+  } else {
+    const Vec3 c = cavity_.position;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const Wall& w : scene_.walls) {
+        Vec3 nrm;
+        if (wall_distance(w, p_.x[i] - c, nrm) < 0) {
+          m << "particle " << i << " left the cavity through wall '" << w.name << "' at ("
+            << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
+            << ") m. It tunnelled through the wall: reduce simulation.timestep or the cavity "
+               "acceleration, or raise the wall's Young's modulus.";
+          throw RunError(m.str());
+        }
+      }
+    }
+  }
+  throw RunError(m.str());
+}
+
+// ---- energy budget and loads --------------------------------------------------------------------
+double Simulation::potential_energy() const {
+  if (!scene_.models.gravity) return 0.0;
+  double u = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) u -= p_.mass[i] * scene_.gravity.dot(p_.x[i]);
+  return u;
+}
+
+double Simulation::elastic_energy() const {
+  double u = 0;
+  for (std::size_t k = 0; k < ps_.pairs.size(); ++k) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    ContactGeometry g;
+    if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) continue;
+    u += hertz_energy(scene_.laws(p_.material[i], p_.material[j]), g.R_eff, g.overlap);
+    if (scene_.models.tangential) u += mindlin_energy(ps_.tangential[k]);
+    if (scene_.models.rolling) u += rolling_energy(ps_.rolling[k]);
+  }
+  const std::size_t nw = scene_.walls.size();
+  for (std::size_t p = 0; p < p_.size(); ++p) {
+    for (std::size_t w = 0; w < nw; ++w) {
+      Vec3 n;
+      const double overlap = p_.radius[p] - wall_distance(scene_.walls[w], p_.x[p] - cavity_.position, n);
+      if (overlap <= 0) continue;
+      u += hertz_energy(scene_.laws(p_.material[p], scene_.walls[w].material), p_.radius[p], overlap);
+      if (scene_.models.tangential) u += mindlin_energy(wall_tan_[p * nw + w]);
+      if (scene_.models.rolling) u += rolling_energy(wall_roll_[p * nw + w]);
+    }
+  }
+  return u;
+}
+
+EnergySample Simulation::energy() const {
+  EnergySample e;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    e.kinetic += 0.5 * p_.mass[i] * p_.v[i].squaredNorm();
+    if (scene_.models.rotation) e.kinetic += 0.5 * p_.w[i].squaredNorm() / p_.inv_inertia[i];
+    e.work_cavity += tally_.work_cavity[i];
+    e.dissipated_normal += tally_.diss_normal[i];
+    e.dissipated_tangential += tally_.diss_tangential[i];
+    e.dissipated_rolling += tally_.diss_rolling[i];
+  }
+  e.elastic = elastic_energy();
+  e.work_gravity = potential0_ - potential_energy();
+  return e;
+}
+
+void Simulation::take_cavity_load(Vec3& force, Vec3& torque) {
+  Vec3 J(0, 0, 0), L(0, 0, 0);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    J += tally_.wall_impulse[i];
+    L += tally_.wall_ang_impulse[i];
+    tally_.wall_impulse[i].setZero();
+    tally_.wall_ang_impulse[i].setZero();
+  }
+  const double span = time() - load_time_;
+  load_time_ = time();
+  force = span > 0 ? Vec3(J / span) : Vec3::Zero();
+  torque = span > 0 ? Vec3(L / span) : Vec3::Zero();
+}
+
+std::size_t Simulation::contact_count() const {
+  std::size_t c = 0;
+  for (std::size_t k = 0; k < ps_.pairs.size(); ++k) {
+    ContactGeometry g;
+    c += sphere_sphere(p_.x[ps_.first[k]], p_.x[ps_.pairs.partner[k]], p_.radius[ps_.first[k]],
+                       p_.radius[ps_.pairs.partner[k]], g);
+  }
+  for (std::size_t p = 0; p < p_.size(); ++p)
+    for (const Wall& w : scene_.walls) {
+      Vec3 n;
+      c += wall_distance(w, p_.x[p] - cavity_.position, n) < p_.radius[p];
+    }
+  return c;
+}
+
+}  // namespace bagdem

@@ -44,6 +44,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   const std::size_t nw = scene.walls.size();
   if (scene.models.tangential) wall_tan_.assign(n * nw, {});
   if (scene.models.rolling) wall_roll_.assign(n * nw, {});
+  if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
   cavity_ = cavity_prev_ = cavity_at(0.0);
   update_neighbours(true);
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
@@ -106,10 +107,11 @@ void Simulation::update_neighbours(bool force_rebuild) {
   broad_->find(p_.x, p_.radius, scene_.skin, fresh);
 
   // Carry contact histories over: merge the old and new partner lists of each i (both sorted).
-  const bool tan = scene_.models.tangential, roll = scene_.models.rolling;
+  const bool tan = scene_.models.tangential, roll = scene_.models.rolling, en = scene_.models.energy;
   std::vector<TangentialHistory> tan_new(tan ? fresh.size() : 0);
   std::vector<RollingHistory> roll_new(roll ? fresh.size() : 0);
-  if ((tan || roll) && !ps_.pairs.partner.empty()) {
+  std::vector<double> damp_new(en ? fresh.size() : 0, 0.0);
+  if ((tan || roll || en) && !ps_.pairs.partner.empty()) {
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t a = ps_.pairs.begin[i], b = fresh.begin[i];
@@ -119,20 +121,22 @@ void Simulation::update_neighbours(bool force_rebuild) {
         if (ps_.pairs.partner[a] > fresh.partner[b]) { ++b; continue; }
         if (tan) tan_new[b] = ps_.tangential[a];
         if (roll) roll_new[b] = ps_.rolling[a];
+        if (en) damp_new[b] = ps_.damping_prev[a];
         ++a, ++b;
       }
     }
   }
-  install_pairs(std::move(fresh), std::move(tan_new), std::move(roll_new));
+  install_pairs(std::move(fresh), std::move(tan_new), std::move(roll_new), std::move(damp_new));
 }
 
 // Installs a pair list with its histories and derives the per-pair buffers and the gather CSR.
 void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
-                               std::vector<RollingHistory> rolling) {
+                               std::vector<RollingHistory> rolling, std::vector<double> damping_prev) {
   const std::size_t n = p_.size();
   ps_.pairs = std::move(pairs);
   ps_.tangential = std::move(tangential);
   ps_.rolling = std::move(rolling);
+  ps_.damping_prev = std::move(damping_prev);
   const std::size_t np = ps_.pairs.size();
   ps_.force.assign(np, Vec3::Zero());
   ps_.torque_i.assign(np, Vec3::Zero());
@@ -185,7 +189,10 @@ void Simulation::pair_contacts_impl() {
       }
       if constexpr (Tangential) ps_.tangential[k] = {};
       if constexpr (Rolling) ps_.rolling[k] = {};
-      if constexpr (Energy) ps_.dissipated[k].setZero();
+      if constexpr (Energy) {
+        ps_.dissipated[k].setZero();
+        ps_.damping_prev[k] = 0.0;
+      }
       continue;
     }
     max_ratio = std::max(max_ratio, g.overlap / std::min(p_.radius[i], p_.radius[j]));
@@ -199,7 +206,7 @@ void Simulation::pair_contacts_impl() {
     const NormalResult nr = hertz_normal(g, law);
     Vec3 F = nr.force * g.n;
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss.x() = (nr.elastic - nr.force) * g.v_rel.dot(g.n) * dt;
+    if constexpr (Energy) diss.x() = normal_dissipation(nr, g.v_rel.dot(g.n), dt, ps_.damping_prev[k]);
     if constexpr (Tangential || Rolling) {
       Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
       if constexpr (Tangential) {
@@ -275,6 +282,7 @@ void Simulation::gather_walls_impl() {
       if (g.overlap <= 0) {
         if constexpr (Tangential) wall_tan_[p * nw + w] = {};
         if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+        if constexpr (Energy) wall_damping_prev_[p * nw + w] = 0.0;
         continue;
       }
       max_ratio = std::max(max_ratio, g.overlap / r);
@@ -290,7 +298,7 @@ void Simulation::gather_walls_impl() {
       const PairLaw& law = laws(p_.material[p], wall.material);
       const NormalResult nr = hertz_normal(g, law);
       Vec3 Fc = nr.force * g.n;
-      if constexpr (Energy) diss.x() += (nr.elastic - nr.force) * g.v_rel.dot(g.n) * dt;
+      if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_rel.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
       if constexpr (Tangential) {
         const TangentialResult tr = mindlin_tangential(g, law, nr.force, dt, wall_tan_[p * nw + w]);
         Fc += tr.force;

@@ -35,6 +35,7 @@ struct PairState {
   std::vector<std::uint32_t> first;          // i of each pair
   std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
+  std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
   std::vector<Vec3> force;                   // force on i (on j: the opposite) (unit: N)
   std::vector<Vec3> torque_i, torque_j;      // torques on i and on j (unit: N m)
   std::vector<Vec3> dissipated;              // this step's (normal, tangential, rolling) (unit: J)
@@ -76,7 +77,7 @@ class Simulation {
   void move_cavity();
   void update_neighbours(bool force_rebuild);
   void install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
-                     std::vector<RollingHistory> rolling);
+                     std::vector<RollingHistory> rolling, std::vector<double> damping_prev);
   void pair_contacts();
   void gather_walls();
   void kick();
@@ -97,6 +98,7 @@ class Simulation {
   std::vector<Vec3> x_at_build_;              // positions at the last neighbour build
   std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
   std::vector<RollingHistory> wall_roll_;
+  std::vector<double> wall_damping_prev_;     // per particle per wall (energy tally)
   CavityState cavity_, cavity_prev_;
   double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
   std::uint64_t step_ = 0;

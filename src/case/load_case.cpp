@@ -85,6 +85,27 @@ void resolve_output(const CaseReader& in, Scene& s) {
 
 }  // namespace
 
+void decide_models(Scene& s) {
+  // Model only what the scene requires: look at the pairs that can occur (particle materials
+  // against particle and wall materials).
+  const std::size_t nm = s.materials.size();
+  std::vector<bool> particle(nm, false), touched(nm, false);
+  for (const auto& p : s.particles) particle[static_cast<std::size_t>(p.material)] = touched[static_cast<std::size_t>(p.material)] = true;
+  for (const auto& w : s.walls) touched[static_cast<std::size_t>(w.material)] = true;
+  s.models.tangential = s.models.rolling = false;
+  for (std::size_t a = 0; a < nm; ++a) {
+    if (!particle[a]) continue;
+    for (std::size_t b = 0; b < nm; ++b) {
+      if (!touched[b]) continue;
+      const PairLaw& law = s.laws(static_cast<int>(a), static_cast<int>(b));
+      s.models.tangential = s.models.tangential || law.friction > 0;
+      s.models.rolling = s.models.rolling || law.rolling > 0;
+    }
+  }
+  s.models.rotation = s.models.tangential || s.models.rolling;
+  s.models.gravity = s.gravity.norm() > 0;
+}
+
 std::uint64_t Scene::total_steps() const {
   return static_cast<std::uint64_t>(std::ceil((settle + duration) / dt - 1e-9));
 }
@@ -121,21 +142,7 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   resolve_motion(in, s);
   resolve_particles(in, s, names);
 
-  // Model only what the scene requires: look at the pairs that can occur.
-  std::vector<bool> used(names.size(), false);
-  for (const auto& p : s.particles) used[static_cast<std::size_t>(p.material)] = true;
-  s.models.tangential = s.models.rolling = false;
-  for (std::size_t a = 0; a < names.size(); ++a) {
-    if (!used[a]) continue;
-    for (std::size_t b = 0; b < names.size(); ++b) {
-      if (!(used[b] || static_cast<int>(b) == s.walls.front().material)) continue;
-      const PairLaw& law = s.laws(static_cast<int>(a), static_cast<int>(b));
-      s.models.tangential |= law.friction > 0;
-      s.models.rolling |= law.rolling > 0;
-    }
-  }
-  s.models.rotation = s.models.tangential || s.models.rolling;
-  s.models.gravity = s.gravity.norm() > 0;
+  decide_models(s);
   s.models.energy = in.boolean("output.energy", true);
 
   double dmax = 0;

@@ -15,6 +15,9 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
 // Human-readable report of a resolved scene (what `bagdem check` prints).
 std::string describe_scene(const Scene& s);
 
+// Decides s.models (tangential, rolling, rotation, gravity) from the pair laws that can occur.
+void decide_models(Scene& s);
+
 // ---- pieces of the resolution, one file each under src/case/ ----
 
 // cavity_kinds.cpp: [cavity] -> walls, bounding box and reference point (table of kinds).

@@ -29,6 +29,16 @@ inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
   return {std::max(0.0, F_el + gamma_n * delta_dot), S_n, F_el};
 }
 
+// Energy dissipated by the normal damping over a step: the trapezoid of this and the previous
+// step's damping force F_d = F_n - F_el times the normal displacement v_n dt (velocity Verlet's
+// discrete work of a force). `damping_prev` is updated.
+inline double normal_dissipation(const NormalResult& r, double v_n, double dt, double& damping_prev) {
+  const double Fd = r.force - r.elastic;
+  const double d = -0.5 * (Fd + damping_prev) * v_n * dt;
+  damping_prev = Fd;
+  return d;
+}
+
 inline double hertz_energy(const PairLaw& law, double R_eff, double overlap) {
   return (8.0 / 15.0) * law.E_star * std::sqrt(R_eff) * overlap * overlap * std::sqrt(overlap);
 }

@@ -21,6 +21,7 @@ namespace bagdem {
 struct TangentialHistory {
   Vec3 force = Vec3::Zero();  // elastic tangential force F_e on i (unit: N)
   double stiffness = 0;       // S_t at the previous step (unit: N/m); 0 = new contact
+  Vec3 total = Vec3::Zero();  // F_t of the previous step, for the energy tally (unit: N)
 };
 
 struct TangentialResult {
@@ -53,12 +54,15 @@ inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairL
     Ft *= cap / std::sqrt(Ft2);
     Fe = Ft;
   }
+  // Work of F_t on the relative motion over the step: in velocity Verlet a force's discrete work is
+  // the trapezoid of the forces of two steps times the half-step displacement. What the spring did
+  // not store was dissipated (by the dashpot, by sliding, or lost in the stiffness rules).
+  const double energy_after = Fe.squaredNorm() / (2.0 * S_t);
+  const double work = 0.5 * (Ft + h.total).dot(v_t) * dt;
   h.force = Fe;
   h.stiffness = S_t;
-  // Work done by F_t on the relative motion this step is F_t . v_t dt; what the spring did not store
-  // was dissipated (by the dashpot, by sliding, or lost in the stiffness rules).
-  const double energy_after = Fe.squaredNorm() / (2.0 * S_t);
-  return {Ft, -Ft.dot(v_t) * dt - (energy_after - energy_before)};
+  h.total = Ft;
+  return {Ft, -work - (energy_after - energy_before)};
 }
 
 inline double mindlin_energy(const TangentialHistory& h) {

@@ -26,6 +26,7 @@ inline RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, 
                                   double F_n, double dt, RollingHistory& h) {
   const Vec3 w_roll = g.w_rel - g.w_rel.dot(g.n) * g.n;
   const double k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
+  const Vec3 M_prev = h.torque;
   Vec3 M = h.torque;
   const double energy_before = h.stiffness > 0 ? M.squaredNorm() / (2.0 * h.stiffness) : 0.0;
   const double mag2 = M.squaredNorm();
@@ -42,7 +43,8 @@ inline RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, 
   h.torque = M;
   h.stiffness = k_r;
   const double energy_after = k_r > 0 ? M.squaredNorm() / (2.0 * k_r) : 0.0;
-  return {M, -M.dot(w_roll) * dt - (energy_after - energy_before)};
+  // Trapezoidal work, as in mindlin.hpp.
+  return {M, -0.5 * (M + M_prev).dot(w_roll) * dt - (energy_after - energy_before)};
 }
 
 inline double rolling_energy(const RollingHistory& h) {

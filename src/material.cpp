@@ -31,6 +31,7 @@ PairLawTable make_pair_laws(const std::vector<Material>& materials,
       law.E_star = effective_youngs(materials[a], materials[b]);
       law.G_star = effective_shear(materials[a], materials[b]);
       law.damping = 2.0 * std::sqrt(5.0 / 6.0) * clamped_beta(in.restitution);
+      law.tangential_ratio = std::sqrt(4.0 * law.G_star / law.E_star);
       law.friction = in.friction;
       law.rolling = in.rolling_friction;
       law.restitution = in.restitution;

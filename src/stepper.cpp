@@ -73,16 +73,21 @@ void Simulation::step() {
 }
 
 // ---- 1. kick_drift ------------------------------------------------------------------------------
+// Also finds whether any particle moved more than skin/2 since the last neighbour build.
 void Simulation::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
   const std::size_t n = p_.size();
   const bool rot = scene_.models.rotation;
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  const double limit2 = 0.25 * scene_.skin * scene_.skin;
+  bool moved = false;
+#pragma omp parallel for schedule(static) reduction(|| : moved) if (n > kParallelMin)
   for (std::size_t i = 0; i < n; ++i) {
     p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
     p_.x[i] += dt * p_.v[i];
     if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+    moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
   }
+  needs_rebuild_ = moved;
 }
 
 // ---- 2. move_cavity -----------------------------------------------------------------------------
@@ -94,13 +99,7 @@ void Simulation::move_cavity() {
 // ---- 3. neighbours ------------------------------------------------------------------------------
 void Simulation::update_neighbours(bool force_rebuild) {
   const std::size_t n = p_.size();
-  if (!force_rebuild) {
-    const double limit2 = 0.25 * scene_.skin * scene_.skin;
-    bool moved = false;
-#pragma omp parallel for schedule(static) reduction(|| : moved) if (n > kParallelMin)
-    for (std::size_t i = 0; i < n; ++i) moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
-    if (!moved) return;
-  }
+  if (!force_rebuild && !needs_rebuild_) return;
   ++builds_;
   x_at_build_ = p_.x;
   CandidatePairs fresh;
@@ -210,7 +209,7 @@ void Simulation::pair_contacts_impl() {
     if constexpr (Tangential || Rolling) {
       Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
       if constexpr (Tangential) {
-        const TangentialResult tr = mindlin_tangential(g, law, nr.force, dt, ps_.tangential[k]);
+        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, ps_.tangential[k]);
         F += tr.force;
         const Vec3 nxF = g.n.cross(tr.force);
         Ti = -g.arm_i * nxF;
@@ -300,7 +299,7 @@ void Simulation::gather_walls_impl() {
       Vec3 Fc = nr.force * g.n;
       if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_rel.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
       if constexpr (Tangential) {
-        const TangentialResult tr = mindlin_tangential(g, law, nr.force, dt, wall_tan_[p * nw + w]);
+        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, wall_tan_[p * nw + w]);
         Fc += tr.force;
         T -= g.arm_i * g.n.cross(tr.force);
         if constexpr (Energy) diss.y() += tr.dissipated;
@@ -335,22 +334,25 @@ void Simulation::gather_walls_impl() {
 }
 
 // ---- 6. kick ------------------------------------------------------------------------------------
+// Also checks that every velocity is a number (a diverged integration shows there first).
 void Simulation::kick() {
   const double h = 0.5 * scene_.dt;
   const std::size_t n = p_.size();
   const bool rot = scene_.models.rotation;
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  bool finite = true;
+#pragma omp parallel for schedule(static) reduction(&& : finite) if (n > kParallelMin)
   for (std::size_t i = 0; i < n; ++i) {
     p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
     if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+    finite = finite && std::isfinite(p_.v[i].squaredNorm());
   }
+  all_finite_ = finite;
 }
 
 // ---- 7. guards ----------------------------------------------------------------------------------
 void Simulation::guards() {
   const std::size_t n = p_.size();
-  bool bad = false;
-  for (std::size_t i = 0; i < n && !bad; ++i) bad = !p_.x[i].allFinite() || !p_.v[i].allFinite();
+  const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
   const bool overlap = max_overlap_ratio_ > scene_.max_overlap_fraction;
   const bool escaped = min_wall_distance_ratio_ < 0.0;
   if (!bad && !overlap && !escaped) return;

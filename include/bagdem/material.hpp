@@ -25,6 +25,7 @@ struct PairLaw {
   double E_star = 0;        // effective Young's modulus 1/E* = sum (1-nu^2)/E (unit: Pa)
   double G_star = 0;        // effective shear modulus 1/G* = sum 2(2-nu)(1+nu)/E (unit: Pa)
   double damping = 0;       // 2 sqrt(5/6) |beta|: gamma = damping * sqrt(S m*) (dimensionless)
+  double tangential_ratio = 0;  // sqrt(S_t / S_n) = sqrt(4 G*/E*): gamma_t = gamma_n * this
   double friction = 0;      // mu_s
   double rolling = 0;       // mu_r
   double restitution = 1;   // the requested e (for reports)

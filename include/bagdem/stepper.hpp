@@ -105,6 +105,8 @@ class Simulation {
   std::uint64_t builds_ = 0;
   double load_time_ = 0;                      // time the cavity impulse tallies started
   double potential0_ = 0, kinetic_elastic0_ = 0;
+  bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
+  bool all_finite_ = true;                    // every velocity finite (kick)
   // Guard results of the last step.
   double max_overlap_ratio_ = 0;
   double min_wall_distance_ratio_ = 0;

@@ -22,8 +22,9 @@
 namespace bagdem {
 namespace {
 
-// Is a sphere (x, r) inside the cavity, not touching any wall?
-bool inside_cavity(const Scene& s, const Vec3& x, double r) {
+// Is a sphere (x, r) inside the cavity, not touching any wall (tolerance: allowed overlap)?
+bool inside_cavity(const Scene& s, const Vec3& x, double r, double tolerance = 0.0) {
+  r -= tolerance;
   for (const Wall& w : s.walls) {
     Vec3 n;
     if (wall_distance(w, x, n) < r) return false;
@@ -44,8 +45,8 @@ class PlacementGrid {
     pos_[id] = x;
     rad_[id] = r;
   }
-  // Index of a particle overlapping (x, r), or -1.
-  long overlapping(const Vec3& x, double r) const {
+  // Index of a particle overlapping (x, r) by more than `tolerance` times the smaller radius, or -1.
+  long overlapping(const Vec3& x, double r, double tolerance = 0.0) const {
     const auto c = cell(x);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
@@ -53,7 +54,7 @@ class PlacementGrid {
           auto it = cells_.find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
           if (it == cells_.end()) continue;
           for (std::size_t id : it->second) {
-            const double cut = r + rad_[id];
+            const double cut = r + rad_[id] - tolerance * std::min(r, rad_[id]);
             if ((pos_[id] - x).squaredNorm() < cut * cut) return static_cast<long>(id);
           }
         }
@@ -191,20 +192,24 @@ DiameterSampler diameter_sampler(const CaseReader& in, const std::string& g) {
   return s;
 }
 
+// Explicit particles may touch (a settled bed has contact overlaps of ~1e-5 of a radius): an
+// overlap above `tol` times the smaller radius, with a wall or another particle, is an input error.
 void check_explicit(const CaseReader& in, const std::string& key, const Scene& s,
-                    const std::vector<ParticleInit>& list, std::size_t first, PlacementGrid& grid) {
+                    const std::vector<ParticleInit>& list, std::size_t first, PlacementGrid& grid, double tol) {
   for (std::size_t k = 0; k < list.size(); ++k) {
     const ParticleInit& p = list[k];
     if (!(p.radius > 0)) in.fail(key, "particle " + std::to_string(k) + " has a non-positive diameter");
-    if (!inside_cavity(s, p.x, p.radius)) {
+    if (!inside_cavity(s, p.x, p.radius, tol * p.radius)) {
       std::ostringstream m;
       m << "particle " << k << " at (" << p.x.x() << ", " << p.x.y() << ", " << p.x.z()
-        << ") m with diameter " << 2 * p.radius << " m is not inside the cavity (it touches or crosses a wall)";
+        << ") m with diameter " << 2 * p.radius << " m is not inside the cavity (it crosses a wall by more "
+        << "than simulation.initial_overlap = " << tol << " of its radius)";
       in.fail(key, m.str());
     }
-    if (long other = grid.overlapping(p.x, p.radius); other >= 0)
+    if (long other = grid.overlapping(p.x, p.radius, tol); other >= 0)
       in.fail(key, "particles " + std::to_string(other) + " and " + std::to_string(first + k) +
-                       " overlap; explicit particles must not overlap");
+                       " overlap by more than simulation.initial_overlap = " + std::to_string(tol) +
+                       " of the smaller radius; explicit particles must not overlap");
     grid.add(p.x, p.radius, first + k);
   }
 }
@@ -349,7 +354,9 @@ void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::st
           in.fail(key, "a particle of diameter " + std::to_string(2 * p.radius) +
                            " m is larger than the cavity (smallest extent " + std::to_string(extent) + " m)");
       }
-      check_explicit(in, key, s, list, s.particles.size(), grid);
+      const double tol = in.quantity("simulation.initial_overlap", dim::none, 1e-3);
+      if (!(tol >= 0 && tol < 0.1)) in.fail("simulation.initial_overlap", "must be in [0, 0.1)");
+      check_explicit(in, key, s, list, s.particles.size(), grid, tol);
       s.particles.insert(s.particles.end(), list.begin(), list.end());
       continue;
     }

@@ -28,13 +28,8 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   std::vector<std::string> o{mx.str()};
   if (!data_file.empty()) {
     o.push_back("particles.bed.file=\"" + data_file + "\"");
-    o.push_back("particles.bed.format=\"lammps-data\"");
-    o.push_back("simulation.settle=0");
   } else {
     o.push_back("particles.bed.count=" + std::to_string(N));
-    o.push_back("particles.bed.fill=\"lattice\"");
-    o.push_back("particles.bed.diameter=\"4 mm\"");
-    o.push_back("simulation.settle=\"0.05 s\"");
   }
   return o;
 }
@@ -75,7 +70,8 @@ int run_bench(const BenchOptions& opt) {
       std::fprintf(stderr, "note: %s not found; generating and settling the bed (0.05 s, not timed)\n", data.c_str());
       data.clear();
     }
-    const Scene scene = load_case(case_dir, pdbox_overrides(N, data));
+    // From the peers' state: cases/pdbox-peers; otherwise cases/pdbox generates and settles the bed.
+    const Scene scene = load_case(data.empty() ? case_dir : src + "/cases/pdbox-peers", pdbox_overrides(N, data));
     const long long base = N <= 100 ? 1000000 : N <= 1000 ? 300000 : 40000;
     const long long steps = std::max(100LL, static_cast<long long>(base * opt.step_scale));
     for (const std::string& method : opt.methods) {

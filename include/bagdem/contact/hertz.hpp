@@ -18,6 +18,7 @@ struct NormalResult {
   double force;       // F_n >= 0 along n, on i (unit: N)
   double stiffness;   // S_n (unit: N/m)
   double elastic;     // F_el (unit: N)
+  double damping;     // gamma_n (unit: N s/m); the tangential role derives gamma_t from it
 };
 
 inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
@@ -26,7 +27,7 @@ inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
   const double F_el = (2.0 / 3.0) * S_n * g.overlap;  // = 4/3 E* sqrt(R*) delta^(3/2)
   const double gamma_n = law.damping * std::sqrt(S_n * g.m_eff);
   const double delta_dot = -g.v_rel.dot(g.n);
-  return {std::max(0.0, F_el + gamma_n * delta_dot), S_n, F_el};
+  return {std::max(0.0, F_el + gamma_n * delta_dot), S_n, F_el, gamma_n};
 }
 
 // Energy dissipated by the normal damping over a step: the trapezoid of this and the previous

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "bagdem/contact/geometry.hpp"
+#include "bagdem/contact/hertz.hpp"
 #include "bagdem/material.hpp"
 
 namespace bagdem {
@@ -29,11 +30,13 @@ struct TangentialResult {
   double dissipated;   // energy dissipated in this step by damping and sliding (unit: J)
 };
 
+// `normal` is the normal role's result: S_t = S_n 4G*/E*, gamma_t = gamma_n sqrt(4G*/E*) (no sqrt here).
 inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
-                                           double F_n, double dt, TangentialHistory& h) {
+                                           const NormalResult& normal, double dt, TangentialHistory& h) {
+  const double F_n = normal.force;
   const Vec3 v_t = g.v_rel - g.v_rel.dot(g.n) * g.n;
-  const double S_t = 8.0 * law.G_star * std::sqrt(g.R_eff * g.overlap);
-  const double gamma_t = law.damping * std::sqrt(S_t * g.m_eff);
+  const double S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
+  const double gamma_t = normal.damping * law.tangential_ratio;
 
   Vec3 Fe = h.force;
   const double energy_before = h.stiffness > 0 ? Fe.squaredNorm() / (2.0 * h.stiffness) : 0.0;

@@ -1,0 +1,34 @@
+# Shared by tools/demo, tools/test and tools/validate (sourced, not run): installs the Debian
+# packages bagdem needs if any is missing, then configures and builds build/ (Release).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${BAGDEM_BUILD_DIR:-$ROOT/build}"
+PACKAGES=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libnanoflann-dev
+          libgtest-dev libtomlplusplus-dev libcli11-dev python3-numpy python3-h5py python3-matplotlib)
+
+install_missing() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "bagdem: installing ${missing[*]}"
+  local cmd=(apt-get install -y --no-install-recommends "${missing[@]}")
+  if [ "$(id -u)" -eq 0 ]; then
+    DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${cmd[@]}" -qq >/dev/null
+  elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    sudo DEBIAN_FRONTEND=noninteractive "${cmd[@]}" -qq >/dev/null
+  else
+    echo "bagdem: missing packages and no root or sudo. Run as root:" >&2
+    echo "  apt-get update && ${cmd[*]}" >&2
+    exit 1
+  fi
+}
+
+build() {
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$BUILD" -j "$(nproc)" -- --no-print-directory 2>&1 | grep -Ev '^\[ *[0-9]+%\]' || true
+  [ -x "$BUILD/bagdem" ] || { echo "bagdem: build failed" >&2; exit 1; }
+}

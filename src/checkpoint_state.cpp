@@ -56,7 +56,7 @@ void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, double& load_tim
             std::vector<double>& wall_damp, CavityState& cav, CavityState& cav_prev) {
   io.pod(step), io.pod(builds), io.pod(load_time), io.pod(pot0), io.pod(ke0);
   io.pod(cav), io.pod(cav_prev);
-  io.vec(p.x), io.vec(p.v), io.vec(p.w), io.vec(p.f), io.vec(p.t);
+  io.vec(p.x), io.vec(p.v), io.vec(p.w), io.vec(p.v_pred), io.vec(p.w_pred), io.vec(p.f), io.vec(p.t);
   io.vec(tally.wall_force), io.vec(tally.wall_force_prev), io.vec(tally.wall_impulse);
   io.vec(tally.wall_ang_impulse), io.vec(tally.work_cavity), io.vec(tally.diss_normal);
   io.vec(tally.diss_tangential), io.vec(tally.diss_rolling);

@@ -6,6 +6,8 @@ void Particles::resize(std::size_t n) {
   x.resize(n, Vec3::Zero());
   v.resize(n, Vec3::Zero());
   w.resize(n, Vec3::Zero());
+  v_pred.resize(n, Vec3::Zero());
+  w_pred.resize(n, Vec3::Zero());
   f.resize(n, Vec3::Zero());
   t.resize(n, Vec3::Zero());
   radius.resize(n, 0.0);

@@ -40,6 +40,8 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
     p_.inv_inertia[i] = 1.0 / (0.4 * m * q.radius * q.radius);
     p_.material[i] = q.material;
   }
+  p_.v_pred = p_.v;
+  p_.w_pred = p_.w;
   tally_.resize(n);
   const std::size_t nw = scene.walls.size();
   if (scene.models.tangential) wall_tan_.assign(n * nw, {});
@@ -73,7 +75,10 @@ void Simulation::step() {
 }
 
 // ---- 1. kick_drift ------------------------------------------------------------------------------
-// Also finds whether any particle moved more than skin/2 since the last neighbour build.
+// Also predicts the end-of-step velocities the contact law uses, v(n+1/2) + dt/2 F(n)/m: with the
+// half-step velocity alone (as LAMMPS and LIGGGHTS do) the damping force lags by dt/2, a first-order
+// error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
+// second order. Also finds whether any particle moved more than skin/2 since the last build.
 void Simulation::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
   const std::size_t n = p_.size();
@@ -82,9 +87,15 @@ void Simulation::kick_drift() {
   bool moved = false;
 #pragma omp parallel for schedule(static) reduction(|| : moved) if (n > kParallelMin)
   for (std::size_t i = 0; i < n; ++i) {
-    p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
+    const Vec3 dv = h * p_.inv_mass[i] * p_.f[i];
+    p_.v[i] += dv;
     p_.x[i] += dt * p_.v[i];
-    if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+    p_.v_pred[i] = p_.v[i] + dv;
+    if (rot) {
+      const Vec3 dw = h * p_.inv_inertia[i] * p_.t[i];
+      p_.w[i] += dw;
+      p_.w_pred[i] = p_.w[i] + dw;
+    }
     moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
   }
   needs_rebuild_ = moved;
@@ -197,15 +208,18 @@ void Simulation::pair_contacts_impl() {
     max_ratio = std::max(max_ratio, g.overlap / std::min(p_.radius[i], p_.radius[j]));
     g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
     if constexpr (Tangential || Rolling) {
-      relative_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
+      g.v_rel = contact_velocity(p_.v_pred[i], p_.v_pred[j], p_.w_pred[i], p_.w_pred[j], g);
+      g.v_half = contact_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
+      g.w_half = p_.w[i] - p_.w[j];
     } else {
-      g.v_rel = p_.v[i] - p_.v[j];
+      g.v_rel = p_.v_pred[i] - p_.v_pred[j];
+      g.v_half = p_.v[i] - p_.v[j];
     }
     const PairLaw& law = laws(p_.material[i], p_.material[j]);
     const NormalResult nr = hertz_normal(g, law);
     Vec3 F = nr.force * g.n;
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss.x() = normal_dissipation(nr, g.v_rel.dot(g.n), dt, ps_.damping_prev[k]);
+    if constexpr (Energy) diss.x() = normal_dissipation(nr, g.v_half.dot(g.n), dt, ps_.damping_prev[k]);
     if constexpr (Tangential || Rolling) {
       Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
       if constexpr (Tangential) {
@@ -248,6 +262,8 @@ void Simulation::gather_walls_impl() {
   const Vec3 g_acc = scene_.models.gravity ? scene_.gravity : Vec3::Zero();
   const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
   const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;  // mean cavity velocity over the step
+  const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   double max_ratio = max_overlap_ratio_;
   double min_dist = 1e300;
@@ -271,6 +287,9 @@ void Simulation::gather_walls_impl() {
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
     const Vec3 x_local = p_.x[p] - c_pos;
     const double r = p_.radius[p];
+    // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
+    // planes need not enclose anything).
+    min_dist = std::min(min_dist, std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff()) / r);
     Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = scene_.walls[w];
@@ -289,15 +308,20 @@ void Simulation::gather_walls_impl() {
       g.m_eff = p_.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
       g.arm_j = 0;
+      // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
+      // the mean over the step.
       if constexpr (Tangential || Rolling) {
-        relative_velocity(p_.v[p], c_vel, p_.w[p], Vec3::Zero(), g);
+        g.v_rel = contact_velocity(p_.v_pred[p], c_vel, p_.w_pred[p], Vec3::Zero(), g);
+        g.v_half = contact_velocity(p_.v[p], c_half, p_.w[p], Vec3::Zero(), g);
+        g.w_half = p_.w[p];
       } else {
-        g.v_rel = p_.v[p] - c_vel;
+        g.v_rel = p_.v_pred[p] - c_vel;
+        g.v_half = p_.v[p] - c_half;
       }
       const PairLaw& law = laws(p_.material[p], wall.material);
       const NormalResult nr = hertz_normal(g, law);
       Vec3 Fc = nr.force * g.n;
-      if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_rel.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
+      if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
       if constexpr (Tangential) {
         const TangentialResult tr = mindlin_tangential(g, law, nr, dt, wall_tan_[p * nw + w]);
         Fc += tr.force;
@@ -362,26 +386,35 @@ void Simulation::guards() {
   if (bad) {
     m << "a particle position or velocity is not a number. The integration diverged: reduce "
          "simulation.timestep (or its safety factor), or check the material parameters.";
-  } else if (overlap) {
+    throw RunError(m.str());
+  }
+  // A particle outside the cavity also shows as a huge wall overlap: name the escape first.
+  if (escaped) {
+    const Vec3 c = cavity_.position;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 xl = p_.x[i] - c;
+      std::string where;
+      for (const Wall& w : scene_.walls) {
+        Vec3 nrm;
+        if (wall_distance(w, xl, nrm) < 0) where = "through wall '" + w.name + "'";
+      }
+      if (where.empty() && ((xl - scene_.cavity_lo).minCoeff() < 0 || (scene_.cavity_hi - xl).minCoeff() < 0))
+        where = "beyond the cavity bounds (cavity.min/max)";
+      if (where.empty()) continue;
+      m << "particle " << i << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
+        << ", " << p_.x[i].z()
+        << ") m. It went through the boundary within one step or flew out of an open cavity: reduce "
+           "simulation.timestep, the cavity acceleration or the particle speeds, raise the wall's "
+           "Young's modulus, or close the cavity.";
+      throw RunError(m.str());
+    }
+  }
+  {
     m << "a contact overlap reached " << 100 * max_overlap_ratio_ << "% of a particle radius (limit "
       << 100 * scene_.max_overlap_fraction
       << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
          "raise the Young's modulus.";
-  } else {
-    const Vec3 c = cavity_.position;
-    for (std::size_t i = 0; i < n; ++i) {
-      for (const Wall& w : scene_.walls) {
-        Vec3 nrm;
-        if (wall_distance(w, p_.x[i] - c, nrm) < 0) {
-          m << "particle " << i << " left the cavity through wall '" << w.name << "' at ("
-            << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
-            << ") m. It tunnelled through the wall: reduce simulation.timestep or the cavity "
-               "acceleration, or raise the wall's Young's modulus.";
-          throw RunError(m.str());
-        }
-      }
-    }
   }
   throw RunError(m.str());
 }

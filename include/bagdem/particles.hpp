@@ -13,6 +13,8 @@ struct Particles {
   std::vector<Vec3> x;             // position (unit: m)
   std::vector<Vec3> v;             // velocity (unit: m/s)
   std::vector<Vec3> w;             // angular velocity (unit: rad/s)
+  std::vector<Vec3> v_pred;        // velocity predicted to the end of the step for the contact law (unit: m/s)
+  std::vector<Vec3> w_pred;        // same for the angular velocity (unit: rad/s)
   std::vector<Vec3> f;             // force of the current step, gravity included (unit: N)
   std::vector<Vec3> t;             // torque of the current step (unit: N m)
   std::vector<double> radius;      // (unit: m)

@@ -1,6 +1,7 @@
 // The time step. `auto` takes the smallest of
 //   (a) timestep_safety x the Rayleigh time of the smallest particle of each material,
-//   (b) the Hertz contact time at the expected impact speed / steps_per_contact,
+//   (b) the Hertz contact time at the expected impact speed / steps_per_contact, and for heavily
+//       damped contacts (e below ~0.45) the damping time likewise (hertz::resolved_step),
 //   (c) half the critical step of the stiffest contact (normal, or tangential with the rolling
 //       sphere's effective mass 2/7 m*), at the overlap reached at the expected speed;
 // an explicit step is refused when above (c)'s critical step unless simulation.force_timestep.
@@ -58,7 +59,8 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       const bool particle_material = rmin[static_cast<std::size_t>(b)] > 0;
       const PairLaw& law = s.laws(a, b);
       auto consider = [&](double R_eff, double m_eff) {
-        dt_contact = std::min(dt_contact, hertz::contact_time(m_eff, R_eff, law.E_star, v) / per_contact);
+        dt_contact = std::min(dt_contact, hertz::resolved_step(hertz::contact_time(m_eff, R_eff, law.E_star, v),
+                                                               hertz::damping_parameter(law.damping), per_contact));
         const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
         const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
         const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping sqrt(S m*)

@@ -33,14 +33,18 @@ class KdTree final : public BroadPhase {
     build_candidates(n, out, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
       thread_local std::vector<std::pair<std::uint32_t, double>> hits;
       hits.clear();
-      const double reach = r[i] + r_max + skin;
+      // The search radius is padded a little; the exact cut-off is then decided with the same
+      // arithmetic as the other broad phases (nanoflann's distance rounds differently, so pairs at
+      // exactly the cut-off would otherwise disagree).
+      const double reach = (r[i] + r_max + skin) * (1 + 1e-9);
       nanoflann::SearchParams params;
       params.sorted = false;
-      tree.radiusSearch(x[i].data(), reach * reach, hits, params);  // squared distances (L2_Simple)
-      for (const auto& [j, d2] : hits) {
+      tree.radiusSearch(x[i].data(), reach * reach, hits, params);
+      for (const auto& hit : hits) {
+        const std::uint32_t j = hit.first;
         if (j <= i) continue;
         const double cut = r[i] + r[j] + skin;
-        if (d2 < cut * cut) buf.push_back(j);
+        if ((x[i] - x[j]).squaredNorm() < cut * cut) buf.push_back(j);
       }
     });
   }

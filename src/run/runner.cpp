@@ -120,7 +120,6 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   fs::create_directories(out);
   const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5";
   const fs::path ckpt = out / "checkpoint.bin", summary = out / "summary.json";
-  fs::remove(summary);  // a run in progress is not complete
 
   Simulation sim(scene);
   const std::uint64_t total = scene.total_steps();
@@ -141,12 +140,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
     sim.load_state(c.state);
     run = c.tallies;
+    fs::remove(summary);  // a run in progress is not complete
     file.emplace(ResultsFile::reopen(part.string(), run.lengths));
     for (std::size_t k = 0; k < run.lengths.frames; ++k) {
       const std::uint64_t s = std::min<std::uint64_t>(k * n_frame, total);
       frame_times.push_back(static_cast<double>(s) * scene.dt);
     }
   } else {
+    fs::remove(summary);  // a run in progress is not complete
     fs::remove(final_h5);
     std::vector<std::string> mats;
     for (const auto& m : scene.materials) mats.push_back(m.name);

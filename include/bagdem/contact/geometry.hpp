@@ -13,8 +13,10 @@ struct ContactGeometry {
   double m_eff;     // m* with 1/m* = 1/m_i + 1/m_j, m_j = inf for a wall (unit: kg)
   double arm_i;     // distance from i's centre to the contact point (unit: m)
   double arm_j;     // same for j (0 for a wall) (unit: m)
-  Vec3 v_rel;       // velocity of i's material point at the contact relative to j's (unit: m/s)
-  Vec3 w_rel;       // angular velocity of i relative to j (unit: rad/s); for rolling resistance
+  // Relative motion at the contact point, i's material point relative to j's, two ways:
+  Vec3 v_rel;       // at the end of the step (predicted): what dashpots see (unit: m/s)
+  Vec3 v_half;      // at the half step: (displacement over the step)/dt, for springs and energy tallies (unit: m/s)
+  Vec3 w_half;      // relative angular velocity at the half step, for rolling (unit: rad/s)
 };
 
 // Sphere-sphere geometry. x, v, w of i and j; r radii; im inverse masses.
@@ -32,11 +34,11 @@ inline bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, 
   return true;
 }
 
-// Relative kinematics at the contact point c (c - x_i = -arm_i n, c - x_j = +arm_j n).
-inline void relative_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
-                              ContactGeometry& g) {
-  g.v_rel = vi - vj - (g.arm_i * wi + g.arm_j * wj).cross(g.n);
-  g.w_rel = wi - wj;
+// Velocity of i's material point at the contact c relative to j's (c - x_i = -arm_i n,
+// c - x_j = +arm_j n).
+inline Vec3 contact_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
+                             const ContactGeometry& g) {
+  return vi - vj - (g.arm_i * wi + g.arm_j * wj).cross(g.n);
 }
 
 }  // namespace bagdem

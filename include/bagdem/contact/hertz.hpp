@@ -31,8 +31,8 @@ inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
 }
 
 // Energy dissipated by the normal damping over a step: the trapezoid of this and the previous
-// step's damping force F_d = F_n - F_el times the normal displacement v_n dt (velocity Verlet's
-// discrete work of a force). `damping_prev` is updated.
+// step's damping force F_d = F_n - F_el times the normal displacement v_n dt over the step (v_n from
+// g.v_half; velocity Verlet's discrete work of a force). `damping_prev` is updated.
 inline double normal_dissipation(const NormalResult& r, double v_n, double dt, double& damping_prev) {
   const double Fd = r.force - r.elastic;
   const double d = -0.5 * (Fd + damping_prev) * v_n * dt;

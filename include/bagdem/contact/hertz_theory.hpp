@@ -4,6 +4,7 @@
 //   dt_R      = pi R sqrt(rho/G) / (0.1631 nu + 0.8766)          Rayleigh time (Li et al. 2005)
 //   delta_static = (3 m g / (4 E* sqrt(R*)))^(2/3)              sphere resting under gravity
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -22,6 +23,16 @@ inline double rayleigh_time(double R, double density, double E, double nu) {
 inline double static_overlap(double weight, double R_eff, double E_star) {
   return std::pow(3.0 * weight / (4.0 * E_star * std::sqrt(R_eff)), 2.0 / 3.0);
 }
+// Dimensionless damping a = sqrt(5)|beta| of the impact ODE (restitution.hpp) from PairLaw::damping
+// = 2 sqrt(5/6)|beta|.
+inline double damping_parameter(double law_damping) { return law_damping * std::sqrt(6.0) / 2.0; }
+// Step that resolves a contact: its duration t_c by `steps` steps, and, when damping dominates
+// (a > 2/3, i.e. e < ~0.45), its viscous time t_c / (1.5 a) likewise. Measured (tests/impact.hpp
+// sweep, steel): recovered e within 1% for e = 0.01..0.99 with steps = 40.
+inline double resolved_step(double t_c, double a, double steps) {
+  return t_c / (steps * std::max(1.0, 1.5 * a));
+}
+
 // Critical step of velocity Verlet for a damped oscillator of frequency w and damping ratio z.
 inline double critical_step(double w, double z) { return 2.0 / w * (std::sqrt(1 + z * z) - z); }
 

@@ -34,7 +34,8 @@ struct TangentialResult {
 inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
                                            const NormalResult& normal, double dt, TangentialHistory& h) {
   const double F_n = normal.force;
-  const Vec3 v_t = g.v_rel - g.v_rel.dot(g.n) * g.n;
+  const Vec3 v_t = g.v_half - g.v_half.dot(g.n) * g.n;  // tangential displacement rate over the step
+  const Vec3 v_t_end = g.v_rel - g.v_rel.dot(g.n) * g.n; // tangential velocity the dashpot sees
   const double S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
   const double gamma_t = normal.damping * law.tangential_ratio;
 
@@ -50,7 +51,7 @@ inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairL
   if (h.stiffness > S_t) Fe *= S_t / h.stiffness;  // unloading: scale with the stiffness
   Fe -= S_t * dt * v_t;
 
-  Vec3 Ft = Fe - gamma_t * v_t;
+  Vec3 Ft = Fe - gamma_t * v_t_end;
   const double cap = law.friction * F_n;
   const double Ft2 = Ft.squaredNorm();
   if (Ft2 > cap * cap) {

@@ -24,7 +24,7 @@ struct RollingResult {
 
 inline RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, double S_n,
                                   double F_n, double dt, RollingHistory& h) {
-  const Vec3 w_roll = g.w_rel - g.w_rel.dot(g.n) * g.n;
+  const Vec3 w_roll = g.w_half - g.w_half.dot(g.n) * g.n;
   const double k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
   const Vec3 M_prev = h.torque;
   Vec3 M = h.torque;

@@ -1,0 +1,342 @@
+// Checkpoint and restart, bit for bit: a run interrupted (RunOptions.stop_after_steps, which leaves
+// results.h5.part and checkpoint.bin as a kill would) and resumed (RunOptions.resume) writes the same
+// results.h5, dataset by dataset and bit by bit, as the same run uninterrupted; and the CLI refuses
+// --resume where there is nothing to resume.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/run/runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::random_device rd;
+    path = fs::temp_directory_path() / ("bagdem_restart_" + std::to_string(rd()) + std::to_string(rd()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct CmdResult {
+  int code = -1;
+  std::string out, err;
+};
+
+CmdResult bagdem(const std::vector<std::string>& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  std::string cmd = shell_quote(BAGDEM_BINARY);
+  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+  cmd.append(" >").append(shell_quote(out.string()));
+  cmd.append(" 2>").append(shell_quote(err.string()));
+  cmd.append(" </dev/null");
+  const int st = std::system(cmd.c_str());
+  CmdResult r;
+  r.code = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+// 30 soft balls with friction in a box shaken along (1, 0, 1), gravity, a settle phase, frames and
+// checkpoints every few hundred steps (~9300 steps of ~1.3e-5 s).
+const std::string kCase = R"([simulation]
+duration = "0.1 s"
+settle = "0.02 s"
+gravity = [0, 0, "-9.81 m/s^2"]
+
+[materials.rubber]
+density = "1200 kg/m^3"
+youngs_modulus = "5 MPa"
+poisson_ratio = 0.45
+
+[interactions.default]
+restitution = 0.6
+friction = 0.4
+
+[cavity]
+kind = "box"
+material = "rubber"
+min = [0, 0, 0]
+max = ["40 mm", "40 mm", "50 mm"]
+
+[cavity.motion]
+kind = "harmonic"
+amplitude = "2 mm"
+frequency = "25 Hz"
+direction = [1, 0, 1]
+
+[particles.balls]
+material = "rubber"
+diameter = "6 mm"
+count = 30
+fill = "random"
+seed = 7
+
+[output]
+frame_interval = "5 ms"
+checkpoint_interval = "10 ms"
+)";
+
+// ---- results.h5 read back with the HDF5 C API ----------------------------------------------------
+
+struct RawDataset {
+  std::vector<hsize_t> dims;
+  std::vector<unsigned char> bytes;
+};
+
+herr_t collect_dataset_names(hid_t group, const char* name, const H5L_info_t*, void* data) {
+  const hid_t obj = H5Oopen(group, name, H5P_DEFAULT);
+  if (obj < 0) return 0;
+  if (H5Iget_type(obj) == H5I_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+  H5Oclose(obj);
+  return 0;
+}
+
+// Every dataset of the file: name -> dims and raw bytes (read in the native form of its type).
+std::map<std::string, RawDataset> read_all_datasets(const fs::path& path) {
+  std::map<std::string, RawDataset> out;
+  const hid_t f = H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(f, 0) << path;
+  if (f < 0) return out;
+  std::vector<std::string> names;
+  H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, collect_dataset_names, &names);
+  for (const auto& name : names) {
+    RawDataset d;
+    const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Dget_space(ds);
+    d.dims.resize(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
+    H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
+    const hid_t ftype = H5Dget_type(ds);
+    const hid_t mtype = H5Tget_native_type(ftype, H5T_DIR_DEFAULT);
+    const auto npoints = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space));
+    d.bytes.assign(npoints * H5Tget_size(mtype), 0);
+    if (npoints > 0) {
+      EXPECT_GE(H5Dread(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()), 0) << name;
+    }
+    H5Tclose(mtype);
+    H5Tclose(ftype);
+    H5Sclose(space);
+    H5Dclose(ds);
+    out[name] = std::move(d);
+  }
+  H5Fclose(f);
+  return out;
+}
+
+std::string dims_text(const std::vector<hsize_t>& dims) {
+  std::string s = "[";
+  for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? ", " : "") + std::to_string(dims[k]);
+  return s + "]";
+}
+
+// Every dataset of A is in B with the same shape and the same bits, and vice versa.
+void expect_same_results(const fs::path& a, const fs::path& b) {
+  const auto A = read_all_datasets(a), B = read_all_datasets(b);
+  // The layout of results.h5 (include/bagdem/io/results_file.hpp): the series compared must exist.
+  for (const char* name : {"/frames/time", "/frames/position", "/frames/velocity", "/frames/angular_velocity",
+                           "/cavity/time", "/cavity/position", "/cavity/velocity", "/cavity/force",
+                           "/cavity/torque", "/energy/time", "/energy/kinetic", "/energy/dissipated_tangential",
+                           "/particles/radius"}) {
+    EXPECT_TRUE(A.count(name)) << name << " missing in " << a;
+  }
+  ASSERT_TRUE(A.count("/frames/time"));
+  EXPECT_GE(A.at("/frames/time").dims.at(0), 20u) << "expected ~25 frames";
+  EXPECT_EQ(A.size(), B.size());
+  for (const auto& [name, da] : A) {
+    const auto it = B.find(name);
+    if (it == B.end()) {
+      ADD_FAILURE() << name << " missing in " << b;
+      continue;
+    }
+    const RawDataset& db = it->second;
+    EXPECT_EQ(da.dims, db.dims) << name << ": " << dims_text(da.dims) << " vs " << dims_text(db.dims);
+    if (da.dims != db.dims) continue;
+    if (da.bytes != db.bytes) {
+      std::size_t k = 0;
+      while (k < da.bytes.size() && da.bytes[k] == db.bytes[k]) ++k;
+      ADD_FAILURE() << name << " differs (first differing byte " << k << " of " << da.bytes.size() << ")";
+    }
+  }
+}
+
+// "particles" and "steps" of summary.json.
+long long json_integer(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (std::regex_search(json, m, std::regex("\"" + key + "\"\\s*:\\s*(-?[0-9]+)"))) return std::stoll(m[1]);
+  ADD_FAILURE() << "no integer \"" << key << "\" in summary.json:\n" << json;
+  return -1;
+}
+
+struct RestartRun {
+  TempDir tmp;
+  fs::path case_dir;
+  bagdem::Scene scene;
+  RestartRun() {
+    case_dir = tmp.path / "case";
+    fs::create_directories(case_dir);
+    std::ofstream(case_dir / "case.toml") << kCase;
+    scene = bagdem::load_case(case_dir.string());
+  }
+  bagdem::RunReport run(const fs::path& out, long long stop_after = -1, bool resume = false) const {
+    bagdem::RunOptions o;
+    o.out_dir = out.string();
+    o.threads = 1;
+    o.quiet = true;
+    o.resume = resume;
+    o.stop_after_steps = stop_after;
+    return bagdem::run_scene(scene, o);
+  }
+};
+
+// A killed run leaves the partial results and the checkpoint, and nothing that looks complete.
+void expect_interrupted(const fs::path& out) {
+  EXPECT_TRUE(fs::exists(out / "results.h5.part"));
+  EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(out / "results.h5"));
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
+void expect_complete_and_equal(const fs::path& a, const fs::path& b, const bagdem::Scene& scene) {
+  ASSERT_TRUE(fs::exists(b / "results.h5"));
+  EXPECT_FALSE(fs::exists(b / "results.h5.part"));
+  EXPECT_FALSE(fs::exists(b / "checkpoint.bin")) << "a complete run removes its checkpoint";
+  expect_same_results(a / "results.h5", b / "results.h5");
+  const std::string ja = slurp(a / "summary.json"), jb = slurp(b / "summary.json");
+  ASSERT_FALSE(jb.empty()) << "no summary.json after the resumed run";
+  EXPECT_EQ(json_integer(ja, "particles"), 30);
+  EXPECT_EQ(json_integer(jb, "particles"), json_integer(ja, "particles"));
+  EXPECT_EQ(json_integer(ja, "steps"), static_cast<long long>(scene.total_steps()));
+  EXPECT_EQ(json_integer(jb, "steps"), json_integer(ja, "steps"));
+}
+
+TEST(Restart, ResumedRunIsBitwiseEqual) {
+  RestartRun s;
+  ASSERT_EQ(s.scene.particles.size(), 30u);
+  ASSERT_TRUE(s.scene.models.tangential);
+  const std::uint64_t total = s.scene.total_steps();
+  const auto ckpt_steps = static_cast<std::uint64_t>(std::llround(s.scene.output.checkpoint_interval / s.scene.dt));
+  ASSERT_GT(total, 4 * ckpt_steps);
+
+  const fs::path a = s.tmp.path / "A", b = s.tmp.path / "B";
+  const bagdem::RunReport ra = s.run(a);
+  ASSERT_TRUE(ra.complete) << ra.message;
+
+  // Killed between two checkpoints, after the settle phase: the frames written after the last
+  // checkpoint must be cut on resume.
+  const long long stop = static_cast<long long>(2 * ckpt_steps + ckpt_steps / 2);
+  const bagdem::RunReport rb1 = s.run(b, stop);
+  EXPECT_FALSE(rb1.complete);
+  expect_interrupted(b);
+  // Mark the partial file: the resumed run must continue this file (cut to the checkpoint's
+  // lengths), not start a new one from step 0 (which would also end bitwise equal).
+  {
+    const hid_t f = H5Fopen((b / "results.h5.part").string().c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hid_t sp = H5Screate(H5S_SCALAR);
+    const hid_t at = H5Acreate2(f, "restart_test_marker", H5T_NATIVE_INT, sp, H5P_DEFAULT, H5P_DEFAULT);
+    const int one = 1;
+    EXPECT_GE(H5Awrite(at, H5T_NATIVE_INT, &one), 0);
+    H5Aclose(at);
+    H5Sclose(sp);
+    H5Fclose(f);
+  }
+  const bagdem::RunReport rb2 = s.run(b, -1, true);
+  ASSERT_TRUE(rb2.complete) << rb2.message;
+  expect_complete_and_equal(a, b, s.scene);
+  const hid_t f = H5Fopen((b / "results.h5").string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  EXPECT_GT(H5Aexists(f, "restart_test_marker"), 0) << "the resumed run did not continue the partial file";
+  H5Fclose(f);
+}
+
+TEST(Restart, TwiceInterruptedRunIsBitwiseEqual) {
+  RestartRun s;
+  const auto ckpt_steps = static_cast<std::uint64_t>(std::llround(s.scene.output.checkpoint_interval / s.scene.dt));
+  const fs::path a = s.tmp.path / "A", b = s.tmp.path / "B";
+  ASSERT_TRUE(s.run(a).complete);
+  // Killed during the settle phase (before the motion starts), resumed, killed again during the
+  // shaking, resumed to the end.
+  EXPECT_FALSE(s.run(b, static_cast<long long>(ckpt_steps + 7)).complete);
+  expect_interrupted(b);
+  EXPECT_FALSE(s.run(b, static_cast<long long>(3 * ckpt_steps + 11), true).complete);
+  expect_interrupted(b);
+  ASSERT_TRUE(s.run(b, -1, true).complete);
+  expect_complete_and_equal(a, b, s.scene);
+}
+
+TEST(Restart, CliResumeWithoutCheckpointIsRefused) {
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case", out = tmp.path / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << kCase;
+  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet"}, tmp.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find((out / "checkpoint.bin").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no checkpoint to resume from"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "results.h5"));
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
+TEST(Restart, CliResumeOfCompleteRunIsRefusedAndChangesNothing) {
+  // A complete run removed its checkpoint: --resume has nothing to continue. It must say so
+  // (exit 2) and leave the complete run's files as they were.
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case", out = tmp.path / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << kCase;
+  const CmdResult done = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1",
+                                 "--set", "simulation.duration=\"0.01 s\""},
+                                tmp.path);
+  ASSERT_EQ(done.code, 0) << done.err;
+  ASSERT_TRUE(fs::exists(out / "summary.json"));
+  const std::string summary = slurp(out / "summary.json");
+  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet",
+                              "--set", "simulation.duration=\"0.01 s\""},
+                             tmp.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("no checkpoint to resume from"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "results.h5"));
+  EXPECT_TRUE(fs::exists(out / "summary.json")) << "a refused --resume deleted the complete run's summary.json";
+  EXPECT_EQ(slurp(out / "summary.json"), summary);
+}
+
+}  // namespace

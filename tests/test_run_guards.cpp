@@ -1,0 +1,227 @@
+// Run guards through the command line: a run that goes unstable (overlap beyond
+// simulation.max_overlap, a particle leaving the cavity, NaN) stops with exit code 3 and a message
+// that says what happened and what to change; results.h5 is a valid HDF5 file whose root attribute
+// "status" starts with "failed", and summary.json (the mark of a complete run) is not written.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::random_device rd;
+    path = fs::temp_directory_path() / ("bagdem_run_guards_" + std::to_string(rd()) + std::to_string(rd()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct CmdResult {
+  int code = -1;
+  std::string out, err;
+};
+
+CmdResult bagdem(const std::vector<std::string>& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  std::string cmd = shell_quote(BAGDEM_BINARY);
+  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+  cmd.append(" >").append(shell_quote(out.string()));
+  cmd.append(" 2>").append(shell_quote(err.string()));
+  cmd.append(" </dev/null");
+  const int st = std::system(cmd.c_str());
+  CmdResult r;
+  r.code = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+// One steel ball of 4 mm in a 20 mm box without gravity, at `position` with `velocity`;
+// `simulation_extra` and `material_extra` are added to [simulation] and [materials.steel].
+std::string one_ball_case(const std::string& position, const std::string& velocity,
+                          const std::string& simulation_extra, const std::string& youngs = "\"200 GPa\"",
+                          const std::string& duration = "\"0.01 s\"") {
+  return "[simulation]\nduration = " + duration + "\ngravity = [0, 0, 0]\n" + simulation_extra +
+         "\n[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = " + youngs +
+         "\npoisson_ratio = 0.3\n"
+         "\n[interactions.default]\nrestitution = 0.5\nfriction = 0.2\n"
+         "\n[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [0, 0, 0]\nmax = [\"20 mm\", \"20 mm\", \"20 mm\"]\n"
+         "\n[particles.balls]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = [" + position +
+         "]\nvelocities = [" + velocity + "]\n";
+}
+
+std::string read_string_attribute(hid_t obj, const std::string& name) {
+  hid_t attr = H5Aopen(obj, name.c_str(), H5P_DEFAULT);
+  if (attr < 0) return "<missing>";
+  hid_t type = H5Aget_type(attr);
+  std::string out = "<unreadable>";
+  if (H5Tis_variable_str(type) > 0) {
+    char* text = nullptr;
+    if (H5Aread(attr, type, &text) >= 0 && text) out = text;
+    H5free_memory(text);
+  } else {
+    std::vector<char> buf(H5Tget_size(type) + 1, '\0');
+    if (H5Aread(attr, type, buf.data()) >= 0) out = buf.data();
+  }
+  H5Tclose(type);
+  H5Aclose(attr);
+  return out;
+}
+
+// Writes the case, runs it, and checks everything a failed run must leave: exit code 3, a message
+// on stderr holding every one of `message_parts`, results.h5 valid with status "failed...", no
+// summary.json, no results.h5.part.
+void run_and_expect_failure(const std::string& toml, const std::vector<std::string>& message_parts) {
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case", out = tmp.path / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << toml;
+  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
+  EXPECT_EQ(r.code, 3) << "stderr: " << r.err << "\nstdout: " << r.out;
+  EXPECT_NE(r.err.find("error: run stopped at t = "), std::string::npos) << r.err;
+  for (const auto& p : message_parts)
+    EXPECT_NE(r.err.find(p), std::string::npos) << "the message lacks '" << p << "':\n" << r.err;
+
+  EXPECT_FALSE(fs::exists(out / "summary.json")) << "a failed run must not look complete";
+  EXPECT_FALSE(fs::exists(out / "results.h5.part"));
+  const fs::path h5 = out / "results.h5";
+  ASSERT_TRUE(fs::exists(h5));
+  ASSERT_GT(H5Fis_hdf5(h5.string().c_str()), 0);
+  const hid_t f = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const std::string status = read_string_attribute(f, "status");
+  EXPECT_EQ(status.rfind("failed", 0), 0u) << "status = " << status;
+  // The status holds the message of the failure.
+  for (const auto& p : message_parts)
+    EXPECT_NE(status.find(p), std::string::npos) << "status lacks '" << p << "': " << status;
+  // The frames written before the failure are readable.
+  const hid_t ds = H5Dopen2(f, "/frames/time", H5P_DEFAULT);
+  EXPECT_GE(ds, 0);
+  if (ds >= 0) {
+    const hid_t sp = H5Dget_space(ds);
+    hsize_t n = 0;
+    H5Sget_simple_extent_dims(sp, &n, nullptr);
+    EXPECT_GE(n, 1u);
+    H5Sclose(sp);
+    H5Dclose(ds);
+  }
+  H5Fclose(f);
+}
+
+TEST(RunGuards, OverlapOfSoftContactStops) {
+  // A 1 MPa ball at 5 m/s into a wall overlaps ~85% of its radius in Hertz theory, whatever dt.
+  run_and_expect_failure(
+      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[5, 0, 0]", "", "\"1 MPa\""),
+      {"contact overlap reached", "limit 10%", "simulation.max_overlap", "reduce simulation.timestep",
+       "Young's modulus"});
+}
+
+TEST(RunGuards, OverlapBeyondTinyMaxOverlapStops) {
+  // Steel at 1 m/s: Hertz overlap ~0.24% of the radius, above a 0.1% limit.
+  run_and_expect_failure(
+      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[1, 0, 0]", "max_overlap = 0.001\n"),
+      {"contact overlap reached", "limit 0.1%", "simulation.max_overlap"});
+}
+
+TEST(RunGuards, ParticleTunnellingThroughWallStops) {
+  // dt = 1 ms (forced) at 10 m/s: the ball jumps from x = 16 mm to 26 mm, past the +x wall at
+  // 20 mm, in one step. The message must say that it left the cavity, through which wall.
+  run_and_expect_failure(
+      one_ball_case("[\"16 mm\", \"10 mm\", \"10 mm\"]", "[10, 0, 0]",
+                    "timestep = \"1 ms\"\nforce_timestep = true\n"),
+      {"left the cavity", "box +x", "reduce simulation.timestep"});
+}
+
+TEST(RunGuards, ParticleLeavingPlanesCavityBoundsStops) {
+  // A "planes" cavity with a floor only: its bounds [cavity.min, cavity.max] are the box the
+  // particles must stay in. A ball thrown up at 10 m/s leaves them after ~1 ms.
+  const std::string toml = R"([simulation]
+duration = "0.02 s"
+gravity = [0, 0, 0]
+
+[materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "200 GPa"
+poisson_ratio = 0.3
+
+[interactions.default]
+restitution = 0.5
+
+[cavity]
+kind = "planes"
+material = "steel"
+min = [0, 0, 0]
+max = ["20 mm", "20 mm", "20 mm"]
+
+[[cavity.planes]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+
+[particles.balls]
+material = "steel"
+diameter = "4 mm"
+positions = [["10 mm", "10 mm", "10 mm"]]
+velocities = [[0, 0, 10]]
+)";
+  run_and_expect_failure(toml, {"left the cavity"});
+}
+
+TEST(RunGuards, NotANumberStops) {
+  // 1e308 m/s over a forced 10 s step: the position overflows in the first step.
+  run_and_expect_failure(
+      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[1e308, 0, 0]",
+                    "timestep = \"10 s\"\nforce_timestep = true\n", "\"200 GPa\"", "\"100 s\""),
+      {"not a number", "reduce simulation.timestep"});
+}
+
+TEST(RunGuards, StableRunCompletes) {
+  // The contrast: the same ball at 0.5 m/s with the auto step completes, with summary.json and
+  // status "complete" (so the checks above can tell a failure from a success).
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case", out = tmp.path / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[0.5, 0, 0]", "");
+  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  ASSERT_TRUE(fs::exists(out / "results.h5"));
+  const hid_t f = H5Fopen((out / "results.h5").string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  EXPECT_EQ(read_string_attribute(f, "status"), "complete");
+  H5Fclose(f);
+}
+
+}  // namespace

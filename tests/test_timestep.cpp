@@ -1,0 +1,390 @@
+// The automatic time step (src/case/timestep.cpp) against its documented rule, recomputed here
+// from the formulas of include/bagdem/contact/hertz_theory.hpp:
+//   dt = min( timestep_safety x Rayleigh time of the smallest particle of each material,
+//             Hertz contact time at the expected speed / (steps_per_contact max(1, 1.5 a)),
+//             a = sqrt(5)|beta| (the damping time is resolved too when damping dominates),
+//             half the critical step of the stiffest contact (normal; tangential with 2/7 m*) )
+// over every pair that can occur (particle-particle between materials with particles, particle-wall
+// with the wall materials); expected speed (auto) = 2 x cavity peak speed + free-fall speed over the
+// cavity's extent along gravity + the largest initial particle speed (at least 0.01 m/s).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/contact/restitution.hpp"
+#include "bagdem/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::random_device rd;
+    path = fs::temp_directory_path() / ("bagdem_timestep_" + std::to_string(rd()) + std::to_string(rd()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+// load_case() on a temporary case directory holding `toml`.
+bagdem::Scene load(const std::string& toml, const std::vector<std::string>& overrides = {}) {
+  TempDir tmp;
+  std::ofstream(tmp.path / "case.toml") << toml;
+  return bagdem::load_case(tmp.path.string(), overrides);
+}
+
+// ---- the rule, independently --------------------------------------------------------------------
+
+struct Mat {
+  double rho, E, nu;
+};
+
+// The Hertz formulas, typed again from hertz_theory.hpp's header comment.
+double contact_time(double m, double R, double Es, double v) {
+  return 2.87 * std::pow(m * m / (R * Es * Es * v), 0.2);
+}
+double max_overlap(double m, double R, double Es, double v) {
+  return std::pow(15.0 * m * v * v / (16.0 * Es * std::sqrt(R)), 0.4);
+}
+double rayleigh_time(double R, const Mat& a) {
+  const double G = a.E / (2 * (1 + a.nu));
+  return kPi * R * std::sqrt(a.rho / G) / (0.1631 * a.nu + 0.8766);
+}
+double critical_step(double w, double z) { return 2.0 / w * (std::sqrt(1 + z * z) - z); }
+double e_star(const Mat& a, const Mat& b) {
+  return 1.0 / ((1 - a.nu * a.nu) / a.E + (1 - b.nu * b.nu) / b.E);
+}
+double g_star(const Mat& a, const Mat& b) {
+  return 1.0 / (2.0 * (2 - a.nu) * (1 + a.nu) / a.E + 2.0 * (2 - b.nu) * (1 + b.nu) / b.E);
+}
+double sphere_mass(const Mat& a, double r) { return a.rho * 4.0 / 3.0 * kPi * r * r * r; }
+
+struct Expected {
+  double rayleigh = 1e300;  // smallest Rayleigh time (not yet x safety)
+  double contact = 1e300;   // smallest contact time / steps_per_contact
+  double critical = 1e300;  // smallest critical step
+  double dt(double safety) const { return std::min({safety * rayleigh, contact, 0.5 * critical}); }
+};
+
+// rmin[a] = smallest radius of material a's particles (0: none); walls of material `wall`;
+// every pair with restitution e; friction > 0 anywhere -> tangential on.
+Expected expected(const std::vector<Mat>& mats, const std::vector<double>& rmin, int wall, double e,
+                  bool tangential, double per_contact, double v) {
+  Expected x;
+  const double zeta = 0.5 * 2.0 * std::sqrt(5.0 / 6.0) * bagdem::clamped_beta(e);
+  auto consider = [&](const Mat& a, const Mat& b, double R, double m) {
+    const double Es = e_star(a, b), Gs = g_star(a, b);
+    // Heavily damped contacts resolve the viscous time too: a = sqrt(5)|beta| = sqrt(6)/2 * zeta * 2.
+    const double a = std::sqrt(5.0) * bagdem::clamped_beta(e);
+    x.contact = std::min(x.contact, contact_time(m, R, Es, v) / (per_contact * std::max(1.0, 1.5 * a)));
+    const double delta = max_overlap(m, R, Es, v);
+    x.critical = std::min(x.critical, critical_step(std::sqrt(2 * Es * std::sqrt(R * delta) / m), zeta));
+    if (tangential)
+      x.critical = std::min(x.critical, critical_step(std::sqrt(3.5 * 8 * Gs * std::sqrt(R * delta) / m), zeta));
+  };
+  for (std::size_t a = 0; a < mats.size(); ++a) {
+    if (rmin[a] == 0) continue;
+    const double ra = rmin[a], ma = sphere_mass(mats[a], ra);
+    x.rayleigh = std::min(x.rayleigh, rayleigh_time(ra, mats[a]));
+    for (std::size_t b = 0; b < mats.size(); ++b) {
+      if (rmin[b] > 0) {
+        const double rb = rmin[b], mb = sphere_mass(mats[b], rb);
+        consider(mats[a], mats[b], ra * rb / (ra + rb), ma * mb / (ma + mb));
+      }
+      if (static_cast<int>(b) == wall) consider(mats[a], mats[b], ra, ma);
+    }
+  }
+  return x;
+}
+
+// A double as TOML text that reads back to the same value.
+std::string exact(double v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+void expect_rel(double got, double want, const char* what) {
+  EXPECT_NEAR(got, want, 1e-12 * std::abs(want)) << what << ": got " << got << ", want " << want;
+}
+
+// ---- cases ----------------------------------------------------------------------------------
+
+const Mat kSteel{7800, 200e9, 0.3};
+
+// Steel balls of 4 mm in a 20 mm box (one material), gravity -z; `extra_sim` goes to [simulation].
+std::string steel_case(const std::string& extra_sim = "", double restitution = 0.5, double friction = 0.0,
+                       const std::string& gravity = "[0, 0, -9.81]") {
+  return "[simulation]\nduration = 0.01\ngravity = " + gravity + "\n" + extra_sim +
+         "\n[materials.steel]\ndensity = 7800\nyoungs_modulus = 200e9\npoisson_ratio = 0.3\n"
+         "\n[interactions.default]\nrestitution = " + std::to_string(restitution) +
+         "\nfriction = " + std::to_string(friction) +
+         "\n\n[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [0, 0, 0]\nmax = [0.02, 0.02, 0.02]\n"
+         "\n[particles.balls]\nmaterial = \"steel\"\ndiameter = 0.004\ncount = 5\nseed = 1\n";
+}
+
+TEST(Timestep, HertzFormulasAsInHeader) {
+  // The formulas typed in this file are those of hertz_theory.hpp.
+  const double m = 2.6e-4, R = 1e-3, Es = 1.1e11, v = 0.7;
+  expect_rel(contact_time(m, R, Es, v), bagdem::hertz::contact_time(m, R, Es, v), "contact time");
+  expect_rel(max_overlap(m, R, Es, v), bagdem::hertz::max_overlap(m, R, Es, v), "max overlap");
+  expect_rel(rayleigh_time(2e-3, kSteel), bagdem::hertz::rayleigh_time(2e-3, 7800, 200e9, 0.3), "Rayleigh");
+  expect_rel(critical_step(3e6, 0.2), bagdem::hertz::critical_step(3e6, 0.2), "critical step");
+  // Rayleigh time of a 4 mm steel ball, a textbook number (~2.16 us).
+  EXPECT_NEAR(rayleigh_time(2e-3, kSteel), 2.1618e-6, 1e-9);
+}
+
+TEST(Timestep, ContactTimeLimitsUnderGravity) {
+  const bagdem::Scene s = load(steel_case());
+  // Expected speed: free fall over the 20 mm height (nothing else moves).
+  const double v = std::sqrt(2 * 9.81 * 0.02);
+  expect_rel(s.expected_speed, v, "expected speed");
+  const Expected x = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, v);
+  expect_rel(s.dt, x.dt(0.2), "dt");
+  expect_rel(s.dt_critical, x.critical, "critical step");
+  ASSERT_EQ(x.dt(0.2), x.contact) << "test set-up: the contact time should limit here";
+  EXPECT_NE(s.dt_reason.find("contact time limits"), std::string::npos) << s.dt_reason;
+}
+
+TEST(Timestep, RayleighLimitsAtRestAndFollowsSafety) {
+  // No gravity, no motion, no initial speed: the expected speed is its floor, 0.01 m/s, and the
+  // Rayleigh term limits.
+  const bagdem::Scene s = load(steel_case("", 0.5, 0.0, "[0, 0, 0]"));
+  expect_rel(s.expected_speed, 0.01, "expected speed floor");
+  const Expected x = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, 0.01);
+  ASSERT_EQ(x.dt(0.2), 0.2 * x.rayleigh) << "test set-up: Rayleigh should limit here";
+  expect_rel(s.dt, 0.2 * x.rayleigh, "dt");
+  EXPECT_NE(s.dt_reason.find("Rayleigh limits"), std::string::npos) << s.dt_reason;
+
+  // dt is proportional to the safety factor while Rayleigh limits...
+  const bagdem::Scene half = load(steel_case("timestep_safety = 0.1\n", 0.5, 0.0, "[0, 0, 0]"));
+  expect_rel(half.dt, 0.5 * s.dt, "dt at safety 0.1");
+  // ...and steps_per_contact does not move it.
+  const bagdem::Scene spc = load(steel_case("steps_per_contact = 60\n", 0.5, 0.0, "[0, 0, 0]"));
+  expect_rel(spc.dt, s.dt, "dt at 60 steps per contact");
+  // With safety 1 the contact time (now smaller) takes over.
+  const bagdem::Scene one = load(steel_case("timestep_safety = 1\n", 0.5, 0.0, "[0, 0, 0]"));
+  expect_rel(one.dt, x.dt(1.0), "dt at safety 1");
+  EXPECT_EQ(x.dt(1.0), x.contact);
+  EXPECT_LT(one.dt, 1.0 * x.rayleigh);
+}
+
+TEST(Timestep, StepsPerContactAndExpectedSpeed) {
+  const bagdem::Scene s = load(steel_case());
+  // Contact-limited: dt ~ 1 / steps_per_contact.
+  const bagdem::Scene s80 = load(steel_case("steps_per_contact = 80\n"));
+  expect_rel(s80.dt, 0.5 * s.dt, "dt at 80 steps per contact");
+  // ...and the safety factor does not move it.
+  const bagdem::Scene safe = load(steel_case("timestep_safety = 0.3\n"));
+  expect_rel(safe.dt, s.dt, "dt at safety 0.3");
+
+  // An explicit expected speed replaces the auto one; dt ~ v^(-1/5) while the contact time limits:
+  // 32 times the speed halves the step.
+  const bagdem::Scene v05 = load(steel_case("expected_speed = \"0.5 m/s\"\n"));
+  const bagdem::Scene v16 = load(steel_case("expected_speed = 16\n"));
+  expect_rel(v05.expected_speed, 0.5, "explicit expected speed");
+  expect_rel(v16.expected_speed, 16, "explicit expected speed");
+  const Expected x05 = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, 0.5);
+  const Expected x16 = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, 16);
+  ASSERT_EQ(x05.dt(0.2), x05.contact);
+  ASSERT_EQ(x16.dt(0.2), x16.contact);
+  expect_rel(v05.dt, x05.dt(0.2), "dt at 0.5 m/s");
+  expect_rel(v16.dt, x16.dt(0.2), "dt at 16 m/s");
+  expect_rel(v16.dt, 0.5 * v05.dt, "dt(16 m/s) / dt(0.5 m/s)");
+  // "auto" is the same as leaving the key out.
+  const bagdem::Scene a = load(steel_case("expected_speed = \"auto\"\n"));
+  EXPECT_EQ(a.dt, s.dt);
+}
+
+TEST(Timestep, CriticalStepWithFrictionAndHeavyDamping) {
+  // Friction (tangential spring, 2/7 m*), restitution 0.05 (heavy damping), 10 steps per contact,
+  // safety 1. Since the contact term also resolves the damping time (a factor 1.5 a), it stays
+  // below half the critical step even here: the critical step is a safety net that is computed and
+  // reported, and the chosen dt respects it.
+  const std::string extra = "timestep_safety = 1\nsteps_per_contact = 10\n";
+  const bagdem::Scene s = load(steel_case(extra, 0.05, 0.3));
+  ASSERT_TRUE(s.models.tangential);
+  const double v = std::sqrt(2 * 9.81 * 0.02);
+  const Expected x = expected({kSteel}, {2e-3}, 0, 0.05, true, 10, v);
+  expect_rel(s.dt, x.dt(1.0), "dt");
+  EXPECT_LT(s.dt, 0.5 * x.critical);
+  expect_rel(s.dt_critical, x.critical, "critical step");
+  EXPECT_NE(s.dt_reason.find("half the critical step"), std::string::npos) << s.dt_reason;
+  // The tangential spring is what limits: without friction the critical step is longer.
+  const bagdem::Scene nf = load(steel_case(extra, 0.05, 0.0));
+  const Expected xn = expected({kSteel}, {2e-3}, 0, 0.05, false, 10, v);
+  expect_rel(nf.dt_critical, xn.critical, "critical step without friction");
+  EXPECT_GT(nf.dt_critical, 1.5 * s.dt_critical);
+  // The critical step depends neither on steps_per_contact nor on the safety factor.
+  const bagdem::Scene s12 = load(steel_case("timestep_safety = 0.9\nsteps_per_contact = 12\n", 0.05, 0.3));
+  expect_rel(s12.dt, s.dt, "dt at 12 steps per contact, safety 0.9");
+}
+
+TEST(Timestep, AutoExpectedSpeedSumsMotionFallAndInitialSpeed) {
+  // Harmonic motion 1.5 mm at 40 Hz, a 30 mm tall box, one ball thrown at (0.3, 0.4, 0) m/s.
+  const std::string toml = R"([simulation]
+duration = 0.01
+gravity = [0, 0, -9.81]
+
+[materials.steel]
+density = 7800
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+
+[interactions.default]
+restitution = 0.7
+friction = 0.2
+
+[cavity]
+kind = "box"
+material = "steel"
+min = [0, 0, 0]
+max = [0.02, 0.02, 0.03]
+
+[cavity.motion]
+kind = "harmonic"
+amplitude = "1.5 mm"
+frequency = "40 Hz"
+direction = [0, 0, 1]
+
+[particles.balls]
+material = "steel"
+diameter = 0.004
+positions = [[0.01, 0.01, 0.01], [0.005, 0.005, 0.02]]
+velocities = [[0.3, 0.4, 0], [0, 0, 0.1]]
+)";
+  const bagdem::Scene s = load(toml);
+  const double v = 2 * 1.5e-3 * 2 * kPi * 40 + std::sqrt(2 * 9.81 * 0.03) + 0.5;
+  expect_rel(s.expected_speed, v, "expected speed");
+  const Expected x = expected({kSteel}, {2e-3}, 0, 0.7, true, 40, v);
+  expect_rel(s.dt, x.dt(0.2), "dt");
+  expect_rel(s.dt_critical, x.critical, "critical step");
+}
+
+TEST(Timestep, SeveralMaterialsTakeTheSmallestOverPairs) {
+  // Steel balls of 4 mm, glass balls of 3 mm, an aluminium box (a material only walls use).
+  const std::string toml = R"([simulation]
+duration = 0.01
+gravity = [0, 0, -9.81]
+
+[materials.steel]
+density = 7800
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+
+[materials.glass]
+density = 2500
+youngs_modulus = 63e9
+poisson_ratio = 0.22
+
+[materials.alu]
+density = 2700
+youngs_modulus = 70e9
+poisson_ratio = 0.33
+
+[interactions.default]
+restitution = 0.6
+friction = 0.25
+
+[cavity]
+kind = "box"
+material = "alu"
+min = [0, 0, 0]
+max = [0.03, 0.03, 0.03]
+
+[particles.big]
+material = "steel"
+diameter = 0.004
+count = 4
+seed = 3
+
+[particles.small]
+material = "glass"
+diameter = 0.003
+count = 4
+seed = 4
+)";
+  const bagdem::Scene s = load(toml);
+  ASSERT_EQ(s.materials.size(), 3u);
+  // The material index order is the engine's (it need not be the file's): look each up by name.
+  const std::map<std::string, Mat> by_name = {
+      {"steel", kSteel}, {"glass", {2500, 63e9, 0.22}}, {"alu", {2700, 70e9, 0.33}}};
+  const std::map<std::string, double> radius = {{"steel", 2e-3}, {"glass", 1.5e-3}, {"alu", 0}};
+  std::vector<Mat> mats;
+  std::vector<double> rmin;
+  int wall = -1;
+  for (std::size_t k = 0; k < s.materials.size(); ++k) {
+    const std::string& name = s.materials[k].name;
+    ASSERT_TRUE(by_name.count(name)) << name;
+    mats.push_back(by_name.at(name));
+    rmin.push_back(radius.at(name));
+    if (name == "alu") wall = static_cast<int>(k);
+  }
+  const double v = std::sqrt(2 * 9.81 * 0.03);
+  expect_rel(s.expected_speed, v, "expected speed");
+  // Defaults (safety 0.2, 40 steps per contact), then safety 1 and 10 steps per contact. (Each
+  // load of this 3-material case costs ~1 s: clamped_beta is solved for each of the 9 pairs.)
+  const Expected x = expected(mats, rmin, wall, 0.6, true, 40, v);
+  expect_rel(s.dt, x.dt(0.2), "dt (defaults)");
+  expect_rel(s.dt_critical, x.critical, "critical step");
+  const bagdem::Scene t = load(toml, {"simulation.timestep_safety=1", "simulation.steps_per_contact=10"});
+  const Expected x10 = expected(mats, rmin, wall, 0.6, true, 10, v);
+  expect_rel(t.dt, x10.dt(1.0), "dt at safety 1, 10 steps per contact");
+  expect_rel(t.dt_critical, x10.critical, "critical step");
+  // The glass balls (smaller, lighter) set the contact time; the limit differs from the
+  // steel-only value.
+  const Expected steel_only = expected({kSteel}, {2e-3}, 0, 0.6, true, 40, v);
+  EXPECT_LT(x.contact, steel_only.contact);
+}
+
+TEST(Timestep, ExplicitStepKeptAndCheckedAgainstCritical) {
+  const double v = std::sqrt(2 * 9.81 * 0.02);
+  const Expected x = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, v);
+  // Below the critical step: kept as given.
+  const bagdem::Scene s = load(steel_case("timestep = \"1e-6 s\"\n"));
+  EXPECT_EQ(s.dt, 1e-6);
+  expect_rel(s.dt_critical, x.critical, "critical step");
+  EXPECT_NE(s.dt_reason.find("explicit"), std::string::npos) << s.dt_reason;
+  // Just above it: refused, unless forced.
+  const std::string above = "timestep = " + exact(1.01 * x.critical) + "\n";
+  EXPECT_THROW(load(steel_case(above)), bagdem::InputError);
+  const std::string below = "timestep = " + exact(0.99 * x.critical) + "\n";
+  EXPECT_NO_THROW(load(steel_case(below)));
+  const bagdem::Scene forced = load(steel_case(above + "force_timestep = true\n"));
+  EXPECT_GT(forced.dt, forced.dt_critical);
+}
+
+TEST(Timestep, OutOfRangeParametersAreRefused) {
+  for (const std::string bad : {"timestep_safety = 0\n", "timestep_safety = 1.5\n", "steps_per_contact = 5\n",
+                                "expected_speed = -1\n", "expected_speed = 0\n", "timestep = -1e-6\n",
+                                "timestep_safety = \"fast\"\n"}) {
+    EXPECT_THROW(load(steel_case(bad)), bagdem::InputError) << bad;
+  }
+  // The boundaries that are allowed.
+  EXPECT_NO_THROW(load(steel_case("timestep_safety = 1\n")));
+  EXPECT_NO_THROW(load(steel_case("steps_per_contact = 10\n")));
+}
+
+}  // namespace

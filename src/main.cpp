@@ -44,16 +44,19 @@ int main(int argc, char** argv) {
   bench->add_option("--methods", bench_opt.methods, "Broad phases (default hash kdtree)");
   bench->add_option("--repeats", bench_opt.repeats, "Runs per point; the median is reported (default 3)");
   bench->add_option("--steps", bench_opt.step_scale, "Scale of the timed step counts (default 1)");
+  bench->add_option("--energy", bench_opt.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (check->parsed()) {
       const Scene s = load_case(case_dir, sets);
       std::cout << describe_scene(s);
+      for (const auto& w : s.warnings) std::cout << "warning: " << w << "\n";
       return 0;
     }
     if (run->parsed()) {
       const Scene s = load_case(case_dir, sets);
+      for (const auto& w : s.warnings) std::cerr << "warning: " << w << "\n";
       RunOptions o;
       o.out_dir = out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir;
       o.threads = threads;

@@ -22,6 +22,7 @@ void ParticleTallies::resize(std::size_t n) {
   wall_force_prev.assign(n, Vec3::Zero());
   wall_impulse.assign(n, Vec3::Zero());
   wall_ang_impulse.assign(n, Vec3::Zero());
+  step_dissipation.assign(n, Vec3::Zero());
   work_cavity.assign(n, 0.0);
   diss_normal.assign(n, 0.0);
   diss_tangential.assign(n, 0.0);

@@ -22,6 +22,18 @@ const char* stage_name(Stage s) {
 namespace {
 // Parallel loops below this size run on one thread (fork/join costs more than the work).
 constexpr std::size_t kParallelMin = 512;
+
+// Calls fn.template operator()<b0, b1, ...>() with runtime flags turned into template arguments,
+// so each configuration of the kernel is compiled without branches on the flags.
+template <bool... Done, class Fn>
+void with_flags(Fn&& fn) {
+  fn.template operator()<Done...>();
+}
+template <bool... Done, class Fn, class... Rest>
+void with_flags(Fn&& fn, bool first, Rest... rest) {
+  if (first) with_flags<Done..., true>(fn, rest...);
+  else with_flags<Done..., false>(fn, rest...);
+}
 }  // namespace
 
 Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_phase(scene.broad_phase)) {
@@ -49,6 +61,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
   cavity_ = cavity_prev_ = cavity_at(0.0);
   update_neighbours(true);
+  for (std::size_t i = 0; i < n; ++i) start_sums(i);
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
   pair_contacts();
   gather_walls();
@@ -97,8 +110,16 @@ void Simulation::kick_drift() {
       p_.w_pred[i] = p_.w[i] + dw;
     }
     moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
+    start_sums(i);
   }
   needs_rebuild_ = moved;
+}
+
+// Per-particle sums of the new step start from gravity and zero torque and dissipation.
+void Simulation::start_sums(std::size_t i) {
+  p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();
+  p_.t[i].setZero();
+  if (scene_.models.energy) tally_.step_dissipation[i].setZero();
 }
 
 // ---- 2. move_cavity -----------------------------------------------------------------------------
@@ -148,10 +169,7 @@ void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHisto
   ps_.rolling = std::move(rolling);
   ps_.damping_prev = std::move(damping_prev);
   const std::size_t np = ps_.pairs.size();
-  ps_.force.assign(np, Vec3::Zero());
-  ps_.torque_i.assign(np, Vec3::Zero());
-  ps_.torque_j.assign(np, Vec3::Zero());
-  ps_.dissipated.assign(scene_.models.energy ? np : 0, Vec3::Zero());
+  ps_.out.assign(np, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   ps_.first.resize(np);
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
@@ -172,40 +190,50 @@ void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHisto
 }
 
 // ---- 4. pair_contacts ---------------------------------------------------------------------------
+// Two ways to sum pair forces onto particles, bitwise identical by construction:
+//  scatter (one thread, or few pairs): the pair loop adds each force to f[i] and f[j] at once.
+//    Pairs run in (i, j) order, so particle p receives its pairs (k, p), k < p ascending, then
+//    (p, j) ascending: partner order.
+//  gather (several threads): each pair writes its record, then each particle sums its records in
+//    partner order (gather_walls). Same operands, same order, same result.
 void Simulation::pair_contacts() {
-  const bool t = scene_.models.tangential, r = scene_.models.rolling, e = scene_.models.energy;
+  scatter_ = omp_get_max_threads() == 1 || ps_.pairs.size() <= kParallelMin;
   // The contact-law configuration is chosen once here, never inside the loop.
-  if (t && r) e ? pair_contacts_impl<true, true, true>() : pair_contacts_impl<true, true, false>();
-  else if (t) e ? pair_contacts_impl<true, false, true>() : pair_contacts_impl<true, false, false>();
-  else if (r) e ? pair_contacts_impl<false, true, true>() : pair_contacts_impl<false, true, false>();
-  else e ? pair_contacts_impl<false, false, true>() : pair_contacts_impl<false, false, false>();
+  with_flags([this]<bool T, bool R, bool E, bool S>() { pair_contacts_impl<T, R, E, S>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_);
 }
 
-template <bool Tangential, bool Rolling, bool Energy>
+template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
 void Simulation::pair_contacts_impl() {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
   const PairLawTable& laws = scene_.laws;
-  double max_ratio = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) if (np > kParallelMin)
+  const double frac = scene_.max_overlap_fraction;
+  double excess = -1e300;
+#pragma omp parallel for schedule(static) reduction(max : excess) if (!Scatter)
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    PairState::Output& out = ps_.out[k];
     ContactGeometry g;
     if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) {
-      ps_.force[k].setZero();
-      if constexpr (Tangential || Rolling) {
-        ps_.torque_i[k].setZero();
-        ps_.torque_j[k].setZero();
+      if constexpr (!Scatter) {
+        out.force.setZero();
+        if constexpr (Tangential || Rolling) {
+          out.torque_i.setZero();
+          out.torque_j.setZero();
+        }
+        if constexpr (Energy) out.dissipated.setZero();
       }
-      if constexpr (Tangential) ps_.tangential[k] = {};
-      if constexpr (Rolling) ps_.rolling[k] = {};
-      if constexpr (Energy) {
-        ps_.dissipated[k].setZero();
-        ps_.damping_prev[k] = 0.0;
+      if constexpr (Tangential) {
+        if (ps_.tangential[k].stiffness != 0) ps_.tangential[k] = {};
       }
+      if constexpr (Rolling) {
+        if (ps_.rolling[k].stiffness != 0) ps_.rolling[k] = {};
+      }
+      if constexpr (Energy) ps_.damping_prev[k] = 0.0;
       continue;
     }
-    max_ratio = std::max(max_ratio, g.overlap / std::min(p_.radius[i], p_.radius[j]));
+    excess = std::max(excess, g.overlap - frac * std::min(p_.radius[i], p_.radius[j]));
     g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
     if constexpr (Tangential || Rolling) {
       g.v_rel = contact_velocity(p_.v_pred[i], p_.v_pred[j], p_.w_pred[i], p_.w_pred[j], g);
@@ -236,52 +264,66 @@ void Simulation::pair_contacts_impl() {
         Tj -= rr.torque;
         if constexpr (Energy) diss.z() = rr.dissipated;
       }
-      ps_.torque_i[k] = Ti;
-      ps_.torque_j[k] = Tj;
+      if constexpr (Scatter) {
+        p_.t[i] += Ti;
+        p_.t[j] += Tj;
+      } else {
+        out.torque_i = Ti;
+        out.torque_j = Tj;
+      }
     }
-    ps_.force[k] = F;
-    if constexpr (Energy) ps_.dissipated[k] = diss;
+    if constexpr (Scatter) {
+      p_.f[i] += F;
+      p_.f[j] -= F;
+      if constexpr (Energy) {
+        tally_.step_dissipation[i] += 0.5 * diss;
+        tally_.step_dissipation[j] += 0.5 * diss;
+      }
+    } else {
+      out.force = F;
+      if constexpr (Energy) out.dissipated = diss;
+    }
   }
-  max_overlap_ratio_ = max_ratio;
+  overlap_excess_ = excess;
 }
 
 // ---- 5. gather_walls ----------------------------------------------------------------------------
 void Simulation::gather_walls() {
-  const bool t = scene_.models.tangential, r = scene_.models.rolling, e = scene_.models.energy;
-  if (t && r) e ? gather_walls_impl<true, true, true>() : gather_walls_impl<true, true, false>();
-  else if (t) e ? gather_walls_impl<true, false, true>() : gather_walls_impl<true, false, false>();
-  else if (r) e ? gather_walls_impl<false, true, true>() : gather_walls_impl<false, true, false>();
-  else e ? gather_walls_impl<false, false, true>() : gather_walls_impl<false, false, false>();
+  with_flags([this]<bool T, bool R, bool E, bool G>() { gather_walls_impl<T, R, E, G>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, !scatter_);
 }
 
-template <bool Tangential, bool Rolling, bool Energy>
+template <bool Tangential, bool Rolling, bool Energy, bool Gather>
 void Simulation::gather_walls_impl() {
   const std::size_t n = p_.size();
   const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
-  const Vec3 g_acc = scene_.models.gravity ? scene_.gravity : Vec3::Zero();
   const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
   const Vec3 c_step = cavity_.position - cavity_prev_.position;
   const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;  // mean cavity velocity over the step
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
-  double max_ratio = max_overlap_ratio_;
+  const double frac = scene_.max_overlap_fraction;
+  double excess = overlap_excess_;
   double min_dist = 1e300;
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(min : min_dist) if (n > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(max : excess) reduction(min : min_dist) if (n > kParallelMin)
   for (std::size_t p = 0; p < n; ++p) {
-    Vec3 F = p_.mass[p] * g_acc;
-    Vec3 T(0, 0, 0);
+    // Starts from gravity (kick_drift), plus the pairs when they were scattered.
+    Vec3 F = p_.f[p];
+    Vec3 T = p_.t[p];
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    for (std::uint32_t e = ps_.gather_begin[p]; e < ps_.gather_begin[p + 1]; ++e) {
-      const std::uint32_t entry = ps_.gather[e], k = entry >> 1;
+    if constexpr (Energy) diss = tally_.step_dissipation[p];
+    for (std::uint32_t e = Gather ? ps_.gather_begin[p] : 0; e < (Gather ? ps_.gather_begin[p + 1] : 0); ++e) {
+      const std::uint32_t entry = ps_.gather[e];
+      const PairState::Output& out = ps_.out[entry >> 1];
       if (entry & 1u) {
-        F -= ps_.force[k];
-        if constexpr (Tangential || Rolling) T += ps_.torque_j[k];
+        F -= out.force;
+        if constexpr (Tangential || Rolling) T += out.torque_j;
       } else {
-        F += ps_.force[k];
-        if constexpr (Tangential || Rolling) T += ps_.torque_i[k];
+        F += out.force;
+        if constexpr (Tangential || Rolling) T += out.torque_i;
       }
-      if constexpr (Energy) diss += 0.5 * ps_.dissipated[k];
+      if constexpr (Energy) diss += 0.5 * out.dissipated;
     }
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
@@ -289,21 +331,28 @@ void Simulation::gather_walls_impl() {
     const double r = p_.radius[p];
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).
-    min_dist = std::min(min_dist, std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff()) / r);
+    const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
+    double d_min = 1e300;  // nearest wall
     Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = scene_.walls[w];
       ContactGeometry g;
       const double d = wall_distance(wall, x_local, g.n);
-      min_dist = std::min(min_dist, d / r);
+      d_min = std::min(d_min, d);
       g.overlap = r - d;
       if (g.overlap <= 0) {
-        if constexpr (Tangential) wall_tan_[p * nw + w] = {};
-        if constexpr (Rolling) wall_roll_[p * nw + w] = {};
-        if constexpr (Energy) wall_damping_prev_[p * nw + w] = 0.0;
+        // Clear the history of a contact that just opened; read-only for walls never touched.
+        if constexpr (Tangential) {
+          if (wall_tan_[p * nw + w].stiffness != 0) wall_tan_[p * nw + w] = {};
+        }
+        if constexpr (Rolling) {
+          if (wall_roll_[p * nw + w].stiffness != 0) wall_roll_[p * nw + w] = {};
+        }
+        if constexpr (Energy) {
+          if (wall_damping_prev_[p * nw + w] != 0) wall_damping_prev_[p * nw + w] = 0.0;
+        }
         continue;
       }
-      max_ratio = std::max(max_ratio, g.overlap / r);
       g.R_eff = r;
       g.m_eff = p_.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
@@ -340,6 +389,8 @@ void Simulation::gather_walls_impl() {
     }
     p_.f[p] = F;
     p_.t[p] = T;
+    min_dist = std::min({min_dist, d_min, d_bounds});
+    excess = std::max(excess, r - d_min - frac * r);  // the deepest wall contact
 
     // Tallies: the load on the cavity (always) and the energy budget (when asked).
     tally_.wall_impulse[p] -= dt * F_wall;
@@ -353,8 +404,8 @@ void Simulation::gather_walls_impl() {
       tally_.diss_rolling[p] += diss.z();
     }
   }
-  max_overlap_ratio_ = max_ratio;
-  min_wall_distance_ratio_ = min_dist;
+  overlap_excess_ = excess;
+  min_boundary_distance_ = min_dist;
 }
 
 // ---- 6. kick ------------------------------------------------------------------------------------
@@ -377,8 +428,8 @@ void Simulation::kick() {
 void Simulation::guards() {
   const std::size_t n = p_.size();
   const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
-  const bool overlap = max_overlap_ratio_ > scene_.max_overlap_fraction;
-  const bool escaped = min_wall_distance_ratio_ < 0.0;
+  const bool overlap = overlap_excess_ > 0.0;
+  const bool escaped = min_boundary_distance_ < 0.0;
   if (!bad && !overlap && !escaped) return;
 
   std::ostringstream m;
@@ -410,13 +461,30 @@ void Simulation::guards() {
     }
   }
   {
-    m << "a contact overlap reached " << 100 * max_overlap_ratio_ << "% of a particle radius (limit "
+    m << "a contact overlap reached " << 100 * largest_overlap_ratio() << "% of a particle radius (limit "
       << 100 * scene_.max_overlap_fraction
       << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
          "raise the Young's modulus.";
   }
   throw RunError(m.str());
+}
+
+// The largest overlap / smaller radius of any contact now (for messages; a serial scan).
+double Simulation::largest_overlap_ratio() const {
+  double worst = 0;
+  for (std::size_t k = 0; k < ps_.pairs.size(); ++k) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    ContactGeometry g;
+    if (sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g))
+      worst = std::max(worst, g.overlap / std::min(p_.radius[i], p_.radius[j]));
+  }
+  for (std::size_t p = 0; p < p_.size(); ++p)
+    for (const Wall& w : scene_.walls) {
+      Vec3 n;
+      worst = std::max(worst, 1.0 - wall_distance(w, p_.x[p] - cavity_.position, n) / p_.radius[p]);
+    }
+  return worst;
 }
 
 // ---- energy budget and loads --------------------------------------------------------------------

@@ -59,6 +59,7 @@ struct Scene {
   double duration = 0;          // measured part (unit: s); total simulated = settle + duration
   double dt = 0;                // time step (unit: s)
   std::string dt_reason;        // how dt was chosen, for `check`
+  std::vector<std::string> warnings;  // accepted but questionable settings, printed by check and run
   double dt_critical = 0;       // critical (stability) step of the stiffest contact (unit: s)
   double expected_speed = 0;    // expected maximum impact speed used for dt and checks (unit: m/s)
 

@@ -7,8 +7,10 @@
 //   5. gather_walls    each particle: sum its pair forces (partner order), then wall contacts, gravity
 //   6. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
 //   7. guards          NaN, excessive overlap, particle outside the cavity -> RunError
-// Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982); velocity-
-// dependent contact forces use the half-step velocity, as in LAMMPS and LIGGGHTS.
+// Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
+// advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
+// v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
+// restitution when damping dominates).
 // Determinism: every per-particle sum runs in a fixed order (pairs by partner index, then walls in
 // wall order), and totals are summed over particles in index order, so results are bitwise equal
 // for any thread count.
@@ -36,9 +38,14 @@ struct PairState {
   std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
-  std::vector<Vec3> force;                   // force on i (on j: the opposite) (unit: N)
-  std::vector<Vec3> torque_i, torque_j;      // torques on i and on j (unit: N m)
-  std::vector<Vec3> dissipated;              // this step's (normal, tangential, rolling) (unit: J)
+  // What one pair contact produced this step, in one record so the gather reads it in one go.
+  struct Output {
+    Vec3 force;       // force on i (on j: the opposite) (unit: N)
+    Vec3 torque_i;    // torque on i (unit: N m)
+    Vec3 torque_j;    // torque on j (unit: N m)
+    Vec3 dissipated;  // this step's (normal, tangential, rolling) dissipation (unit: J)
+  };
+  std::vector<Output> out;                   // per pair; filled only when gathering (several threads)
   // Gather CSR: for particle p, entries gather[gather_begin[p] .. gather_begin[p+1]) are
   // 2*pair + (p is the pair's j), sorted by partner index.
   std::vector<std::uint32_t> gather_begin, gather;
@@ -82,12 +89,14 @@ class Simulation {
   void gather_walls();
   void kick();
   void guards();
-  template <bool Tangential, bool Rolling, bool Energy>
+  template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
   void pair_contacts_impl();
-  template <bool Tangential, bool Rolling, bool Energy>
+  template <bool Tangential, bool Rolling, bool Energy, bool Gather>
   void gather_walls_impl();
+  void start_sums(std::size_t i);
   CavityState cavity_at(double t) const;
   double potential_energy() const;
+  double largest_overlap_ratio() const;
   double elastic_energy() const;
 
   const Scene& scene_;
@@ -105,11 +114,12 @@ class Simulation {
   std::uint64_t builds_ = 0;
   double load_time_ = 0;                      // time the cavity impulse tallies started
   double potential0_ = 0, kinetic_elastic0_ = 0;
+  bool scatter_ = true;                       // pair forces scattered (one thread) or gathered
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
   bool all_finite_ = true;                    // every velocity finite (kick)
-  // Guard results of the last step.
-  double max_overlap_ratio_ = 0;
-  double min_wall_distance_ratio_ = 0;
+  // Guard results of the last step, kept free of divisions (the ratios go into messages only).
+  double overlap_excess_ = 0;       // max over contacts of overlap - max_overlap x smaller radius (unit: m)
+  double min_boundary_distance_ = 0;// min over particles of the centre's distance inside the cavity (unit: m)
 };
 
 }  // namespace bagdem

@@ -92,6 +92,15 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       in.fail("simulation.timestep", m.str());
     }
     why << "explicit";
+    if (s.dt > dt_contact * 1.0000001) {
+      std::ostringstream w;
+      w << "simulation.timestep = " << s.dt << " s is coarser than the step that resolves the stiffest contact ("
+        << dt_contact << " s: Hertz contact time / " << per_contact
+        << ", and the damping time when e is low); the restitution obtained may differ from the one requested "
+           "(more so at low e). Use \"auto\" or a step of at most "
+        << dt_contact << " s for exact restitution.";
+      s.warnings.push_back(w.str());
+    }
   } else {
     const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit;
     s.dt = std::min({a, b, c});

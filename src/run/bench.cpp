@@ -53,7 +53,8 @@ int run_bench(const BenchOptions& opt) {
   const std::string src = BAGDEM_SOURCE_DIR;
   const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
   const std::string case_dir = opt.case_dir.empty() ? src + "/cases/pdbox" : opt.case_dir;
-  std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); median of %d runs; wall clock\n", opt.repeats);
+  std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
+              opt.energy ? "on" : "off", opt.repeats);
   std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (int N : opt.sizes) {
@@ -77,6 +78,7 @@ int run_bench(const BenchOptions& opt) {
     for (const std::string& method : opt.methods) {
       Scene sc = scene;
       sc.broad_phase = method;
+      sc.models.energy = opt.energy;
       for (int th : opt.threads) {
         std::vector<double> ns;
         std::uint64_t builds = 0;

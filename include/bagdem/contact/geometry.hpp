@@ -20,7 +20,7 @@ struct ContactGeometry {
 };
 
 // Sphere-sphere geometry. x, v, w of i and j; r radii; im inverse masses.
-inline bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, ContactGeometry& g) {
+BAGDEM_INLINE bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, ContactGeometry& g) {
   const Vec3 d = xi - xj;
   const double dist2 = d.squaredNorm();
   const double rsum = ri + rj;
@@ -36,7 +36,7 @@ inline bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, 
 
 // Velocity of i's material point at the contact c relative to j's (c - x_i = -arm_i n,
 // c - x_j = +arm_j n).
-inline Vec3 contact_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
+BAGDEM_INLINE Vec3 contact_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
                              const ContactGeometry& g) {
   return vi - vj - (g.arm_i * wi + g.arm_j * wj).cross(g.n);
 }

@@ -21,7 +21,7 @@ struct NormalResult {
   double damping;     // gamma_n (unit: N s/m); the tangential role derives gamma_t from it
 };
 
-inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
+BAGDEM_INLINE NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
   const double sqrt_rd = std::sqrt(g.R_eff * g.overlap);
   const double S_n = 2.0 * law.E_star * sqrt_rd;
   const double F_el = (2.0 / 3.0) * S_n * g.overlap;  // = 4/3 E* sqrt(R*) delta^(3/2)
@@ -33,14 +33,14 @@ inline NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
 // Energy dissipated by the normal damping over a step: the trapezoid of this and the previous
 // step's damping force F_d = F_n - F_el times the normal displacement v_n dt over the step (v_n from
 // g.v_half; velocity Verlet's discrete work of a force). `damping_prev` is updated.
-inline double normal_dissipation(const NormalResult& r, double v_n, double dt, double& damping_prev) {
+BAGDEM_INLINE double normal_dissipation(const NormalResult& r, double v_n, double dt, double& damping_prev) {
   const double Fd = r.force - r.elastic;
   const double d = -0.5 * (Fd + damping_prev) * v_n * dt;
   damping_prev = Fd;
   return d;
 }
 
-inline double hertz_energy(const PairLaw& law, double R_eff, double overlap) {
+BAGDEM_INLINE double hertz_energy(const PairLaw& law, double R_eff, double overlap) {
   return (8.0 / 15.0) * law.E_star * std::sqrt(R_eff) * overlap * overlap * std::sqrt(overlap);
 }
 

@@ -31,7 +31,7 @@ struct TangentialResult {
 };
 
 // `normal` is the normal role's result: S_t = S_n 4G*/E*, gamma_t = gamma_n sqrt(4G*/E*) (no sqrt here).
-inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
+BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
                                            const NormalResult& normal, double dt, TangentialHistory& h) {
   const double F_n = normal.force;
   const Vec3 v_t = g.v_half - g.v_half.dot(g.n) * g.n;  // tangential displacement rate over the step
@@ -69,7 +69,7 @@ inline TangentialResult mindlin_tangential(const ContactGeometry& g, const PairL
   return {Ft, -work - (energy_after - energy_before)};
 }
 
-inline double mindlin_energy(const TangentialHistory& h) {
+BAGDEM_INLINE double mindlin_energy(const TangentialHistory& h) {
   return h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
 }
 

@@ -22,7 +22,7 @@ struct RollingResult {
   double dissipated;  // energy dissipated in this step (unit: J)
 };
 
-inline RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, double S_n,
+BAGDEM_INLINE RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, double S_n,
                                   double F_n, double dt, RollingHistory& h) {
   const Vec3 w_roll = g.w_half - g.w_half.dot(g.n) * g.n;
   const double k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
@@ -47,7 +47,7 @@ inline RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, 
   return {M, -0.5 * (M + M_prev).dot(w_roll) * dt - (energy_after - energy_before)};
 }
 
-inline double rolling_energy(const RollingHistory& h) {
+BAGDEM_INLINE double rolling_energy(const RollingHistory& h) {
   return h.stiffness > 0 ? h.torque.squaredNorm() / (2.0 * h.stiffness) : 0.0;
 }
 

@@ -13,6 +13,7 @@ struct BenchOptions {
   std::vector<int> threads{1, 2};
   std::vector<std::string> methods{"hash", "kdtree"};
   int repeats = 3;
+  bool energy = true;       // energy budget tallies on (as `run` by default); peers compute none
   double step_scale = 1.0;  // multiplies the default timed step counts (1e6, 3e5, 4e4 for 1e2, 1e3, 1e4)
   std::string peers_dir;    // default: <source>/../shared/peers
   std::string case_dir;     // default: <source>/cases/pdbox

@@ -8,7 +8,7 @@ namespace bagdem {
 
 // Signed distance of x from the cylinder surface (positive inside); n = inward normal at the
 // nearest surface point (towards the axis). On the axis itself any radial direction is chosen.
-inline double cylinder_inner_distance(const Vec3& point, const Vec3& axis, double R, const Vec3& x,
+BAGDEM_INLINE double cylinder_inner_distance(const Vec3& point, const Vec3& axis, double R, const Vec3& x,
                                       Vec3& n) {
   const Vec3 d = x - point;
   const Vec3 radial = d - d.dot(axis) * axis;

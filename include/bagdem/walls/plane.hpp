@@ -5,7 +5,7 @@
 namespace bagdem {
 
 // Signed distance of x from the plane (positive on the cavity side); n = inward normal.
-inline double plane_distance(const Vec3& point, const Vec3& normal, const Vec3& x, Vec3& n) {
+BAGDEM_INLINE double plane_distance(const Vec3& point, const Vec3& normal, const Vec3& x, Vec3& n) {
   n = normal;
   return (x - point).dot(normal);
 }

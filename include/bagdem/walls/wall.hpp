@@ -25,7 +25,7 @@ struct Wall {
 };
 
 // Signed distance of a point x given in the cavity frame; n = inward unit normal.
-inline double wall_distance(const Wall& w, const Vec3& x, Vec3& n) {
+BAGDEM_INLINE double wall_distance(const Wall& w, const Vec3& x, Vec3& n) {
   switch (w.kind) {
     case WallKind::Plane: return plane_distance(w.point, w.direction, x, n);
     case WallKind::Cylinder: return cylinder_inner_distance(w.point, w.direction, w.radius, x, n);

@@ -59,6 +59,8 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.tangential) wall_tan_.assign(n * nw, {});
   if (scene.models.rolling) wall_roll_.assign(n * nw, {});
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
+  wall_touch_.assign(n, 0);
+  if (nw > 32) throw std::invalid_argument("a cavity has at most 32 walls");
   cavity_ = cavity_prev_ = cavity_at(0.0);
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
@@ -170,6 +172,14 @@ void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHisto
   ps_.damping_prev = std::move(damping_prev);
   const std::size_t np = ps_.pairs.size();
   ps_.out.assign(np, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
+  ps_.touching.assign(np, 0);
+  for (std::size_t k = 0; k < np; ++k) {
+    const bool t = !ps_.tangential.empty() && ps_.tangential[k].stiffness != 0;
+    const bool r = !ps_.rolling.empty() && ps_.rolling[k].stiffness != 0;
+    const bool d = !ps_.damping_prev.empty() && ps_.damping_prev[k] != 0;
+    ps_.touching[k] = t || r || d;
+  }
   ps_.first.resize(np);
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
@@ -224,15 +234,16 @@ void Simulation::pair_contacts_impl() {
         }
         if constexpr (Energy) out.dissipated.setZero();
       }
-      if constexpr (Tangential) {
-        if (ps_.tangential[k].stiffness != 0) ps_.tangential[k] = {};
+      // A contact that just opened: clear its history (untouched pairs cost no history access).
+      if (ps_.touching[k]) {
+        ps_.touching[k] = 0;
+        if constexpr (Tangential) ps_.tangential[k] = {};
+        if constexpr (Rolling) ps_.rolling[k] = {};
+        if constexpr (Energy) ps_.damping_prev[k] = 0.0;
       }
-      if constexpr (Rolling) {
-        if (ps_.rolling[k].stiffness != 0) ps_.rolling[k] = {};
-      }
-      if constexpr (Energy) ps_.damping_prev[k] = 0.0;
       continue;
     }
+    ps_.touching[k] = 1;
     excess = std::max(excess, g.overlap - frac * std::min(p_.radius[i], p_.radius[j]));
     g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
     if constexpr (Tangential || Rolling) {
@@ -334,6 +345,8 @@ void Simulation::gather_walls_impl() {
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
     double d_min = 1e300;  // nearest wall
     Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
+    const std::uint32_t touched_before = wall_touch_[p];
+    std::uint32_t touched = 0;
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = scene_.walls[w];
       ContactGeometry g;
@@ -341,18 +354,15 @@ void Simulation::gather_walls_impl() {
       d_min = std::min(d_min, d);
       g.overlap = r - d;
       if (g.overlap <= 0) {
-        // Clear the history of a contact that just opened; read-only for walls never touched.
-        if constexpr (Tangential) {
-          if (wall_tan_[p * nw + w].stiffness != 0) wall_tan_[p * nw + w] = {};
-        }
-        if constexpr (Rolling) {
-          if (wall_roll_[p * nw + w].stiffness != 0) wall_roll_[p * nw + w] = {};
-        }
-        if constexpr (Energy) {
-          if (wall_damping_prev_[p * nw + w] != 0) wall_damping_prev_[p * nw + w] = 0.0;
+        // A contact that just opened: clear its history (walls not touched cost no memory access).
+        if (touched_before & (1u << w)) {
+          if constexpr (Tangential) wall_tan_[p * nw + w] = {};
+          if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+          if constexpr (Energy) wall_damping_prev_[p * nw + w] = 0.0;
         }
         continue;
       }
+      touched |= 1u << w;
       g.R_eff = r;
       g.m_eff = p_.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
@@ -389,6 +399,7 @@ void Simulation::gather_walls_impl() {
     }
     p_.f[p] = F;
     p_.t[p] = T;
+    wall_touch_[p] = touched;
     min_dist = std::min({min_dist, d_min, d_bounds});
     excess = std::max(excess, r - d_min - frac * r);  // the deepest wall contact
 

@@ -38,6 +38,7 @@ struct PairState {
   std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
+  std::vector<std::uint8_t> touching;        // per pair: in contact at the last step (its history may be set)
   // What one pair contact produced this step, in one record so the gather reads it in one go.
   struct Output {
     Vec3 force;       // force on i (on j: the opposite) (unit: N)
@@ -108,6 +109,7 @@ class Simulation {
   std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
   std::vector<RollingHistory> wall_roll_;
   std::vector<double> wall_damping_prev_;     // per particle per wall (energy tally)
+  std::vector<std::uint32_t> wall_touch_;     // per particle: bit w set = touched wall w at the last step
   CavityState cavity_, cavity_prev_;
   double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
   std::uint64_t step_ = 0;

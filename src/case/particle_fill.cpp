@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -241,6 +242,8 @@ void generate(const CaseReader& in, const std::string& g, const Group& grp, Scen
       if (diameters.size() > 50'000'000) in.fail(g + ".total_mass", "needs more than 5e7 particles");
     }
   }
+  // Largest first: random sequential addition jams much later that way (the sizes drawn are the same).
+  std::sort(diameters.begin(), diameters.end(), std::greater<>());
   const Vec3 lo = in.vector(g + ".region_min", dim::length, s.cavity_lo);
   const Vec3 hi = in.vector(g + ".region_max", dim::length, s.cavity_hi);
   const Vec3 v0 = in.vector(g + ".velocity", dim::speed, Vec3::Zero());

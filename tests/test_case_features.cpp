@@ -1,0 +1,164 @@
+// The case features a user composes scenes from: cavity kinds, motion kinds, particle sources.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/stepper.hpp"
+#include "case_dir.hpp"
+
+using namespace bagdem;
+using bagdem::testing::CaseDir;
+
+namespace {
+
+const char* kHead = R"(
+[simulation]
+duration = "1 ms"
+gravity = [0, 0, "-9.81 m/s^2"]
+[materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "200 GPa"
+poisson_ratio = 0.3
+[interactions.default]
+restitution = 0.5
+friction = 0.3
+)";
+
+const char* kBox = R"(
+[cavity]
+kind = "box"
+material = "steel"
+min = [0, 0, 0]
+max = ["21 mm", "21 mm", "48 mm"]
+)";
+
+double min_gap(const Scene& s) {  // smallest surface gap between two particles (brute force)
+  double g = 1e300;
+  for (std::size_t a = 0; a < s.particles.size(); ++a)
+    for (std::size_t b = a + 1; b < s.particles.size(); ++b)
+      g = std::min(g, (s.particles[a].x - s.particles[b].x).norm() - s.particles[a].radius - s.particles[b].radius);
+  return g;
+}
+
+}  // namespace
+
+TEST(CaseFeatures, CappedCylinderHoldsItsBalls) {
+  // A bore along x (radius 6 mm, length 40 mm) with 8 random balls of 4 mm (one layer fits on the
+  // bottom); under gravity they fall to the bottom of the bore and none leaves (the run would stop
+  // with exit 3 otherwise).
+  CaseDir c(std::string(kHead) + R"(
+[cavity]
+kind = "cylinder"
+material = "steel"
+center = [0, 0, 0]
+axis = "x"
+radius = "6 mm"
+length = "40 mm"
+[particles.balls]
+material = "steel"
+diameter = "4 mm"
+count = 8
+)");
+  const Scene s = load_case(c.str(), {"simulation.duration=\"60 ms\""});
+  ASSERT_EQ(s.walls.size(), 3u);
+  for (const auto& p : s.particles) {
+    EXPECT_LE(std::hypot(p.x.y(), p.x.z()), 6e-3 - p.radius);
+    EXPECT_LE(std::abs(p.x.x()), 20e-3 - p.radius);
+  }
+  EXPECT_GE(min_gap(s), 0.0);
+  Simulation sim(s);
+  while (sim.steps_done() < s.total_steps()) sim.step();
+  // After 60 ms (a fall of up to 8 mm takes 40 ms) every ball is in the lower half of the bore.
+  for (const auto& x : sim.particles().x) EXPECT_LT(x.z(), 0.0);
+}
+
+TEST(CaseFeatures, TableMotionFollowsTheTabulatedCurve) {
+  // x(t) = A sin(2 pi f t) tabulated at 200 points a period; cubic Hermite with central slopes has
+  // errors O(h^2) in velocity: with h = T/200 the position is within 1e-4 A, the velocity within
+  // 1e-3 A w (reference: the analytic curve).
+  const double A = 1e-3, f = 30, w = 2 * std::numbers::pi * f;
+  std::string csv = "t,x,y,z\n";
+  for (int k = 0; k <= 400; ++k) {
+    const double t = k / (200.0 * f);
+    char row[96];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,0,0\n", t, A * std::sin(w * t));
+    csv += row;
+  }
+  CaseDir c(std::string(kHead) + kBox + R"(
+[cavity.motion]
+kind = "table"
+file = "motion.csv"
+[particles.balls]
+material = "steel"
+diameter = "4 mm"
+count = 5
+)");
+  c.write("motion.csv", csv);
+  const Scene s = load_case(c.str());
+  for (double t = 0.001; t < 0.06; t += 0.0007) {
+    const CavityState cs = s.motion->at(t);
+    EXPECT_NEAR(cs.position.x(), A * std::sin(w * t), 1e-4 * A) << t;
+    EXPECT_NEAR(cs.velocity.x(), A * w * std::cos(w * t), 1e-3 * A * w) << t;
+  }
+  // After the last row the cavity rests at the last position.
+  EXPECT_EQ(s.motion->at(1.0).velocity.norm(), 0.0);
+  EXPECT_NEAR(s.motion->max_speed(), A * w, 1e-2 * A * w);
+}
+
+TEST(CaseFeatures, TotalMassGivesTheNearestCount) {
+  // 4-mm steel balls weigh 0.26138 g; 26.6 g is 101.77 balls -> 102.
+  CaseDir c(std::string(kHead) + kBox + R"(
+[particles.balls]
+material = "steel"
+diameter = "4 mm"
+total_mass = "26.6 g"
+fill = "lattice"
+)");
+  const Scene s = load_case(c.str());
+  const double m = 7800 * std::numbers::pi / 6 * std::pow(4e-3, 3);
+  EXPECT_EQ(s.particles.size(), static_cast<std::size_t>(std::lround(26.6e-3 / m)));
+  EXPECT_GE(min_gap(s), 0.0);
+}
+
+TEST(CaseFeatures, SizeDistributionIsReproducibleAndOverlapFree) {
+  const std::string toml = std::string(kHead) + kBox + R"(
+[particles.balls]
+material = "steel"
+count = 150
+[particles.balls.diameter_distribution]
+kind = "uniform"
+min = "3 mm"
+max = "5 mm"
+)";
+  CaseDir c(toml);
+  const Scene a = load_case(c.str()), b = load_case(c.str());
+  const Scene other = load_case(c.str(), {"particles.balls.seed=99"});
+  double mean = 0;
+  for (const auto& p : a.particles) {
+    EXPECT_GE(2 * p.radius, 3e-3);
+    EXPECT_LE(2 * p.radius, 5e-3);
+    mean += 2 * p.radius / static_cast<double>(a.particles.size());
+  }
+  EXPECT_NEAR(mean, 4e-3, 0.15e-3);  // uniform mean 4 mm, standard error 0.047 mm for 150 draws
+  EXPECT_GE(min_gap(a), 0.0);
+  ASSERT_EQ(a.particles.size(), b.particles.size());
+  for (std::size_t k = 0; k < a.particles.size(); ++k) EXPECT_EQ(a.particles[k].x, b.particles[k].x);
+  EXPECT_NE(a.particles[0].x, other.particles[0].x);
+}
+
+TEST(CaseFeatures, CsvParticlesAreReadExactly) {
+  CaseDir c(std::string(kHead) + kBox + R"(
+[particles.balls]
+material = "steel"
+file = "balls.csv"
+)");
+  c.write("balls.csv", "x,y,z,diameter,vx,vy,vz\n0.005,0.005,0.005,0.004,0.1,0,-0.2\n0.015,0.005,0.005,0.004,0,0,0\n");
+  const Scene s = load_case(c.str());
+  ASSERT_EQ(s.particles.size(), 2u);
+  EXPECT_EQ(s.particles[0].x, Vec3(0.005, 0.005, 0.005));
+  EXPECT_EQ(s.particles[0].v, Vec3(0.1, 0, -0.2));
+  EXPECT_EQ(s.particles[1].radius, 0.002);
+}

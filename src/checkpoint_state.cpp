@@ -34,7 +34,7 @@ struct Reader {
   template <class T>
   void pod(T& v) {
     if (at + sizeof(T) > in.size()) throw std::runtime_error("checkpoint image is truncated");
-    std::memcpy(&v, in.data() + at, sizeof(T));
+    std::memcpy(static_cast<void*>(&v), in.data() + at, sizeof(T));
     at += sizeof(T);
   }
   template <class T>
@@ -49,17 +49,18 @@ struct Reader {
 };
 
 // One list of every stored field, used for both directions so they can never disagree.
-template <class IO, class Sim, class P, class T, class S>
-void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, double& load_time, double& pot0,
+template <class IO, class Sim, class P, class T, class S, class C>
+void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, C& cavity_sums, double& pot0,
             double& ke0, P& p, T& tally, S& ps, std::vector<Vec3>& x_build,
             std::vector<TangentialHistory>& wall_tan, std::vector<RollingHistory>& wall_roll,
             std::vector<double>& wall_damp, std::vector<std::uint32_t>& wall_touch, CavityState& cav,
             CavityState& cav_prev) {
-  io.pod(step), io.pod(builds), io.pod(load_time), io.pod(pot0), io.pod(ke0);
+  io.pod(step), io.pod(builds), io.pod(cavity_sums), io.pod(pot0), io.pod(ke0);
   io.pod(cav), io.pod(cav_prev);
   io.vec(p.x), io.vec(p.v), io.vec(p.w), io.vec(p.v_pred), io.vec(p.w_pred), io.vec(p.f), io.vec(p.t);
-  io.vec(tally.wall_force), io.vec(tally.wall_force_prev), io.vec(tally.wall_impulse);
-  io.vec(tally.wall_ang_impulse), io.vec(tally.work_cavity), io.vec(tally.diss_normal);
+  io.vec(tally.wall_force_prev), io.vec(tally.wall_impulse);
+  io.vec(tally.wall_ang_impulse), io.vec(tally.step_dissipation), io.vec(tally.work_cavity);
+  io.vec(tally.diss_normal);
   io.vec(tally.diss_tangential), io.vec(tally.diss_rolling);
   io.vec(ps.pairs.begin), io.vec(ps.pairs.partner), io.vec(ps.tangential), io.vec(ps.rolling);
   io.vec(ps.damping_prev), io.vec(x_build), io.vec(wall_tan), io.vec(wall_roll), io.vec(wall_damp), io.vec(wall_touch);
@@ -72,7 +73,7 @@ std::vector<char> Simulation::save_state() const {
   w.pod(kMagic);
   w.pod(static_cast<std::uint64_t>(p_.size()));
   auto& self = const_cast<Simulation&>(*this);  // fields() is shared with load; nothing is modified
-  fields<Writer, Simulation>(w, self.step_, self.builds_, self.load_time_, self.potential0_,
+  fields<Writer, Simulation>(w, self.step_, self.builds_, self.cavity_sums_, self.potential0_,
                              self.kinetic_elastic0_, self.p_, self.tally_, self.ps_, self.x_at_build_,
                              self.wall_tan_, self.wall_roll_, self.wall_damping_prev_, self.wall_touch_, self.cavity_, self.cavity_prev_);
   return std::move(w.out);
@@ -87,7 +88,7 @@ void Simulation::load_state(const std::vector<char>& image) {
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));
-  fields<Reader, Simulation>(r, step_, builds_, load_time_, potential0_, kinetic_elastic0_, p_,
+  fields<Reader, Simulation>(r, step_, builds_, cavity_sums_, potential0_, kinetic_elastic0_, p_,
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
   // Rebuild what is derived from the pair list (first, gather CSR, per-pair buffers) without a
   // new broad-phase search: re-install the stored list.

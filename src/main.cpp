@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   CLI::App app{"bagdem " BAGDEM_VERSION
                ": discrete-element simulation of granular and bean-bag impact dampers.\n"
                "A case is a directory with case.toml (schema: docs/case-schema.md).\n"
-               "Exit codes: 0 success, 2 bad input, 3 the run went unstable."};
+               "Exit codes: 0 success, 1 system error (I/O), 2 bad input, 3 the run went unstable."};
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 
@@ -82,6 +82,9 @@ int main(int argc, char** argv) {
   } catch (const RunError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitRunError;
+  } catch (const std::exception& e) {  // I/O and other system failures
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
   }
   return 0;
 }

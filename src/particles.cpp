@@ -18,7 +18,6 @@ void Particles::resize(std::size_t n) {
 }
 
 void ParticleTallies::resize(std::size_t n) {
-  wall_force.assign(n, Vec3::Zero());
   wall_force_prev.assign(n, Vec3::Zero());
   wall_impulse.assign(n, Vec3::Zero());
   wall_ang_impulse.assign(n, Vec3::Zero());

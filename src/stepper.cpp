@@ -13,12 +13,6 @@
 
 namespace bagdem {
 
-const char* stage_name(Stage s) {
-  static const char* names[] = {"kick_drift", "move_cavity",   "neighbours", "pair_contacts",
-                                "gather_walls", "kick", "guards"};
-  return names[static_cast<int>(s)];
-}
-
 namespace {
 // Parallel loops below this size run on one thread (fork/join costs more than the work).
 constexpr std::size_t kParallelMin = 512;
@@ -33,6 +27,19 @@ template <bool... Done, class Fn, class... Rest>
 void with_flags(Fn&& fn, bool first, Rest... rest) {
   if (first) with_flags<Done..., true>(fn, rest...);
   else with_flags<Done..., false>(fn, rest...);
+}
+
+// What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last
+// half step of its forces' trapezoidal work (hertz.hpp, mindlin.hpp, rolling.hpp) and the energy
+// its springs still stored. Both vanish with the overlap as dt -> 0; tallying them keeps the
+// energy budget exact. n: normal from j to i; v_c, w_rel: half-step relative motion.
+template <bool Tangential, bool Rolling>
+Vec3 closing_tally(const Vec3& n, const Vec3& v_c, const Vec3& w_rel, double dt, double damping_prev,
+                   const TangentialHistory* th, const RollingHistory* rh) {
+  Vec3 d(-0.5 * damping_prev * v_c.dot(n) * dt, 0, 0);
+  if constexpr (Tangential) d.y() = mindlin_energy(*th) - 0.5 * th->total.dot(v_c - v_c.dot(n) * n) * dt;
+  if constexpr (Rolling) d.z() = rolling_energy(*rh) - 0.5 * rh->torque.dot(w_rel - w_rel.dot(n) * n) * dt;
+  return d;
 }
 }  // namespace
 
@@ -59,8 +66,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.tangential) wall_tan_.assign(n * nw, {});
   if (scene.models.rolling) wall_roll_.assign(n * nw, {});
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
-  wall_touch_.assign(n, 0);
-  if (nw > 32) throw std::invalid_argument("a cavity has at most 32 walls");
+  wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
   cavity_ = cavity_prev_ = cavity_at(0.0);
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
@@ -127,7 +133,12 @@ void Simulation::start_sums(std::size_t i) {
 // ---- 2. move_cavity -----------------------------------------------------------------------------
 void Simulation::move_cavity() {
   cavity_prev_ = cavity_;
-  cavity_ = cavity_at(static_cast<double>(step_ + 1) * scene_.dt);
+  const double t = static_cast<double>(step_ + 1) * scene_.dt;
+  cavity_ = cavity_at(t);
+  ++cavity_sums_.steps;
+  cavity_sums_.time += t;
+  cavity_sums_.position += cavity_.position;
+  cavity_sums_.velocity += cavity_.velocity;
 }
 
 // ---- 3. neighbours ------------------------------------------------------------------------------
@@ -234,12 +245,26 @@ void Simulation::pair_contacts_impl() {
         }
         if constexpr (Energy) out.dissipated.setZero();
       }
-      // A contact that just opened: clear its history (untouched pairs cost no history access).
+      // A contact that just opened: tally what it still held, clear its history (untouched pairs
+      // cost no history access).
       if (ps_.touching[k]) {
         ps_.touching[k] = 0;
+        if constexpr (Energy) {
+          const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
+          const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
+          const Vec3 d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt, ps_.damping_prev[k],
+                                                            Tangential ? &ps_.tangential[k] : nullptr,
+                                                            Rolling ? &ps_.rolling[k] : nullptr);
+          if constexpr (Scatter) {
+            tally_.step_dissipation[i] += 0.5 * d;
+            tally_.step_dissipation[j] += 0.5 * d;
+          } else {
+            out.dissipated = d;
+          }
+          ps_.damping_prev[k] = 0.0;
+        }
         if constexpr (Tangential) ps_.tangential[k] = {};
         if constexpr (Rolling) ps_.rolling[k] = {};
-        if constexpr (Energy) ps_.damping_prev[k] = 0.0;
       }
       continue;
     }
@@ -354,16 +379,23 @@ void Simulation::gather_walls_impl() {
       d_min = std::min(d_min, d);
       g.overlap = r - d;
       if (g.overlap <= 0) {
-        // A contact that just opened: clear its history (walls not touched cost no memory access).
+        // A contact that just opened: tally what it still held, clear its history (walls not
+        // touched cost no memory access).
         if (touched_before & (1u << w)) {
+          if constexpr (Energy) {
+            const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
+            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
+                                                       Tangential ? &wall_tan_[p * nw + w] : nullptr,
+                                                       Rolling ? &wall_roll_[p * nw + w] : nullptr);
+            wall_damping_prev_[p * nw + w] = 0.0;
+          }
           if constexpr (Tangential) wall_tan_[p * nw + w] = {};
           if constexpr (Rolling) wall_roll_[p * nw + w] = {};
-          if constexpr (Energy) wall_damping_prev_[p * nw + w] = 0.0;
         }
         continue;
       }
       touched |= 1u << w;
-      g.R_eff = r;
+      g.R_eff = wall_effective_radius(wall, r);
       g.m_eff = p_.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
       g.arm_j = 0;
@@ -458,7 +490,7 @@ void Simulation::guards() {
       std::string where;
       for (const Wall& w : scene_.walls) {
         Vec3 nrm;
-        if (wall_distance(w, xl, nrm) < 0) where = "through wall '" + w.name + "'";
+        if (wall_distance(w, xl, nrm) < 0) where = "through wall '" + scene_.wall_names[static_cast<std::size_t>(&w - scene_.walls.data())] + "'";
       }
       if (where.empty() && ((xl - scene_.cavity_lo).minCoeff() < 0 || (scene_.cavity_hi - xl).minCoeff() < 0))
         where = "beyond the cavity bounds (cavity.min/max)";
@@ -522,7 +554,8 @@ double Simulation::elastic_energy() const {
       Vec3 n;
       const double overlap = p_.radius[p] - wall_distance(scene_.walls[w], p_.x[p] - cavity_.position, n);
       if (overlap <= 0) continue;
-      u += hertz_energy(scene_.laws(p_.material[p], scene_.walls[w].material), p_.radius[p], overlap);
+      u += hertz_energy(scene_.laws(p_.material[p], scene_.walls[w].material),
+                        wall_effective_radius(scene_.walls[w], p_.radius[p]), overlap);
       if (scene_.models.tangential) u += mindlin_energy(wall_tan_[p * nw + w]);
       if (scene_.models.rolling) u += rolling_energy(wall_roll_[p * nw + w]);
     }
@@ -545,7 +578,7 @@ EnergySample Simulation::energy() const {
   return e;
 }
 
-void Simulation::take_cavity_load(Vec3& force, Vec3& torque) {
+Simulation::CavitySample Simulation::take_cavity_sample() {
   Vec3 J(0, 0, 0), L(0, 0, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
     J += tally_.wall_impulse[i];
@@ -553,10 +586,18 @@ void Simulation::take_cavity_load(Vec3& force, Vec3& torque) {
     tally_.wall_impulse[i].setZero();
     tally_.wall_ang_impulse[i].setZero();
   }
-  const double span = time() - load_time_;
-  load_time_ = time();
-  force = span > 0 ? Vec3(J / span) : Vec3::Zero();
-  torque = span > 0 ? Vec3(L / span) : Vec3::Zero();
+  CavitySample c;
+  const double n = static_cast<double>(cavity_sums_.steps);
+  if (n > 0) {
+    const double span = n * scene_.dt;
+    c.time = cavity_sums_.time / n;
+    c.position = cavity_sums_.position / n;
+    c.velocity = cavity_sums_.velocity / n;
+    c.force = J / span;
+    c.torque = L / span;
+  }
+  cavity_sums_ = {};
+  return c;
 }
 
 std::size_t Simulation::contact_count() const {

@@ -29,8 +29,8 @@ class SceneBuilder {
     return *this;
   }
   SceneBuilder& plane(const Vec3& point, const Vec3& inward_normal, int material = 0) {
-    s_.walls.push_back({WallKind::Plane, point, inward_normal.normalized(), 0, material,
-                        "plane " + std::to_string(s_.walls.size())});
+    s_.wall_names.push_back("plane " + std::to_string(s_.walls.size()));
+    s_.walls.push_back({WallKind::Plane, point, inward_normal.normalized(), 0, material});
     return *this;
   }
   SceneBuilder& box(const Vec3& lo, const Vec3& hi, int material = 0) {
@@ -42,6 +42,12 @@ class SceneBuilder {
     s_.cavity_hi = hi;
     s_.cavity_kind = "box";
     s_.cavity_reference = 0.5 * (lo + hi);
+    return *this;
+  }
+  // A bore: inner cylinder through `point` along `axis` (no caps; add planes for them).
+  SceneBuilder& cylinder(const Vec3& point, const Vec3& axis, double radius, int material = 0) {
+    s_.wall_names.push_back("cylinder " + std::to_string(s_.walls.size()));
+    s_.walls.push_back({WallKind::Cylinder, point, axis.normalized(), radius, material});
     return *this;
   }
   SceneBuilder& bounds(const Vec3& lo, const Vec3& hi) {

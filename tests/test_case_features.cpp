@@ -7,10 +7,17 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/stepper.hpp"
-#include "case_dir.hpp"
+#include "support.hpp"
 
 using namespace bagdem;
-using bagdem::testing::CaseDir;
+using bagdem::testing::TempDir;
+
+namespace {
+// A temporary case directory holding `toml` as case.toml.
+struct CaseDir : TempDir {
+  explicit CaseDir(const std::string& toml) { write("case.toml", toml); }
+};
+}  // namespace
 
 namespace {
 

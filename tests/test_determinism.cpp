@@ -13,24 +13,15 @@
 
 #include "bagdem/motion/motion.hpp"
 #include "bagdem/stepper.hpp"
+#include "rng.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;
+using bagdem::testing::Rng;
 using bagdem::testing::SceneBuilder;
 
 namespace {
 
-struct Rng {
-  std::uint64_t s;
-  explicit Rng(std::uint64_t seed) : s(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform(double a = 0, double b = 1) { return a + (b - a) * (static_cast<double>(next() >> 11) * 0x1.0p-53); }
-};
 
 std::uint64_t fnv1a64(const std::vector<char>& bytes) {
   std::uint64_t h = 0xcbf29ce484222325ULL;

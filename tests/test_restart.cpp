@@ -21,60 +21,17 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/run/runner.hpp"
 
+#include "support.hpp"
+
 namespace fs = std::filesystem;
+using bagdem::testing::TempDir;
+using bagdem::testing::CmdResult;
+using bagdem::testing::slurp;
+using bagdem::testing::run_bagdem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("bagdem_restart_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-struct CmdResult {
-  int code = -1;
-  std::string out, err;
-};
-
-CmdResult bagdem(const std::vector<std::string>& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  std::string cmd = shell_quote(BAGDEM_BINARY);
-  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-  cmd.append(" >").append(shell_quote(out.string()));
-  cmd.append(" 2>").append(shell_quote(err.string()));
-  cmd.append(" </dev/null");
-  const int st = std::system(cmd.c_str());
-  CmdResult r;
-  r.code = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
 
 // 30 soft balls with friction in a box shaken along (1, 0, 1), gravity, a settle phase, frames and
 // checkpoints every few hundred steps (~9300 steps of ~1.3e-5 s).
@@ -308,7 +265,7 @@ TEST(Restart, CliResumeWithoutCheckpointIsRefused) {
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << kCase;
-  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet"}, tmp.path);
+  const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet"}, tmp.path);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find((out / "checkpoint.bin").string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("no checkpoint to resume from"), std::string::npos) << r.err;
@@ -323,13 +280,13 @@ TEST(Restart, CliResumeOfCompleteRunIsRefusedAndChangesNothing) {
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << kCase;
-  const CmdResult done = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1",
+  const CmdResult done = run_bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1",
                                  "--set", "simulation.duration=\"0.01 s\""},
                                 tmp.path);
   ASSERT_EQ(done.code, 0) << done.err;
   ASSERT_TRUE(fs::exists(out / "summary.json"));
   const std::string summary = slurp(out / "summary.json");
-  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet",
+  const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--resume", "--quiet",
                               "--set", "simulation.duration=\"0.01 s\""},
                              tmp.path);
   EXPECT_EQ(r.code, 2) << r.err;

@@ -14,60 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "support.hpp"
+
 namespace fs = std::filesystem;
+using bagdem::testing::TempDir;
+using bagdem::testing::CmdResult;
+using bagdem::testing::slurp;
+using bagdem::testing::run_bagdem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("bagdem_run_guards_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-struct CmdResult {
-  int code = -1;
-  std::string out, err;
-};
-
-CmdResult bagdem(const std::vector<std::string>& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  std::string cmd = shell_quote(BAGDEM_BINARY);
-  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-  cmd.append(" >").append(shell_quote(out.string()));
-  cmd.append(" 2>").append(shell_quote(err.string()));
-  cmd.append(" </dev/null");
-  const int st = std::system(cmd.c_str());
-  CmdResult r;
-  r.code = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
 
 // One steel ball of 4 mm in a 20 mm box without gravity, at `position` with `velocity`;
 // `simulation_extra` and `material_extra` are added to [simulation] and [materials.steel].
@@ -109,7 +66,7 @@ void run_and_expect_failure(const std::string& toml, const std::vector<std::stri
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << toml;
-  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
+  const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
   EXPECT_EQ(r.code, 3) << "stderr: " << r.err << "\nstdout: " << r.out;
   EXPECT_NE(r.err.find("error: run stopped at t = "), std::string::npos) << r.err;
   for (const auto& p : message_parts)
@@ -214,7 +171,7 @@ TEST(RunGuards, StableRunCompletes) {
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[0.5, 0, 0]", "");
-  const CmdResult r = bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
+  const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
   ASSERT_TRUE(fs::exists(out / "results.h5"));

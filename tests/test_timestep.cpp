@@ -27,26 +27,15 @@
 #include "bagdem/contact/restitution.hpp"
 #include "bagdem/error.hpp"
 
+#include "support.hpp"
+
 namespace fs = std::filesystem;
+using bagdem::testing::TempDir;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("bagdem_timestep_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
 
 // load_case() on a temporary case directory holding `toml`.
 bagdem::Scene load(const std::string& toml, const std::vector<std::string>& overrides = {}) {
@@ -102,7 +91,8 @@ Expected expected(const std::vector<Mat>& mats, const std::vector<double>& rmin,
     const double delta = max_overlap(m, R, Es, v);
     x.critical = std::min(x.critical, critical_step(std::sqrt(2 * Es * std::sqrt(R * delta) / m), zeta));
     if (tangential)
-      x.critical = std::min(x.critical, critical_step(std::sqrt(3.5 * 8 * Gs * std::sqrt(R * delta) / m), zeta));
+      x.critical = std::min(x.critical, critical_step(std::sqrt(3.5 * 8 * Gs * std::sqrt(R * delta) / m),
+                                                      std::sqrt(3.5) * zeta));  // tangential mass 2/7 m*
   };
   for (std::size_t a = 0; a < mats.size(); ++a) {
     if (rmin[a] == 0) continue;

@@ -29,6 +29,10 @@ install_missing() {
 
 build() {
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$BUILD" -j "$(nproc)" -- --no-print-directory 2>&1 | grep -Ev '^\[ *[0-9]+%\]' || true
-  [ -x "$BUILD/bagdem" ] || { echo "bagdem: build failed" >&2; exit 1; }
+  # Progress lines hidden; warnings and errors shown; a failed build stops here.
+  set +o pipefail
+  cmake --build "$BUILD" -j "$(nproc)" -- --no-print-directory 2>&1 | grep -Ev '^\[ *[0-9]+%\]'
+  local status=${PIPESTATUS[0]}
+  set -o pipefail
+  [ "$status" -eq 0 ] || { echo "bagdem: build failed" >&2; exit 1; }
 }

@@ -30,7 +30,6 @@ struct Particles {
 // Running sums per particle, so that totals are summed in particle order only when written
 // (deterministic for any thread count, and no reduction in the step).
 struct ParticleTallies {
-  std::vector<Vec3> wall_force;        // force of the walls on the particle this step (unit: N)
   std::vector<Vec3> wall_force_prev;   // same, previous step (trapezoidal work) (unit: N)
   std::vector<Vec3> wall_impulse;      // impulse the particle gave the walls since the last sample (unit: N s)
   std::vector<Vec3> wall_ang_impulse;  // angular impulse about the cavity reference point (unit: N m s)

@@ -1,6 +1,6 @@
 // The resolved scene: what a case file becomes after parsing and validation. SI units, every
-// default filled, and every "what is modelled" decision taken (case/resolve.cpp). The stepper and
-// the recorders read only this.
+// default filled, and every "what is modelled" decision taken (src/case/load_case.cpp). The stepper
+// and the recorders read only this.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -19,7 +19,7 @@ struct ParticleInit {
   Vec3 v = Vec3::Zero();  // (unit: m/s)
   Vec3 w = Vec3::Zero();  // (unit: rad/s)
   double radius = 0;      // (unit: m)
-  int material = 0;
+  int material = 0;       // index into Scene::materials
 };
 
 // What the scene requires; anything false is not computed at all.
@@ -36,6 +36,7 @@ struct OutputSettings {
   double cavity_interval = 0;      // cavity force/kinematics samples (unit: s)
   double energy_interval = 0;      // energy budget rows (unit: s)
   double checkpoint_interval = 0;  // checkpoints (unit: s); 0 = none
+  double skip_cycles = 1;          // start-up cycles after settling left out of per-cycle figures
 };
 
 struct Scene {
@@ -49,8 +50,9 @@ struct Scene {
 
   std::string cavity_kind;        // "box", "cylinder", "planes"
   std::vector<Wall> walls;        // in the cavity frame (at rest place)
-  Vec3 cavity_lo = Vec3::Zero();  // bounding box of the cavity at rest (unit: m)
-  Vec3 cavity_hi = Vec3::Zero();
+  std::vector<std::string> wall_names;  // one per wall, for messages ("box -x", "bore")
+  Vec3 cavity_lo = Vec3::Zero();  // bounding box of the cavity at rest, low corner (unit: m)
+  Vec3 cavity_hi = Vec3::Zero();  // high corner (unit: m)
   Vec3 cavity_reference = Vec3::Zero();  // point the cavity torque is taken about (unit: m)
   std::shared_ptr<const Motion> motion;  // motion time starts when settling ends
 

@@ -28,9 +28,6 @@
 
 namespace bagdem {
 
-enum class Stage { KickDrift, MoveCavity, Neighbours, PairContacts, GatherWalls, Kick, Guards, Count };
-const char* stage_name(Stage s);
-
 // Contact histories and per-pair results on the current candidate pair list.
 struct PairState {
   CandidatePairs pairs;                      // i < j, canonical order
@@ -70,9 +67,18 @@ class Simulation {
   double initial_stored_energy() const { return kinetic_elastic0_; }
   // Energy budget now (sums over particles in index order).
   EnergySample energy() const;
-  // Mean force and torque the contents exerted on the cavity since the last call (impulse /
-  // elapsed time); resets the impulse tallies.
-  void take_cavity_load(Vec3& force, Vec3& torque);
+  // The cavity over the steps since the last call, all as means over those steps (so every channel
+  // is centred on the same time): force and torque the contents exerted on it (impulse / elapsed
+  // time; torque about Scene::cavity_reference), its position and velocity, and the mean of the
+  // steps' times. Resets the sums.
+  struct CavitySample {
+    double time = 0;               // mean of the step times (unit: s)
+    Vec3 position = Vec3::Zero();  // (unit: m)
+    Vec3 velocity = Vec3::Zero();  // (unit: m/s)
+    Vec3 force = Vec3::Zero();     // (unit: N)
+    Vec3 torque = Vec3::Zero();    // (unit: N m)
+  };
+  CavitySample take_cavity_sample();
   // Number of contacts (pairs and walls) currently closed.
   std::size_t contact_count() const;
 
@@ -114,8 +120,15 @@ class Simulation {
   double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
   std::uint64_t step_ = 0;
   std::uint64_t builds_ = 0;
-  double load_time_ = 0;                      // time the cavity impulse tallies started
-  double potential0_ = 0, kinetic_elastic0_ = 0;
+  // Sums over the steps of the current cavity sample (take_cavity_sample).
+  struct CavitySums {
+    std::uint64_t steps = 0;
+    double time = 0;                 // sum of step times (unit: s)
+    Vec3 position = Vec3::Zero();    // (unit: m)
+    Vec3 velocity = Vec3::Zero();    // (unit: m/s)
+  } cavity_sums_;
+  double potential0_ = 0;                     // gravity potential energy at t = 0 (unit: J)
+  double kinetic_elastic0_ = 0;               // kinetic + elastic energy at t = 0 (unit: J)
   bool scatter_ = true;                       // pair forces scattered (one thread) or gathered
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
   bool all_finite_ = true;                    // every velocity finite (kick)

@@ -20,12 +20,12 @@ void box(const CaseReader& in, Scene& s, int material) {
     a.material = b.material = material;
     a.point = lo;
     a.direction = Vec3::Unit(k);
-    a.name = std::string("box -") + axes[k];
     b.point = hi;
     b.direction = -Vec3::Unit(k);
-    b.name = std::string("box +") + axes[k];
     s.walls.push_back(a);
     s.walls.push_back(b);
+    s.wall_names.push_back(std::string("box -") + axes[k]);
+    s.wall_names.push_back(std::string("box +") + axes[k]);
   }
   s.cavity_lo = lo;
   s.cavity_hi = hi;
@@ -49,10 +49,10 @@ void cylinder(const CaseReader& in, Scene& s, int material) {
   const double L = in.quantity("cavity.length", dim::length);
   if (!(R > 0)) in.fail("cavity.radius", "must be > 0");
   if (!(L > 0)) in.fail("cavity.length", "must be > 0");
-  Wall bore{WallKind::Cylinder, c, u, R, material, "bore"};
-  Wall cap0{WallKind::Plane, c - 0.5 * L * u, u, 0, material, "cap -axis"};
-  Wall cap1{WallKind::Plane, c + 0.5 * L * u, -u, 0, material, "cap +axis"};
-  s.walls = {bore, cap0, cap1};
+  s.walls = {{WallKind::Cylinder, c, u, R, material},
+             {WallKind::Plane, c - 0.5 * L * u, u, 0, material},
+             {WallKind::Plane, c + 0.5 * L * u, -u, 0, material}};
+  s.wall_names = {"bore", "cap -axis", "cap +axis"};
   // Bounding box of a capped cylinder: extent along each world axis k is
   // L/2 |u_k| + R sqrt(1 - u_k^2).
   for (int k = 0; k < 3; ++k) {
@@ -65,6 +65,7 @@ void cylinder(const CaseReader& in, Scene& s, int material) {
 void planes(const CaseReader& in, Scene& s, int material) {
   const std::size_t n = in.array_size("cavity.planes");
   if (n == 0) in.fail("cavity.planes", "needs at least one [[cavity.planes]] with point and normal");
+  if (n > 32) in.fail("cavity.planes", "has " + std::to_string(n) + " planes; at most 32 are allowed");
   for (std::size_t k = 0; k < n; ++k) {
     const std::string key = "cavity.planes." + std::to_string(k);
     Wall w;
@@ -74,8 +75,8 @@ void planes(const CaseReader& in, Scene& s, int material) {
     w.direction = in.vector(key + ".normal", dim::none);
     if (w.direction.norm() == 0) in.fail(key + ".normal", "must not be the zero vector");
     w.direction.normalize();
-    w.name = "plane " + std::to_string(k);
     s.walls.push_back(w);
+    s.wall_names.push_back("plane " + std::to_string(k));
   }
   // Planes need not enclose anything: the bounds the particles must stay in are given.
   s.cavity_lo = in.vector("cavity.min", dim::length);

@@ -77,6 +77,8 @@ void resolve_output(const CaseReader& in, Scene& s) {
   o.cavity_interval = in.quantity("output.cavity_interval", dim::time, period > 0 ? period / 100 : 100 * s.dt);
   o.energy_interval = in.quantity("output.energy_interval", dim::time, o.cavity_interval);
   o.checkpoint_interval = in.quantity("output.checkpoint_interval", dim::time, 0.0);
+  o.skip_cycles = in.quantity("output.skip_cycles", dim::none, 1.0);
+  if (!(o.skip_cycles >= 0)) in.fail("output.skip_cycles", "must be >= 0");
   if (!(o.frame_interval > 0)) in.fail("output.frame_interval", "must be > 0");
   if (!(o.cavity_interval >= s.dt)) in.fail("output.cavity_interval", "must be at least one time step (" + std::to_string(s.dt) + " s)");
   if (!(o.energy_interval >= s.dt)) in.fail("output.energy_interval", "must be at least one time step");

@@ -66,8 +66,10 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
         const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping sqrt(S m*)
         dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), zeta));
         if (s.models.tangential) {
+          // The rolling sphere's tangential mass is 2/7 m*, so with gamma_t = gamma_n sqrt(S_t/S_n)
+          // the tangential damping ratio is sqrt(3.5) times the normal one.
           const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
-          dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), zeta));
+          dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * zeta));
         }
       };
       if (particle_material) {
@@ -104,8 +106,9 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
   } else {
     const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit;
     s.dt = std::min({a, b, c});
-    why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a << " s, Hertz contact time / "
-        << per_contact << " = " << b << " s, half the critical step = " << c << " s -> "
+    why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
+        << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
+        << " s, half the critical step = " << c << " s -> "
         << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : "critical step") << " limits";
     in.boolean("simulation.force_timestep", false);
   }

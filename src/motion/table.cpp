@@ -1,6 +1,7 @@
 // Tabulated cavity motion: cubic Hermite interpolation of (t, x, y, z) rows with central-difference
-// slopes (one-sided at the ends), so position is C1 and velocity continuous and exactly the
-// derivative of the interpolated position.
+// slopes (one-sided at the ends), so position is C1 and velocity continuous inside the table and
+// exactly the derivative of the interpolated position. Outside the table the cavity rests at the
+// first or last position, so the velocity jumps there unless the table starts and ends at rest.
 #include <algorithm>
 #include <sstream>
 

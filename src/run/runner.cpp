@@ -32,6 +32,13 @@ void write_atomically(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
+// A number for JSON with 10 significant digits.
+std::string number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
 std::string json_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
@@ -58,23 +65,31 @@ double balance_error(const EnergySample& e, double stored0) {
 }
 
 // What the run loop itself must carry across a restart, beside the simulation state.
+// What the run loop itself must carry across a restart, beside the simulation state.
 struct RunTallies {
-  SeriesLengths lengths;              // rows written to results.h5
-  double dissipated_at_settle = 0;    // total dissipation when the measured part began (J)
+  SeriesLengths lengths;               // rows written to results.h5
+  double dissipated_at_measure = 0;    // total dissipation when the measured cycles began (J)
 };
 
+// A checkpoint file: the run tallies, the case it belongs to (resolved TOML text, so a resume with a
+// changed case is refused), and the simulation's state image.
 struct Checkpoint {
   RunTallies tallies;
+  std::string case_text;
   std::vector<char> state;
 };
+
+void write_block(std::ostream& s, const char* data, std::uint64_t n) {
+  s.write(reinterpret_cast<const char*>(&n), sizeof n);
+  s.write(data, static_cast<std::streamsize>(n));
+}
 
 void save_checkpoint(const fs::path& path, const Simulation& sim, const RunTallies& l) {
   std::ostringstream s(std::ios::binary);
   const std::vector<char> state = sim.save_state();
-  const std::uint64_t n = state.size();
   s.write(reinterpret_cast<const char*>(&l), sizeof l);
-  s.write(reinterpret_cast<const char*>(&n), sizeof n);
-  s.write(state.data(), static_cast<std::streamsize>(n));
+  write_block(s, sim.scene().resolved.data(), sim.scene().resolved.size());
+  write_block(s, state.data(), state.size());
   write_atomically(path, s.str());
 }
 
@@ -82,18 +97,36 @@ Checkpoint load_checkpoint(const fs::path& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw InputError(path.string(), "", "", "no checkpoint to resume from (run without --resume, with output.checkpoint_interval > 0)");
   Checkpoint c;
-  std::uint64_t n = 0;
+  auto block = [&](auto& out) {
+    std::uint64_t n = 0;
+    f.read(reinterpret_cast<char*>(&n), sizeof n);
+    if (!f || n > (1ULL << 40)) return;
+    out.resize(n);
+    f.read(out.data(), static_cast<std::streamsize>(n));
+  };
   f.read(reinterpret_cast<char*>(&c.tallies), sizeof c.tallies);
-  f.read(reinterpret_cast<char*>(&n), sizeof n);
-  c.state.resize(n);
-  f.read(c.state.data(), static_cast<std::streamsize>(n));
-  if (!f) throw InputError(path.string(), "", "", "checkpoint file is truncated or corrupt");
+  block(c.case_text);
+  block(c.state);
+  if (!f) throw InputError(path.string(), "", "", "checkpoint file is truncated or corrupt; run again without --resume");
   return c;
+}
+
+// The first line where two case texts differ, as "was: ... / now: ...".
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream sa(a), sb(b);
+  std::string la, lb;
+  while (true) {
+    const bool ga = static_cast<bool>(std::getline(sa, la)), gb = static_cast<bool>(std::getline(sb, lb));
+    if (!ga && !gb) return "";
+    if (!ga) la = "(nothing)";
+    if (!gb) lb = "(nothing)";
+    if (la != lb || !ga || !gb) return "was '" + la + "', now '" + lb + "'";
+  }
 }
 
 class Progress {
  public:
-  explicit Progress(bool quiet) : quiet_(quiet), start_(clock::now()), last_(start_) {}
+  Progress(bool quiet, std::uint64_t first_step) : quiet_(quiet), first_(first_step), start_(clock::now()), last_(start_) {}
   void update(std::uint64_t step, std::uint64_t total, double t) {
     if (quiet_) return;
     const auto now = clock::now();
@@ -101,7 +134,9 @@ class Progress {
     last_ = now;
     const double el = std::chrono::duration<double>(now - start_).count();
     const double frac = static_cast<double>(step) / static_cast<double>(total);
-    const double eta = frac > 0 ? el * (1 - frac) / frac : 0;
+    // ETA from this session's pace (a resumed run started at first_).
+    const double done = static_cast<double>(step - first_), left = static_cast<double>(total - step);
+    const double eta = done > 0 ? el * left / done : 0;
     std::fprintf(stderr, "\r  %5.1f%%  t = %.5g s  elapsed %.0f s  ETA %.0f s   ", 100 * frac, t, el, eta);
     if (step == total) std::fprintf(stderr, "\n");
   }
@@ -109,6 +144,7 @@ class Progress {
  private:
   using clock = std::chrono::steady_clock;
   bool quiet_;
+  std::uint64_t first_;
   clock::time_point start_, last_;
 };
 
@@ -127,7 +163,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::uint64_t n_cavity = every(scene.output.cavity_interval, scene.dt);
   const std::uint64_t n_energy = every(scene.output.energy_interval, scene.dt);
   const std::uint64_t n_ckpt = scene.output.checkpoint_interval > 0 ? every(scene.output.checkpoint_interval, scene.dt) : 0;
-  const std::uint64_t settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
+  // Per-cycle figures are taken over whole cycles after settling and output.skip_cycles of start-up.
+  const double f_drive = scene.motion->frequency();
+  const double skip = f_drive > 0 ? scene.output.skip_cycles / f_drive : 0.0;
+  const std::uint64_t measure_step = static_cast<std::uint64_t>(std::llround((scene.settle + skip) / scene.dt));
+  const bool energy = scene.models.energy;
 
   std::vector<double> frame_times;
   std::optional<ResultsFile> file;
@@ -137,8 +177,17 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   };
   if (opt.resume) {
     Checkpoint c = load_checkpoint(ckpt);
+    if (c.case_text != scene.resolved)
+      throw InputError(scene.case_file, "", "",
+                       "the case differs from the one of the interrupted run (" +
+                           first_difference(c.case_text, scene.resolved) +
+                           "); resume with the same case and --set options, or run again without --resume");
     if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
-    sim.load_state(c.state);
+    try {
+      sim.load_state(c.state);
+    } catch (const std::exception& e) {
+      throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
+    }
     run = c.tallies;
     fs::remove(summary);  // a run in progress is not complete
     file.emplace(ResultsFile::reopen(part.string(), run.lengths));
@@ -158,12 +207,12 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     file->set_attribute("timestep", scene.dt);
     file->set_attribute("status", "running");
     file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
-    file->append_energy(0, sim.energy());
+    if (energy) file->append_energy(0, sim.energy());
     frame_times.push_back(0);
   }
 
   RunReport rep;
-  Progress progress(opt.quiet);
+  Progress progress(opt.quiet, sim.steps_done());
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t first_step = sim.steps_done();
 
@@ -176,13 +225,12 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       sim.step();
       const std::uint64_t s = sim.steps_done();
       const double t = sim.time();
-      if (s == settle_steps) run.dissipated_at_settle = total_dissipation(sim.energy());
+      if (energy && s == measure_step) run.dissipated_at_measure = total_dissipation(sim.energy());
       if (s % n_cavity == 0 || s == total) {
-        Vec3 F, T;
-        sim.take_cavity_load(F, T);
-        file->append_cavity(t, sim.cavity().position, sim.cavity().velocity, F, T);
+        const Simulation::CavitySample c = sim.take_cavity_sample();
+        file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque);
       }
-      if (s % n_energy == 0 || s == total) file->append_energy(t, sim.energy());
+      if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
       if (s % n_frame == 0 || s == total) {
         file->append_frame(t, sim.particles().x, sim.particles().v, sim.particles().w);
         frame_times.push_back(t);
@@ -210,10 +258,12 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   rep.wall_seconds = wall;
   const double psteps = static_cast<double>(sim.particles().size()) * static_cast<double>(total - first_step);
   rep.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
-  rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
-  if (const double f = scene.motion->frequency(); f > 0) {
-    rep.cycles = scene.duration * f;
-    rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_settle) / rep.cycles;
+  if (energy) {
+    rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
+    if (f_drive > 0 && total > measure_step) {
+      rep.cycles = (static_cast<double>(total - measure_step) * scene.dt) * f_drive;
+      rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_measure) / rep.cycles;
+    }
   }
   file->set_attribute("status", "complete");
   file->close();
@@ -230,13 +280,17 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     << "  \"particle_steps_per_second\": " << (wall > 0 ? psteps / wall : 0) << ",\n"
     << "  \"ns_per_particle_step\": " << rep.ns_per_particle_step << ",\n"
     << "  \"neighbour_builds\": " << sim.neighbour_builds() << ",\n"
-    << "  \"energy_balance_error\": " << rep.energy_balance_error << ",\n"
-    << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
-    << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
-    << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
-    << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling << "},\n"
-    << "  \"cycles_measured\": " << rep.cycles << ",\n"
-    << "  \"dissipated_per_cycle_J\": " << rep.dissipated_per_cycle << "\n}\n";
+    << "  \"energy_balance_error\": " << (energy ? number(rep.energy_balance_error) : "null") << ",\n";
+  if (energy) {
+    j << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
+      << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
+      << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
+      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling << "},\n";
+  } else {
+    j << "  \"energy\": null,\n  \"note\": \"output.energy = false: no energy budget was tallied\",\n";
+  }
+  j << "  \"cycles_measured\": " << rep.cycles << ",\n"
+    << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
   write_atomically(summary, j.str());
   return rep;
 }

@@ -1,6 +1,8 @@
 // Contact geometry: what the neighbour search and the wall functions hand to the contact law.
 // Layer 2 of 3 (neighbour search -> contact geometry -> contact law).
 #pragma once
+#include <cmath>
+
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
@@ -39,6 +41,21 @@ BAGDEM_INLINE bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, doub
 BAGDEM_INLINE Vec3 contact_velocity(const Vec3& vi, const Vec3& vj, const Vec3& wi, const Vec3& wj,
                              const ContactGeometry& g) {
   return vi - vj - (g.arm_i * wi + g.arm_j * wj).cross(g.n);
+}
+
+// Carries a contact's stored spring vector (tangential force, rolling torque) into the current
+// tangent plane, normal n: rotated with its magnitude kept (as LIGGGHTS does), then scaled by
+// k_new/k_old when the spring's stiffness fell (unloading), kept when it rose (Thornton, Cummins &
+// Cleary 2013, sec. 2.2). Both rules leave the stored energy |v|^2/(2k) non-increasing.
+BAGDEM_INLINE Vec3 carry_spring(Vec3 v, const Vec3& n, double k_old, double k_new) {
+  const double mag2 = v.squaredNorm();
+  if (mag2 > 0) {
+    v -= v.dot(n) * n;
+    const double rot2 = v.squaredNorm();
+    if (rot2 > 0) v *= std::sqrt(mag2 / rot2);
+  }
+  if (k_old > k_new) v *= k_new / k_old;
+  return v;
 }
 
 }  // namespace bagdem

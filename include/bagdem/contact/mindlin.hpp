@@ -3,11 +3,10 @@
 //   S_t = 8 G* sqrt(R* delta)                                   Mindlin (1949); Johnson (1985) eq. 7.41
 //   gamma_t = 2 sqrt(5/6)|beta| sqrt(S_t m*)                   Tsuji et al. (1992)
 //   F_t = F_e - gamma_t v_t,  |F_t| <= mu_s F_n                Coulomb
-// The history is the elastic tangential force F_e. Each step it is rotated into the current tangent
-// plane (magnitude kept, as LIGGGHTS does), then incremented by -S_t v_t dt. When S_t falls
-// (unloading) F_e is scaled by S_t(new)/S_t(old); when S_t rises it is kept (Thornton, Cummins &
-// Cleary 2013 sec. 2.2). Both rules leave the stored energy |F_e|^2/(2 S_t) non-increasing under
-// stiffness changes, so no impact, grazing ones included, can gain energy from the spring.
+// The history is the elastic tangential force F_e. Each step it is carried into the current tangent
+// plane (carry_spring: rotated, and scaled down when S_t fell), then incremented by -S_t v_t dt.
+// The carrying never adds stored energy, so no impact, grazing ones included, can gain energy
+// from the spring.
 // In gross sliding F_t = mu_s F_n t (t the direction of the trial force) and F_e = F_t.
 #pragma once
 #include <cmath>
@@ -39,16 +38,8 @@ BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, cons
   const double S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
   const double gamma_t = normal.damping * law.tangential_ratio;
 
-  Vec3 Fe = h.force;
-  const double energy_before = h.stiffness > 0 ? Fe.squaredNorm() / (2.0 * h.stiffness) : 0.0;
-  // Rotate into the tangent plane, keeping the magnitude.
-  const double mag2 = Fe.squaredNorm();
-  if (mag2 > 0) {
-    Fe -= Fe.dot(g.n) * g.n;
-    const double rot2 = Fe.squaredNorm();
-    if (rot2 > 0) Fe *= std::sqrt(mag2 / rot2);
-  }
-  if (h.stiffness > S_t) Fe *= S_t / h.stiffness;  // unloading: scale with the stiffness
+  const double energy_before = h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
+  Vec3 Fe = carry_spring(h.force, g.n, h.stiffness, S_t);
   Fe -= S_t * dt * v_t;
 
   Vec3 Ft = Fe - gamma_t * v_t_end;

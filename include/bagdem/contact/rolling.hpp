@@ -3,7 +3,7 @@
 //
 //   k_r = 2.25 S_n mu_r^2 R*^2,  M_r <- M_r - k_r w_roll dt,  |M_r| <= mu_r R* F_n
 // w_roll is the relative angular velocity without its twisting part (along n). The stored torque is
-// rotated into the tangent plane and scaled on unloading like the tangential spring (mindlin.hpp).
+// carried into the tangent plane like the tangential spring (carry_spring in geometry.hpp).
 #pragma once
 #include <cmath>
 
@@ -27,15 +27,8 @@ BAGDEM_INLINE RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw
   const Vec3 w_roll = g.w_half - g.w_half.dot(g.n) * g.n;
   const double k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
   const Vec3 M_prev = h.torque;
-  Vec3 M = h.torque;
-  const double energy_before = h.stiffness > 0 ? M.squaredNorm() / (2.0 * h.stiffness) : 0.0;
-  const double mag2 = M.squaredNorm();
-  if (mag2 > 0) {
-    M -= M.dot(g.n) * g.n;
-    const double rot2 = M.squaredNorm();
-    if (rot2 > 0) M *= std::sqrt(mag2 / rot2);
-  }
-  if (h.stiffness > k_r) M *= k_r / h.stiffness;
+  const double energy_before = h.stiffness > 0 ? M_prev.squaredNorm() / (2.0 * h.stiffness) : 0.0;
+  Vec3 M = carry_spring(h.torque, g.n, h.stiffness, k_r);
   M -= k_r * dt * w_roll;
   const double cap = law.rolling * g.R_eff * F_n;
   const double M2 = M.squaredNorm();

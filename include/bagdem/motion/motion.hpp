@@ -2,7 +2,8 @@
 //   fixed     : at rest
 //   harmonic  : x(t) = X sin(w t + phase) along a unit direction
 //   table     : positions tabulated in a CSV file (t, x, y, z), cubic Hermite interpolation with
-//               central-difference slopes; velocity is the exact derivative of that interpolant.
+//               central-difference slopes; velocity is the exact derivative of that interpolant
+//               inside the table (at rest outside it).
 #pragma once
 #include <memory>
 #include <string>

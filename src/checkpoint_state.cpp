@@ -59,8 +59,7 @@ void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, C& cavity_sums, 
   io.pod(cav), io.pod(cav_prev);
   io.vec(p.x), io.vec(p.v), io.vec(p.w), io.vec(p.v_pred), io.vec(p.w_pred), io.vec(p.f), io.vec(p.t);
   io.vec(tally.wall_force_prev), io.vec(tally.wall_impulse);
-  io.vec(tally.wall_ang_impulse), io.vec(tally.step_dissipation), io.vec(tally.work_cavity);
-  io.vec(tally.diss_normal);
+  io.vec(tally.wall_ang_impulse), io.vec(tally.work_cavity), io.vec(tally.diss_normal);
   io.vec(tally.diss_tangential), io.vec(tally.diss_rolling);
   io.vec(ps.pairs.begin), io.vec(ps.pairs.partner), io.vec(ps.tangential), io.vec(ps.rolling);
   io.vec(ps.damping_prev), io.vec(x_build), io.vec(wall_tan), io.vec(wall_roll), io.vec(wall_damp), io.vec(wall_touch);

@@ -33,7 +33,7 @@ struct ParticleTallies {
   std::vector<Vec3> wall_force_prev;   // same, previous step (trapezoidal work) (unit: N)
   std::vector<Vec3> wall_impulse;      // impulse the particle gave the walls since the last sample (unit: N s)
   std::vector<Vec3> wall_ang_impulse;  // angular impulse about the cavity reference point (unit: N m s)
-  std::vector<Vec3> step_dissipation;  // this step's (normal, tangential, rolling) share (unit: J)
+  std::vector<Vec3> step_dissipation;  // scratch of one step: its (normal, tangential, rolling) share (unit: J)
   std::vector<double> work_cavity;     // cumulative work of the walls on the contents (unit: J)
   std::vector<double> diss_normal;     // cumulative dissipation, half of each pair's share (unit: J)
   std::vector<double> diss_tangential; // (unit: J)

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 
 namespace bagdem::testing {
@@ -105,7 +106,7 @@ class SceneBuilder {
   bool energy_ = true;
 };
 
-// Mass of a solid sphere.
-inline double sphere_mass(double rho, double r) { return rho * 4.0 / 3.0 * std::numbers::pi * r * r * r; }
+// Mass of a solid sphere (the engine's formula, include/bagdem/particles.hpp).
+using bagdem::sphere_mass;
 
 }  // namespace bagdem::testing

@@ -24,11 +24,11 @@ struct Interaction {
 struct PairLaw {
   double E_star = 0;        // effective Young's modulus 1/E* = sum (1-nu^2)/E (unit: Pa)
   double G_star = 0;        // effective shear modulus 1/G* = sum 2(2-nu)(1+nu)/E (unit: Pa)
-  double damping = 0;       // 2 sqrt(5/6) |beta|: gamma = damping * sqrt(S m*) (dimensionless)
+  double damping = 0;       // damping factor 2 sqrt(5/6)|beta| (dimensionless): gamma = damping x sqrt(S m*)
   double tangential_ratio = 0;  // sqrt(S_t / S_n) = sqrt(4 G*/E*): gamma_t = gamma_n * this
-  double friction = 0;      // mu_s
-  double rolling = 0;       // mu_r
-  double restitution = 1;   // the requested e (for reports)
+  double friction = 0;      // Coulomb sliding friction mu_s (dimensionless)
+  double rolling = 0;       // rolling resistance mu_r (dimensionless)
+  double restitution = 1;   // the requested e (dimensionless; for reports, not read by the kernel)
 };
 
 // Square table of PairLaw indexed by material index (particles and walls share the index space).

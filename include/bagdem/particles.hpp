@@ -9,6 +9,9 @@
 
 namespace bagdem {
 
+// Mass of a solid sphere of density rho and radius r (unit: kg).
+inline double sphere_mass(double rho, double r) { return rho * 4.0 / 3.0 * 3.14159265358979323846 * r * r * r; }
+
 struct Particles {
   std::vector<Vec3> x;             // position (unit: m)
   std::vector<Vec3> v;             // velocity (unit: m/s)

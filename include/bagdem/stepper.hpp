@@ -28,6 +28,9 @@
 
 namespace bagdem {
 
+// Parallel loops below this many items run on one thread (fork/join costs more than the work).
+inline constexpr std::size_t kParallelMin = 512;
+
 // Contact histories and per-pair results on the current candidate pair list.
 struct PairState {
   CandidatePairs pairs;                      // i < j, canonical order
@@ -104,6 +107,10 @@ class Simulation {
   CavityState cavity_at(double t) const;
   double potential_energy() const;
   double largest_overlap_ratio() const;
+  // Calls fn(overlap, R_eff, law, tangential, rolling, smaller radius) for every closed contact,
+  // pairs in pair order then walls particle by particle (histories are null when not modelled).
+  template <class Fn>
+  void for_each_contact(Fn&& fn) const;
   double elastic_energy() const;
 
   const Scene& scene_;

@@ -9,6 +9,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
+#include "bagdem/particles.hpp"
 
 namespace bagdem {
 
@@ -31,8 +32,7 @@ std::string describe_scene(const Scene& s) {
   for (const auto& p : s.particles) {
     rmin = std::min(rmin, p.radius);
     rmax = std::max(rmax, p.radius);
-    mass += s.materials[static_cast<std::size_t>(p.material)].density * 4.0 / 3.0 * std::numbers::pi *
-            std::pow(p.radius, 3);
+    mass += sphere_mass(s.materials[static_cast<std::size_t>(p.material)].density, p.radius);
   }
   const std::size_t n = s.particles.size();
   o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "

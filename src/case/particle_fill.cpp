@@ -19,6 +19,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/particles.hpp"
 
 namespace bagdem {
 namespace {
@@ -235,7 +236,7 @@ void generate(const CaseReader& in, const std::string& g, const Group& grp, Scen
     // Add balls while that brings the total closer to M (so a 8% bag of 4-mm balls is the nearest count).
     for (;;) {
       const double d = ds.draw(rng);
-      const double mb = rho * std::numbers::pi / 6 * d * d * d;
+      const double mb = sphere_mass(rho, 0.5 * d);
       if (m + mb - M > M - m && !diameters.empty()) break;
       diameters.push_back(d);
       m += mb;

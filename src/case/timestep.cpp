@@ -13,6 +13,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/particles.hpp"
 
 namespace bagdem {
 
@@ -53,7 +54,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     if (r == 0) continue;
     const Material& ma = s.materials[static_cast<std::size_t>(a)];
     dt_rayleigh = std::min(dt_rayleigh, hertz::rayleigh_time(r, ma.density, ma.youngs_modulus, ma.poisson_ratio));
-    const double m = ma.density * 4.0 / 3.0 * M_PI * r * r * r;
+    const double m = sphere_mass(ma.density, r);
     for (int b = 0; b < nm; ++b) {
       const bool wall_material = std::any_of(s.walls.begin(), s.walls.end(), [&](const Wall& w) { return w.material == b; });
       const bool particle_material = rmin[static_cast<std::size_t>(b)] > 0;
@@ -63,7 +64,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
                                                                hertz::damping_parameter(law.damping), per_contact));
         const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
         const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
-        const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping sqrt(S m*)
+        const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping x sqrt(S m*)
         dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), zeta));
         if (s.models.tangential) {
           // The rolling sphere's tangential mass is 2/7 m*, so with gamma_t = gamma_n sqrt(S_t/S_n)
@@ -74,7 +75,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       };
       if (particle_material) {
         const double rb = rmin[static_cast<std::size_t>(b)];
-        const double mb = s.materials[static_cast<std::size_t>(b)].density * 4.0 / 3.0 * M_PI * rb * rb * rb;
+        const double mb = sphere_mass(s.materials[static_cast<std::size_t>(b)].density, rb);
         consider(r * rb / (r + rb), m * mb / (m + mb));
       }
       if (wall_material) consider(r, m);

@@ -18,7 +18,7 @@ struct NormalResult {
   double force;       // F_n >= 0 along n, on i (unit: N)
   double stiffness;   // S_n (unit: N/m)
   double elastic;     // F_el (unit: N)
-  double damping;     // gamma_n (unit: N s/m); the tangential role derives gamma_t from it
+  double gamma_n;     // normal damping coefficient (unit: N s/m); the tangential role derives gamma_t from it
 };
 
 BAGDEM_INLINE NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {

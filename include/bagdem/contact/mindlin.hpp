@@ -36,7 +36,7 @@ BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, cons
   const Vec3 v_t = g.v_half - g.v_half.dot(g.n) * g.n;  // tangential displacement rate over the step
   const Vec3 v_t_end = g.v_rel - g.v_rel.dot(g.n) * g.n; // tangential velocity the dashpot sees
   const double S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
-  const double gamma_t = normal.damping * law.tangential_ratio;
+  const double gamma_t = normal.gamma_n * law.tangential_ratio;
 
   const double energy_before = h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
   Vec3 Fe = carry_spring(h.force, g.n, h.stiffness, S_t);

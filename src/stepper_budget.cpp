@@ -1,0 +1,109 @@
+// What the step tallies, read at output time: the energy budget, the cavity samples, contact
+// counts. Totals are summed over particles (or pairs) in index order, so they are the same for any
+// thread count.
+#include "bagdem/stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bagdem/contact/hertz.hpp"
+
+namespace bagdem {
+
+// ---- energy budget and loads --------------------------------------------------------------------
+double Simulation::potential_energy() const {
+  if (!scene_.models.gravity) return 0.0;
+  double u = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) u -= p_.mass[i] * scene_.gravity.dot(p_.x[i]);
+  return u;
+}
+
+template <class Fn>
+void Simulation::for_each_contact(Fn&& fn) const {
+  for (std::size_t k = 0; k < ps_.pairs.size(); ++k) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    ContactGeometry g;
+    if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) continue;
+    fn(g.overlap, g.R_eff, scene_.laws(p_.material[i], p_.material[j]),
+       scene_.models.tangential ? &ps_.tangential[k] : nullptr, scene_.models.rolling ? &ps_.rolling[k] : nullptr,
+       std::min(p_.radius[i], p_.radius[j]));
+  }
+  const std::size_t nw = scene_.walls.size();
+  for (std::size_t p = 0; p < p_.size(); ++p) {
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Wall& wall = scene_.walls[w];
+      Vec3 n;
+      const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - cavity_.position, n);
+      if (overlap <= 0) continue;
+      fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
+         scene_.models.tangential ? &wall_tan_[p * nw + w] : nullptr,
+         scene_.models.rolling ? &wall_roll_[p * nw + w] : nullptr, p_.radius[p]);
+    }
+  }
+}
+
+double Simulation::elastic_energy() const {
+  double u = 0;
+  for_each_contact([&](double overlap, double R_eff, const PairLaw& law, const TangentialHistory* t,
+                       const RollingHistory* r, double) {
+    u += hertz_energy(law, R_eff, overlap);
+    if (t) u += mindlin_energy(*t);
+    if (r) u += rolling_energy(*r);
+  });
+  return u;
+}
+
+// The largest overlap / smaller radius of any contact now (for messages).
+double Simulation::largest_overlap_ratio() const {
+  double worst = 0;
+  for_each_contact([&](double overlap, double, const PairLaw&, const TangentialHistory*, const RollingHistory*,
+                       double r_min) { worst = std::max(worst, overlap / r_min); });
+  return worst;
+}
+
+EnergySample Simulation::energy() const {
+  EnergySample e;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    e.kinetic += 0.5 * p_.mass[i] * p_.v[i].squaredNorm();
+    if (scene_.models.rotation) e.kinetic += 0.5 * p_.w[i].squaredNorm() / p_.inv_inertia[i];
+    e.work_cavity += tally_.work_cavity[i];
+    e.dissipated_normal += tally_.diss_normal[i];
+    e.dissipated_tangential += tally_.diss_tangential[i];
+    e.dissipated_rolling += tally_.diss_rolling[i];
+  }
+  e.elastic = elastic_energy();
+  e.work_gravity = potential0_ - potential_energy();
+  return e;
+}
+
+Simulation::CavitySample Simulation::take_cavity_sample() {
+  Vec3 J(0, 0, 0), L(0, 0, 0);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    J += tally_.wall_impulse[i];
+    L += tally_.wall_ang_impulse[i];
+    tally_.wall_impulse[i].setZero();
+    tally_.wall_ang_impulse[i].setZero();
+  }
+  CavitySample c;
+  const double n = static_cast<double>(cavity_sums_.steps);
+  if (n > 0) {
+    const double span = n * scene_.dt;
+    c.time = cavity_sums_.time / n;
+    c.position = cavity_sums_.position / n;
+    c.velocity = cavity_sums_.velocity / n;
+    c.force = J / span;
+    c.torque = L / span;
+  }
+  cavity_sums_ = {};
+  return c;
+}
+
+std::size_t Simulation::contact_count() const {
+  std::size_t c = 0;
+  for_each_contact([&](double, double, const PairLaw&, const TangentialHistory*, const RollingHistory*, double) { ++c; });
+  return c;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,283 @@
+// Stages 4 and 5 of the step: pair contacts and walls, the contact kernel (layer 3 of neighbour
+// search -> contact geometry -> contact law). Each configuration of the model switches is compiled
+// as its own loop (with_flags), so no switch is tested per contact.
+#include "bagdem/stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bagdem/contact/hertz.hpp"
+
+namespace bagdem {
+
+namespace {
+
+// Calls fn.template operator()<b0, b1, ...>() with runtime flags turned into template arguments,
+// so each configuration of the kernel is compiled without branches on the flags.
+template <bool... Done, class Fn>
+void with_flags(Fn&& fn) {
+  fn.template operator()<Done...>();
+}
+template <bool... Done, class Fn, class... Rest>
+void with_flags(Fn&& fn, bool first, Rest... rest) {
+  if (first) with_flags<Done..., true>(fn, rest...);
+  else with_flags<Done..., false>(fn, rest...);
+}
+
+// What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last
+// half step of its forces' trapezoidal work (hertz.hpp, mindlin.hpp, rolling.hpp) and the energy
+// its springs still stored. Both vanish with the overlap as dt -> 0; tallying them keeps the
+// energy budget exact. n: normal from j to i; v_c, w_rel: half-step relative motion.
+template <bool Tangential, bool Rolling>
+Vec3 closing_tally(const Vec3& n, const Vec3& v_c, const Vec3& w_rel, double dt, double damping_prev,
+                   const TangentialHistory* th, const RollingHistory* rh) {
+  Vec3 d(-0.5 * damping_prev * v_c.dot(n) * dt, 0, 0);
+  if constexpr (Tangential) d.y() = mindlin_energy(*th) - 0.5 * th->total.dot(v_c - v_c.dot(n) * n) * dt;
+  if constexpr (Rolling) d.z() = rolling_energy(*rh) - 0.5 * rh->torque.dot(w_rel - w_rel.dot(n) * n) * dt;
+  return d;
+}
+}  // namespace
+// ---- 4. pair_contacts ---------------------------------------------------------------------------
+// Two ways to sum pair forces onto particles, bitwise identical by construction:
+//  scatter (one thread, or few pairs): the pair loop adds each force to f[i] and f[j] at once.
+//    Pairs run in (i, j) order, so particle p receives its pairs (k, p), k < p ascending, then
+//    (p, j) ascending: partner order.
+//  gather (several threads): each pair writes its record, then each particle sums its records in
+//    partner order (gather_walls). Same operands, same order, same result.
+void Simulation::pair_contacts() {
+  scatter_ = omp_get_max_threads() == 1 || ps_.pairs.size() <= kParallelMin;
+  // The contact-law configuration is chosen once here, never inside the loop.
+  with_flags([this]<bool T, bool R, bool E, bool S>() { pair_contacts_impl<T, R, E, S>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_);
+}
+
+template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
+void Simulation::pair_contacts_impl() {
+  const std::size_t np = ps_.pairs.size();
+  const double dt = dt_step_;
+  const PairLawTable& laws = scene_.laws;
+  const double frac = scene_.max_overlap_fraction;
+  double excess = -1e300;
+#pragma omp parallel for schedule(static) reduction(max : excess) if (!Scatter)
+  for (std::size_t k = 0; k < np; ++k) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    PairState::Output& out = ps_.out[k];
+    ContactGeometry g;
+    if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) {
+      if constexpr (!Scatter) {
+        out.force.setZero();
+        if constexpr (Tangential || Rolling) {
+          out.torque_i.setZero();
+          out.torque_j.setZero();
+        }
+        if constexpr (Energy) out.dissipated.setZero();
+      }
+      // A contact that just opened: tally what it still held, clear its history (untouched pairs
+      // cost no history access).
+      if (ps_.touching[k]) {
+        ps_.touching[k] = 0;
+        if constexpr (Energy) {
+          const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
+          const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
+          const Vec3 d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt, ps_.damping_prev[k],
+                                                            Tangential ? &ps_.tangential[k] : nullptr,
+                                                            Rolling ? &ps_.rolling[k] : nullptr);
+          if constexpr (Scatter) {
+            tally_.step_dissipation[i] += 0.5 * d;
+            tally_.step_dissipation[j] += 0.5 * d;
+          } else {
+            out.dissipated = d;
+          }
+          ps_.damping_prev[k] = 0.0;
+        }
+        if constexpr (Tangential) ps_.tangential[k] = {};
+        if constexpr (Rolling) ps_.rolling[k] = {};
+      }
+      continue;
+    }
+    ps_.touching[k] = 1;
+    excess = std::max(excess, g.overlap - frac * std::min(p_.radius[i], p_.radius[j]));
+    g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
+    if constexpr (Tangential || Rolling) {
+      g.v_rel = contact_velocity(p_.v_pred[i], p_.v_pred[j], p_.w_pred[i], p_.w_pred[j], g);
+      g.v_half = contact_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
+      g.w_half = p_.w[i] - p_.w[j];
+    } else {
+      g.v_rel = p_.v_pred[i] - p_.v_pred[j];
+      g.v_half = p_.v[i] - p_.v[j];
+    }
+    const PairLaw& law = laws(p_.material[i], p_.material[j]);
+    const NormalResult nr = hertz_normal(g, law);
+    Vec3 F = nr.force * g.n;
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    if constexpr (Energy) diss.x() = normal_dissipation(nr, g.v_half.dot(g.n), dt, ps_.damping_prev[k]);
+    if constexpr (Tangential || Rolling) {
+      Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
+      if constexpr (Tangential) {
+        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, ps_.tangential[k]);
+        F += tr.force;
+        const Vec3 nxF = g.n.cross(tr.force);
+        Ti = -g.arm_i * nxF;
+        Tj = -g.arm_j * nxF;
+        if constexpr (Energy) diss.y() = tr.dissipated;
+      }
+      if constexpr (Rolling) {
+        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, ps_.rolling[k]);
+        Ti += rr.torque;
+        Tj -= rr.torque;
+        if constexpr (Energy) diss.z() = rr.dissipated;
+      }
+      if constexpr (Scatter) {
+        p_.t[i] += Ti;
+        p_.t[j] += Tj;
+      } else {
+        out.torque_i = Ti;
+        out.torque_j = Tj;
+      }
+    }
+    if constexpr (Scatter) {
+      p_.f[i] += F;
+      p_.f[j] -= F;
+      if constexpr (Energy) {
+        tally_.step_dissipation[i] += 0.5 * diss;
+        tally_.step_dissipation[j] += 0.5 * diss;
+      }
+    } else {
+      out.force = F;
+      if constexpr (Energy) out.dissipated = diss;
+    }
+  }
+  overlap_excess_ = excess;
+}
+
+// ---- 5. gather_walls ----------------------------------------------------------------------------
+void Simulation::gather_walls() {
+  with_flags([this]<bool T, bool R, bool E, bool G>() { gather_walls_impl<T, R, E, G>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, !scatter_);
+}
+
+template <bool Tangential, bool Rolling, bool Energy, bool Gather>
+void Simulation::gather_walls_impl() {
+  const std::size_t n = p_.size();
+  const std::size_t nw = scene_.walls.size();
+  const double dt = dt_step_;
+  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
+  const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;  // mean cavity velocity over the step
+  const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
+  const PairLawTable& laws = scene_.laws;
+  const double frac = scene_.max_overlap_fraction;
+  double excess = overlap_excess_;
+  double min_dist = 1e300;
+#pragma omp parallel for schedule(static) reduction(max : excess) reduction(min : min_dist) if (n > kParallelMin)
+  for (std::size_t p = 0; p < n; ++p) {
+    // Starts from gravity (kick_drift), plus the pairs when they were scattered.
+    Vec3 F = p_.f[p];
+    Vec3 T = p_.t[p];
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    if constexpr (Energy) diss = tally_.step_dissipation[p];
+    for (std::uint32_t e = Gather ? ps_.gather_begin[p] : 0; e < (Gather ? ps_.gather_begin[p + 1] : 0); ++e) {
+      const std::uint32_t entry = ps_.gather[e];
+      const PairState::Output& out = ps_.out[entry >> 1];
+      if (entry & 1u) {
+        F -= out.force;
+        if constexpr (Tangential || Rolling) T += out.torque_j;
+      } else {
+        F += out.force;
+        if constexpr (Tangential || Rolling) T += out.torque_i;
+      }
+      if constexpr (Energy) diss += 0.5 * out.dissipated;
+    }
+
+    // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
+    const Vec3 x_local = p_.x[p] - c_pos;
+    const double r = p_.radius[p];
+    // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
+    // planes need not enclose anything).
+    const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
+    double d_min = 1e300;  // nearest wall
+    Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
+    const std::uint32_t touched_before = wall_touch_[p];
+    std::uint32_t touched = 0;
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Wall& wall = scene_.walls[w];
+      ContactGeometry g;
+      const double d = wall_distance(wall, x_local, g.n);
+      d_min = std::min(d_min, d);
+      g.overlap = r - d;
+      if (g.overlap <= 0) {
+        // A contact that just opened: tally what it still held, clear its history (walls not
+        // touched cost no memory access).
+        if (touched_before & (1u << w)) {
+          if constexpr (Energy) {
+            const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
+            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
+                                                       Tangential ? &wall_tan_[p * nw + w] : nullptr,
+                                                       Rolling ? &wall_roll_[p * nw + w] : nullptr);
+            wall_damping_prev_[p * nw + w] = 0.0;
+          }
+          if constexpr (Tangential) wall_tan_[p * nw + w] = {};
+          if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+        }
+        continue;
+      }
+      touched |= 1u << w;
+      g.R_eff = wall_effective_radius(wall, r);
+      g.m_eff = p_.mass[p];
+      g.arm_i = r - 0.5 * g.overlap;
+      g.arm_j = 0;
+      // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
+      // the mean over the step.
+      if constexpr (Tangential || Rolling) {
+        g.v_rel = contact_velocity(p_.v_pred[p], c_vel, p_.w_pred[p], Vec3::Zero(), g);
+        g.v_half = contact_velocity(p_.v[p], c_half, p_.w[p], Vec3::Zero(), g);
+        g.w_half = p_.w[p];
+      } else {
+        g.v_rel = p_.v_pred[p] - c_vel;
+        g.v_half = p_.v[p] - c_half;
+      }
+      const PairLaw& law = laws(p_.material[p], wall.material);
+      const NormalResult nr = hertz_normal(g, law);
+      Vec3 Fc = nr.force * g.n;
+      if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
+      if constexpr (Tangential) {
+        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, wall_tan_[p * nw + w]);
+        Fc += tr.force;
+        T -= g.arm_i * g.n.cross(tr.force);
+        if constexpr (Energy) diss.y() += tr.dissipated;
+      }
+      if constexpr (Rolling) {
+        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, wall_roll_[p * nw + w]);
+        T += rr.torque;
+        if constexpr (Energy) diss.z() += rr.dissipated;
+      }
+      F += Fc;
+      F_wall += Fc;
+      // Torque on the cavity about its reference point, from the contact point on the wall.
+      T_cavity -= (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+    }
+    p_.f[p] = F;
+    p_.t[p] = T;
+    wall_touch_[p] = touched;
+    min_dist = std::min({min_dist, d_min, d_bounds});
+    excess = std::max(excess, r - d_min - frac * r);  // the deepest wall contact
+
+    // Tallies: the load on the cavity (always) and the energy budget (when asked).
+    tally_.wall_impulse[p] -= dt * F_wall;
+    tally_.wall_ang_impulse[p] += dt * T_cavity;
+    if constexpr (Energy) {
+      // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
+      tally_.work_cavity[p] += 0.5 * (F_wall + tally_.wall_force_prev[p]).dot(c_step);
+      tally_.wall_force_prev[p] = F_wall;
+      tally_.diss_normal[p] += diss.x();
+      tally_.diss_tangential[p] += diss.y();
+      tally_.diss_rolling[p] += diss.z();
+    }
+  }
+  overlap_excess_ = excess;
+  min_boundary_distance_ = min_dist;
+}
+
+}  // namespace bagdem

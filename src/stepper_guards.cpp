@@ -1,0 +1,62 @@
+// Stage 7 of the step: the run-time guards, and the messages that say what happened and what to
+// change.
+#include "bagdem/stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "bagdem/contact/hertz.hpp"
+#include "bagdem/error.hpp"
+
+namespace bagdem {
+
+// ---- 7. guards ----------------------------------------------------------------------------------
+void Simulation::guards() {
+  const std::size_t n = p_.size();
+  const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
+  const bool overlap = overlap_excess_ > 0.0;
+  const bool escaped = min_boundary_distance_ < 0.0;
+  if (!bad && !overlap && !escaped) return;
+
+  std::ostringstream m;
+  m << "run stopped at t = " << time() << " s (step " << step_ << "): ";
+  if (bad) {
+    m << "a particle position or velocity is not a number. The integration diverged: reduce "
+         "simulation.timestep (or its safety factor), or check the material parameters.";
+    throw RunError(m.str());
+  }
+  // A particle outside the cavity also shows as a huge wall overlap: name the escape first.
+  if (escaped) {
+    const Vec3 c = cavity_.position;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 xl = p_.x[i] - c;
+      std::string where;
+      for (const Wall& w : scene_.walls) {
+        Vec3 nrm;
+        if (wall_distance(w, xl, nrm) < 0) where = "through wall '" + scene_.wall_names[static_cast<std::size_t>(&w - scene_.walls.data())] + "'";
+      }
+      if (where.empty() && ((xl - scene_.cavity_lo).minCoeff() < 0 || (scene_.cavity_hi - xl).minCoeff() < 0))
+        where = "beyond the cavity bounds (cavity.min/max)";
+      if (where.empty()) continue;
+      m << "particle " << i << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
+        << ", " << p_.x[i].z()
+        << ") m. It went through the boundary within one step or flew out of an open cavity: reduce "
+           "simulation.timestep, the cavity acceleration or the particle speeds, raise the wall's "
+           "Young's modulus, or close the cavity.";
+      throw RunError(m.str());
+    }
+  }
+  {
+    m << "a contact overlap reached " << 100 * largest_overlap_ratio() << "% of a particle radius (limit "
+      << 100 * scene_.max_overlap_fraction
+      << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
+         "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
+         "raise the Young's modulus.";
+  }
+  throw RunError(m.str());
+}
+
+}  // namespace bagdem

@@ -29,10 +29,15 @@ install_missing() {
 
 build() {
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  # Progress lines hidden; warnings and errors shown; a failed build stops here.
-  set +o pipefail
-  cmake --build "$BUILD" -j "$(nproc)" -- --no-print-directory 2>&1 | grep -Ev '^\[ *[0-9]+%\]'
-  local status=${PIPESTATUS[0]}
-  set -o pipefail
-  [ "$status" -eq 0 ] || { echo "bagdem: build failed" >&2; exit 1; }
+  # Quiet on success (warnings are shown); the whole log on failure, which stops the script.
+  local log
+  log=$(mktemp)
+  if ! cmake --build "$BUILD" -j "$(nproc)" >"$log" 2>&1; then
+    grep -Ev '^\[ *[0-9]+%\]' "$log" >&2
+    rm -f "$log"
+    echo "bagdem: build failed" >&2
+    exit 1
+  fi
+  grep -E 'warning:' "$log" || true
+  rm -f "$log"
 }

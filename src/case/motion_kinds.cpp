@@ -2,6 +2,9 @@
 //   fixed      (no keys)
 //   harmonic   amplitude (m), frequency (Hz), direction [x, y, z] (default x), phase (rad, default 0)
 //   table      file = CSV with header and columns t, x, y, z (SI)
+// Every kind but fixed also takes ramp (s, default 0 = none): a smooth start over that time
+// (make_ramped_motion), instead of starting the motion at once after settling.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -63,8 +66,17 @@ void resolve_motion(const CaseReader& in, Scene& s) {
   std::vector<std::string> names;
   for (const auto& k : kMotionKinds) names.emplace_back(k.name);
   const std::string kind = in.choice("cavity.motion.kind", names, "fixed");
+  std::unique_ptr<Motion> m;
   for (const auto& k : kMotionKinds)
-    if (kind == k.name) s.motion = k.parse(in, s);
+    if (kind == k.name) m = k.parse(in, s);
+  if (kind != "fixed") {  // nothing to ramp at rest; a ramp key under "fixed" is an unknown key
+    const std::string key = "cavity.motion.ramp";
+    const double ramp = in.quantity(key, dim::time, 0.0);
+    if (!(ramp >= 0)) in.fail(key, "must be >= 0");
+    if (!std::isfinite(ramp)) in.fail(key, "must be finite (s)");
+    if (ramp > 0) m = make_ramped_motion(std::move(m), ramp);
+  }
+  s.motion = std::move(m);
 }
 
 }  // namespace bagdem

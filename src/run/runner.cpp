@@ -163,9 +163,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::uint64_t n_cavity = every(scene.output.cavity_interval, scene.dt);
   const std::uint64_t n_energy = every(scene.output.energy_interval, scene.dt);
   const std::uint64_t n_ckpt = scene.output.checkpoint_interval > 0 ? every(scene.output.checkpoint_interval, scene.dt) : 0;
-  // Per-cycle figures are taken over whole cycles after settling and output.skip_cycles of start-up.
+  // Per-cycle figures are taken over whole cycles after settling, the motion's ramp, and
+  // output.skip_cycles of start-up.
   const double f_drive = scene.motion->frequency();
-  const double skip = f_drive > 0 ? scene.output.skip_cycles / f_drive : 0.0;
+  const double skip = scene.motion->ramp_time() + (f_drive > 0 ? scene.output.skip_cycles / f_drive : 0.0);
   const std::uint64_t measure_step = static_cast<std::uint64_t>(std::llround((scene.settle + skip) / scene.dt));
   const bool energy = scene.models.energy;
 

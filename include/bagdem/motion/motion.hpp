@@ -4,6 +4,7 @@
 //   table     : positions tabulated in a CSV file (t, x, y, z), cubic Hermite interpolation with
 //               central-difference slopes; velocity is the exact derivative of that interpolant
 //               inside the table (at rest outside it).
+// Any motion can be wrapped in a smooth start (src/motion/ramp.cpp, make_ramped_motion).
 #pragma once
 #include <memory>
 #include <string>
@@ -25,6 +26,7 @@ class Motion {
   virtual double max_speed() const = 0;         // largest |velocity| (unit: m/s), for dt selection
   virtual std::string describe() const = 0;     // one line for `bagdem check`
   virtual double frequency() const { return 0; } // drive frequency of periodic motion (unit: Hz), 0 if none
+  virtual double ramp_time() const { return 0; } // time of a smooth start (unit: s), 0 if none
 };
 
 std::unique_ptr<Motion> make_fixed_motion();
@@ -35,5 +37,9 @@ std::unique_ptr<Motion> make_harmonic_motion(double amplitude, double frequency,
 // Before the first time the first position holds; after the last, the last (both at rest).
 std::unique_ptr<Motion> make_table_motion(std::vector<double> times, std::vector<Vec3> positions,
                                           std::string source);
+// Smooth start of `inner` over ramp_time T_r (s, finite and > 0, else std::invalid_argument):
+// x_r = s(t) x(t), v_r = s'(t) x(t) + s(t) v(t) with s = (1 - cos(pi t/T_r))/2 on [0, T_r] and
+// s = 1 after, so the motion starts at rest at position 0 instead of with a velocity jump.
+std::unique_ptr<Motion> make_ramped_motion(std::unique_ptr<Motion> inner, double ramp_time);
 
 }  // namespace bagdem

@@ -4,7 +4,9 @@
 //   gamma_t = 2 sqrt(5/6)|beta| sqrt(S_t m*)                   Tsuji et al. (1992)
 //   F_t = F_e - gamma_t v_t,  |F_t| <= mu_s F_n                Coulomb
 // The history is the elastic tangential force F_e. Each step it is carried into the current tangent
-// plane (carry_spring: rotated, and scaled down when S_t fell), then incremented by -S_t v_t dt.
+// plane (carry_spring: rotated, and scaled down when S_t fell), then incremented by -S v_t dt with
+// S the step's mean stiffness (second order in dt; with S at the step's end the rebound velocity
+// and spin in the sticking regime are first order: 5% off at 40 steps per contact).
 // The carrying never adds stored energy, so no impact, grazing ones included, can gain energy
 // from the spring.
 // In gross sliding F_t = mu_s F_n t (t the direction of the trial force) and F_e = F_t.
@@ -40,7 +42,16 @@ BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, cons
 
   const double energy_before = h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
   Vec3 Fe = carry_spring(h.force, g.n, h.stiffness, S_t);
-  Fe -= S_t * dt * v_t;
+  // Spring increment over the step with the step's mean stiffness (second order in dt): the mean of
+  // the two ends, or for a contact that opened during the step, 2/3 of the end value (S_t grows as
+  // sqrt(delta) from zero) over the part of the step since first touch, delta / (d delta/dt).
+  if (h.stiffness > 0) {
+    Fe -= 0.5 * (h.stiffness + S_t) * dt * v_t;
+  } else {
+    const double approach = -g.v_half.dot(g.n) * dt;  // overlap gained over a full step (unit: m)
+    const double part = approach > g.overlap ? g.overlap / approach : 1.0;
+    Fe -= (2.0 / 3.0) * S_t * part * dt * v_t;
+  }
 
   Vec3 Ft = Fe - gamma_t * v_t_end;
   const double cap = law.friction * F_n;

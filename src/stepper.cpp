@@ -92,12 +92,6 @@ void Simulation::kick_drift() {
   needs_rebuild_ = moved;
 }
 
-// Per-particle sums of the new step start from gravity and zero torque and dissipation.
-void Simulation::start_sums(std::size_t i) {
-  p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();
-  p_.t[i].setZero();
-  if (scene_.models.energy) tally_.step_dissipation[i].setZero();
-}
 
 // ---- 2. move_cavity -----------------------------------------------------------------------------
 void Simulation::move_cavity() {

@@ -39,6 +39,7 @@ Vec3 closing_tally(const Vec3& n, const Vec3& v_c, const Vec3& w_rel, double dt,
   return d;
 }
 }  // namespace
+
 // ---- 4. pair_contacts ---------------------------------------------------------------------------
 // Two ways to sum pair forces onto particles, bitwise identical by construction:
 //  scatter (one thread, or few pairs): the pair loop adds each force to f[i] and f[j] at once.
@@ -51,6 +52,29 @@ void Simulation::pair_contacts() {
   // The contact-law configuration is chosen once here, never inside the loop.
   with_flags([this]<bool T, bool R, bool E, bool S>() { pair_contacts_impl<T, R, E, S>(); },
              scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_);
+}
+
+// A pair contact opened this step: tally what it still held (closing_tally) and clear its
+// history. Rare, so kept out of line: the pair loop stays small.
+template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
+[[gnu::noinline]] void Simulation::open_pair(std::size_t k, std::uint32_t i, std::uint32_t j) {
+  ps_.touching[k] = 0;
+  if constexpr (Energy) {
+    const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
+    const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
+    const Vec3 d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt_step_, ps_.damping_prev[k],
+                                                      Tangential ? &ps_.tangential[k] : nullptr,
+                                                      Rolling ? &ps_.rolling[k] : nullptr);
+    if constexpr (Scatter) {
+      tally_.step_dissipation[i] += 0.5 * d;
+      tally_.step_dissipation[j] += 0.5 * d;
+    } else {
+      ps_.out[k].dissipated = d;
+    }
+    ps_.damping_prev[k] = 0.0;
+  }
+  if constexpr (Tangential) ps_.tangential[k] = {};
+  if constexpr (Rolling) ps_.rolling[k] = {};
 }
 
 template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
@@ -74,27 +98,8 @@ void Simulation::pair_contacts_impl() {
         }
         if constexpr (Energy) out.dissipated.setZero();
       }
-      // A contact that just opened: tally what it still held, clear its history (untouched pairs
-      // cost no history access).
-      if (ps_.touching[k]) {
-        ps_.touching[k] = 0;
-        if constexpr (Energy) {
-          const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
-          const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
-          const Vec3 d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt, ps_.damping_prev[k],
-                                                            Tangential ? &ps_.tangential[k] : nullptr,
-                                                            Rolling ? &ps_.rolling[k] : nullptr);
-          if constexpr (Scatter) {
-            tally_.step_dissipation[i] += 0.5 * d;
-            tally_.step_dissipation[j] += 0.5 * d;
-          } else {
-            out.dissipated = d;
-          }
-          ps_.damping_prev[k] = 0.0;
-        }
-        if constexpr (Tangential) ps_.tangential[k] = {};
-        if constexpr (Rolling) ps_.rolling[k] = {};
-      }
+      // A contact that just opened (untouched pairs cost no history access).
+      if (ps_.touching[k]) open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
       continue;
     }
     ps_.touching[k] = 1;

@@ -23,8 +23,6 @@ using bagdem::testing::run_bagdem;
 
 namespace {
 
-
-
 // A small valid case: 5 steel balls of 4 mm in a 20 mm box, no friction, gravity.
 const std::string kBase = R"([simulation]
 duration = "0.01 s"

@@ -31,8 +31,6 @@ using bagdem::testing::run_bagdem;
 
 namespace {
 
-
-
 // 30 soft balls with friction in a box shaken along (1, 0, 1), gravity, a settle phase, frames and
 // checkpoints every few hundred steps (~9300 steps of ~1.3e-5 s).
 const std::string kCase = R"([simulation]

@@ -24,8 +24,6 @@ using bagdem::testing::run_bagdem;
 
 namespace {
 
-
-
 // One steel ball of 4 mm in a 20 mm box without gravity, at `position` with `velocity`;
 // `simulation_extra` and `material_extra` are added to [simulation] and [materials.steel].
 std::string one_ball_case(const std::string& position, const std::string& velocity,

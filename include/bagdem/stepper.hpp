@@ -103,7 +103,14 @@ class Simulation {
   void pair_contacts_impl();
   template <bool Tangential, bool Rolling, bool Energy, bool Gather>
   void gather_walls_impl();
-  void start_sums(std::size_t i);
+  template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
+  void open_pair(std::size_t k, std::uint32_t i, std::uint32_t j);
+  // Per-particle sums of the new step start from gravity and zero torque and dissipation.
+  void start_sums(std::size_t i) {
+    p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();
+    p_.t[i].setZero();
+    if (scene_.models.energy) tally_.step_dissipation[i].setZero();
+  }
   CavityState cavity_at(double t) const;
   double potential_energy() const;
   double largest_overlap_ratio() const;

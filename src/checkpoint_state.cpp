@@ -89,13 +89,9 @@ void Simulation::load_state(const std::vector<char>& image) {
                              std::to_string(p_.size()));
   fields<Reader, Simulation>(r, step_, builds_, cavity_sums_, potential0_, kinetic_elastic0_, p_,
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
-  // Rebuild what is derived from the pair list (first, gather CSR, per-pair buffers) without a
-  // new broad-phase search: re-install the stored list.
-  CandidatePairs stored = std::move(ps_.pairs);
-  auto tan = std::move(ps_.tangential);
-  auto roll = std::move(ps_.rolling);
-  auto damp = std::move(ps_.damping_prev);
-  install_pairs(std::move(stored), std::move(tan), std::move(roll), std::move(damp));
+  // What is derived from the pair list (first, gather CSR, per-pair buffers), without a new
+  // broad-phase search.
+  derive_pair_buffers();
 }
 
 }  // namespace bagdem

@@ -110,14 +110,19 @@ void Simulation::update_neighbours(bool force_rebuild) {
   if (!force_rebuild && !needs_rebuild_) return;
   ++builds_;
   x_at_build_ = p_.x;
-  CandidatePairs fresh;
+  // The new list and its histories go into spare buffers (kept between rebuilds, so a rebuild
+  // reuses their memory), then swap places with the current ones.
+  CandidatePairs& fresh = spare_.pairs;
   broad_->find(p_.x, p_.radius, scene_.skin, fresh);
 
   // Carry contact histories over: merge the old and new partner lists of each i (both sorted).
   const bool tan = scene_.models.tangential, roll = scene_.models.rolling, en = scene_.models.energy;
-  std::vector<TangentialHistory> tan_new(tan ? fresh.size() : 0);
-  std::vector<RollingHistory> roll_new(roll ? fresh.size() : 0);
-  std::vector<double> damp_new(en ? fresh.size() : 0, 0.0);
+  auto& tan_new = spare_.tangential;
+  auto& roll_new = spare_.rolling;
+  auto& damp_new = spare_.damping_prev;
+  tan_new.assign(tan ? fresh.size() : 0, {});
+  roll_new.assign(roll ? fresh.size() : 0, {});
+  damp_new.assign(en ? fresh.size() : 0, 0.0);
   if ((tan || roll || en) && !ps_.pairs.partner.empty()) {
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::size_t i = 0; i < n; ++i) {
@@ -133,17 +138,16 @@ void Simulation::update_neighbours(bool force_rebuild) {
       }
     }
   }
-  install_pairs(std::move(fresh), std::move(tan_new), std::move(roll_new), std::move(damp_new));
+  std::swap(ps_.pairs, spare_.pairs);
+  std::swap(ps_.tangential, spare_.tangential);
+  std::swap(ps_.rolling, spare_.rolling);
+  std::swap(ps_.damping_prev, spare_.damping_prev);
+  derive_pair_buffers();
 }
 
-// Installs a pair list with its histories and derives the per-pair buffers and the gather CSR.
-void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
-                               std::vector<RollingHistory> rolling, std::vector<double> damping_prev) {
+// From the installed pair list and its histories: the per-pair buffers and the gather CSR.
+void Simulation::derive_pair_buffers() {
   const std::size_t n = p_.size();
-  ps_.pairs = std::move(pairs);
-  ps_.tangential = std::move(tangential);
-  ps_.rolling = std::move(rolling);
-  ps_.damping_prev = std::move(damping_prev);
   const std::size_t np = ps_.pairs.size();
   ps_.out.assign(np, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
@@ -168,7 +172,8 @@ void Simulation::install_pairs(CandidatePairs pairs, std::vector<TangentialHisto
   }
   for (std::size_t i = 0; i < n; ++i) ps_.gather_begin[i + 1] += ps_.gather_begin[i];
   ps_.gather.resize(2 * np);
-  std::vector<std::uint32_t> fill(ps_.gather_begin.begin(), ps_.gather_begin.end() - 1);
+  std::vector<std::uint32_t>& fill = spare_.fill;
+  fill.assign(ps_.gather_begin.begin(), ps_.gather_begin.end() - 1);
   for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.pairs.partner[k]]++] = static_cast<std::uint32_t>(2 * k + 1);
   for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.first[k]]++] = static_cast<std::uint32_t>(2 * k);
 }

@@ -93,8 +93,7 @@ class Simulation {
   void kick_drift();
   void move_cavity();
   void update_neighbours(bool force_rebuild);
-  void install_pairs(CandidatePairs pairs, std::vector<TangentialHistory> tangential,
-                     std::vector<RollingHistory> rolling, std::vector<double> damping_prev);
+  void derive_pair_buffers();
   void pair_contacts();
   void gather_walls();
   void kick();
@@ -126,6 +125,14 @@ class Simulation {
   PairState ps_;
   std::unique_ptr<BroadPhase> broad_;
   std::vector<Vec3> x_at_build_;              // positions at the last neighbour build
+  // Buffers of the previous pair list, reused by the next rebuild (no allocation once grown).
+  struct Spare {
+    CandidatePairs pairs;
+    std::vector<TangentialHistory> tangential;
+    std::vector<RollingHistory> rolling;
+    std::vector<double> damping_prev;
+    std::vector<std::uint32_t> fill;          // gather CSR fill pointers
+  } spare_;
   std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
   std::vector<RollingHistory> wall_roll_;
   std::vector<double> wall_damping_prev_;     // per particle per wall (energy tally)

@@ -8,13 +8,16 @@ class BruteForce final : public BroadPhase {
  public:
   void find(const std::vector<Vec3>& x, const std::vector<double>& r, double skin,
             CandidatePairs& out) override {
-    build_candidates(x.size(), out, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
+    build_candidates(x.size(), out, scratch_, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
       for (std::size_t j = i + 1; j < x.size(); ++j) {
         const double cut = r[i] + r[j] + skin;
         if ((x[i] - x[j]).squaredNorm() < cut * cut) buf.push_back(static_cast<std::uint32_t>(j));
       }
     });
   }
+
+ private:
+  CandidateScratch scratch_;
 };
 
 }  // namespace

@@ -30,7 +30,7 @@ class KdTree final : public BroadPhase {
     Tree tree(3, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
     const double r_max = n ? *std::max_element(r.begin(), r.end()) : 0.0;
-    build_candidates(n, out, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
+    build_candidates(n, out, scratch_, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
       thread_local std::vector<std::pair<std::uint32_t, double>> hits;
       hits.clear();
       // The search radius is padded a little; the exact cut-off is then decided with the same
@@ -50,6 +50,7 @@ class KdTree final : public BroadPhase {
   }
 
  private:
+  CandidateScratch scratch_;
   PointCloud cloud_;
 };
 

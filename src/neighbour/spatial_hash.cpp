@@ -41,7 +41,7 @@ class SpatialHash final : public BroadPhase {
     fill_ = std::vector<std::uint32_t>(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) sorted_[fill_[bucket_of_[i]]++] = static_cast<std::uint32_t>(i);
 
-    build_candidates(n, out, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
+    build_candidates(n, out, scratch_, [&](std::size_t i, std::vector<std::uint32_t>& buf) {
       std::uint32_t buckets[27];
       int nb = 0;
       const Cell c = cell_[i];
@@ -63,6 +63,7 @@ class SpatialHash final : public BroadPhase {
   }
 
  private:
+  CandidateScratch scratch_;
   struct Cell {
     std::int64_t x, y, z;
   };

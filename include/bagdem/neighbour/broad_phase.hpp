@@ -43,10 +43,16 @@ std::unique_ptr<BroadPhase> make_spatial_hash();
 std::unique_ptr<BroadPhase> make_kdtree();
 std::unique_ptr<BroadPhase> make_brute_force();
 
+// Per-thread buffers of build_candidates, owned by each broad phase and reused between rebuilds.
+struct CandidateScratch {
+  std::vector<std::vector<std::uint32_t>> chunk;  // each thread's pairs, in i order
+  std::vector<std::vector<std::uint32_t>> buf;    // each thread's partners of one i
+};
+
 // Shared by the implementations: turns per-i sorted partner lists, produced in parallel over
 // contiguous blocks of i, into CSR. `collect(i, buffer)` appends the partners of i (any order).
 template <class Collect>
-void build_candidates(std::size_t n, CandidatePairs& out, Collect&& collect);
+void build_candidates(std::size_t n, CandidatePairs& out, CandidateScratch& scratch, Collect&& collect);
 
 }  // namespace bagdem
 

@@ -7,15 +7,18 @@
 namespace bagdem {
 
 template <class Collect>
-void build_candidates(std::size_t n, CandidatePairs& out, Collect&& collect) {
+void build_candidates(std::size_t n, CandidatePairs& out, CandidateScratch& scratch, Collect&& collect) {
   out.begin.assign(n + 1, 0);
-  const int nthreads = omp_get_max_threads();
-  std::vector<std::vector<std::uint32_t>> chunk(static_cast<std::size_t>(nthreads));
+  // Per-thread output and scratch live in the broad phase between rebuilds, so a rebuild reuses
+  // their memory.
+  auto& chunk = scratch.chunk;
+  chunk.resize(static_cast<std::size_t>(omp_get_max_threads()));
+  scratch.buf.resize(chunk.size());
 #pragma omp parallel if (n > 2000)
   {
     auto& mine = chunk[static_cast<std::size_t>(omp_get_thread_num())];
     mine.clear();
-    std::vector<std::uint32_t> buf;
+    auto& buf = scratch.buf[static_cast<std::size_t>(omp_get_thread_num())];
     // Static schedule: each thread owns one contiguous block of i, so blocks concatenate in order.
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {

@@ -1,0 +1,94 @@
+// The film of a bag: a membrane of constant-strain triangles with a tension field, a small bending
+// stiffness across edges, and Kelvin-Voigt material damping. Physics brief, section 6.
+//
+// Membrane (per triangle, reference area A0, thickness t): Green-Lagrange strain Eg = (F^T F - I)/2
+// of the in-plane deformation gradient F (3x2, from the rest shape's 2-D frame), plane-stress St.
+// Venant-Kirchhoff energy W = t A0 (1/2) Eg : C : Eg (C: plane stress from E, nu) and node forces
+// f = -dW/dx (Belytschko, Liu & Moran, Nonlinear Finite Elements, 2000, ch. 9 for the CST).
+// Tension field (wrinkling; on by default): with principal Green strains e1 >= e2,
+//   taut      (C:Eg has no negative principal stress): the full energy above;
+//   wrinkled  (e1 > 0 but the stress along e2 would be compressive): uniaxial tension,
+//             W = t A0 (1/2) E e1^2 (the film buckles freely across e1);
+//   slack     (e1 <= 0): W = 0.
+// The relaxed energy is continuously differentiable, so forces stay conservative (Roddeman et al.,
+// J. Appl. Mech. 54, 1987; Mansfield's tension-field theory).
+// Bending: per interior edge, W_b = k_e (theta - theta_0)^2 with theta the angle between the
+// normals of its two triangles, theta_0 at rest, k_e = D |e|^2 / (A1 + A2) * 3, D = bending
+// stiffness (Grinspun et al., "Discrete Shells", SCA 2003); gradient of theta after Bridson,
+// Marino & Fedkiw, SCA 2003. For a film D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the
+// membrane's zero-energy modes and does not carry the balls.
+// Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
+// as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
+// energy budget can tally its work.
+// Node masses: each triangle's mass rho t A0 split equally among its three nodes.
+// Determinism: each triangle and hinge writes its own record; nodes sum their records in a fixed
+// order, so forces are bitwise equal for any thread count.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "bagdem/mesh/triangle_mesh.hpp"
+#include "bagdem/vec3.hpp"
+
+namespace bagdem {
+
+struct MembraneProperties {
+  double youngs_modulus = 0;     // (unit: Pa)
+  double poisson_ratio = 0;      // (dimensionless)
+  double thickness = 0;          // (unit: m)
+  double density = 0;            // (unit: kg/m^3)
+  bool tension_field = true;     // no compressive principal stress (wrinkling)
+  double bending_stiffness = 0;  // D (unit: N m); 0 = no bending
+  double damping_time = 0;       // beta of the Kelvin-Voigt stress (unit: s); 0 = none
+};
+
+class Membrane {
+ public:
+  // `mesh` with its topology built; its vertices are the rest (stress-free) shape.
+  Membrane(const TriangleMesh& mesh, const MembraneProperties& props);
+
+  const MembraneProperties& properties() const { return props_; }
+  std::size_t nodes() const { return node_mass_.size(); }
+  const std::vector<double>& node_mass() const { return node_mass_; }  // (unit: kg)
+  const std::vector<double>& rest_area() const { return area0_; }      // per triangle (unit: m^2)
+
+  // Adds the elastic (membrane + bending) forces at positions x to f_elastic and the damping forces
+  // at velocities v to f_damping (both sized nodes()). Returns the elastic energy at x (unit: J).
+  double add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
+                    std::vector<Vec3>& f_damping);
+  // Elastic energy (membrane + bending) at x (unit: J).
+  double elastic_energy(const std::vector<Vec3>& x) const;
+
+  // Largest angular frequency of the membrane at rest, for the time step (Gershgorin bound over
+  // the lumped-mass element matrices: an upper bound) (unit: rad/s).
+  double max_frequency() const;
+
+  // Per-triangle state at x, for output and checks: 0 slack, 1 wrinkled, 2 taut; and the principal
+  // Green strains (e1 >= e2).
+  struct TriangleState {
+    std::uint8_t regime;
+    double e1, e2;
+  };
+  TriangleState triangle_state(const std::vector<Vec3>& x, std::size_t tri) const;
+
+ private:
+  MembraneProperties props_;
+  std::vector<std::array<std::uint32_t, 3>> tri_;
+  std::vector<double> area0_;              // rest area per triangle
+  std::vector<Eigen::Matrix2d> dm_inv_;    // inverse of the rest edge matrix in the triangle's 2-D frame
+  std::vector<double> node_mass_;
+  struct Hinge {
+    std::uint32_t v0, v1;  // the shared edge
+    std::uint32_t a, b;    // the opposite vertices of its two triangles
+    double theta0;         // rest angle (unit: rad)
+    double k;              // stiffness k_e (unit: N m)
+  };
+  std::vector<Hinge> hinges_;
+  // Per-element records and the node gather CSR (see "Determinism" above).
+  std::vector<std::array<Vec3, 3>> tri_elastic_, tri_damping_;
+  std::vector<std::array<Vec3, 4>> hinge_force_;
+  std::vector<std::uint32_t> gather_begin_, gather_;  // per node: entries (record index << 2 | slot), see .cpp
+};
+
+}  // namespace bagdem

@@ -67,6 +67,16 @@ void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, C& cavity_sums, 
 
 }  // namespace
 
+// The bag's film and the triangle contacts (empty vectors without them). The candidate lists are
+// not stored: they are rebuilt from the stored build positions, which gives the same lists.
+template <class IO>
+void Simulation::bag_state_fields(IO& io) {
+  io.vec(film_.x), io.vec(film_.v), io.vec(film_.v_pred), io.vec(film_.f), io.vec(film_.f_damp_prev);
+  io.vec(film_.wall_force_prev), io.vec(film_wall_tan_), io.vec(film_wall_damping_prev_), io.vec(film_wall_touch_);
+  io.vec(strings_), io.pod(film_tally_);
+  io.vec(slots_), io.vec(slot_count_), io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
+}
+
 std::vector<char> Simulation::save_state() const {
   Writer w;
   w.pod(kMagic);
@@ -75,6 +85,7 @@ std::vector<char> Simulation::save_state() const {
   fields<Writer, Simulation>(w, self.step_, self.builds_, self.cavity_sums_, self.potential0_,
                              self.kinetic_elastic0_, self.p_, self.tally_, self.ps_, self.x_at_build_,
                              self.wall_tan_, self.wall_roll_, self.wall_damping_prev_, self.wall_touch_, self.cavity_, self.cavity_prev_);
+  self.bag_state_fields(w);
   return std::move(w.out);
 }
 
@@ -89,9 +100,11 @@ void Simulation::load_state(const std::vector<char>& image) {
                              std::to_string(p_.size()));
   fields<Reader, Simulation>(r, step_, builds_, cavity_sums_, potential0_, kinetic_elastic0_, p_,
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
+  bag_state_fields(r);
   // What is derived from the pair list (first, gather CSR, per-pair buffers), without a new
   // broad-phase search.
   derive_pair_buffers();
+  if (!surfaces_.empty()) build_mesh_candidates(x_at_build_, film_at_build_, cavity_at_build_);
 }
 
 }  // namespace bagdem

@@ -37,11 +37,14 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
   wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
   cavity_ = cavity_prev_ = cavity_at(0.0);
+  set_up_film();
+  set_up_meshes();
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
   pair_contacts();
   gather_walls();
+  film_stage();
   potential0_ = potential_energy();
   const EnergySample e0 = energy();
   kinetic_elastic0_ = e0.kinetic + e0.elastic;
@@ -59,6 +62,7 @@ void Simulation::step() {
   update_neighbours(false);
   pair_contacts();
   gather_walls();
+  film_stage();
   kick();
   ++step_;
   guards();
@@ -90,6 +94,14 @@ void Simulation::kick_drift() {
     start_sums(i);
   }
   needs_rebuild_ = moved;
+  const std::size_t nn = film_.size();
+#pragma omp parallel for schedule(static) if (nn > kParallelMin)
+  for (std::size_t k = 0; k < nn; ++k) {
+    const Vec3 dv = h * film_.inv_mass[k] * film_.f[k];
+    film_.v[k] += dv;
+    film_.x[k] += dt * film_.v[k];
+    film_.v_pred[k] = film_.v[k] + dv;
+  }
 }
 
 
@@ -107,7 +119,7 @@ void Simulation::move_cavity() {
 // ---- 3. neighbours ------------------------------------------------------------------------------
 void Simulation::update_neighbours(bool force_rebuild) {
   const std::size_t n = p_.size();
-  if (!force_rebuild && !needs_rebuild_) return;
+  if (!force_rebuild && !needs_rebuild_ && !meshes_need_rebuild()) return;
   ++builds_;
   x_at_build_ = p_.x;
   // The new list and its histories go into spare buffers (kept between rebuilds, so a rebuild
@@ -143,6 +155,7 @@ void Simulation::update_neighbours(bool force_rebuild) {
   std::swap(ps_.rolling, spare_.rolling);
   std::swap(ps_.damping_prev, spare_.damping_prev);
   derive_pair_buffers();
+  if (!surfaces_.empty()) build_mesh_candidates(p_.x, film_.x, cavity_.position);
 }
 
 // From the installed pair list and its histories: the per-pair buffers and the gather CSR.
@@ -190,6 +203,12 @@ void Simulation::kick() {
     p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
     if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
     finite = finite && std::isfinite(p_.v[i].squaredNorm());
+  }
+  const std::size_t nn = film_.size();
+#pragma omp parallel for schedule(static) reduction(&& : finite) if (nn > kParallelMin)
+  for (std::size_t k = 0; k < nn; ++k) {
+    film_.v[k] += h * film_.inv_mass[k] * film_.f[k];
+    finite = finite && std::isfinite(film_.v[k].squaredNorm());
   }
   all_finite_ = finite;
 }

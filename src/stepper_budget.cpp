@@ -17,6 +17,7 @@ double Simulation::potential_energy() const {
   if (!scene_.models.gravity) return 0.0;
   double u = 0;
   for (std::size_t i = 0; i < p_.size(); ++i) u -= p_.mass[i] * scene_.gravity.dot(p_.x[i]);
+  for (std::size_t k = 0; k < film_.size(); ++k) u -= film_.mass[k] * scene_.gravity.dot(film_.x[k]);
   return u;
 }
 
@@ -40,6 +41,13 @@ void Simulation::for_each_contact(Fn&& fn) const {
       fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
          scene_.models.tangential ? &wall_tan_[p * nw + w] : nullptr,
          scene_.models.rolling ? &wall_roll_[p * nw + w] : nullptr, p_.radius[p]);
+    }
+    // Triangulated surfaces (film, STL walls): the slots of the last step.
+    for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {
+      const MeshSlot& m = slots_[p * kMaxMeshContacts + s];
+      fn(m.overlap, p_.radius[p], scene_.laws(p_.material[p], surfaces_[m.surface].material),
+         scene_.models.tangential ? &m.tangential : nullptr, scene_.models.rolling ? &m.rolling : nullptr,
+         p_.radius[p]);
     }
   }
 }
@@ -73,7 +81,12 @@ EnergySample Simulation::energy() const {
     e.dissipated_tangential += tally_.diss_tangential[i];
     e.dissipated_rolling += tally_.diss_rolling[i];
   }
-  e.elastic = elastic_energy();
+  for (std::size_t k = 0; k < film_.size(); ++k) e.kinetic += 0.5 * film_.mass[k] * film_.v[k].squaredNorm();
+  e.work_cavity += film_tally_.work_cavity;
+  e.dissipated_normal += film_tally_.diss_normal;
+  e.dissipated_tangential += film_tally_.diss_tangential;
+  e.dissipated_damping = film_tally_.diss_damping;
+  e.elastic = elastic_energy() + film_elastic_energy();
   e.work_gravity = potential0_ - potential_energy();
   return e;
 }
@@ -86,6 +99,10 @@ Simulation::CavitySample Simulation::take_cavity_sample() {
     tally_.wall_impulse[i].setZero();
     tally_.wall_ang_impulse[i].setZero();
   }
+  J += film_tally_.impulse;
+  L += film_tally_.ang_impulse;
+  film_tally_.impulse.setZero();
+  film_tally_.ang_impulse.setZero();
   CavitySample c;
   const double n = static_cast<double>(cavity_sums_.steps);
   if (n > 0) {

@@ -19,13 +19,40 @@ void Simulation::guards() {
   const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
   const bool overlap = overlap_excess_ > 0.0;
   const bool escaped = min_boundary_distance_ < 0.0;
-  if (!bad && !overlap && !escaped) return;
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  const bool crossed = crossed_ != none, crowded = mesh_overflow_ != none;
+  const bool film_out = scene_.bag && film_deepest_ < 0.5 * scene_.bag->film.thickness -
+                                                       scene_.max_overlap_fraction * scene_.bag->contact_radius;
+  if (!bad && !overlap && !escaped && !crossed && !crowded && !film_out) return;
 
   std::ostringstream m;
   m << "run stopped at t = " << time() << " s (step " << step_ << "): ";
   if (bad) {
     m << "a particle position or velocity is not a number. The integration diverged: reduce "
          "simulation.timestep (or its safety factor), or check the material parameters.";
+    throw RunError(m.str());
+  }
+  if (crossed) {
+    const std::size_t i = crossed_;
+    m << "ball " << i << " crossed the bag's film (its centre is " << crossed_depth_
+      << " m beyond the film's mid-surface, at (" << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
+      << ") m). The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
+         "the film material's youngs_modulus, refine the film (bag.triangles), reduce simulation.timestep, or "
+         "lower the excitation.";
+    throw RunError(m.str());
+  }
+  if (crowded) {
+    m << "ball " << mesh_overflow_ << " touches more than " << kMaxMeshContacts
+      << " features of the film or an STL wall at once; the surface is folded around it finer than the "
+         "ball. Coarsen the film (bag.triangles) or the STL mesh.";
+    throw RunError(m.str());
+  }
+  if (film_out) {
+    m << "a node of the bag's film is pressed " << 0.5 * scene_.bag->film.thickness - film_deepest_
+      << " m into a cavity wall (limit " << scene_.max_overlap_fraction << " x bag.film.contact_radius = "
+      << scene_.max_overlap_fraction * scene_.bag->contact_radius
+      << " m): the film-wall contact is too soft for the load or the step too coarse. Raise "
+         "bag.film.contact_radius, reduce simulation.timestep, or lower the excitation.";
     throw RunError(m.str());
   }
   // A particle outside the cavity also shows as a huge wall overlap: name the escape first.

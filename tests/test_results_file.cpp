@@ -99,7 +99,7 @@ std::vector<Vec3> field(int frame, int kind) {
   return {v3(frame, 0, kind), v3(frame, 1, kind), v3(frame, 2, kind)};
 }
 EnergySample energy(int k) {
-  return {0.5 + k, 1.0 / (k + 3), 2.0 * k, -0.25 * k, 0.1 * k, 0.2 * k, 0.3 * k + 1e-9};
+  return {0.5 + k, 1.0 / (k + 3), 2.0 * k, -0.25 * k, 0.1 * k, 0.2 * k, 0.3 * k + 1e-9, 0.7 * k};
 }
 const std::vector<double> kRadius{1e-3, 1.5e-3, 2.25e-3};
 const std::vector<int> kMaterial{0, 1, 0};
@@ -180,7 +180,8 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
       {"work_gravity", &EnergySample::work_gravity},
       {"dissipated_normal", &EnergySample::dissipated_normal},
       {"dissipated_tangential", &EnergySample::dissipated_tangential},
-      {"dissipated_rolling", &EnergySample::dissipated_rolling}};
+      {"dissipated_rolling", &EnergySample::dissipated_rolling},
+      {"dissipated_damping", &EnergySample::dissipated_damping}};
   for (const auto& [name, member] : fields) {
     const Data d = read_doubles(file, std::string("/energy/") + name);
     ASSERT_EQ(d.dims, std::vector<hsize_t>{4}) << name;
@@ -244,7 +245,8 @@ TEST(ResultsFileWrite, EveryDatasetHasItsUnit) {
                                                           {"/energy/work_gravity", "J"},
                                                           {"/energy/dissipated_normal", "J"},
                                                           {"/energy/dissipated_tangential", "J"},
-                                                          {"/energy/dissipated_rolling", "J"}};
+                                                          {"/energy/dissipated_rolling", "J"},
+                                                          {"/energy/dissipated_damping", "J"}};
   for (const auto& [name, unit] : expected) EXPECT_EQ(unit_of(file, name), unit) << name;
   H5Fclose(file);
 }

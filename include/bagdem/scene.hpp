@@ -7,9 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/bag/bag.hpp"
 #include "bagdem/material.hpp"
 #include "bagdem/motion/motion.hpp"
 #include "bagdem/vec3.hpp"
+#include "bagdem/walls/mesh_wall.hpp"
 #include "bagdem/walls/wall.hpp"
 
 namespace bagdem {
@@ -48,13 +50,16 @@ struct Scene {
   PairLawTable laws;
   std::vector<ParticleInit> particles;
 
-  std::string cavity_kind;        // "box", "cylinder", "planes"
+  std::string cavity_kind;        // "box", "cylinder", "planes", "stl"
   std::vector<Wall> walls;        // in the cavity frame (at rest place)
+  std::vector<MeshWall> mesh_walls;  // triangulated walls in the cavity frame (cavity kind "stl")
   std::vector<std::string> wall_names;  // one per wall, for messages ("box -x", "bore")
   Vec3 cavity_lo = Vec3::Zero();  // bounding box of the cavity at rest, low corner (unit: m)
   Vec3 cavity_hi = Vec3::Zero();  // high corner (unit: m)
   Vec3 cavity_reference = Vec3::Zero();  // point the cavity torque is taken about (unit: m)
   std::shared_ptr<const Motion> motion;  // motion time starts when settling ends
+
+  std::shared_ptr<const Bag> bag;        // the bag (film, strings, its balls), or null
 
   Vec3 gravity = Vec3::Zero();  // (unit: m/s^2)
   double settle = 0;            // settle phase before the measured part, cavity at rest (unit: s)

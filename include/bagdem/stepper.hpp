@@ -1,12 +1,17 @@
 // The stepper: one time step is a fixed list of stages over flat arrays (see Stage).
 //
 //   1. kick_drift      v += dt/2 F/m, x += dt v, w += dt/2 T/I        velocity Verlet, first half
+//                      (balls and film nodes)
 //   2. move_cavity     cavity position and velocity at t + dt (prescribed)
-//   3. neighbours      rebuild the Verlet pair list when a particle moved more than skin/2
+//   3. neighbours      rebuild the Verlet pair list and the sphere-triangle candidate lists when a
+//                      ball or film node moved more than skin/2
 //   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
-//   5. gather_walls    each particle: sum its pair forces (partner order), then wall contacts, gravity
-//   6. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
-//   7. guards          NaN, excessive overlap, particle outside the cavity -> RunError
+//   5. gather_walls    each ball: sum its pair forces (partner order), then wall contacts, then its
+//                      triangle contacts (STL walls, the film: stepper_meshes.cpp)
+//   6. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
+//                      its nodes (stepper_film.cpp)
+//   7. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
+//   8. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
 // v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
@@ -19,10 +24,12 @@
 #include <memory>
 #include <vector>
 
+#include "bagdem/bag/membrane.hpp"
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
+#include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 
@@ -52,6 +59,33 @@ struct PairState {
   std::vector<std::uint32_t> gather_begin, gather;
 };
 
+// The bag's film nodes: point masses (no rotation), integrated like the balls.
+struct FilmNodes {
+  std::vector<Vec3> x, v, v_pred, f;   // as in Particles (unit: m, m/s, N)
+  std::vector<Vec3> f_damp, f_damp_prev;  // membrane damping force, this and the previous step (unit: N)
+  std::vector<Vec3> wall_force_prev;   // force of the walls on each node at the previous step (unit: N)
+  std::vector<double> mass, inv_mass;  // (unit: kg, 1/kg)
+  std::size_t size() const { return x.size(); }
+};
+
+// One ball's contact with a feature of a triangulated surface (film or STL wall), with its history.
+struct MeshSlot {
+  std::uint32_t surface = 0;          // 0 = the film when there is a bag, then the STL walls
+  std::uint32_t key = 0;              // feature_key of the feature touched
+  Vec3 n = Vec3::Zero();              // contact normal at the last step (towards the ball)
+  Vec3 surface_velocity = Vec3::Zero();  // half-step velocity of the surface point (unit: m/s)
+  double overlap = 0;                 // at the last step (unit: m)
+  double damping_prev = 0;            // normal damping force at the last step (unit: N)
+  TangentialHistory tangential;
+  RollingHistory rolling;
+};
+// What a ball's film contact puts on the film's nodes: -force split by the barycentric weights.
+struct FilmLoad {
+  Vec3 force = Vec3::Zero();          // force on the film at the contact point (unit: N)
+  Vec3 weights = Vec3::Zero();
+  std::uint32_t triangle = 0;
+};
+
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);
@@ -65,6 +99,13 @@ class Simulation {
   const CavityState& cavity() const { return cavity_; }
   std::uint64_t neighbour_builds() const { return builds_; }
   const PairState& pair_state() const { return ps_; }
+  // The bag's film nodes (empty without a bag).
+  const FilmNodes& film() const { return film_; }
+  // Ball-triangle contacts (film and STL walls) now.
+  std::size_t mesh_contact_count() const;
+  // Indices of the bag's balls whose centre lies outside the film now (generalized winding number;
+  // O(balls x triangles), for output-time checks and tests).
+  std::vector<std::size_t> balls_outside_bag() const;
 
   // Kinetic + elastic energy at t = 0 (the reference of the energy balance) (unit: J).
   double initial_stored_energy() const { return kinetic_elastic0_; }
@@ -81,6 +122,8 @@ class Simulation {
     Vec3 force = Vec3::Zero();     // (unit: N)
     Vec3 torque = Vec3::Zero();    // (unit: N m)
   };
+  // Maximum number of triangle features one ball touches at once.
+  static constexpr std::size_t kMaxMeshContacts = 8;
   CavitySample take_cavity_sample();
   // Number of contacts (pairs and walls) currently closed.
   std::size_t contact_count() const;
@@ -96,6 +139,7 @@ class Simulation {
   void derive_pair_buffers();
   void pair_contacts();
   void gather_walls();
+  void film_stage();
   void kick();
   void guards();
   template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
@@ -104,6 +148,19 @@ class Simulation {
   void gather_walls_impl();
   template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
   void open_pair(std::size_t k, std::uint32_t i, std::uint32_t j);
+  // Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
+  // and the STL walls' share to F_cavity / T_cavity (force on the ball, torque on the cavity).
+  template <bool Tangential, bool Rolling, bool Energy>
+  void mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, double& excess);
+  void set_up_film();
+  void set_up_meshes();
+  void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
+  template <class IO>
+  void bag_state_fields(IO& io);
+  bool meshes_need_rebuild() const;
+  template <bool Tangential, bool Energy>
+  void film_walls();
+  double film_elastic_energy() const;
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
     p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();
@@ -148,6 +205,44 @@ class Simulation {
     Vec3 position = Vec3::Zero();    // (unit: m)
     Vec3 velocity = Vec3::Zero();    // (unit: m/s)
   } cavity_sums_;
+  // ---- triangulated surfaces (stepper_meshes.cpp): the film (surface 0 with a bag), STL walls ----
+  struct Surface {
+    const TriangleMesh* mesh;   // topology (and, for STL walls, the vertices in the cavity frame)
+    bool film;                  // vertices are film_.x (lab frame); otherwise mesh->vertices + cavity position
+    int material;
+    double reach;               // the film's half thickness, 0 for a wall (unit: m)
+  };
+  std::vector<Surface> surfaces_;
+  std::vector<MeshCandidates> mesh_cand_;     // per surface
+  std::vector<MeshSlot> slots_;               // per ball: kMaxMeshContacts slots
+  std::vector<std::uint8_t> slot_count_;      // per ball
+  std::vector<FilmLoad> film_load_;           // per ball slot, this step
+  std::vector<std::int8_t> side_;             // per ball: -1 inside the film (or an STL wall), +1 outside
+  Vec3 cavity_at_build_ = Vec3::Zero();
+  std::vector<Vec3> film_at_build_;
+  std::size_t crossed_ = static_cast<std::size_t>(-1);  // a ball found across the film this step
+  double crossed_depth_ = 0;                  // how far beyond the film's mid-surface (unit: m)
+  std::size_t mesh_overflow_ = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
+  // ---- the bag's film (stepper_film.cpp) ----
+  FilmNodes film_;
+  std::unique_ptr<Membrane> membrane_;
+  std::vector<TangentialHistory> film_wall_tan_;  // per node per wall
+  std::vector<double> film_wall_damping_prev_;
+  std::vector<std::uint32_t> film_wall_touch_;    // per node: walls touched at the last step
+  struct StringState {
+    double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
+    Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)
+  };
+  std::vector<StringState> strings_;
+  double film_deepest_ = 1e300;                   // smallest distance of a film node inside a wall (unit: m)
+  struct FilmTallies {
+    double work_cavity = 0;       // work of walls and string anchors on the film (unit: J)
+    double diss_normal = 0, diss_tangential = 0;  // film-wall contacts (unit: J)
+    double diss_damping = 0;      // membrane and string damping (unit: J)
+    Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
+    Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
+  } film_tally_;
+
   double potential0_ = 0;                     // gravity potential energy at t = 0 (unit: J)
   double kinetic_elastic0_ = 0;               // kinetic + elastic energy at t = 0 (unit: J)
   bool scatter_ = true;                       // pair forces scattered (one thread) or gathered

@@ -29,6 +29,7 @@ inline constexpr Dimension pressure{-1, 1, -2, 0};  // Pa = kg/(m s^2)
 inline constexpr Dimension force{1, 1, -2, 0};
 inline constexpr Dimension energy{2, 1, -2, 0};
 inline constexpr Dimension stiffness{0, 1, -2, 0};  // N/m
+inline constexpr Dimension damping{0, 1, -1, 0};    // N s/m
 }  // namespace dim
 
 // Parses "<number> [unit expression]" into an SI value of the expected dimension.

@@ -106,6 +106,11 @@ const toml::node* CaseReader::node(const std::string& key) const {
 
 bool CaseReader::has(const std::string& key) const { return node(key) != nullptr; }
 
+bool CaseReader::is_string(const std::string& key) const {
+  const toml::node* n = node(key);
+  return n && n->is_string();
+}
+
 std::vector<std::string> CaseReader::keys(const std::string& table) const {
   std::vector<std::string> out;
   const toml::node* n = table.empty() ? &root_ : node(table);

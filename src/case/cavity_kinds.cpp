@@ -2,9 +2,12 @@
 //   box       min, max                   six inward planes
 //   cylinder  center, axis, radius, length   a bore (inner cylinder) capped by two planes
 //   planes    [[cavity.planes]] point, normal (into the cavity); bounds = box the particles stay in
+//   stl       file, scale                a triangulated surface (closed; normals out of the cavity)
 #include <cmath>
+#include <filesystem>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/mesh/stl.hpp"
 
 namespace bagdem {
 namespace {
@@ -83,12 +86,27 @@ void planes(const CaseReader& in, Scene& s, int material) {
   s.cavity_hi = in.vector("cavity.max", dim::length);
 }
 
+// A rigid cavity of any shape from an STL file (normals pointing out of the cavity, away from the
+// balls): balls touch its triangles (walls/mesh_wall.hpp). Bounds: the mesh's bounding box.
+void stl(const CaseReader& in, Scene& s, int material) {
+  const std::string path = (std::filesystem::path(s.case_dir) / in.string("cavity.file")).string();
+  const double scale = in.quantity("cavity.scale", dim::length, 1.0);
+  if (!(scale > 0)) in.fail("cavity.scale", "must be > 0: the length of one file unit (\"1 mm\" for a file in mm)");
+  MeshWall w;
+  w.name = "cavity.file = " + in.string("cavity.file");
+  w.mesh = read_stl(path, scale);
+  w.material = material;
+  s.cavity_lo = s.cavity_hi = w.mesh.vertices[0];
+  for (const Vec3& v : w.mesh.vertices) s.cavity_lo = s.cavity_lo.cwiseMin(v), s.cavity_hi = s.cavity_hi.cwiseMax(v);
+  s.mesh_walls.push_back(std::move(w));
+}
+
 struct CavityKind {
   const char* name;
   void (*build)(const CaseReader&, Scene&, int);
 };
 
-const CavityKind kCavityKinds[] = {{"box", box}, {"cylinder", cylinder}, {"planes", planes}};
+const CavityKind kCavityKinds[] = {{"box", box}, {"cylinder", cylinder}, {"planes", planes}, {"stl", stl}};
 
 }  // namespace
 

@@ -39,9 +39,33 @@ std::string describe_scene(const Scene& s) {
     << mass << " kg\n";
   o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
     << "] .. [" << s.cavity_hi.transpose() << "] m\n";
+  auto on = [](bool b) { return b ? "on " : "off"; };
+  if (s.bag) {
+    const Bag& b = *s.bag;
+    const double V = enclosed_volume(b.rest, b.rest.vertices);
+    const double area = surface_area(b.rest, b.rest.vertices);
+    const double film_mass = area * b.film.thickness * b.film.density;
+    o << "bag         " << b.shape << ", " << b.balls << " balls (" << b.source << "), outer " << 1e3 * b.size.x()
+      << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z() << " mm at rest, volume " << V * 1e6
+      << " cm^3, fill fraction " << b.fill_fraction << "\n"
+      << "film        " << s.materials[static_cast<std::size_t>(b.material)].name << ", thickness " << b.film.thickness
+      << " m, mass " << film_mass << " kg; resolution " << b.rest.triangles.size() << " triangles, "
+      << b.rest.vertices.size() << " nodes, mean edge " << b.mean_edge << " m (" << b.mean_edge / (2 * rmin)
+      << " ball diameters; key bag.triangles)\n"
+      << "            tension field " << on(b.film.tension_field) << ", bending D " << b.film.bending_stiffness
+      << " N m, damping ratio " << b.damping_ratio << " (Kelvin-Voigt time " << b.film.damping_time
+      << " s), node mass x " << b.mass_scaling << ", film-wall contact radius " << b.contact_radius << " m\n"
+      << "            highest membrane frequency " << b.max_frequency / (2 * std::numbers::pi)
+      << " Hz: critical step " << 2 / b.max_frequency << " s\n";
+    for (const BagString& st : b.strings)
+      o << "string      " << st.name << ": " << st.nodes.size() << " tie nodes, anchor [" << st.anchor.transpose()
+        << "] m, k " << st.stiffness << " N/m, c " << st.damping << " N s/m, rest length " << st.rest_length << " m\n";
+  }
+  if (!s.mesh_walls.empty())
+    for (const MeshWall& w : s.mesh_walls)
+      o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
   o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
   o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";
-  auto on = [](bool b) { return b ? "on " : "off"; };
   o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n"
     << "            tangential Mindlin spring, history, Coulomb cap:       " << on(s.models.tangential)
     << (s.models.tangential ? "" : " (no pair has friction)") << "\n"

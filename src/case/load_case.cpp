@@ -94,6 +94,11 @@ void decide_models(Scene& s) {
   std::vector<bool> particle(nm, false), touched(nm, false);
   for (const auto& p : s.particles) particle[static_cast<std::size_t>(p.material)] = touched[static_cast<std::size_t>(p.material)] = true;
   for (const auto& w : s.walls) touched[static_cast<std::size_t>(w.material)] = true;
+  for (const auto& w : s.mesh_walls) touched[static_cast<std::size_t>(w.material)] = true;
+  if (s.bag) {
+    // The film touches the balls and the walls: it counts as both a touched and a touching material.
+    particle[static_cast<std::size_t>(s.bag->material)] = touched[static_cast<std::size_t>(s.bag->material)] = true;
+  }
   s.models.tangential = s.models.rolling = false;
   for (std::size_t a = 0; a < nm; ++a) {
     if (!particle[a]) continue;
@@ -143,6 +148,8 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   resolve_cavity(in, s, static_cast<int>(cm - names.begin()));
   resolve_motion(in, s);
   resolve_particles(in, s, names);
+  resolve_bag(in, s, names);
+  if (s.particles.empty()) in.fail("particles", "needs at least one group [particles.<name>] or a [bag]");
 
   decide_models(s);
   s.models.energy = in.boolean("output.energy", true);

@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/particles.hpp"
 
@@ -33,6 +34,13 @@ bool inside_cavity(const Scene& s, const Vec3& x, double r, double tolerance = 0
   }
   for (int k = 0; k < 3; ++k)
     if (x[k] - r < s.cavity_lo[k] || x[k] + r > s.cavity_hi[k]) return false;
+  for (const MeshWall& w : s.mesh_walls) {
+    if (winding_number(w.mesh, w.mesh.vertices, x) < 0.5) return false;
+    for (const auto& t : w.mesh.triangles) {
+      const TriangleHit h = closest_point_on_triangle(x, w.mesh.vertices[t[0]], w.mesh.vertices[t[1]], w.mesh.vertices[t[2]]);
+      if (h.distance2 < r * r) return false;
+    }
+  }
   return true;
 }
 
@@ -308,7 +316,7 @@ void generate(const CaseReader& in, const std::string& g, const Group& grp, Scen
 
 void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::string>& materials) {
   const auto groups = in.keys("particles");
-  if (groups.empty()) in.fail("particles", "needs at least one group [particles.<name>]");
+  if (groups.empty()) return;  // a bag may hold all the balls (checked in load_case)
   double dmax = 0;
   // The placement grid cell must cover the largest diameter of any group: a first pass over sizes.
   for (const auto& name : groups) {

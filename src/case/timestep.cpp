@@ -81,6 +81,40 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       if (wall_material) consider(r, m);
     }
   }
+  // The bag: its balls against the film (m* down to a film node's mass), the film's nodes against
+  // the walls (R* = contact radius), the membrane's own highest frequency, and the strings.
+  double dt_film = 1e300;
+  if (s.bag) {
+    const Bag& bag = *s.bag;
+    const int fm = bag.material;
+    const double mn = bag.min_node_mass;
+    auto consider_film = [&](int a, double R_eff, double m_eff) {
+      const PairLaw& law = s.laws(a, fm);
+      dt_contact = std::min(dt_contact, hertz::resolved_step(hertz::contact_time(m_eff, R_eff, law.E_star, v),
+                                                             hertz::damping_parameter(law.damping), per_contact));
+      const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
+      const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
+      dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
+      if (s.models.tangential) {
+        const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
+        dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
+      }
+    };
+    for (int a = 0; a < nm; ++a) {
+      const double r = rmin[static_cast<std::size_t>(a)];
+      if (r == 0) continue;
+      const double m = sphere_mass(s.materials[static_cast<std::size_t>(a)].density, r);
+      consider_film(a, r, m * mn / (m + mn));
+    }
+    for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
+    // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
+    dt_film = hertz::critical_step(bag.max_frequency, bag.damping_ratio);
+    for (const BagString& st : bag.strings) {
+      const double m_tie = mn * static_cast<double>(st.nodes.size());
+      dt_film = std::min(dt_film, 2.0 / std::sqrt(st.stiffness / m_tie));
+    }
+    dt_crit = std::min(dt_crit, dt_film);
+  }
   s.dt_critical = dt_crit;
 
   std::ostringstream why;

@@ -6,37 +6,22 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
 
+#include "h5_handle.hpp"
+
 namespace bagdem {
+
+using h5::H5;
+
 namespace {
 
 static_assert(sizeof(int) == 4, "/particles/material is stored as int32");
-
-// Owns one hid_t and closes it with the matching H5?close.
-class H5 {
- public:
-  H5() = default;
-  H5(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  H5(H5&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
-  H5& operator=(H5&& o) noexcept {
-    std::swap(id_, o.id_);
-    std::swap(close_, o.close_);
-    return *this;
-  }
-  ~H5() {
-    if (id_ >= 0) close_(id_);
-  }
-  operator hid_t() const { return id_; }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  herr_t (*close_)(hid_t) = nullptr;
-};
 
 // The fields of each time-series group besides "time" (s), with their units.
 constexpr std::pair<const char*, const char*> kFrameFields[] = {
@@ -51,7 +36,8 @@ constexpr std::pair<const char*, double EnergySample::*> kEnergyFields[] = {
     {"work_gravity", &EnergySample::work_gravity},
     {"dissipated_normal", &EnergySample::dissipated_normal},
     {"dissipated_tangential", &EnergySample::dissipated_tangential},
-    {"dissipated_rolling", &EnergySample::dissipated_rolling}};
+    {"dissipated_rolling", &EnergySample::dissipated_rolling},
+    {"dissipated_damping", &EnergySample::dissipated_damping}};
 
 constexpr hsize_t kRowsPerChunk = 1024;  // time, cavity and energy series: 8-24 KiB chunks
 
@@ -77,6 +63,11 @@ struct ResultsFile::Impl {
   hsize_t n = 0;
   SeriesLengths len;
   std::vector<H5> frames, cavity, energy;  // per group: [0] is "time", then the fields in order
+  // The bag's film, when the file has one: /film/position, its rows (one per frame once each
+  // frame's film is written), node and triangle counts.
+  bool film = false;
+  H5 film_position;
+  hsize_t film_rows = 0, film_nodes = 0, film_triangles = 0;
 
   [[noreturn]] void fail(const std::string& what) const {
     throw std::runtime_error("results file " + path + ": " + what);
@@ -246,6 +237,16 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
   open(p->cavity, "/cavity", kCavityFields, lengths.cavity);
   open(p->energy, "/energy", kEnergyFields, lengths.energy);
   p->n = p->dims(p->frames[1]).at(1);  // /frames/position is [F, N, 3]
+  if (p->ok(H5Lexists(p->file, "film", H5P_DEFAULT), "cannot look for /film") > 0) {
+    p->film_position = p->open_truncated("/film/position", lengths.frames);
+    p->film_nodes = p->dims(p->film_position).at(1);  // [F, V, 3]
+    H5 triangles(p->ok(H5Dopen2(p->file, "/film/triangles", H5P_DEFAULT),
+                       "cannot open dataset /film/triangles"),
+                 H5Dclose);
+    p->film_triangles = p->dims(triangles).at(0);  // [T, 3]
+    p->film_rows = lengths.frames;
+    p->film = true;
+  }
   p->flush();
   return ResultsFile(p.release());
 }
@@ -279,6 +280,9 @@ void ResultsFile::append_frame(double t, const std::vector<Vec3>& position,
                                const std::vector<Vec3>& velocity,
                                const std::vector<Vec3>& angular_velocity) {
   Impl& p = open_or_throw(impl_);
+  if (p.film && p.film_rows != p.len.frames)
+    throw std::logic_error("results file " + p.path +
+                           ": the previous frame has no film (append_film_frame)");
   const std::vector<Vec3>* fields[] = {&position, &velocity, &angular_velocity};  // kFrameFields
   for (const std::vector<Vec3>* v : fields)
     if (v->size() != p.n)
@@ -294,6 +298,81 @@ void ResultsFile::append_frame(double t, const std::vector<Vec3>& position,
   p.append_row(p.frames[0], p.len.frames, &t);  // last: a frame is complete once it has a time
   ++p.len.frames;
   p.flush();  // a killed run keeps every frame written so far
+}
+
+void ResultsFile::write_film(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                             std::size_t nodes) {
+  Impl& p = open_or_throw(impl_);
+  const std::string where = "results file " + p.path + ": ";
+  if (nodes == 0 || triangles.empty())
+    throw std::invalid_argument(where + "a film needs at least one node and one triangle");
+  if (nodes > std::size_t(std::numeric_limits<std::int32_t>::max()))
+    throw std::invalid_argument(where + "a film of " + std::to_string(nodes) +
+                                " nodes does not fit int32 indices");
+  std::vector<std::int32_t> flat(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int c = 0; c < 3; ++c) {
+      if (triangles[t][c] >= nodes)
+        throw std::invalid_argument(where + "film triangle " + std::to_string(t) + " has node " +
+                                    std::to_string(triangles[t][c]) + ", the film " +
+                                    std::to_string(nodes) + " nodes");
+      flat[3 * t + c] = std::int32_t(triangles[t][c]);
+    }
+  const hsize_t dims[2] = {triangles.size(), 3};
+
+  if (p.film) {  // reopened (or a second call): it must be the film already in the file
+    std::vector<std::int32_t> stored;
+    if (p.film_nodes == nodes && p.film_triangles == triangles.size()) {
+      H5 ds(p.ok(H5Dopen2(p.file, "/film/triangles", H5P_DEFAULT),
+                 "cannot open dataset /film/triangles"),
+            H5Dclose);
+      stored.resize(flat.size());
+      p.ok(H5Dread(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, stored.data()),
+           "cannot read /film/triangles");
+    }
+    if (stored != flat)
+      throw std::invalid_argument(where + "the film (" + std::to_string(nodes) + " nodes, " +
+                                  std::to_string(triangles.size()) +
+                                  " triangles) is not the one in the file (" +
+                                  std::to_string(p.film_nodes) + " nodes, " +
+                                  std::to_string(p.film_triangles) + " triangles)");
+    return;
+  }
+  if (p.len.frames > 0)
+    throw std::logic_error(where + "write_film must come before the first frame");
+
+  const std::string what = "cannot write dataset /film/triangles";
+  H5 group = p.group("film");
+  H5 space(p.ok(H5Screate_simple(2, dims, nullptr), what), H5Sclose);
+  H5 ds(p.ok(H5Dcreate2(group, "triangles", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT),
+             what),
+        H5Dclose);
+  p.ok(H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), what);
+  p.attribute(ds, "unit", "1");
+  p.film_position = p.series(group, "position", {hsize_t(nodes), 3}, 1, "m");  // a frame a chunk
+  p.film_nodes = nodes;
+  p.film_triangles = triangles.size();
+  p.film_rows = 0;
+  p.film = true;
+  p.flush();
+}
+
+void ResultsFile::append_film_frame(const std::vector<Vec3>& position) {
+  Impl& p = open_or_throw(impl_);
+  const std::string where = "results file " + p.path + ": ";
+  if (!p.film) throw std::logic_error(where + "append_film_frame before write_film");
+  if (position.size() != p.film_nodes)
+    throw std::invalid_argument(where + "a film frame has " + std::to_string(position.size()) +
+                                " nodes, the film " + std::to_string(p.film_nodes));
+  if (p.film_rows + 1 != p.len.frames)
+    throw std::logic_error(where + "a film frame must follow its frame (append_frame)");
+  std::vector<double> row(3 * position.size());
+  for (std::size_t i = 0; i < position.size(); ++i)
+    for (int c = 0; c < 3; ++c) row[3 * i + c] = position[i][c];
+  p.append_row(p.film_position, p.film_rows, row.data());
+  ++p.film_rows;
+  p.flush();
 }
 
 void ResultsFile::append_cavity(double t, const Vec3& position, const Vec3& velocity,
@@ -327,42 +406,86 @@ void ResultsFile::close() {
 }
 
 void write_xdmf(const std::string& xmf_path, const std::string& h5_name, std::size_t n_particles,
-                const std::vector<double>& times) {
+                const std::vector<double>& times, std::size_t film_nodes,
+                std::size_t film_triangles) {
+  if ((film_nodes == 0) != (film_triangles == 0))
+    throw std::invalid_argument("XDMF file " + xmf_path + ": a film needs nodes and triangles");
+  const bool film = film_nodes > 0;
+  // With a film, each time step is a spatial collection and the particle grid sits one level in.
+  const std::string pad = film ? "  " : "";
   const std::string h5 = xml_escape(h5_name), n = std::to_string(n_particles);
   std::ostringstream x;
-  // Frame f of a [F N 3] dataset: hyperslab start (f 0 0), stride (1 1 1), count (1 N 3).
-  auto frame_slab = [&](std::size_t f, const char* dataset) {
-    x << "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 " << n << " 3\">\n"
-      << "            <DataItem Dimensions=\"3 3\" Format=\"XML\">" << f << " 0 0 1 1 1 1 " << n
-      << " 3</DataItem>\n            <DataItem Dimensions=\"" << times.size() << ' ' << n
-      << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":/frames/" << dataset
-      << "</DataItem>\n          </DataItem>\n";
+  // Frame f of an [F M 3] dataset: hyperslab start (f 0 0), stride (1 1 1), count (1 M 3).
+  auto slab = [&](std::size_t f, const std::string& m, const std::string& dataset) {
+    x << pad << "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 " << m << " 3\">\n"
+      << pad << "            <DataItem Dimensions=\"3 3\" Format=\"XML\">" << f
+      << " 0 0 1 1 1 1 " << m << " 3</DataItem>\n"
+      << pad << "            <DataItem Dimensions=\"" << times.size() << ' ' << m
+      << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ':' << dataset
+      << "</DataItem>\n"
+      << pad << "          </DataItem>\n";
+  };
+  auto frame_slab = [&](std::size_t f, const char* name) {
+    slab(f, n, std::string("/frames/") + name);
   };
   auto constant = [&](const char* name, const char* type, int precision) {
-    x << "        <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-      << "          <DataItem Dimensions=\"" << n << "\" NumberType=\"" << type << "\" Precision=\""
-      << precision << "\" Format=\"HDF\">" << h5 << ":/particles/" << name
-      << "</DataItem>\n        </Attribute>\n";
+    x << pad << "        <Attribute Name=\"" << name
+      << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      << pad << "          <DataItem Dimensions=\"" << n << "\" NumberType=\"" << type
+      << "\" Precision=\"" << precision << "\" Format=\"HDF\">" << h5 << ":/particles/" << name
+      << "</DataItem>\n"
+      << pad << "        </Attribute>\n";
   };
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
-    << "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    << "    <Grid Name=\"" << (film ? "bag" : "particles")
+    << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t f = 0; f < times.size(); ++f) {
     char time[32];  // shortest text that reads back as exactly times[f]
     const std::string_view t(time, std::to_chars(time, time + sizeof time, times[f]).ptr - time);
-    x << "      <Grid Name=\"frame " << f << "\" GridType=\"Uniform\">\n"
-      << "        <Time Value=\"" << t << "\"/>\n"
-      << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
-      << "        <Geometry GeometryType=\"XYZ\">\n";
+    if (film)
+      x << "      <Grid Name=\"frame " << f
+        << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+        << "        <Time Value=\"" << t << "\"/>\n"
+        << "        <Grid Name=\"particles\" GridType=\"Uniform\">\n";
+    else
+      x << "      <Grid Name=\"frame " << f << "\" GridType=\"Uniform\">\n"
+        << "        <Time Value=\"" << t << "\"/>\n";
+    x << pad << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+      << "\"/>\n"
+      << pad << "        <Geometry GeometryType=\"XYZ\">\n";
     frame_slab(f, "position");
-    x << "        </Geometry>\n";
+    x << pad << "        </Geometry>\n";
     for (const char* name : {"velocity", "angular_velocity"}) {
-      x << "        <Attribute Name=\"" << name << "\" AttributeType=\"Vector\" Center=\"Node\">\n";
+      x << pad << "        <Attribute Name=\"" << name
+        << "\" AttributeType=\"Vector\" Center=\"Node\">\n";
       frame_slab(f, name);
-      x << "        </Attribute>\n";
+      x << pad << "        </Attribute>\n";
     }
     constant("radius", "Float", 8);
     constant("material", "Int", 4);
-    x << "      </Grid>\n";
+    x << pad << "      </Grid>\n";
+    if (film) {
+      // The triangles, the whole [T 3] dataset, also through a hyperslab: ParaView's XDMF reader
+      // caches a grid whose topology is a plain HDF item and reuses it while the text of the
+      // geometry's first item stays the same, and complains that a hyperslab has none.
+      const std::string tri = std::to_string(film_triangles);
+      x << "        <Grid Name=\"film\" GridType=\"Uniform\">\n"
+        << "          <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << tri << "\">\n"
+        << "            <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << tri
+        << " 3\" NumberType=\"Int\" Precision=\"4\">\n"
+        << "              <DataItem Dimensions=\"3 2\" Format=\"XML\">0 0 1 1 " << tri
+        << " 3</DataItem>\n"
+        << "              <DataItem Dimensions=\"" << tri
+        << " 3\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << h5
+        << ":/film/triangles</DataItem>\n"
+        << "            </DataItem>\n"
+        << "          </Topology>\n"
+        << "          <Geometry GeometryType=\"XYZ\">\n";
+      slab(f, std::to_string(film_nodes), "/film/position");
+      x << "          </Geometry>\n"
+        << "        </Grid>\n"
+        << "      </Grid>\n";
+    }
   }
   x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
 

@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "bagdem/bag/bag_report.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/stepper.hpp"
@@ -57,7 +58,7 @@ std::uint64_t every(double interval, double dt) {
 // Relative closure of the energy budget: |in - (change of stored) - dissipated| / scale.
 double balance_error(const EnergySample& e, double stored0) {
   const double in = e.work_cavity + e.work_gravity;
-  const double diss = e.dissipated_normal + e.dissipated_tangential + e.dissipated_rolling;
+  const double diss = e.dissipated();
   const double residual = in - (e.kinetic + e.elastic - stored0) - diss;
   const double scale = std::max({std::abs(e.work_cavity) + std::abs(e.work_gravity), diss,
                                  e.kinetic + e.elastic, stored0, 1e-300});
@@ -169,13 +170,31 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const double skip = scene.motion->ramp_time() + (f_drive > 0 ? scene.output.skip_cycles / f_drive : 0.0);
   const std::uint64_t measure_step = static_cast<std::uint64_t>(std::llround((scene.settle + skip) / scene.dt));
   const bool energy = scene.models.energy;
+  const std::uint64_t settle_step = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
+  // When settling ends: the bag's packing and size, and the settled bag saved for reuse (bag.from).
+  RunReport rep;
+  auto bag_settled = [&] {
+    const BagReport b = measure_bag(scene, sim);
+    rep.bag = true;
+    rep.bag_packing = b.packing_fraction;
+    rep.bag_outer = b.outer;
+    if (scene.settle > 0) save_bag((out / "bag.h5").string(), saved_bag(scene, sim));
+    if (!opt.quiet) {
+      std::ostringstream m;
+      m << std::setprecision(3) << "bag at t = " << sim.time() << " s: packing fraction " << b.packing_fraction
+        << ", outer " << 1e3 * b.outer.x() << " x " << 1e3 * b.outer.y() << " x " << 1e3 * b.outer.z() << " mm"
+        << (scene.settle > 0 ? "; settled bag saved to " + (out / "bag.h5").string() : std::string()) << "\n";
+      std::fputs(m.str().c_str(), stderr);
+    }
+  };
+  auto film_frame = [&](std::optional<ResultsFile>& f) {
+    if (scene.bag) f->append_film_frame(sim.film().x);
+  };
 
   std::vector<double> frame_times;
   std::optional<ResultsFile> file;
   RunTallies run;
-  auto total_dissipation = [](const EnergySample& e) {
-    return e.dissipated_normal + e.dissipated_tangential + e.dissipated_rolling;
-  };
+  auto total_dissipation = [](const EnergySample& e) { return e.dissipated(); };
   if (opt.resume) {
     Checkpoint c = load_checkpoint(ckpt);
     if (c.case_text != scene.resolved)
@@ -208,11 +227,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     file->set_attribute("timestep", scene.dt);
     file->set_attribute("status", "running");
     file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
+    if (scene.bag) file->write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
+    film_frame(file);
     if (energy) file->append_energy(0, sim.energy());
     frame_times.push_back(0);
   }
 
-  RunReport rep;
+  if (scene.bag && settle_step == 0 && sim.steps_done() == 0) bag_settled();
   Progress progress(opt.quiet, sim.steps_done());
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t first_step = sim.steps_done();
@@ -226,6 +247,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       sim.step();
       const std::uint64_t s = sim.steps_done();
       const double t = sim.time();
+      if (scene.bag && s == settle_step) bag_settled();
       if (energy && s == measure_step) run.dissipated_at_measure = total_dissipation(sim.energy());
       if (s % n_cavity == 0 || s == total) {
         const Simulation::CavitySample c = sim.take_cavity_sample();
@@ -234,6 +256,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
       if (s % n_frame == 0 || s == total) {
         file->append_frame(t, sim.particles().x, sim.particles().v, sim.particles().w);
+        film_frame(file);
         frame_times.push_back(t);
       }
       if (n_ckpt && s % n_ckpt == 0 && s != total) {
@@ -248,7 +271,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     file->set_attribute("status", std::string("failed: ") + e.what());
     file->close();
     fs::rename(part, final_h5);
-    write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times);
+    write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
+               scene.bag ? scene.bag->rest.triangles.size() : 0);
     return rep;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -269,7 +293,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   file->set_attribute("status", "complete");
   file->close();
   fs::rename(part, final_h5);
-  write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times);
+  write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
+               scene.bag ? scene.bag->rest.triangles.size() : 0);
   fs::remove(ckpt);
 
   std::ostringstream j;
@@ -286,10 +311,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     j << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
       << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
       << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
-      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling << "},\n";
+      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling
+      << ", \"dissipated_damping\": " << e.dissipated_damping << "},\n";
   } else {
     j << "  \"energy\": null,\n  \"note\": \"output.energy = false: no energy budget was tallied\",\n";
   }
+  if (rep.bag)
+    j << "  \"bag\": {\"balls\": " << scene.bag->balls << ", \"film_triangles\": " << scene.bag->rest.triangles.size()
+      << ", \"packing_fraction\": " << rep.bag_packing << ", \"outer_m\": [" << rep.bag_outer.x() << ", "
+      << rep.bag_outer.y() << ", " << rep.bag_outer.z() << "]},\n";
   j << "  \"cycles_measured\": " << rep.cycles << ",\n"
     << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
   write_atomically(summary, j.str());

@@ -23,6 +23,8 @@ class CaseReader {
   const std::string& file() const { return file_; }
   const toml::table& root() const { return root_; }
   bool has(const std::string& key) const;
+  // The value at key is a string (false when absent).
+  bool is_string(const std::string& key) const;
   // Child keys of a table (e.g. the material names under "materials"); marks the table as read.
   std::vector<std::string> keys(const std::string& table) const;
   // Number of elements of an array (of tables) at key, 0 if absent.

@@ -26,6 +26,9 @@ void resolve_cavity(const CaseReader& in, Scene& s, int material);
 // particle_fill.cpp: [particles.<group>] -> ParticleInit list (explicit, file, or generated).
 void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::string>& material_names);
 
+// bag.cpp: [bag] -> Scene::bag (film, strings) and the bag's balls appended to Scene::particles.
+void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>& material_names);
+
 // timestep.cpp: the time step (auto or explicit, checked against the critical step).
 void resolve_timestep(const CaseReader& in, Scene& s);
 

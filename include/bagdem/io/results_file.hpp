@@ -18,11 +18,15 @@
 //                          attribute "interval" (s)
 //   /energy/time           [E]            s
 //   /energy/<name>         [E]            J   for name in EnergySample (see below)
+//   /film/triangles        [T, 3]         int (unit "1") a bag run's film: node indices of its
+//                                             triangles, counter-clockwise seen from outside
+//   /film/position         [F, V, 3]      m   the film's V nodes at each frame of /frames/time
 // Datasets are chunked and extendible; the file is flushed after each frame so that a killed run
 // leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded.
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,7 +36,7 @@ namespace bagdem {
 
 // One row of the energy budget (unit: J). Balance: work_cavity + work_gravity =
 // (kinetic + elastic) - (kinetic + elastic at t = 0) + dissipated_normal + dissipated_tangential
-// + dissipated_rolling.
+// + dissipated_rolling + dissipated_damping (= dissipated()).
 struct EnergySample {
   double kinetic = 0;               // translational + rotational
   double elastic = 0;               // stored in contact springs (normal, tangential, rolling)
@@ -41,6 +45,8 @@ struct EnergySample {
   double dissipated_normal = 0;     // cumulative, normal damping
   double dissipated_tangential = 0; // cumulative, tangential damping and sliding
   double dissipated_rolling = 0;    // cumulative, rolling resistance
+  double dissipated_damping = 0;    // cumulative, the bag's film damping and its strings' dampers
+  double dissipated() const { return dissipated_normal + dissipated_tangential + dissipated_rolling + dissipated_damping; }
 };
 
 // Lengths of the time series written so far (stored in checkpoints; resume truncates to them).
@@ -66,6 +72,15 @@ class ResultsFile {
 
   void append_frame(double t, const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
                     const std::vector<Vec3>& angular_velocity);
+  // A bag run: writes /film/triangles and creates /film/position for `nodes` film nodes. Call it
+  // before the first frame; on a file that already has the film (reopened) it only checks that
+  // it is the same. Throws std::invalid_argument for a node index out of range or a film other
+  // than the file's, std::logic_error when frames were written without a film.
+  void write_film(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nodes);
+  // The film's nodes at the frame just appended: call it right after each append_frame (which
+  // throws std::logic_error when the previous frame has no film frame). Flushes the file.
+  void append_film_frame(const std::vector<Vec3>& position);
+
   void append_cavity(double t, const Vec3& position, const Vec3& velocity, const Vec3& mean_force,
                      const Vec3& mean_torque);
   void append_energy(double t, const EnergySample& e);
@@ -83,7 +98,11 @@ class ResultsFile {
 // Writes an XDMF 3 file at `xmf_path` that lets ParaView open the particle frames of the HDF5 file
 // `h5_name` (a path relative to the XDMF file): a temporal collection of polyvertex grids with
 // attributes velocity, angular_velocity, radius and material. `times` are the frame times.
+// With a film (film_nodes and film_triangles > 0: the sizes given to write_film), each time step
+// is instead a spatial collection of two grids: "particles" (as above) and "film" (triangles, its
+// nodes at that frame).
 void write_xdmf(const std::string& xmf_path, const std::string& h5_name, std::size_t n_particles,
-                const std::vector<double>& times);
+                const std::vector<double>& times, std::size_t film_nodes = 0,
+                std::size_t film_triangles = 0);
 
 }  // namespace bagdem

@@ -30,6 +30,9 @@ struct RunReport {
   double energy_balance_error = 0;     // relative, see summary.json
   double dissipated_per_cycle = 0;     // J, harmonic motion only (measured part)
   double cycles = 0;
+  bool bag = false;                    // the scene has a bag: the figures below are set
+  double bag_packing = 0;              // its packing fraction when settling ended
+  Vec3 bag_outer = Vec3::Zero();       // its outer length, width, height then (m)
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that

@@ -1,0 +1,213 @@
+// Stage 6 of the step: the bag's film. Its nodes carry gravity, the membrane's elastic and damping
+// forces (bag/membrane.hpp), their contacts with the cavity walls, the strings' pull, and the
+// loads of the balls' film contacts (stepper_meshes.cpp), summed in a fixed order (node by node;
+// the balls' loads in ball order), so results do not depend on the thread count.
+//
+// Film-wall contact: each node is the centre of a small patch of film of half thickness t/2; it
+// touches a wall when closer than t/2 to it, with the Hertz-Mindlin law of the film's and the
+// wall's materials, R* = bag.film.contact_radius and m* = the node's mass. (A penalty with the
+// right scales: the film is thin, the patch radius sets the stiffness; what the balls feel through
+// the film is the ball-film law.) Its force on the cavity enters the cavity's load and work.
+// Strings: bag/bag.hpp (BagString); tension T = k (L - L0) + c dL/dt while L > L0, never negative.
+#include <algorithm>
+#include <cmath>
+
+#include "bagdem/contact/hertz.hpp"
+#include "bagdem/stepper.hpp"
+#include "stepper_detail.hpp"
+
+namespace bagdem {
+
+void Simulation::set_up_film() {
+  if (!scene_.bag) return;
+  const Bag& bag = *scene_.bag;
+  membrane_ = std::make_unique<Membrane>(bag.rest, bag.film);
+  const std::size_t nn = bag.x0.size();
+  film_.x = bag.x0;
+  film_.v.assign(nn, Vec3::Zero());
+  film_.v_pred = film_.v;
+  film_.f.assign(nn, Vec3::Zero());
+  film_.f_damp.assign(nn, Vec3::Zero());
+  film_.f_damp_prev.assign(nn, Vec3::Zero());
+  film_.wall_force_prev.assign(nn, Vec3::Zero());
+  film_.mass.resize(nn);
+  film_.inv_mass.resize(nn);
+  for (std::size_t k = 0; k < nn; ++k) {
+    film_.mass[k] = membrane_->node_mass()[k] * bag.mass_scaling;
+    film_.inv_mass[k] = 1.0 / film_.mass[k];
+  }
+  const std::size_t nw = scene_.walls.size();
+  film_wall_tan_.assign(scene_.models.tangential ? nn * nw : 0, {});
+  film_wall_damping_prev_.assign(scene_.models.energy ? nn * nw : 0, 0.0);
+  film_wall_touch_.assign(nn, 0);
+  strings_.assign(bag.strings.size(), {});
+}
+
+void Simulation::film_stage() {
+  if (!scene_.bag) return;
+  const Bag& bag = *scene_.bag;
+  const std::size_t nn = film_.size();
+  const bool gravity = scene_.models.gravity;
+#pragma omp parallel for schedule(static) if (nn > kParallelMin)
+  for (std::size_t k = 0; k < nn; ++k) {
+    film_.f[k] = gravity ? Vec3(film_.mass[k] * scene_.gravity) : Vec3::Zero();
+    film_.f_damp[k].setZero();
+  }
+  // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
+  membrane_->add_forces(film_.x, film_.v_pred, film_.f, film_.f_damp);
+  with_flags([this]<bool T, bool E>() { film_walls<T, E>(); }, scene_.models.tangential, scene_.models.energy);
+
+  // Strings, from the tie's mean position to the anchor moving with the cavity.
+  const double dt = dt_step_;
+  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : cavity_.velocity;
+  for (std::size_t s = 0; s < bag.strings.size(); ++s) {
+    const BagString& st = bag.strings[s];
+    Vec3 c(0, 0, 0), vc(0, 0, 0), vc_half(0, 0, 0);
+    for (std::uint32_t k : st.nodes) {
+      c += film_.x[k];
+      vc += film_.v_pred[k];
+      vc_half += film_.v[k];
+    }
+    const double inv_n = 1.0 / static_cast<double>(st.nodes.size());
+    c *= inv_n, vc *= inv_n, vc_half *= inv_n;
+    const Vec3 d = st.anchor + cavity_.position - c;
+    const double L = d.norm();
+    StringState& state = strings_[s];
+    double tension = 0, damping = 0;
+    Vec3 u = L > 0 ? Vec3(d / L) : Vec3::Zero();
+    if (L > st.rest_length) {
+      const double elastic = st.stiffness * (L - st.rest_length);
+      tension = std::max(0.0, elastic + st.damping * (cavity_.velocity - vc).dot(u));
+      damping = tension - elastic;
+    }
+    const Vec3 pull = tension * u;  // on the tie, towards the anchor (on the cavity: -pull)
+    for (std::uint32_t k : st.nodes) film_.f[k] += inv_n * pull;
+    if (scene_.models.energy) {
+      film_tally_.diss_damping += 0.5 * (damping + state.damping_prev) * (c_half - vc_half).dot(u) * dt;
+      film_tally_.work_cavity += 0.5 * (pull + state.pull_prev).dot(cavity_.position - cavity_prev_.position);
+    }
+    state.damping_prev = damping;
+    state.pull_prev = pull;
+    film_tally_.impulse -= dt * pull;
+    film_tally_.ang_impulse -= dt * (st.anchor - scene_.cavity_reference).cross(pull);
+  }
+
+  // The balls' loads, ball by ball.
+  constexpr std::size_t K = kMaxMeshContacts;
+  for (std::size_t p = 0; p < p_.size(); ++p) {
+    for (std::size_t s = 0; s < slot_count_[p]; ++s) {
+      if (!surfaces_[slots_[p * K + s].surface].film) continue;
+      const FilmLoad& load = film_load_[p * K + s];
+      const auto& tri = bag.rest.triangles[load.triangle];
+      for (int a = 0; a < 3; ++a) film_.f[tri[a]] += load.weights[a] * load.force;
+    }
+  }
+
+  // Membrane damping joins the force; its work over the step is tallied as dissipation.
+  double diss = 0;
+  for (std::size_t k = 0; k < nn; ++k) {
+    film_.f[k] += film_.f_damp[k];
+    if (scene_.models.energy) diss -= 0.5 * (film_.f_damp[k] + film_.f_damp_prev[k]).dot(film_.v[k]) * dt;
+    film_.f_damp_prev[k] = film_.f_damp[k];
+  }
+  film_tally_.diss_damping += diss;
+}
+
+// Film nodes against the cavity's walls (planes, cylinders).
+template <bool Tangential, bool Energy>
+void Simulation::film_walls() {
+  const Bag& bag = *scene_.bag;
+  const std::size_t nn = film_.size(), nw = scene_.walls.size();
+  const double dt = dt_step_;
+  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
+  const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;
+  const double reach = 0.5 * bag.film.thickness;
+  double work = 0, dn = 0, dtg = 0, deepest = 1e300;
+  Vec3 J(0, 0, 0), L(0, 0, 0);
+  for (std::size_t k = 0; k < nn; ++k) {
+    const Vec3 x_local = film_.x[k] - c_pos;
+    Vec3 F_wall(0, 0, 0);
+    const std::uint32_t touched_before = film_wall_touch_[k];
+    std::uint32_t touched = 0;
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Wall& wall = scene_.walls[w];
+      ContactGeometry g;
+      const double d = wall_distance(wall, x_local, g.n);
+      deepest = std::min(deepest, d);
+      g.overlap = reach - d;
+      const std::size_t h = k * nw + w;
+      if (g.overlap <= 0) {
+        if (touched_before & (1u << w)) {
+          if constexpr (Energy) {
+            const Vec3 dd = closing_tally<Tangential, false>(g.n, film_.v[k] - c_half, Vec3::Zero(), dt,
+                                                             film_wall_damping_prev_[h],
+                                                             Tangential ? &film_wall_tan_[h] : nullptr, nullptr);
+            dn += dd.x(), dtg += dd.y();
+            film_wall_damping_prev_[h] = 0.0;
+          }
+          if constexpr (Tangential) film_wall_tan_[h] = {};
+        }
+        continue;
+      }
+      touched |= 1u << w;
+      g.R_eff = bag.contact_radius;
+      g.m_eff = film_.mass[k];
+      g.arm_i = g.arm_j = 0;
+      g.v_rel = film_.v_pred[k] - c_vel;
+      g.v_half = film_.v[k] - c_half;
+      g.w_half.setZero();
+      const PairLaw& law = scene_.laws(bag.material, wall.material);
+      const NormalResult nr = hertz_normal(g, law);
+      Vec3 Fc = nr.force * g.n;
+      if constexpr (Energy) dn += normal_dissipation(nr, g.v_half.dot(g.n), dt, film_wall_damping_prev_[h]);
+      if constexpr (Tangential) {
+        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, film_wall_tan_[h]);
+        Fc += tr.force;
+        if constexpr (Energy) dtg += tr.dissipated;
+      }
+      F_wall += Fc;
+      L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+    }
+    film_wall_touch_[k] = touched;
+    film_.f[k] += F_wall;
+    J -= dt * F_wall;
+    if constexpr (Energy) {
+      work += 0.5 * (F_wall + film_.wall_force_prev[k]).dot(c_step);
+      film_.wall_force_prev[k] = F_wall;
+    }
+  }
+  film_tally_.impulse += J;
+  film_tally_.ang_impulse += L;
+  film_tally_.work_cavity += work;
+  film_tally_.diss_normal += dn;
+  film_tally_.diss_tangential += dtg;
+  film_deepest_ = deepest;
+}
+
+// Elastic energy held by the film: membrane and bending, strings, film-wall contacts.
+double Simulation::film_elastic_energy() const {
+  if (!scene_.bag) return 0.0;
+  const Bag& bag = *scene_.bag;
+  double u = membrane_->elastic_energy(film_.x);
+  for (std::size_t s = 0; s < bag.strings.size(); ++s) {
+    const BagString& st = bag.strings[s];
+    Vec3 c(0, 0, 0);
+    for (std::uint32_t k : st.nodes) c += film_.x[k];
+    c /= static_cast<double>(st.nodes.size());
+    const double L = (st.anchor + cavity_.position - c).norm();
+    if (L > st.rest_length) u += 0.5 * st.stiffness * (L - st.rest_length) * (L - st.rest_length);
+  }
+  const std::size_t nw = scene_.walls.size();
+  for (std::size_t k = 0; k < film_.size(); ++k)
+    for (std::size_t w = 0; w < nw; ++w) {
+      Vec3 n;
+      const double overlap = 0.5 * bag.film.thickness - wall_distance(scene_.walls[w], film_.x[k] - cavity_.position, n);
+      if (overlap <= 0) continue;
+      u += hertz_energy(scene_.laws(bag.material, scene_.walls[w].material), bag.contact_radius, overlap);
+      if (scene_.models.tangential) u += mindlin_energy(film_wall_tan_[k * nw + w]);
+    }
+  return u;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,271 @@
+// Balls against triangulated surfaces: the bag's film (deformable, surface 0 when there is a bag)
+// and STL walls (rigid, moving with the cavity). Part of stage 5 (gather_walls) of stepper.hpp.
+//
+// Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
+// one-contact-per-feature rule, so a ball on a flat triangulation has the one contact it would have
+// with the plane. A ball is on one side of a surface for the whole run (side_: inside the film for
+// the bag's balls, inside an STL cavity always); the normal points to that side, and a centre found
+// beyond the mid-surface stops the run (guards).
+// Law: the pair law of the ball's and the surface's materials (Hertz-Mindlin with restitution
+// damping), with the film's half thickness added to the reach, R* = the ball's radius (a flat
+// triangle), and m* from the ball's mass and the contact point's effective mass on the film,
+// 1/m_s = sum_k w_k^2 / m_k over the triangle's nodes (w: barycentric weights; the exact inverse
+// mass of a point tied to three particles). A rigid wall has 1/m_s = 0, so as the film's nodes get
+// heavy (or a wall is meshed) the law is exactly the ball-wall law.
+// The force on the film at the contact point goes to its nodes by the barycentric weights: the
+// exact derivative of the overlap with respect to the node positions, so the pair is conservative.
+// Histories: each contact is a slot of its ball, keyed by surface and feature. A contact that moves
+// to a neighbouring feature (face -> edge -> next face across a shared edge) takes over the history
+// of the slot it came from (the closed slot of the same surface with the most aligned normal), so
+// friction springs survive grazing motion across a triangulation as they do on a plane.
+#include <algorithm>
+#include <cmath>
+
+#include "bagdem/contact/hertz.hpp"
+#include "bagdem/contact/sphere_triangle.hpp"
+#include "bagdem/stepper.hpp"
+#include "stepper_detail.hpp"
+
+namespace bagdem {
+
+void Simulation::set_up_meshes() {
+  surfaces_.clear();
+  if (scene_.bag) surfaces_.push_back({&scene_.bag->rest, true, scene_.bag->material, 0.5 * scene_.bag->film.thickness});
+  for (const MeshWall& w : scene_.mesh_walls) surfaces_.push_back({&w.mesh, false, w.material, 0.0});
+  if (surfaces_.empty()) return;
+  const std::size_t n = p_.size();
+  slots_.assign(n * kMaxMeshContacts, MeshSlot{});
+  slot_count_.assign(n, 0);
+  film_load_.assign(n * kMaxMeshContacts, FilmLoad{});
+  side_.assign(n, -1);
+  if (scene_.bag) {
+    // The bag's balls are inside its film; any other ball is on the side where it starts.
+    const Bag& bag = *scene_.bag;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool in_bag = i >= bag.ball_first && i < bag.ball_first + bag.balls;
+      side_[i] = in_bag || winding_number(bag.rest, film_.x, p_.x[i]) > 0.5 ? -1 : 1;
+    }
+  }
+  mesh_cand_.assign(surfaces_.size(), {});
+}
+
+// From the positions of a build (the current ones, or those stored in a checkpoint).
+void Simulation::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    const Surface& sf = surfaces_[s];
+    if (sf.film) find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_cand_[s]);
+    else find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_cand_[s]);
+  }
+  cavity_at_build_ = cavity;
+  if (&film != &film_at_build_) film_at_build_ = film;
+}
+
+// The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the
+// cavity; those of the film while no ball and no film node moved more than skin/2.
+bool Simulation::meshes_need_rebuild() const {
+  if (surfaces_.empty()) return false;
+  const double limit2 = 0.25 * scene_.skin * scene_.skin;
+  if (!scene_.mesh_walls.empty()) {
+    const Vec3 dc = cavity_.position - cavity_at_build_;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if ((p_.x[i] - x_at_build_[i] - dc).squaredNorm() > limit2) return true;
+  }
+  for (std::size_t k = 0; k < film_.size(); ++k)
+    if ((film_.x[k] - film_at_build_[k]).squaredNorm() > limit2) return true;
+  return false;
+}
+
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
+                               double& excess) {
+  constexpr std::size_t K = kMaxMeshContacts;
+  const double dt = dt_step_;
+  const double r = p_.radius[p];
+  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
+  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : c_vel;
+
+  // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
+  struct Found {
+    std::uint32_t surface;
+    MeshHit hit;
+    Vec3 n;
+    double overlap;
+    int from;  // slot of the previous step whose history it continues (-1: new)
+  };
+  Found found[K];
+  std::size_t nf = 0;
+  thread_local std::vector<MeshHit> hits;
+  for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
+    const Surface& sf = surfaces_[s];
+    const MeshCandidates& cand = mesh_cand_[s];
+    if (cand.begin[p] == cand.begin[p + 1]) continue;
+    const std::vector<Vec3>& vx = sf.film ? film_.x : sf.mesh->vertices;
+    const Vec3 x = sf.film ? p_.x[p] : Vec3(p_.x[p] - c_pos);
+    const double reach = r + sf.reach;
+    hits.clear();
+    for (std::uint32_t e = cand.begin[p]; e < cand.begin[p + 1]; ++e) {
+      const std::uint32_t t = cand.triangle[e];
+      const auto& tri = sf.mesh->triangles[t];
+      const TriangleHit h = closest_point_on_triangle(x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
+      if (h.distance2 < reach * reach) hits.push_back({t, 0, h});
+    }
+    if (hits.empty()) continue;
+    select_mesh_contacts(*sf.mesh, hits);
+    const double side = sf.film ? side_[p] : -1.0;
+    for (const MeshHit& mh : hits) {
+      const auto& tri = sf.mesh->triangles[mh.triangle];
+      const Vec3 normal = (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
+      const Vec3 d = x - mh.hit.point;
+      const double dist = std::sqrt(mh.hit.distance2);
+      // Which side of the surface the centre is on, by the touched triangle's normal (exact for a
+      // face; for an edge or vertex, right whenever the centre is in that feature's region on its
+      // own side).
+      const bool own_side = side * d.dot(normal) >= 0;
+      const Vec3 n = dist > 1e-12 * r ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal);
+      const double overlap = reach - (own_side ? dist : -dist);
+      if (!own_side && sf.film) {
+#pragma omp critical(bagdem_crossed)
+        if (crossed_ == static_cast<std::size_t>(-1) || dist > crossed_depth_) {
+          crossed_ = p;
+          crossed_depth_ = dist;
+        }
+      }
+      if (nf == K) {
+#pragma omp critical(bagdem_crossed)
+        mesh_overflow_ = p;
+        break;
+      }
+      found[nf++] = {s, mh, n, overlap, -1};
+    }
+  }
+
+  // 2. Histories: the same feature keeps its slot; a new feature takes over the closed slot of the
+  // same surface whose normal is closest to its own (within 60 degrees).
+  MeshSlot* slot = &slots_[p * K];
+  const std::size_t n_prev = slot_count_[p];
+  bool taken[K] = {};
+  for (std::size_t f = 0; f < nf; ++f)
+    for (std::size_t k = 0; k < n_prev; ++k)
+      if (!taken[k] && slot[k].surface == found[f].surface && slot[k].key == found[f].hit.key) {
+        found[f].from = static_cast<int>(k);
+        taken[k] = true;
+        break;
+      }
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (found[f].from >= 0) continue;
+    double best = 0.5;
+    for (std::size_t k = 0; k < n_prev; ++k) {
+      if (taken[k] || slot[k].surface != found[f].surface) continue;
+      const double c = slot[k].n.dot(found[f].n);
+      if (c > best) {
+        best = c;
+        found[f].from = static_cast<int>(k);
+      }
+    }
+    if (found[f].from >= 0) taken[found[f].from] = true;
+  }
+  MeshSlot prev[K];
+  std::copy(slot, slot + n_prev, prev);
+  // Slots closed for good: tally what they still held.
+  if constexpr (Energy) {
+    for (std::size_t k = 0; k < n_prev; ++k) {
+      if (taken[k]) continue;
+      const Vec3 v_c = p_.v[p] - prev[k].surface_velocity - r * p_.w[p].cross(prev[k].n);
+      diss += closing_tally<Tangential, Rolling>(prev[k].n, v_c, p_.w[p], dt, prev[k].damping_prev,
+                                                 Tangential ? &prev[k].tangential : nullptr,
+                                                 Rolling ? &prev[k].rolling : nullptr);
+    }
+  }
+
+  // 3. The contact law, as for a wall, with the surface point's velocity and effective mass.
+  const PairLawTable& laws = scene_.laws;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Found& fd = found[f];
+    const Surface& sf = surfaces_[fd.surface];
+    MeshSlot& s = slot[f];
+    s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
+    s.surface = fd.surface;
+    s.key = fd.hit.key;
+    s.n = fd.n;
+    s.overlap = fd.overlap;
+    ContactGeometry g;
+    g.n = fd.n;
+    g.overlap = fd.overlap;
+    g.R_eff = r;
+    g.arm_i = r - 0.5 * fd.overlap;
+    g.arm_j = 0;
+    Vec3 vs_end = c_vel, vs_half = c_half;
+    double inv_m = p_.inv_mass[p];
+    const auto& tri = sf.mesh->triangles[fd.hit.triangle];
+    const Vec3& w = fd.hit.hit.weights;
+    if (sf.film) {
+      vs_end = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
+      vs_half = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
+      inv_m += w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
+               w[2] * w[2] * film_.inv_mass[tri[2]];
+    }
+    g.m_eff = 1.0 / inv_m;
+    s.surface_velocity = vs_half;
+    if constexpr (Tangential || Rolling) {
+      g.v_rel = contact_velocity(p_.v_pred[p], vs_end, p_.w_pred[p], Vec3::Zero(), g);
+      g.v_half = contact_velocity(p_.v[p], vs_half, p_.w[p], Vec3::Zero(), g);
+      g.w_half = p_.w[p];
+    } else {
+      g.v_rel = p_.v_pred[p] - vs_end;
+      g.v_half = p_.v[p] - vs_half;
+    }
+    const PairLaw& law = laws(p_.material[p], sf.material);
+    const NormalResult nr = hertz_normal(g, law);
+    Vec3 Fc = nr.force * g.n;
+    if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, s.damping_prev);
+    if constexpr (Tangential) {
+      const TangentialResult tr = mindlin_tangential(g, law, nr, dt, s.tangential);
+      Fc += tr.force;
+      T -= g.arm_i * g.n.cross(tr.force);
+      if constexpr (Energy) diss.y() += tr.dissipated;
+    }
+    if constexpr (Rolling) {
+      const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, s.rolling);
+      T += rr.torque;
+      if constexpr (Energy) diss.z() += rr.dissipated;
+    }
+    F += Fc;
+    excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
+    if (sf.film) {
+      film_load_[p * K + f] = {-Fc, w, fd.hit.triangle};
+    } else {
+      F_cavity += Fc;
+      T_cavity -= (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
+    }
+  }
+  slot_count_[p] = static_cast<std::uint8_t>(nf);
+}
+
+#define BAGDEM_MESH_CONTACTS(T, R, E)                                                                       \
+  template void Simulation::mesh_contacts<T, R, E>(std::size_t, Vec3&, Vec3&, Vec3&, Vec3&, Vec3&, double&);
+BAGDEM_MESH_CONTACTS(false, false, false)
+BAGDEM_MESH_CONTACTS(false, false, true)
+BAGDEM_MESH_CONTACTS(false, true, false)
+BAGDEM_MESH_CONTACTS(false, true, true)
+BAGDEM_MESH_CONTACTS(true, false, false)
+BAGDEM_MESH_CONTACTS(true, false, true)
+BAGDEM_MESH_CONTACTS(true, true, false)
+BAGDEM_MESH_CONTACTS(true, true, true)
+#undef BAGDEM_MESH_CONTACTS
+
+std::size_t Simulation::mesh_contact_count() const {
+  std::size_t c = 0;
+  for (std::uint8_t k : slot_count_) c += k;
+  return c;
+}
+
+std::vector<std::size_t> Simulation::balls_outside_bag() const {
+  std::vector<std::size_t> out;
+  if (!scene_.bag) return out;
+  const Bag& bag = *scene_.bag;
+  for (std::size_t i = bag.ball_first; i < bag.ball_first + bag.balls; ++i)
+    if (winding_number(bag.rest, film_.x, p_.x[i]) < 0.5) out.push_back(i);
+  return out;
+}
+
+}  // namespace bagdem

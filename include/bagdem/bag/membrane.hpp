@@ -16,7 +16,9 @@
 // normals of its two triangles, theta_0 at rest, k_e = D |e|^2 / (A1 + A2) * 3, D = bending
 // stiffness (Grinspun et al., "Discrete Shells", SCA 2003); gradient of theta after Bridson,
 // Marino & Fedkiw, SCA 2003. For a film D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the
-// membrane's zero-energy modes and does not carry the balls.
+// membrane's zero-energy modes and does not carry the balls. (Measured: a sheet of right triangles
+// bent into a cylinder of curvature kappa stores 5.4-5.9 x D kappa^2 A / 2, tending to 6 as the
+// mesh is refined; the plate energy D kappa^2 A / 2 needs D / 6 here.)
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.
@@ -45,7 +47,9 @@ struct MembraneProperties {
 
 class Membrane {
  public:
-  // `mesh` with its topology built; its vertices are the rest (stress-free) shape.
+  // `mesh`: its vertices are the rest (stress-free) shape; its triangles must be consistently
+  // oriented, at most two on an edge, none degenerate (std::invalid_argument otherwise). The
+  // hinges come from the triangle list itself: the topology fields need not be built.
   Membrane(const TriangleMesh& mesh, const MembraneProperties& props);
 
   const MembraneProperties& properties() const { return props_; }
@@ -64,8 +68,8 @@ class Membrane {
   // the lumped-mass element matrices: an upper bound) (unit: rad/s).
   double max_frequency() const;
 
-  // Per-triangle state at x, for output and checks: 0 slack, 1 wrinkled, 2 taut; and the principal
-  // Green strains (e1 >= e2).
+  // Per-triangle state at x, for output and checks: 0 slack, 1 wrinkled, 2 taut (always 2 without
+  // the tension field); and the principal Green strains (e1 >= e2).
   struct TriangleState {
     std::uint8_t regime;
     double e1, e2;
@@ -79,16 +83,25 @@ class Membrane {
   std::vector<Eigen::Matrix2d> dm_inv_;    // inverse of the rest edge matrix in the triangle's 2-D frame
   std::vector<double> node_mass_;
   struct Hinge {
-    std::uint32_t v0, v1;  // the shared edge
-    std::uint32_t a, b;    // the opposite vertices of its two triangles
+    std::uint32_t v0, v1;  // the shared edge, in the order of the triangle (v0, v1, a)
+    std::uint32_t a, b;    // the opposite vertices of its two triangles (v0, v1, a) and (v1, v0, b)
     double theta0;         // rest angle (unit: rad)
     double k;              // stiffness k_e (unit: N m)
   };
   std::vector<Hinge> hinges_;
+  double max_frequency_ = 0;  // computed once from the rest shape (unit: rad/s)
   // Per-element records and the node gather CSR (see "Determinism" above).
   std::vector<std::array<Vec3, 3>> tri_elastic_, tri_damping_;
   std::vector<std::array<Vec3, 4>> hinge_force_;
-  std::vector<std::uint32_t> gather_begin_, gather_;  // per node: entries (record index << 2 | slot), see .cpp
+  std::vector<double> tri_energy_, hinge_energy_;  // (unit: J)
+  // Per node: entries (record index << 2 | slot), triangles and hinges in two lists, each in
+  // ascending record order.
+  std::vector<std::uint32_t> tri_gather_begin_, tri_gather_, hinge_gather_begin_, hinge_gather_;
+
+  void build_rest_frames(const std::vector<Vec3>& x0);
+  void build_hinges(const std::vector<Vec3>& x0);
+  void build_gather();
+  double compute_max_frequency(const std::vector<Vec3>& x0) const;
 };
 
 }  // namespace bagdem

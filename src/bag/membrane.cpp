@@ -1,0 +1,408 @@
+// See include/bagdem/bag/membrane.hpp for the model and its sources.
+#include "bagdem/bag/membrane.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace bagdem {
+
+namespace {
+
+// Element and node loops below this many items run on one thread (as the stepper's loops).
+constexpr std::size_t kParallelMin = 512;
+
+enum Regime : std::uint8_t { kSlack = 0, kWrinkled = 1, kTaut = 2 };
+
+// A symmetric 2x2 tensor in a triangle's 2-D frame; xy is the tensor (not engineering) shear.
+struct Sym2 {
+  double xx = 0, yy = 0, xy = 0;
+};
+
+BAGDEM_INLINE double contract(const Sym2& a, const Sym2& b) { return a.xx * b.xx + a.yy * b.yy + 2.0 * a.xy * b.xy; }
+BAGDEM_INLINE Sym2 scaled(const Sym2& a, double s) { return {s * a.xx, s * a.yy, s * a.xy}; }
+
+// The two columns of the 3x2 deformation gradient F = Ds Dm^-1, Ds = [x1 - x0, x2 - x0] (or of its
+// rate, from the node velocities).
+struct Gradient {
+  Vec3 c0, c1;
+};
+
+BAGDEM_INLINE Gradient deformation_gradient(const Vec3& d1, const Vec3& d2, const Eigen::Matrix2d& dm_inv) {
+  return {d1 * dm_inv(0, 0) + d2 * dm_inv(1, 0), d1 * dm_inv(0, 1) + d2 * dm_inv(1, 1)};
+}
+
+// Green-Lagrange strain (F^T F - I) / 2.
+BAGDEM_INLINE Sym2 green_strain(const Gradient& F) {
+  return {0.5 * (F.c0.squaredNorm() - 1.0), 0.5 * (F.c1.squaredNorm() - 1.0), 0.5 * F.c0.dot(F.c1)};
+}
+
+// Its rate sym(F^T dF/dt).
+BAGDEM_INLINE Sym2 strain_rate(const Gradient& F, const Gradient& dF) {
+  return {F.c0.dot(dF.c0), F.c1.dot(dF.c1), 0.5 * (F.c0.dot(dF.c1) + F.c1.dot(dF.c0))};
+}
+
+struct Principal {
+  double e1, e2;  // e1 >= e2
+};
+
+BAGDEM_INLINE Principal principal(const Sym2& e) {
+  const double m = 0.5 * (e.xx + e.yy), d = 0.5 * (e.xx - e.yy);
+  const double r = std::sqrt(d * d + e.xy * e.xy);
+  return {m + r, m - r};
+}
+
+// Plane-stress St. Venant-Kirchhoff with the tension-field relaxation.
+struct Law {
+  double E, nu, k;  // k = E / (1 - nu^2) (unit: Pa)
+  bool tension_field;
+
+  explicit Law(const MembraneProperties& p)
+      : E(p.youngs_modulus), nu(p.poisson_ratio), k(p.youngs_modulus / (1.0 - p.poisson_ratio * p.poisson_ratio)),
+        tension_field(p.tension_field) {}
+
+  // C is isotropic, so the taut law's principal stresses are k (e1 + nu e2) >= k (e2 + nu e1): the
+  // film is taut while the smaller one is not compressive.
+  BAGDEM_INLINE std::uint8_t regime(const Principal& p) const {
+    if (!tension_field) return kTaut;
+    if (p.e1 <= 0) return kSlack;
+    return p.e2 + nu * p.e1 >= 0 ? kTaut : kWrinkled;
+  }
+  BAGDEM_INLINE Sym2 taut(const Sym2& e) const {  // C : e
+    return {k * (e.xx + nu * e.yy), k * (e.yy + nu * e.xx), k * (1.0 - nu) * e.xy};
+  }
+};
+
+// Second Piola-Kirchhoff stress S = dpsi/dEg (unit: Pa), the energy density psi (unit: J/m^3) and,
+// when wrinkled, the projector n1 n1^T on the taut direction.
+struct Stress {
+  Sym2 S, P1;
+  double psi;
+  std::uint8_t regime;
+};
+
+// Wrinkled: psi = E e1^2 / 2 and S = E e1 n1 n1^T (de1/dEg = n1 n1^T). At the taut boundary
+// e2 = -nu e1 the taut psi = k (e1^2 + 2 nu e1 e2 + e2^2) / 2 = E e1^2 / 2 and its stress
+// k (e1 + nu e2) n1 n1^T + k (e2 + nu e1) n2 n2^T = E e1 n1 n1^T: energy and stress are continuous.
+BAGDEM_INLINE Stress stress(const Law& law, const Sym2& e) {
+  const Principal p = principal(e);
+  const std::uint8_t r = law.regime(p);
+  if (r == kTaut) {
+    const Sym2 S = law.taut(e);
+    return {S, {}, 0.5 * contract(S, e), r};
+  }
+  if (r == kSlack) return {{}, {}, 0.0, r};
+  // n1 n1^T = (Eg - e2 I) / (e1 - e2) (spectral decomposition; no angle needed). Wrinkled means
+  // e2 < -nu e1 < 0 < e1, so e1 - e2 > (1 + nu) e1 > 0.
+  const double inv = 1.0 / (p.e1 - p.e2);
+  const Sym2 P1{(e.xx - p.e2) * inv, (e.yy - p.e2) * inv, e.xy * inv};
+  const double s = law.E * p.e1;
+  return {scaled(P1, s), P1, 0.5 * s * p.e1, r};
+}
+
+// Kelvin-Voigt stress beta C : dEg/dt with the elastic stress's C: none when slack, uniaxial along
+// n1 when wrinkled. Its power -t A0 S_v : dEg/dt is never positive.
+BAGDEM_INLINE Sym2 viscous_stress(const Law& law, const Stress& st, const Sym2& rate, double beta) {
+  if (st.regime == kTaut) return scaled(law.taut(rate), beta);
+  if (st.regime == kSlack) return {};
+  return scaled(st.P1, beta * law.E * contract(st.P1, rate));
+}
+
+// Node forces of stress S: H = -t A0 F S Dm^-T, f1 and f2 its columns, f0 = -(f1 + f2) (the
+// derivative of t A0 psi with respect to Ds is t A0 F S Dm^-T).
+BAGDEM_INLINE std::array<Vec3, 3> node_forces(const Gradient& F, const Sym2& S, const Eigen::Matrix2d& dm_inv,
+                                              double tA0) {
+  const Vec3 p0 = F.c0 * S.xx + F.c1 * S.xy, p1 = F.c0 * S.xy + F.c1 * S.yy;  // columns of F S
+  const Vec3 f1 = -tA0 * (p0 * dm_inv(0, 0) + p1 * dm_inv(0, 1));
+  const Vec3 f2 = -tA0 * (p0 * dm_inv(1, 0) + p1 * dm_inv(1, 1));
+  return {-(f1 + f2), f1, f2};
+}
+
+// A hinge's angle and its gradient with respect to (x0, x1, xa, xb).
+//
+// theta: the signed angle between the normals nA = e x (xa - x0) of triangle (x0, x1, xa) and
+// nB = (xb - x0) x e of (x1, x0, xb), e = x1 - x0: positive where the surface is convex seen from the
+// side its normals point to, 0 when flat. From (sin, cos) by atan2, accurate near 0 and pi alike.
+//
+// Gradient (Bridson, Marino & Fedkiw, SCA 2003): a wing vertex moving along its triangle's normal by
+// d turns that triangle by d / h (h its height over the edge), flattening a convex hinge:
+// g_a = -|e| nA / |nA|^2. The edge vertices take the rest, split by where the wings project on the
+// edge (s = (x_w - x0) . e / |e|^2), so that the gradient is blind to translations and rotations.
+// A collapsed triangle (nA = 0) gives non-finite forces, which the stepper's guards report.
+struct HingeEval {
+  double theta;
+  std::array<Vec3, 4> grad;
+};
+
+BAGDEM_INLINE double hinge_angle(const Vec3& e, const Vec3& nA, const Vec3& nB, double le) {
+  const double s = nA.cross(nB).dot(e) / le, c = nA.dot(nB);  // |nA| |nB| (sin, cos)
+  // atan(s / c) is atan2 for c > 0 (|theta| < pi/2, every hinge of a smooth film) at half its cost.
+  return c > 0 ? std::atan(s / c) : std::atan2(s, c);
+}
+
+BAGDEM_INLINE double hinge_angle(const Vec3& x0, const Vec3& x1, const Vec3& xa, const Vec3& xb) {
+  const Vec3 e = x1 - x0;
+  return hinge_angle(e, e.cross(xa - x0), (xb - x0).cross(e), e.norm());
+}
+
+BAGDEM_INLINE HingeEval hinge_eval(const Vec3& x0, const Vec3& x1, const Vec3& xa, const Vec3& xb) {
+  const Vec3 e = x1 - x0, da = xa - x0, db = xb - x0;
+  const Vec3 nA = e.cross(da), nB = db.cross(e);
+  const double le2 = e.squaredNorm(), le = std::sqrt(le2);
+  const Vec3 ga = (-le / nA.squaredNorm()) * nA, gb = (-le / nB.squaredNorm()) * nB;
+  const double inv_le2 = 1.0 / le2, sa = da.dot(e) * inv_le2, sb = db.dot(e) * inv_le2;
+  return {hinge_angle(e, nA, nB, le), {-(1.0 - sa) * ga - (1.0 - sb) * gb, -sa * ga - sb * gb, ga, gb}};
+}
+
+// theta - theta0 in (-pi, pi]: the energy stays continuous if a hinge folds through +-pi.
+BAGDEM_INLINE double angle_change(double theta, double theta0) {
+  double d = theta - theta0;
+  if (d > std::numbers::pi) d -= 2.0 * std::numbers::pi;
+  else if (d <= -std::numbers::pi) d += 2.0 * std::numbers::pi;
+  return d;
+}
+
+void check_properties(const MembraneProperties& p) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("Membrane: " + what); };
+  if (!(p.youngs_modulus > 0)) fail("youngs_modulus must be > 0");
+  if (!(p.poisson_ratio > -1.0 && p.poisson_ratio <= 0.5)) fail("poisson_ratio must be in (-1, 0.5]");
+  if (!(p.thickness > 0)) fail("thickness must be > 0");
+  if (!(p.density > 0)) fail("density must be > 0");
+  if (!(p.bending_stiffness >= 0)) fail("bending_stiffness must be >= 0");
+  if (!(p.damping_time >= 0)) fail("damping_time must be >= 0");
+}
+
+// CSR of (record << 2 | slot) per node, in ascending record order.
+template <std::size_t N>
+void build_csr(std::size_t nodes, const std::vector<std::array<std::uint32_t, N>>& records,
+               std::vector<std::uint32_t>& begin, std::vector<std::uint32_t>& entries) {
+  begin.assign(nodes + 1, 0);
+  for (const auto& r : records)
+    for (std::uint32_t v : r) ++begin[v + 1];
+  for (std::size_t i = 0; i < nodes; ++i) begin[i + 1] += begin[i];
+  entries.resize(begin[nodes]);
+  std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
+  for (std::size_t r = 0; r < records.size(); ++r)
+    for (std::uint32_t s = 0; s < N; ++s) entries[fill[records[r][s]]++] = static_cast<std::uint32_t>(r << 2) | s;
+}
+
+}  // namespace
+
+Membrane::Membrane(const TriangleMesh& mesh, const MembraneProperties& props) : props_(props), tri_(mesh.triangles) {
+  check_properties(props);
+  if (mesh.vertices.size() >= (1u << 30) || tri_.size() >= (1u << 30))
+    throw std::invalid_argument("Membrane: mesh too large");
+  for (const auto& t : tri_)
+    for (std::uint32_t v : t)
+      if (v >= mesh.vertices.size()) throw std::invalid_argument("Membrane: vertex index out of range");
+  build_rest_frames(mesh.vertices);
+  build_hinges(mesh.vertices);
+  build_gather();
+  max_frequency_ = compute_max_frequency(mesh.vertices);
+}
+
+// Each triangle's 2-D frame: x along its first edge, y in its plane, so the rest edge matrix
+// Dm = [X1 - X0, X2 - X0] in that frame is upper triangular with a positive determinant 2 A0.
+void Membrane::build_rest_frames(const std::vector<Vec3>& x0) {
+  const std::size_t nt = tri_.size();
+  area0_.resize(nt);
+  dm_inv_.resize(nt);
+  node_mass_.assign(x0.size(), 0.0);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = tri_[i];
+    const Vec3 d1 = x0[t[1]] - x0[t[0]], d2 = x0[t[2]] - x0[t[0]];
+    const Vec3 n = d1.cross(d2);
+    const double l1 = d1.norm(), nn = n.norm();
+    // Repeated vertices or collinear ones (relative to the edge lengths) have no frame.
+    if (!(nn > 1e-12 * l1 * d2.norm()))
+      throw std::invalid_argument("Membrane: degenerate triangle " + std::to_string(i));
+    const Vec3 ex = d1 / l1, ey = (n / nn).cross(ex);
+    Eigen::Matrix2d dm;
+    dm << l1, d2.dot(ex), 0.0, d2.dot(ey);
+    dm_inv_[i] = dm.inverse();
+    area0_[i] = 0.5 * nn;
+    const double m = props_.density * props_.thickness * area0_[i] / 3.0;
+    for (std::uint32_t v : t) node_mass_[v] += m;
+  }
+  tri_elastic_.assign(nt, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  tri_damping_.assign(props_.damping_time > 0 ? nt : 0, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  tri_energy_.assign(nt, 0.0);
+}
+
+// Hinges from the triangle list: every directed edge (t[k], t[k+1]) keyed by its vertex pair,
+// sorted, so the two triangles of an interior edge come together (in a fixed order).
+void Membrane::build_hinges(const std::vector<Vec3>& x0) {
+  struct DirectedEdge {
+    std::uint64_t key;  // lower vertex << 32 | higher vertex
+    std::uint32_t tri, k;
+  };
+  std::vector<DirectedEdge> edges;
+  edges.reserve(3 * tri_.size());
+  for (std::uint32_t i = 0; i < tri_.size(); ++i)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = tri_[i][k], b = tri_[i][(k + 1) % 3];
+      edges.push_back({std::min(a, b) << 32 | std::max(a, b), i, k});
+    }
+  std::sort(edges.begin(), edges.end(), [](const DirectedEdge& p, const DirectedEdge& q) {
+    return p.key != q.key ? p.key < q.key : p.tri < q.tri;
+  });
+  hinges_.clear();
+  const double D = props_.bending_stiffness;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    if (j - i > 2) throw std::invalid_argument("Membrane: an edge shared by more than two triangles");
+    if (j - i == 2) {
+      const auto& A = tri_[edges[i].tri];
+      const auto& B = tri_[edges[i + 1].tri];
+      const std::uint32_t ka = edges[i].k, kb = edges[i + 1].k;
+      const Hinge h{A[ka], A[(ka + 1) % 3], A[(ka + 2) % 3], B[(kb + 2) % 3], 0.0, 0.0};
+      if (B[kb] != h.v1) throw std::invalid_argument("Membrane: inconsistent triangle orientation");
+      if (D > 0) hinges_.push_back(h);
+    }
+    i = j;
+  }
+  for (Hinge& h : hinges_) {
+    h.theta0 = hinge_angle(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]);
+    // k_e = 3 D |e|^2 / (A1 + A2) (Grinspun et al. 2003, with the header's convention).
+    const Vec3 e = x0[h.v1] - x0[h.v0];
+    const double a1 = 0.5 * e.cross(x0[h.a] - x0[h.v0]).norm(), a2 = 0.5 * e.cross(x0[h.b] - x0[h.v0]).norm();
+    h.k = 3.0 * D * e.squaredNorm() / (a1 + a2);
+  }
+  hinge_force_.assign(hinges_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  hinge_energy_.assign(hinges_.size(), 0.0);
+}
+
+void Membrane::build_gather() {
+  build_csr(nodes(), tri_, tri_gather_begin_, tri_gather_);
+  std::vector<std::array<std::uint32_t, 4>> hv(hinges_.size());
+  for (std::size_t i = 0; i < hinges_.size(); ++i) hv[i] = {hinges_[i].v0, hinges_[i].v1, hinges_[i].a, hinges_[i].b};
+  build_csr(nodes(), hv, hinge_gather_begin_, hinge_gather_);
+}
+
+// Gershgorin: every eigenvalue of M^-1 K lies in a disc centred on a diagonal entry with radius
+// the rest of its row, so omega^2 <= max over rows of sum_j |K_ij| / m_i. K is linearised at rest
+// (zero stress: no geometric stiffness; taut C, the stiffest regime), and each element's absolute
+// row sums are added, which bounds the assembled matrix's. Membrane element: K = t A0 B^T C B with
+// B the 3x9 map from node displacements to (dExx, dEyy, 2 dExy) (Belytschko et al. 2000, ch. 9).
+// Hinge: K = 2 k g g^T (g the angle's gradient; the (theta - theta0) term vanishes at rest).
+double Membrane::compute_max_frequency(const std::vector<Vec3>& x0) const {
+  std::vector<double> row(3 * nodes(), 0.0);
+  const Law law(props_);
+  Eigen::Matrix3d C;
+  C << law.k, law.k * law.nu, 0, law.k * law.nu, law.k, 0, 0, 0, law.k * (1 - law.nu) / 2;
+  for (std::size_t i = 0; i < tri_.size(); ++i) {
+    const auto& t = tri_[i];
+    const Vec3 d1 = x0[t[1]] - x0[t[0]], d2 = x0[t[2]] - x0[t[0]];
+    const Vec3 ex = d1.normalized(), ey = d1.cross(d2).normalized().cross(ex);
+    const Eigen::Matrix2d& g = dm_inv_[i];
+    const Eigen::Vector2d grad[3] = {-(g.row(0) + g.row(1)).transpose(), g.row(0).transpose(), g.row(1).transpose()};
+    Eigen::Matrix<double, 3, 9> B;
+    for (int a = 0; a < 3; ++a) {
+      B.block<1, 3>(0, 3 * a) = grad[a].x() * ex.transpose();
+      B.block<1, 3>(1, 3 * a) = grad[a].y() * ey.transpose();
+      B.block<1, 3>(2, 3 * a) = grad[a].y() * ex.transpose() + grad[a].x() * ey.transpose();
+    }
+    // lazyProduct: coefficient-wise products (Eigen's blocked GEMM path is overkill at 9 x 9).
+    const Eigen::Matrix<double, 3, 9> CB = C.lazyProduct(B);
+    const Eigen::Matrix<double, 9, 9> K = (props_.thickness * area0_[i]) * B.transpose().lazyProduct(CB);
+    for (int a = 0; a < 3; ++a)
+      for (int r = 0; r < 3; ++r) row[3 * t[a] + r] += K.row(3 * a + r).cwiseAbs().sum();
+  }
+  for (const Hinge& h : hinges_) {
+    const std::uint32_t v[4] = {h.v0, h.v1, h.a, h.b};
+    const auto g = hinge_eval(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
+    double gsum = 0;
+    for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
+    for (int s = 0; s < 4; ++s)
+      for (int r = 0; r < 3; ++r) row[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
+  }
+  double w2 = 0;
+  for (std::size_t i = 0; i < nodes(); ++i)
+    if (node_mass_[i] > 0)
+      for (int r = 0; r < 3; ++r) w2 = std::max(w2, row[3 * i + r] / node_mass_[i]);
+  return std::sqrt(w2);
+}
+
+double Membrane::max_frequency() const { return max_frequency_; }
+
+double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
+                            std::vector<Vec3>& f_damping) {
+  const std::size_t n = nodes(), nt = tri_.size(), nh = hinges_.size();
+  if (x.size() != n || v.size() != n || f_elastic.size() != n || f_damping.size() != n)
+    throw std::invalid_argument("Membrane::add_forces: every vector must have nodes() entries");
+  const Law law(props_);
+  const double t = props_.thickness, beta = props_.damping_time;
+  const bool damped = beta > 0;
+
+#pragma omp parallel for schedule(static) if (nt > kParallelMin)
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& tr = tri_[i];
+    const Gradient F = deformation_gradient(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], dm_inv_[i]);
+    const Stress st = stress(law, green_strain(F));
+    const double tA0 = t * area0_[i];
+    tri_energy_[i] = tA0 * st.psi;
+    tri_elastic_[i] = node_forces(F, st.S, dm_inv_[i], tA0);
+    if (damped) {
+      const Gradient dF = deformation_gradient(v[tr[1]] - v[tr[0]], v[tr[2]] - v[tr[0]], dm_inv_[i]);
+      tri_damping_[i] = node_forces(F, viscous_stress(law, st, strain_rate(F, dF), beta), dm_inv_[i], tA0);
+    }
+  }
+
+#pragma omp parallel for schedule(static) if (nh > kParallelMin)
+  for (std::size_t i = 0; i < nh; ++i) {
+    const Hinge& h = hinges_[i];
+    const HingeEval he = hinge_eval(x[h.v0], x[h.v1], x[h.a], x[h.b]);
+    const double d = angle_change(he.theta, h.theta0);
+    const double c = -2.0 * h.k * d;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx
+    hinge_energy_[i] = h.k * d * d;
+    hinge_force_[i] = {c * he.grad[0], c * he.grad[1], c * he.grad[2], c * he.grad[3]};
+  }
+
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 fe = Vec3::Zero(), fd = Vec3::Zero();
+    for (std::uint32_t k = tri_gather_begin_[i]; k < tri_gather_begin_[i + 1]; ++k) {
+      const std::uint32_t r = tri_gather_[k] >> 2, s = tri_gather_[k] & 3;
+      fe += tri_elastic_[r][s];
+      if (damped) fd += tri_damping_[r][s];
+    }
+    for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
+      fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
+    f_elastic[i] += fe;
+    if (damped) f_damping[i] += fd;
+  }
+
+  // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.
+  double energy = 0;
+  for (double e : tri_energy_) energy += e;
+  for (double e : hinge_energy_) energy += e;
+  return energy;
+}
+
+double Membrane::elastic_energy(const std::vector<Vec3>& x) const {
+  if (x.size() != nodes()) throw std::invalid_argument("Membrane::elastic_energy: x must have nodes() entries");
+  const Law law(props_);
+  double energy = 0;
+  for (std::size_t i = 0; i < tri_.size(); ++i) {
+    const auto& tr = tri_[i];
+    const Gradient F = deformation_gradient(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], dm_inv_[i]);
+    energy += props_.thickness * area0_[i] * stress(law, green_strain(F)).psi;
+  }
+  for (const Hinge& h : hinges_) {
+    const double d = angle_change(hinge_angle(x[h.v0], x[h.v1], x[h.a], x[h.b]), h.theta0);
+    energy += h.k * d * d;
+  }
+  return energy;
+}
+
+Membrane::TriangleState Membrane::triangle_state(const std::vector<Vec3>& x, std::size_t tri) const {
+  const auto& tr = tri_.at(tri);
+  const Gradient F = deformation_gradient(x.at(tr[1]) - x.at(tr[0]), x.at(tr[2]) - x.at(tr[0]), dm_inv_[tri]);
+  const Principal p = principal(green_strain(F));
+  return {Law(props_).regime(p), p.e1, p.e2};
+}
+
+}  // namespace bagdem

@@ -266,10 +266,10 @@ void Membrane::build_hinges(const std::vector<Vec3>& x0) {
   }
   for (Hinge& h : hinges_) {
     h.theta0 = hinge_angle(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]);
-    // k_e = 3 D |e|^2 / (A1 + A2) (Grinspun et al. 2003, with the header's convention).
+    // k_e = D |e|^2 / (2 (A1 + A2)) (Grinspun et al. 2003 edge weight; calibrated, see the header).
     const Vec3 e = x0[h.v1] - x0[h.v0];
     const double a1 = 0.5 * e.cross(x0[h.a] - x0[h.v0]).norm(), a2 = 0.5 * e.cross(x0[h.b] - x0[h.v0]).norm();
-    h.k = 3.0 * D * e.squaredNorm() / (a1 + a2);
+    h.k = 0.5 * D * e.squaredNorm() / (a1 + a2);
   }
   hinge_force_.assign(hinges_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   hinge_energy_.assign(hinges_.size(), 0.0);

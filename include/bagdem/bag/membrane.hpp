@@ -13,12 +13,13 @@
 // The relaxed energy is continuously differentiable, so forces stay conservative (Roddeman et al.,
 // J. Appl. Mech. 54, 1987; Mansfield's tension-field theory).
 // Bending: per interior edge, W_b = k_e (theta - theta_0)^2 with theta the angle between the
-// normals of its two triangles, theta_0 at rest, k_e = D |e|^2 / (A1 + A2) * 3, D = bending
-// stiffness (Grinspun et al., "Discrete Shells", SCA 2003); gradient of theta after Bridson,
-// Marino & Fedkiw, SCA 2003. For a film D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the
-// membrane's zero-energy modes and does not carry the balls. (Measured: a sheet of right triangles
-// bent into a cylinder of curvature kappa stores 5.4-5.9 x D kappa^2 A / 2, tending to 6 as the
-// mesh is refined; the plate energy D kappa^2 A / 2 needs D / 6 here.)
+// normals of its two triangles, theta_0 at rest, k_e = D |e|^2 / (2 (A1 + A2)), D = bending
+// stiffness (the edge weight |e|^2 / (A1 + A2) of Grinspun et al., "Discrete Shells", SCA 2003);
+// gradient of theta after Bridson, Marino & Fedkiw, SCA 2003. The constant 1/2 calibrates it to the
+// plate: a sheet of right triangles bent into a cylinder of curvature kappa stores 0.90-0.98 x the
+// plate energy D kappa^2 A / 2, tending to 1 as the mesh is refined (measured with 3 |e|^2/(A1+A2):
+// 5.4-5.9, tending to 6). For a film D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the
+// membrane's zero-energy modes and does not carry the balls.
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.

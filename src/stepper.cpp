@@ -44,6 +44,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
   pair_contacts();
   gather_walls();
+  triangle_contacts();
   film_stage();
   potential0_ = potential_energy();
   const EnergySample e0 = energy();
@@ -57,15 +58,45 @@ CavityState Simulation::cavity_at(double t) const {
 
 void Simulation::step() {
   dt_step_ = scene_.dt;
+  if (!profile_) {
+    kick_drift();
+    move_cavity();
+    update_neighbours(false);
+    pair_contacts();
+    gather_walls();
+    triangle_contacts();
+    film_stage();
+    kick();
+    ++step_;
+    guards();
+    return;
+  }
+  // The same stages, each timed.
+  double t = omp_get_wtime();
+  auto lap = [&t](double& into) {
+    const double now = omp_get_wtime();
+    into += now - t;
+    t = now;
+  };
   kick_drift();
   move_cavity();
+  lap(times_.integrate);
   update_neighbours(false);
+  lap(times_.neighbours);
   pair_contacts();
+  lap(times_.pairs);
   gather_walls();
+  lap(times_.walls);
+  triangle_contacts();
+  lap(times_.triangles);
   film_stage();
+  lap(times_.film);
   kick();
+  lap(times_.integrate);
   ++step_;
+  ++times_.steps;
   guards();
+  lap(times_.guards);
 }
 
 // ---- 1. kick_drift ------------------------------------------------------------------------------

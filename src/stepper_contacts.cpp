@@ -237,7 +237,6 @@ void Simulation::gather_walls_impl() {
       // Torque on the cavity about its reference point, from the contact point on the wall.
       T_cavity -= (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
     }
-    if (!surfaces_.empty()) mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_wall, T_cavity, excess);
     p_.f[p] = F;
     p_.t[p] = T;
     wall_touch_[p] = touched;

@@ -1,5 +1,5 @@
-// Balls against triangulated surfaces: the bag's film (deformable, surface 0 when there is a bag)
-// and STL walls (rigid, moving with the cavity). Part of stage 5 (gather_walls) of stepper.hpp.
+// Stage 6 of the step: balls against triangulated surfaces, the bag's film (deformable, surface 0
+// when there is a bag) and STL walls (rigid, moving with the cavity).
 //
 // Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
 // one-contact-per-feature rule, so a ball on a flat triangulation has the one contact it would have
@@ -47,6 +47,41 @@ void Simulation::set_up_meshes() {
     }
   }
   mesh_cand_.assign(surfaces_.size(), {});
+  mesh_force_prev_.assign(n, Vec3::Zero());
+}
+
+// ---- 6. triangles -------------------------------------------------------------------------------
+void Simulation::triangle_contacts() {
+  if (surfaces_.empty()) return;
+  with_flags([this]<bool T, bool R, bool E>() { triangle_contacts_impl<T, R, E>(); }, scene_.models.tangential,
+             scene_.models.rolling, scene_.models.energy);
+}
+
+// Each ball's contacts add to its force after its walls' (the same order for any thread count); the
+// STL walls' share enters the cavity's load and work as the analytic walls' does.
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::triangle_contacts_impl() {
+  const std::size_t n = p_.size();
+  const double dt = dt_step_;
+  const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  double excess = overlap_excess_;
+#pragma omp parallel for schedule(static) reduction(max : excess) if (n > kParallelMin)
+  for (std::size_t p = 0; p < n; ++p) {
+    Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0);
+    mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, excess);
+    p_.f[p] = F;
+    p_.t[p] = T;
+    tally_.wall_impulse[p] -= dt * F_cavity;
+    tally_.wall_ang_impulse[p] += dt * T_cavity;
+    if constexpr (Energy) {
+      tally_.work_cavity[p] += 0.5 * (F_cavity + mesh_force_prev_[p]).dot(c_step);
+      mesh_force_prev_[p] = F_cavity;
+      tally_.diss_normal[p] += diss.x();
+      tally_.diss_tangential[p] += diss.y();
+      tally_.diss_rolling[p] += diss.z();
+    }
+  }
+  overlap_excess_ = excess;
 }
 
 // From the positions of a build (the current ones, or those stored in a checkpoint).
@@ -241,17 +276,6 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
   slot_count_[p] = static_cast<std::uint8_t>(nf);
 }
 
-#define BAGDEM_MESH_CONTACTS(T, R, E)                                                                       \
-  template void Simulation::mesh_contacts<T, R, E>(std::size_t, Vec3&, Vec3&, Vec3&, Vec3&, Vec3&, double&);
-BAGDEM_MESH_CONTACTS(false, false, false)
-BAGDEM_MESH_CONTACTS(false, false, true)
-BAGDEM_MESH_CONTACTS(false, true, false)
-BAGDEM_MESH_CONTACTS(false, true, true)
-BAGDEM_MESH_CONTACTS(true, false, false)
-BAGDEM_MESH_CONTACTS(true, false, true)
-BAGDEM_MESH_CONTACTS(true, true, false)
-BAGDEM_MESH_CONTACTS(true, true, true)
-#undef BAGDEM_MESH_CONTACTS
 
 std::size_t Simulation::mesh_contact_count() const {
   std::size_t c = 0;

@@ -6,12 +6,13 @@
 //   3. neighbours      rebuild the Verlet pair list and the sphere-triangle candidate lists when a
 //                      ball or film node moved more than skin/2
 //   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
-//   5. gather_walls    each ball: sum its pair forces (partner order), then wall contacts, then its
-//                      triangle contacts (STL walls, the film: stepper_meshes.cpp)
-//   6. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
+//   5. gather_walls    each ball: sum its pair forces (partner order), then its wall contacts
+//   6. triangles       each ball: its contacts with triangulated surfaces, the bag's film and STL
+//                      walls (stepper_meshes.cpp)
+//   7. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
 //                      its nodes (stepper_film.cpp)
-//   7. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
-//   8. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
+//   8. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
+//   9. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
 // v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
@@ -122,6 +123,20 @@ class Simulation {
     Vec3 force = Vec3::Zero();     // (unit: N)
     Vec3 torque = Vec3::Zero();    // (unit: N m)
   };
+  // Wall-clock time spent in each stage since profiling was switched on (benchmarks; off by
+  // default: reading the clock costs about 1% of a small step).
+  struct StageTimes {
+    double integrate = 0;   // kick_drift + move_cavity + kick (balls and film nodes) (unit: s)
+    double neighbours = 0;  // pair list and triangle candidate lists
+    double pairs = 0;       // ball-ball contacts
+    double walls = 0;       // gathering pair forces, ball-wall contacts
+    double triangles = 0;   // ball-film and ball-STL contacts
+    double film = 0;        // membrane, strings, film-wall contacts, loads on the film
+    double guards = 0;
+    std::uint64_t steps = 0;
+  };
+  void set_profiling(bool on) { profile_ = on; }
+  const StageTimes& stage_times() const { return times_; }
   // Maximum number of triangle features one ball touches at once.
   static constexpr std::size_t kMaxMeshContacts = 8;
   CavitySample take_cavity_sample();
@@ -139,6 +154,9 @@ class Simulation {
   void derive_pair_buffers();
   void pair_contacts();
   void gather_walls();
+  void triangle_contacts();
+  template <bool Tangential, bool Rolling, bool Energy>
+  void triangle_contacts_impl();
   void film_stage();
   void kick();
   void guards();
@@ -217,6 +235,7 @@ class Simulation {
   std::vector<MeshSlot> slots_;               // per ball: kMaxMeshContacts slots
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
+  std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
   std::vector<std::int8_t> side_;             // per ball: -1 inside the film (or an STL wall), +1 outside
   Vec3 cavity_at_build_ = Vec3::Zero();
   std::vector<Vec3> film_at_build_;
@@ -245,6 +264,8 @@ class Simulation {
 
   double potential0_ = 0;                     // gravity potential energy at t = 0 (unit: J)
   double kinetic_elastic0_ = 0;               // kinetic + elastic energy at t = 0 (unit: J)
+  bool profile_ = false;
+  StageTimes times_;
   bool scatter_ = true;                       // pair forces scattered (one thread) or gathered
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
   bool all_finite_ = true;                    // every velocity finite (kick)

@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
   bench->add_option("--repeats", bench_opt.repeats, "Runs per point; the median is reported (default 3)");
   bench->add_option("--steps", bench_opt.step_scale, "Scale of the timed step counts (default 1)");
   bench->add_option("--energy", bench_opt.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
+  bench->add_flag("--bag", bench_opt.bag, "The bagged scene (cases/box-beanbag) instead: cost per step and its split between balls and film");
+  bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
+  bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -75,7 +78,7 @@ int main(int argc, char** argv) {
         std::printf("energy dissipated per cycle: %.4e J (over %.1f measured cycles)\n", r.dissipated_per_cycle, r.cycles);
       return 0;
     }
-    if (bench->parsed()) return run_bench(bench_opt);
+    if (bench->parsed()) return bench_opt.bag ? run_bag_bench(bench_opt) : run_bench(bench_opt);
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitInputError;

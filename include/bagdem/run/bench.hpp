@@ -17,8 +17,13 @@ struct BenchOptions {
   double step_scale = 1.0;  // multiplies the default timed step counts (1e6, 3e5, 4e4 for 1e2, 1e3, 1e4)
   std::string peers_dir;    // default: <source>/../shared/peers
   std::string case_dir;     // default: <source>/cases/pdbox
+  // The bagged scene instead (cases/box-beanbag at each film resolution): time per step and how it
+  // splits between the balls and the film.
+  bool bag = false;
+  std::vector<int> film_triangles{200, 800, 3200};
 };
 
 int run_bench(const BenchOptions& options);
+int run_bag_bench(const BenchOptions& options);
 
 }  // namespace bagdem

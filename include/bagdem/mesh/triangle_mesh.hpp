@@ -32,8 +32,15 @@ struct TriangleMesh {
 
 // Fills the topology. Throws std::invalid_argument for an edge shared by more than two triangles,
 // for two triangles sharing an edge with inconsistent orientation, for a degenerate triangle
-// (zero area or a repeated vertex) and for a vertex index out of range.
+// (zero area or a repeated vertex) and for a vertex index out of range. Vertex, edge and triangle
+// counts must stay below 2^30 (they are packed into feature keys with the feature kind). Vertices
+// where two surface sheets touch at a point only (a "bow tie") are not detected.
 void build_topology(TriangleMesh& mesh);
+
+// Zero area to rounding: |(b - a) x (c - a)| <= 1e-12 L^2, L the longest edge (a sliver whose height
+// is below 1e-12 of its length, or a repeated point). build_topology refuses such triangles and
+// read_stl drops them.
+bool degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Volume enclosed by a closed, outward-oriented surface with vertex positions x (divergence
 // theorem: sum over triangles of a . (b x c) / 6) (unit: m^3).

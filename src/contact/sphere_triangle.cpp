@@ -1,0 +1,91 @@
+// See include/bagdem/contact/sphere_triangle.hpp for the rule and why it has the agreement condition.
+#include "bagdem/contact/sphere_triangle.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+namespace bagdem {
+
+namespace {
+
+// Kind bits 3 (no feature has it) mark a hit to remove; the rule reads only triangle, feature and
+// local of other hits, so marking as we go does not change later decisions.
+constexpr std::uint32_t kDropped = 0xC0000000u;
+
+// The hit of triangle t, or nullptr (hits ascending by triangle: a binary search; a sphere rarely
+// has more than a few tens of hits).
+const MeshHit* hit_of(const std::vector<MeshHit>& hits, std::uint32_t t) {
+  const auto it =
+      std::lower_bound(hits.begin(), hits.end(), t, [](const MeshHit& h, std::uint32_t tri) { return h.triangle < tri; });
+  return it != hits.end() && it->triangle == t ? &*it : nullptr;
+}
+
+// Edge hit of triangle t on mesh edge e: kept when the edge's other triangle has no hit, reports
+// the same edge from a higher triangle index (once per edge: the lowest triangle's hit is kept), or
+// reports an end of the edge (rounding at the edge's ends). A face hit there (the documented rule),
+// another edge or its third vertex (the agreement condition) drop it.
+bool keep_edge(const TriangleMesh& mesh, const std::vector<MeshHit>& hits, std::uint32_t t, std::uint32_t e) {
+  const auto& et = mesh.edge_triangles[e];
+  const std::uint32_t other = et[0] == t ? et[1] : et[0];
+  if (other == kNoTriangle) return true;
+  const MeshHit* h = hit_of(hits, other);
+  if (h == nullptr) return true;
+  switch (h->hit.feature) {
+    case Feature::Face:
+      return false;
+    case Feature::Edge:
+      return mesh.triangle_edges[other][h->hit.local] == e && t < other;
+    case Feature::Vertex: {
+      const std::uint32_t u = mesh.triangles[other][h->hit.local];
+      return u == mesh.edge_vertices[e][0] || u == mesh.edge_vertices[e][1];
+    }
+  }
+  return false;
+}
+
+// Vertex hit of triangle t on mesh vertex v: kept when every triangle around v that has a hit
+// reports v itself (a face hit or an edge hit on one of v's edges is the documented rule; any
+// other feature, the agreement condition), and t is the lowest of them (once per vertex).
+bool keep_vertex(const TriangleMesh& mesh, const std::vector<MeshHit>& hits, std::uint32_t t, std::uint32_t v) {
+  for (std::uint32_t i = mesh.vertex_triangle_begin[v]; i < mesh.vertex_triangle_begin[v + 1]; ++i) {
+    const std::uint32_t s = mesh.vertex_triangles[i];
+    const MeshHit* h = hit_of(hits, s);
+    if (h == nullptr) continue;
+    if (h->hit.feature != Feature::Vertex || mesh.triangles[s][h->hit.local] != v) return false;
+    if (s < t) return false;  // an earlier triangle reports v: keep that one
+  }
+  return true;
+}
+
+}  // namespace
+
+void select_mesh_contacts(const TriangleMesh& mesh, std::vector<MeshHit>& hits) {
+  assert(std::is_sorted(hits.begin(), hits.end(), [](const MeshHit& a, const MeshHit& b) { return a.triangle < b.triangle; }));
+  for (MeshHit& h : hits) {
+    switch (h.hit.feature) {
+      case Feature::Face:
+        h.key = feature_key(Feature::Face, h.triangle);
+        break;
+      case Feature::Edge: {
+        const std::uint32_t e = mesh.triangle_edges[h.triangle][h.hit.local];
+        h.key = keep_edge(mesh, hits, h.triangle, e) ? feature_key(Feature::Edge, e) : kDropped;
+        break;
+      }
+      case Feature::Vertex: {
+        const std::uint32_t v = mesh.triangles[h.triangle][h.hit.local];
+        h.key = keep_vertex(mesh, hits, h.triangle, v) ? feature_key(Feature::Vertex, v) : kDropped;
+        break;
+      }
+    }
+  }
+  // In-place compaction (no allocation: this runs per ball per step).
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < hits.size(); ++i)
+    if (hits[i].key != kDropped) {
+      if (w != i) hits[w] = hits[i];
+      ++w;
+    }
+  hits.resize(w);
+}
+
+}  // namespace bagdem

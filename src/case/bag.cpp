@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -236,48 +237,66 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     b.fill_fraction = in.quantity("bag.fill_fraction", dim::none, 0.5);
     if (!(b.fill_fraction > 0 && b.fill_fraction < 0.7))
       in.fail("bag.fill_fraction", "must be in (0, 0.7): ball volume / bag volume when the bag is sized from its contents");
-    const double volume = ball_volume / b.fill_fraction + 0.0;
     const Vec3 height_dir = b.axis.cross(b.side);
+    // The shape at a given volume: a capsule keeps its radius and gets longer, a pillow keeps its
+    // proportions. Explicit dimensions are used as given.
+    std::function<void(double)> make;
+    bool sized = false;
     if (b.shape == "capsule") {
-      // Radius: given, or 40% of the cavity's smallest extent across the axis; length: given, or
-      // what holds the contents.
+      // Radius: given, or 40% of the cavity's smallest extent across the axis.
       const Vec3 ext = s.cavity_hi - s.cavity_lo;
       const double across = std::min(ext.dot(b.side.cwiseAbs()), ext.dot(height_dir.cwiseAbs()));
-      double radius = in.quantity("bag.radius", dim::length, 0.4 * across);
+      const double radius = in.quantity("bag.radius", dim::length, 0.4 * across);
       if (!(radius > 2 * r)) in.fail("bag.radius", "must be larger than a ball's diameter");
-      double length = 0;
+      double fixed_length = 0;
       if (in.has("bag.length")) {
-        length = in.quantity("bag.length", dim::length);
-        if (!(length >= 2 * radius)) in.fail("bag.length", "must be at least 2 x bag.radius (tip to tip)");
-      } else {
-        length = std::max(2 * radius, (volume - 4.0 / 3.0 * kPi * radius * radius * radius) / (kPi * radius * radius) + 2 * radius);
+        fixed_length = in.quantity("bag.length", dim::length);
+        if (!(fixed_length >= 2 * radius)) in.fail("bag.length", "must be at least 2 x bag.radius (tip to tip)");
       }
-      b.rest = capsule_mesh(centre, b.axis, radius, length, static_cast<std::size_t>(triangles));
-      b.size = Vec3(length, 2 * radius, 2 * radius);
+      sized = fixed_length == 0;
+      make = [&, radius, fixed_length](double volume) {
+        const double length = fixed_length > 0 ? fixed_length
+                                               : std::max(2 * radius, (volume - 4.0 / 3.0 * kPi * radius * radius * radius) /
+                                                                              (kPi * radius * radius) + 2 * radius);
+        b.rest = capsule_mesh(centre, b.axis, radius, length, static_cast<std::size_t>(triangles));
+        b.size = Vec3(length, 2 * radius, 2 * radius);
+      };
     } else {
       const double exponent = in.quantity("bag.exponent", dim::none, 4.0);
       if (!(exponent >= 2 && exponent <= 20)) in.fail("bag.exponent", "must be in [2, 20] (2 = ellipsoid, larger = boxier)");
-      Vec3 size;
+      Vec3 fixed_size = Vec3::Zero(), aspect(2.0, 1.0, 0.6);
       if (in.has("bag.size")) {
-        size = in.vector("bag.size", dim::length);
-        if (!(size.minCoeff() > 2 * d)) in.fail("bag.size", "every extent must exceed two ball diameters");
+        fixed_size = in.vector("bag.size", dim::length);
+        if (!(fixed_size.minCoeff() > 2 * d)) in.fail("bag.size", "every extent must exceed two ball diameters");
       } else {
-        const Vec3 aspect = in.vector("bag.aspect", dim::none, Vec3(2.0, 1.0, 0.6));
+        aspect = in.vector("bag.aspect", dim::none, aspect);
         if (!(aspect.minCoeff() > 0)) in.fail("bag.aspect", "must be three positive numbers (length, width, height)");
-        const double scale = std::cbrt(volume / superellipsoid_volume(0.5 * aspect, exponent));
-        size = scale * aspect;
       }
-      b.rest = pillow_mesh(centre, b.axis, b.side, size, exponent, static_cast<std::size_t>(triangles));
-      b.size = size;
+      sized = fixed_size.norm() == 0;
+      make = [&, exponent, fixed_size, aspect](double volume) {
+        const Vec3 size = sized ? Vec3(std::cbrt(volume / superellipsoid_volume(0.5 * aspect, exponent)) * aspect) : fixed_size;
+        b.rest = pillow_mesh(centre, b.axis, b.side, size, exponent, static_cast<std::size_t>(triangles));
+        b.size = size;
+      };
+    }
+    // Sized from the contents: the volume at fill_fraction, grown by 5% steps until the lattice
+    // holds every ball (a small bag loses much of its volume to the layer along the film).
+    double volume = ball_volume / b.fill_fraction;
+    std::vector<Vec3> sites;
+    for (int attempt = 0;; ++attempt) {
+      make(volume);
+      sites = lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
+      if (sites.size() >= n || !sized || attempt == 40) break;
+      volume *= 1.05;
     }
     b.x0 = b.rest.vertices;
     b.fill_fraction = ball_volume / enclosed_volume(b.rest, b.rest.vertices);
-    const std::vector<Vec3> sites = lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
     if (sites.size() < n) {
       std::ostringstream m;
       m << "asks for " << n << " balls, but the bag holds at most " << sites.size()
         << " on a lattice (bag volume " << enclosed_volume(b.rest, b.rest.vertices) * 1e6
-        << " cm^3); give a larger bag (bag.radius, bag.length or bag.size) or a smaller bag.fill_fraction";
+        << " cm^3); give a larger bag (bag.radius, bag.length or bag.size), or leave its length or size out so "
+           "that it is sized from its contents";
       in.fail(in.has("bag.balls.count") ? "bag.balls.count" : in.has("bag.balls.mass") ? "bag.balls.mass" : "bag.balls.mass_ratio", m.str());
     }
     b.ball_first = s.particles.size();

@@ -226,8 +226,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     file->set_attribute("settle_end", scene.settle);
     file->set_attribute("timestep", scene.dt);
     file->set_attribute("status", "running");
-    file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
     if (scene.bag) file->write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
+    file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
     film_frame(file);
     if (energy) file->append_energy(0, sim.energy());
     frame_times.push_back(0);

@@ -75,7 +75,7 @@ void Simulation::bag_state_fields(IO& io) {
   io.vec(film_.wall_force_prev), io.vec(film_wall_tan_), io.vec(film_wall_damping_prev_), io.vec(film_wall_touch_);
   io.vec(strings_), io.pod(film_tally_);
   io.vec(slots_), io.vec(slot_count_), io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
-  io.vec(mesh_force_prev_);
+  io.vec(mesh_force_prev_), io.vec(node_slots_), io.vec(node_slot_count_);
 }
 
 std::vector<char> Simulation::save_state() const {

@@ -170,6 +170,7 @@ void Simulation::film_walls() {
       L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
     }
     film_wall_touch_[k] = touched;
+    if (!node_reach_.empty()) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, dn, dtg, deepest);
     film_.f[k] += F_wall;
     J -= dt * F_wall;
     if constexpr (Energy) {
@@ -198,6 +199,12 @@ double Simulation::film_elastic_energy() const {
     const double L = (st.anchor + cavity_.position - c).norm();
     if (L > st.rest_length) u += 0.5 * st.stiffness * (L - st.rest_length) * (L - st.rest_length);
   }
+  for (std::size_t k = 0; k < node_slot_count_.size(); ++k)
+    for (std::size_t j = 0; j < node_slot_count_[k]; ++j) {
+      const MeshSlot& m = node_slots_[k * kMaxMeshContacts + j];
+      u += hertz_energy(scene_.laws(bag.material, surfaces_[m.surface].material), bag.contact_radius, m.overlap);
+      if (scene_.models.tangential) u += mindlin_energy(m.tangential);
+    }
   const std::size_t nw = scene_.walls.size();
   for (std::size_t k = 0; k < film_.size(); ++k)
     for (std::size_t w = 0; w < nw; ++w) {

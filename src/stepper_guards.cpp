@@ -32,6 +32,13 @@ void Simulation::guards() {
          "simulation.timestep (or its safety factor), or check the material parameters.";
     throw RunError(m.str());
   }
+  if (crossed && !surfaces_[crossed_surface_].film) {
+    const std::size_t i = crossed_;
+    m << "ball " << i << " left the cavity through the STL wall '" << scene_.mesh_walls[crossed_surface_ - (scene_.bag ? 1 : 0)].name
+      << "' (its centre is " << crossed_depth_ << " m beyond it). It went through within one step: reduce "
+         "simulation.timestep, the cavity acceleration or the particle speeds, or raise the wall's Young's modulus.";
+    throw RunError(m.str());
+  }
   if (crossed) {
     const std::size_t i = crossed_;
     m << "ball " << i << " crossed the bag's film (its centre is " << crossed_depth_

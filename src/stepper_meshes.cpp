@@ -27,6 +27,61 @@
 #include "stepper_detail.hpp"
 
 namespace bagdem {
+namespace {
+
+// A contact found this step: the feature hit, the normal towards the body, the overlap, and the
+// slot of the previous step whose history it continues (-1: new).
+struct Found {
+  std::uint32_t surface;
+  MeshHit hit;
+  Vec3 n;
+  double overlap;
+  int from;
+};
+
+// Normal and overlap of a body at x on `side` of a surface (-1: against its triangles' normals),
+// touching the hit's feature within `reach`. The side is judged by the touched triangle's normal
+// (exact for a face; for an edge or vertex, right whenever the centre is in that feature's region
+// on its own side). Returns false when the centre is beyond the mid-surface.
+bool oriented(const Vec3& x, const std::vector<Vec3>& vx, const std::array<std::uint32_t, 3>& tri, const TriangleHit& h,
+              double side, double reach, Vec3& n, double& overlap) {
+  const Vec3 normal = (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
+  const Vec3 d = x - h.point;
+  const double dist = std::sqrt(h.distance2);
+  const bool own_side = side * d.dot(normal) >= 0;
+  n = dist > 1e-12 * reach ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal);
+  overlap = reach - (own_side ? dist : -dist);
+  return own_side;
+}
+
+// Histories: the same feature keeps its slot; a new feature takes over the closed slot of the same
+// surface whose normal is closest to its own (within 60 degrees), so a contact moving across a
+// triangulation (face -> edge -> next face) keeps its friction spring. `taken` marks the slots
+// continued.
+void match_slots(const MeshSlot* slot, std::size_t n_prev, Found* found, std::size_t nf, bool* taken) {
+  for (std::size_t f = 0; f < nf; ++f)
+    for (std::size_t k = 0; k < n_prev; ++k)
+      if (!taken[k] && slot[k].surface == found[f].surface && slot[k].key == found[f].hit.key) {
+        found[f].from = static_cast<int>(k);
+        taken[k] = true;
+        break;
+      }
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (found[f].from >= 0) continue;
+    double best = 0.5;
+    for (std::size_t k = 0; k < n_prev; ++k) {
+      if (taken[k] || slot[k].surface != found[f].surface) continue;
+      const double c = slot[k].n.dot(found[f].n);
+      if (c > best) {
+        best = c;
+        found[f].from = static_cast<int>(k);
+      }
+    }
+    if (found[f].from >= 0) taken[found[f].from] = true;
+  }
+}
+
+}  // namespace
 
 void Simulation::set_up_meshes() {
   surfaces_.clear();
@@ -48,6 +103,12 @@ void Simulation::set_up_meshes() {
   }
   mesh_cand_.assign(surfaces_.size(), {});
   mesh_force_prev_.assign(n, Vec3::Zero());
+  node_cand_.assign(surfaces_.size(), {});
+  if (scene_.bag && !scene_.mesh_walls.empty()) {
+    node_reach_.assign(film_.size(), 0.5 * scene_.bag->film.thickness);
+    node_slots_.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
+    node_slot_count_.assign(film_.size(), 0);
+  }
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
@@ -88,8 +149,13 @@ void Simulation::triangle_contacts_impl() {
 void Simulation::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     const Surface& sf = surfaces_[s];
-    if (sf.film) find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_cand_[s]);
-    else find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_cand_[s]);
+    if (sf.film) {
+      find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_cand_[s]);
+    } else {
+      find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_cand_[s]);
+      if (!node_reach_.empty())
+        find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, node_reach_, cavity, 0.0, scene_.skin, node_cand_[s]);
+    }
   }
   cavity_at_build_ = cavity;
   if (&film != &film_at_build_) film_at_build_ = film;
@@ -105,8 +171,11 @@ bool Simulation::meshes_need_rebuild() const {
     for (std::size_t i = 0; i < p_.size(); ++i)
       if ((p_.x[i] - x_at_build_[i] - dc).squaredNorm() > limit2) return true;
   }
-  for (std::size_t k = 0; k < film_.size(); ++k)
+  const Vec3 dc = cavity_.position - cavity_at_build_;
+  for (std::size_t k = 0; k < film_.size(); ++k) {
     if ((film_.x[k] - film_at_build_[k]).squaredNorm() > limit2) return true;
+    if (!node_reach_.empty() && (film_.x[k] - film_at_build_[k] - dc).squaredNorm() > limit2) return true;
+  }
   return false;
 }
 
@@ -120,13 +189,6 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
   const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : c_vel;
 
   // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
-  struct Found {
-    std::uint32_t surface;
-    MeshHit hit;
-    Vec3 n;
-    double overlap;
-    int from;  // slot of the previous step whose history it continues (-1: new)
-  };
   Found found[K];
   std::size_t nf = 0;
   thread_local std::vector<MeshHit> hits;
@@ -148,21 +210,14 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
     select_mesh_contacts(*sf.mesh, hits);
     const double side = sf.film ? side_[p] : -1.0;
     for (const MeshHit& mh : hits) {
-      const auto& tri = sf.mesh->triangles[mh.triangle];
-      const Vec3 normal = (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
-      const Vec3 d = x - mh.hit.point;
-      const double dist = std::sqrt(mh.hit.distance2);
-      // Which side of the surface the centre is on, by the touched triangle's normal (exact for a
-      // face; for an edge or vertex, right whenever the centre is in that feature's region on its
-      // own side).
-      const bool own_side = side * d.dot(normal) >= 0;
-      const Vec3 n = dist > 1e-12 * r ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal);
-      const double overlap = reach - (own_side ? dist : -dist);
-      if (!own_side && sf.film) {
+      Vec3 n;
+      double overlap;
+      if (!oriented(x, vx, sf.mesh->triangles[mh.triangle], mh.hit, side, reach, n, overlap)) {
 #pragma omp critical(bagdem_crossed)
-        if (crossed_ == static_cast<std::size_t>(-1) || dist > crossed_depth_) {
+        if (crossed_ == static_cast<std::size_t>(-1) || overlap - reach > crossed_depth_) {
           crossed_ = p;
-          crossed_depth_ = dist;
+          crossed_depth_ = overlap - reach;
+          crossed_surface_ = s;
         }
       }
       if (nf == K) {
@@ -174,31 +229,11 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
     }
   }
 
-  // 2. Histories: the same feature keeps its slot; a new feature takes over the closed slot of the
-  // same surface whose normal is closest to its own (within 60 degrees).
+  // 2. Histories (match_slots).
   MeshSlot* slot = &slots_[p * K];
   const std::size_t n_prev = slot_count_[p];
   bool taken[K] = {};
-  for (std::size_t f = 0; f < nf; ++f)
-    for (std::size_t k = 0; k < n_prev; ++k)
-      if (!taken[k] && slot[k].surface == found[f].surface && slot[k].key == found[f].hit.key) {
-        found[f].from = static_cast<int>(k);
-        taken[k] = true;
-        break;
-      }
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (found[f].from >= 0) continue;
-    double best = 0.5;
-    for (std::size_t k = 0; k < n_prev; ++k) {
-      if (taken[k] || slot[k].surface != found[f].surface) continue;
-      const double c = slot[k].n.dot(found[f].n);
-      if (c > best) {
-        best = c;
-        found[f].from = static_cast<int>(k);
-      }
-    }
-    if (found[f].from >= 0) taken[found[f].from] = true;
-  }
+  match_slots(slot, n_prev, found, nf, taken);
   MeshSlot prev[K];
   std::copy(slot, slot + n_prev, prev);
   // Slots closed for good: tally what they still held.
@@ -276,6 +311,93 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
   slot_count_[p] = static_cast<std::uint8_t>(nf);
 }
 
+
+// Film nodes against the STL walls: the film-wall law of stepper_film.cpp (R* = the film's contact
+// radius, m* = the node's mass, reach = half the thickness) on the sphere-triangle contact.
+template <bool Tangential, bool Energy>
+void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double& dn, double& dtg, double& deepest) {
+  constexpr std::size_t K = kMaxMeshContacts;
+  const Bag& bag = *scene_.bag;
+  const double dt = dt_step_;
+  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
+  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : c_vel;
+  const double reach = node_reach_[k];
+  const Vec3 x = film_.x[k] - c_pos;
+  Found found[K];
+  std::size_t nf = 0;
+  thread_local std::vector<MeshHit> hits;
+  for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
+    const Surface& sf = surfaces_[s];
+    const MeshCandidates& cand = node_cand_[s];
+    if (sf.film || cand.begin[k] == cand.begin[k + 1]) continue;
+    hits.clear();
+    for (std::uint32_t e = cand.begin[k]; e < cand.begin[k + 1]; ++e) {
+      const auto& tri = sf.mesh->triangles[cand.triangle[e]];
+      const TriangleHit h = closest_point_on_triangle(x, sf.mesh->vertices[tri[0]], sf.mesh->vertices[tri[1]],
+                                                      sf.mesh->vertices[tri[2]]);
+      if (h.distance2 < reach * reach) hits.push_back({cand.triangle[e], 0, h});
+    }
+    if (hits.empty()) continue;
+    select_mesh_contacts(*sf.mesh, hits);
+    for (const MeshHit& mh : hits) {
+      Vec3 n;
+      double overlap;
+      oriented(x, sf.mesh->vertices, sf.mesh->triangles[mh.triangle], mh.hit, -1.0, reach, n, overlap);
+      deepest = std::min(deepest, reach - overlap);
+      if (nf < K) found[nf++] = {s, mh, n, overlap, -1};
+    }
+  }
+  MeshSlot* slot = &node_slots_[k * K];
+  const std::size_t n_prev = node_slot_count_[k];
+  bool taken[K] = {};
+  match_slots(slot, n_prev, found, nf, taken);
+  MeshSlot prev[K];
+  std::copy(slot, slot + n_prev, prev);
+  if constexpr (Energy) {
+    for (std::size_t j = 0; j < n_prev; ++j) {
+      if (taken[j]) continue;
+      const Vec3 d = closing_tally<Tangential, false>(prev[j].n, film_.v[k] - prev[j].surface_velocity, Vec3::Zero(), dt,
+                                                      prev[j].damping_prev, Tangential ? &prev[j].tangential : nullptr, nullptr);
+      dn += d.x(), dtg += d.y();
+    }
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Found& fd = found[f];
+    MeshSlot& s = slot[f];
+    s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
+    s.surface = fd.surface;
+    s.key = fd.hit.key;
+    s.n = fd.n;
+    s.overlap = fd.overlap;
+    s.surface_velocity = c_half;
+    ContactGeometry g;
+    g.n = fd.n;
+    g.overlap = fd.overlap;
+    g.R_eff = bag.contact_radius;
+    g.m_eff = film_.mass[k];
+    g.arm_i = g.arm_j = 0;
+    g.v_rel = film_.v_pred[k] - c_vel;
+    g.v_half = film_.v[k] - c_half;
+    g.w_half.setZero();
+    const PairLaw& law = scene_.laws(bag.material, surfaces_[fd.surface].material);
+    const NormalResult nr = hertz_normal(g, law);
+    Vec3 Fc = nr.force * g.n;
+    if constexpr (Energy) dn += normal_dissipation(nr, g.v_half.dot(g.n), dt, s.damping_prev);
+    if constexpr (Tangential) {
+      const TangentialResult tr = mindlin_tangential(g, law, nr, dt, s.tangential);
+      Fc += tr.force;
+      if constexpr (Energy) dtg += tr.dissipated;
+    }
+    F_wall += Fc;
+    L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
+  }
+  node_slot_count_[k] = static_cast<std::uint8_t>(nf);
+}
+
+template void Simulation::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
 
 std::size_t Simulation::mesh_contact_count() const {
   std::size_t c = 0;

@@ -178,6 +178,10 @@ class Simulation {
   bool meshes_need_rebuild() const;
   template <bool Tangential, bool Energy>
   void film_walls();
+  // Film node k against the STL walls: adds to the wall force on it F_wall, the angular impulse on
+  // the cavity L, the dissipation (dn, dt) and lowers `deepest` to its signed distance.
+  template <bool Tangential, bool Energy>
+  void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
@@ -241,6 +245,11 @@ class Simulation {
   std::vector<Vec3> film_at_build_;
   std::size_t crossed_ = static_cast<std::size_t>(-1);  // a ball found across the film this step
   double crossed_depth_ = 0;                  // how far beyond the film's mid-surface (unit: m)
+  std::size_t crossed_surface_ = 0;           // which surface it crossed
+  std::vector<MeshCandidates> node_cand_;     // per surface: film nodes' candidate triangles (STL walls)
+  std::vector<double> node_reach_;            // per film node: half the film thickness (unit: m)
+  std::vector<MeshSlot> node_slots_;          // per film node: kMaxMeshContacts slots on STL walls
+  std::vector<std::uint8_t> node_slot_count_;
   std::size_t mesh_overflow_ = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
   // ---- the bag's film (stepper_film.cpp) ----
   FilmNodes film_;

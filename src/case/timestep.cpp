@@ -56,7 +56,9 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     dt_rayleigh = std::min(dt_rayleigh, hertz::rayleigh_time(r, ma.density, ma.youngs_modulus, ma.poisson_ratio));
     const double m = sphere_mass(ma.density, r);
     for (int b = 0; b < nm; ++b) {
-      const bool wall_material = std::any_of(s.walls.begin(), s.walls.end(), [&](const Wall& w) { return w.material == b; });
+      const bool wall_material =
+          std::any_of(s.walls.begin(), s.walls.end(), [&](const Wall& w) { return w.material == b; }) ||
+          std::any_of(s.mesh_walls.begin(), s.mesh_walls.end(), [&](const MeshWall& w) { return w.material == b; });
       const bool particle_material = rmin[static_cast<std::size_t>(b)] > 0;
       const PairLaw& law = s.laws(a, b);
       auto consider = [&](double R_eff, double m_eff) {
@@ -108,6 +110,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       consider_film(a, r, m * mn / (m + mn));
     }
     for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
+    for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn);
     // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
     dt_film = hertz::critical_step(bag.max_frequency, bag.damping_ratio);
     for (const BagString& st : bag.strings) {

@@ -285,8 +285,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   rep.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
   if (energy) {
     rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
-    if (f_drive > 0 && total > measure_step) {
-      rep.cycles = (static_cast<double>(total - measure_step) * scene.dt) * f_drive;
+    const double cycles = f_drive > 0 && total > measure_step ? static_cast<double>(total - measure_step) * scene.dt * f_drive : 0.0;
+    if (cycles >= 1) {  // less than a cycle measured gives no per-cycle figure
+      rep.cycles = cycles;
       rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_measure) / rep.cycles;
     }
   }

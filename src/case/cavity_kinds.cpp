@@ -96,6 +96,11 @@ void stl(const CaseReader& in, Scene& s, int material) {
   w.name = "cavity.file = " + in.string("cavity.file");
   w.mesh = read_stl(path, scale);
   w.material = material;
+  if (!w.mesh.closed())
+    in.fail("cavity.file", "is an open surface; a cavity must be closed (every edge shared by two triangles)");
+  if (!(enclosed_volume(w.mesh, w.mesh.vertices) > 0))
+    in.fail("cavity.file", "has its normals pointing into the cavity (negative enclosed volume); they must point "
+                           "out of it, away from the balls: flip the facets' orientation in the file");
   s.cavity_lo = s.cavity_hi = w.mesh.vertices[0];
   for (const Vec3& v : w.mesh.vertices) s.cavity_lo = s.cavity_lo.cwiseMin(v), s.cavity_hi = s.cavity_hi.cwiseMax(v);
   s.mesh_walls.push_back(std::move(w));

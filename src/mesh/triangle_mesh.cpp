@@ -87,7 +87,7 @@ void build_topology(TriangleMesh& mesh) {
       std::string list;
       for (std::size_t h = i; h < j; ++h) list += (h > i ? ", " : "") + std::to_string(half[h].slot / 3);
       throw std::invalid_argument(edge_name + " is shared by " + std::to_string(j - i) + " triangles (" + list +
-                                  "): not a manifold surface");
+                                  ")");
     }
     // A half-edge runs lo -> hi when the triangle's vertex k is lo.
     auto forward = [&](const HalfEdge& h) { return mesh.triangles[h.slot / 3][h.slot % 3] == lo; };

@@ -16,10 +16,12 @@
 // normals of its two triangles, theta_0 at rest, k_e = D |e|^2 / (2 (A1 + A2)), D = bending
 // stiffness (the edge weight |e|^2 / (A1 + A2) of Grinspun et al., "Discrete Shells", SCA 2003);
 // gradient of theta after Bridson, Marino & Fedkiw, SCA 2003. The constant 1/2 calibrates it to the
-// plate: a sheet of right triangles bent into a cylinder of curvature kappa stores 0.90-0.98 x the
-// plate energy D kappa^2 A / 2, tending to 1 as the mesh is refined (measured with 3 |e|^2/(A1+A2):
-// 5.4-5.9, tending to 6). For a film D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the
-// membrane's zero-energy modes and does not carry the balls.
+// plate: a sheet of near-equilateral triangles (as the film's) bent into a cylinder of curvature
+// kappa about any axis stores 0.92-0.99 x the plate energy D kappa^2 A / 2, tending to 1 as the mesh
+// is refined (the boundary's half hinges are missing); right-triangle sheets do so bent about a leg
+// and store up to 1.5 x bent at 45 degrees (tests/test_membrane_bending.cpp). For a film
+// D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the membrane's zero-energy modes and does
+// not carry the balls.
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.

@@ -92,10 +92,19 @@ std::string describe_scene(const Scene& s) {
   const double per_pair = 4 + 4 + 3 * 24 + (s.models.energy ? 24 : 0) + 8 +
                           (s.models.tangential ? sizeof(TangentialHistory) : 0) +
                           (s.models.rolling ? sizeof(RollingHistory) : 0);
-  const double mem = static_cast<double>(n) * (per_particle + 12 * per_pair);
+  double mem = static_cast<double>(n) * (per_particle + 12 * per_pair);
+  if (s.bag || !s.mesh_walls.empty()) {
+    // Triangle contacts: 8 slots per ball; the film: node arrays, per-triangle and per-hinge records.
+    mem += static_cast<double>(n) * 8 * (sizeof(TangentialHistory) + sizeof(RollingHistory) + 120);
+    if (s.bag)
+      mem += static_cast<double>(s.bag->rest.vertices.size()) * 12 * 24 +
+             static_cast<double>(s.bag->rest.triangles.size()) * (2 * 72 + 120) +
+             static_cast<double>(s.bag->rest.edge_vertices.size()) * (96 + 48);
+  }
   const double frames = std::floor((s.settle + s.duration) / s.output.frame_interval) + 1;
   o << "memory      about " << mem / 1048576 << " MiB in the step; results.h5 about "
-    << (frames * static_cast<double>(n) * 72 + (s.settle + s.duration) / s.output.cavity_interval * 120) / 1048576
+    << (frames * static_cast<double>(n) * 72 + frames * static_cast<double>(s.bag ? s.bag->rest.vertices.size() : 0) * 24 +
+        (s.settle + s.duration) / s.output.cavity_interval * 120) / 1048576
     << " MiB\n";
   return o.str();
 }

@@ -255,6 +255,16 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       }
       if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
       if (s % n_frame == 0 || s == total) {
+        // Behind the per-step guard (a ball beyond the film's mid-surface), a global check at each
+        // frame: every ball of the bag is inside its film (winding number).
+        if (scene.bag) {
+          const std::vector<std::size_t> out_of_bag = sim.balls_outside_bag();
+          if (!out_of_bag.empty())
+            throw RunError("run stopped at t = " + std::to_string(t) + " s: " + std::to_string(out_of_bag.size()) +
+                           " ball(s) of the bag (first: " + std::to_string(out_of_bag.front()) +
+                           ") are outside its film. The film let them through: raise the film material's "
+                           "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
+        }
         file->append_frame(t, sim.particles().x, sim.particles().v, sim.particles().w);
         film_frame(file);
         frame_times.push_back(t);

@@ -43,7 +43,8 @@ void Simulation::guards() {
     const std::size_t i = crossed_;
     m << "ball " << i << " crossed the bag's film (its centre is " << crossed_depth_
       << " m beyond the film's mid-surface, at (" << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
-      << ") m). The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
+      << ") m), or the film folded through itself (film-film contact is not modelled) and the ball faces its "
+         "outer side. The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
          "the film material's youngs_modulus, refine the film (bag.triangles), reduce simulation.timestep, or "
          "lower the excitation.";
     throw RunError(m.str());

@@ -3,7 +3,9 @@
 //
 // Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
 // one-contact-per-feature rule, so a ball on a flat triangulation has the one contact it would have
-// with the plane. A ball is on one side of a surface for the whole run (side_: inside the film for
+// with the plane, then one contact per patch (keep_one_per_patch: of hits with normals within 30
+// degrees only the deepest), so shallow folds of a triangulated smooth surface do not double the
+// contact or switch half of it on and off. A ball is on one side of a surface for the whole run (side_: inside the film for
 // the bag's balls, inside an STL cavity always); the normal points to that side, and a centre found
 // beyond the mid-surface stops the run (guards).
 // Law: the pair law of the ball's and the surface's materials (Hertz-Mindlin with restitution
@@ -79,6 +81,21 @@ void match_slots(const MeshSlot* slot, std::size_t n_prev, Found* found, std::si
     }
     if (found[f].from >= 0) taken[found[f].from] = true;
   }
+}
+
+// One contact per patch (contact/sphere_triangle.hpp, keep_one_per_patch), in place.
+void keep_patches(std::vector<Found>& hits) {
+  thread_local std::vector<Vec3> n;
+  thread_local std::vector<double> overlap;
+  const std::size_t count = std::min<std::size_t>(hits.size(), 64);
+  n.resize(count), overlap.resize(count);
+  for (std::size_t i = 0; i < count; ++i) n[i] = hits[i].n, overlap[i] = hits[i].overlap;
+  bool keep[64];
+  keep_one_per_patch(n.data(), overlap.data(), count, keep);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < count; ++i)
+    if (keep[i]) hits[kept++] = hits[i];
+  hits.resize(kept);
 }
 
 }  // namespace
@@ -192,6 +209,7 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
   Found found[K];
   std::size_t nf = 0;
   thread_local std::vector<MeshHit> hits;
+  thread_local std::vector<Found> patch;
   for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
     const Surface& sf = surfaces_[s];
     const MeshCandidates& cand = mesh_cand_[s];
@@ -209,6 +227,7 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
     if (hits.empty()) continue;
     select_mesh_contacts(*sf.mesh, hits);
     const double side = sf.film ? side_[p] : -1.0;
+    patch.clear();
     for (const MeshHit& mh : hits) {
       Vec3 n;
       double overlap;
@@ -220,12 +239,16 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
           crossed_surface_ = s;
         }
       }
+      patch.push_back({s, mh, n, overlap, -1});
+    }
+    keep_patches(patch);
+    for (const Found& fd : patch) {
       if (nf == K) {
 #pragma omp critical(bagdem_crossed)
         mesh_overflow_ = p;
         break;
       }
-      found[nf++] = {s, mh, n, overlap, -1};
+      found[nf++] = fd;
     }
   }
 
@@ -326,6 +349,7 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double
   Found found[K];
   std::size_t nf = 0;
   thread_local std::vector<MeshHit> hits;
+  thread_local std::vector<Found> patch;
   for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
     const Surface& sf = surfaces_[s];
     const MeshCandidates& cand = node_cand_[s];
@@ -339,13 +363,17 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double
     }
     if (hits.empty()) continue;
     select_mesh_contacts(*sf.mesh, hits);
+    patch.clear();
     for (const MeshHit& mh : hits) {
       Vec3 n;
       double overlap;
       oriented(x, sf.mesh->vertices, sf.mesh->triangles[mh.triangle], mh.hit, -1.0, reach, n, overlap);
       deepest = std::min(deepest, reach - overlap);
-      if (nf < K) found[nf++] = {s, mh, n, overlap, -1};
+      patch.push_back({s, mh, n, overlap, -1});
     }
+    keep_patches(patch);
+    for (const Found& fd : patch)
+      if (nf < K) found[nf++] = fd;
   }
   MeshSlot* slot = &node_slots_[k * K];
   const std::size_t n_prev = node_slot_count_[k];

@@ -311,6 +311,25 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
       if ((s.particles[k].x - s.particles[j].x).norm() < s.particles[k].radius + s.particles[j].radius)
         in.fail("bag", "a ball of the bag overlaps particle " + std::to_string(j) + " of [particles]; move the bag (bag.centre) or the particles");
 
+  // The film at rest must fit the cavity: every node inside its bounds and clear of its walls.
+  for (const Vec3& v : b.x0) {
+    const Vec3 local = v - rest_cavity;
+    bool inside = (local - s.cavity_lo).minCoeff() >= 0 && (s.cavity_hi - local).minCoeff() >= 0;
+    for (const Wall& w : s.walls) {
+      Vec3 n;
+      inside = inside && wall_distance(w, local, n) >= 0.5 * t;
+    }
+    for (const MeshWall& w : s.mesh_walls) inside = inside && winding_number(w.mesh, w.mesh.vertices, local) > 0.5;
+    if (!inside) {
+      std::ostringstream m;
+      m << "the bag (" << 1e3 * b.size.x() << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z()
+        << " mm at rest) does not fit the cavity: its film reaches (" << 1e3 * local.x() << ", " << 1e3 * local.y()
+        << ", " << 1e3 * local.z() << ") mm. Give a smaller bag (bag.radius, bag.length, bag.size, fewer balls), move "
+        << "it (bag.centre), or enlarge the cavity";
+      in.fail("bag", m.str());
+    }
+  }
+
   // Damping time of the Kelvin-Voigt stress: ratio zeta at the film's highest frequency.
   Membrane probe(b.rest, b.film);
   b.min_node_mass = *std::min_element(probe.node_mass().begin(), probe.node_mass().end()) * b.mass_scaling;

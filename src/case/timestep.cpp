@@ -85,7 +85,10 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
   }
   // The bag: the critical steps of its balls against the film (m* down to a film node's mass), of
   // the film's nodes against the walls (R* = contact radius), of the membrane's highest frequency,
-  // and of the strings on their ties.
+  // and of the strings on their ties. Its light nodes ring at these frequencies for the whole run
+  // (a ball's contact ends), so `auto` keeps timestep_safety x their smallest, as for the Rayleigh
+  // time: at half of it (omega dt = 1) the energy budget of an undamped bag drifted by 1e-2, at
+  // 0.2 x by 4e-5 (tests/test_bag_physics.cpp, BagEnergy).
   double dt_film = 1e300;
   if (s.bag) {
     const Bag& bag = *s.bag;
@@ -97,10 +100,10 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       const PairLaw& law = s.laws(a, fm);
       const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
       const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
-      dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
+      dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
       if (s.models.tangential) {
         const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
-        dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
+        dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
       }
     };
     for (int a = 0; a < nm; ++a) {
@@ -112,10 +115,11 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
     for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn);
     // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
-    dt_film = hertz::critical_step(bag.max_frequency, bag.damping_ratio);
+    dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
     for (const BagString& st : bag.strings) {
       const double m_tie = mn * static_cast<double>(st.nodes.size());
-      dt_film = std::min(dt_film, 2.0 / std::sqrt(st.stiffness / m_tie));
+      const double w = std::sqrt(st.stiffness / m_tie), zeta = st.damping / (2 * std::sqrt(st.stiffness * m_tie));
+      dt_film = std::min(dt_film, hertz::critical_step(w, zeta));  // spring and damper on the tie
     }
     dt_crit = std::min(dt_crit, dt_film);
   }
@@ -143,12 +147,14 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       s.warnings.push_back(w.str());
     }
   } else {
-    const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit;
-    s.dt = std::min({a, b, c});
+    const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film;
+    s.dt = std::min({a, b, c, f});
     why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
         << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
-        << " s, half the critical step = " << c << " s -> "
-        << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : "critical step") << " limits";
+        << " s, half the critical step = " << c << " s";
+    if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
+    why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : "film")
+        << " limits";
     in.boolean("simulation.force_timestep", false);
   }
   why << "; expected impact speed " << v << " m/s; critical step " << dt_crit << " s";

@@ -88,4 +88,28 @@ void select_mesh_contacts(const TriangleMesh& mesh, std::vector<MeshHit>& hits) 
   hits.resize(w);
 }
 
+void keep_one_per_patch(const Vec3* normals, const double* overlaps, std::size_t count, bool* keep) {
+  constexpr double kPatchCos = 0.8660254037844387;  // cos 30 degrees
+  constexpr std::size_t kMax = 64;
+  std::size_t label[kMax];
+  count = std::min(count, kMax);
+  for (std::size_t i = 0; i < count; ++i) label[i] = i;
+  // Connected components of "normals within 30 degrees" (labels: the smallest index reached).
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < count; ++i)
+      for (std::size_t j = i + 1; j < count; ++j)
+        if (label[i] != label[j] && normals[i].dot(normals[j]) >= kPatchCos) {
+          label[i] = label[j] = std::min(label[i], label[j]);
+          changed = true;
+        }
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    keep[i] = true;
+    for (std::size_t j = 0; j < count && keep[i]; ++j)
+      if (j != i && label[j] == label[i] && (overlaps[j] > overlaps[i] || (overlaps[j] == overlaps[i] && j < i)))
+        keep[i] = false;
+  }
+}
+
 }  // namespace bagdem

@@ -128,4 +128,15 @@ struct MeshHit {
 // decides in place (lookups of other triangles' hits by binary search), then compacts.
 void select_mesh_contacts(const TriangleMesh& mesh, std::vector<MeshHit>& hits);
 
+// One contact per patch. Hits of a sphere on one surface whose contact normals are within 30
+// degrees of each other, directly or through a chain of such hits, form a patch; of each patch only
+// the deepest hit is kept (keep[i]; the first of equals). A triangulation of a smooth surface meets
+// a ball in one patch: its shallow folds (a capsule's ring chords, a film's gentle wrinkles) would
+// otherwise give the ball two contacts where the surface has one, and switch the shallower on and
+// off abruptly when its foot point crosses the fold (in a valley the face hit turns into an edge
+// hit that the feature rule drops at positive overlap). The contact energy is then, patch by patch,
+// the largest overlap's: continuous, except when two hits' normals cross the 30 degrees. Faces
+// meeting at a real corner (a box's walls, a film wrapped tightly round a ball) keep a contact each.
+void keep_one_per_patch(const Vec3* normals, const double* overlaps, std::size_t count, bool* keep);
+
 }  // namespace bagdem

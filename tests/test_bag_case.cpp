@@ -1,0 +1,506 @@
+// The [bag] section end to end (docs/case-schema.md [bag]; src/case/bag.cpp): filling the bag
+// (determinism, no overlaps, balls inside and clear of the film, count / mass / mass_ratio, a bag
+// too small refused), what `bagdem check` reports, the settled bag saved and reused (bag.from), the
+// film in results.h5 and results.xmf, thread-count determinism of the film's parallel paths, and
+// save_state / load_state with a bag.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bag_support.hpp"
+#include "bagdem/contact/sphere_triangle.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/io/bag_file.hpp"
+#include "bagdem/mesh/triangle_mesh.hpp"
+#include "bagdem/particles.hpp"
+
+using namespace bagdem;
+using namespace bagdem::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A small bag case: 2 GPa steel balls of 4 mm in an LDPE film (50 um, 200 triangles), tied by two
+// strings to the end walls of a box shaken along the bag's axis (1 mm, 30 Hz, phase pi/2 so that the
+// cavity's rest position is 1 mm along x, not the origin); `bag_extra` is added to [bag] (shape keys,
+// balls), `extra` at the end.
+std::string bag_case(const std::string& bag_extra, const std::string& balls = "count = 30\n",
+                     const std::string& extra = "") {
+  return R"([simulation]
+duration = "0.004 s"
+gravity = [0, 0, "-9.81 m/s^2"]
+seed = 4
+
+[materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "2 GPa"
+poisson_ratio = 0.3
+
+[materials.ldpe]
+density = "920 kg/m^3"
+youngs_modulus = "0.25 GPa"
+poisson_ratio = 0.4
+
+[interactions.default]
+restitution = 0.5
+friction = 0.3
+
+[interactions.steel-ldpe]
+restitution = 0.3
+friction = 0.4
+
+[cavity]
+kind = "box"
+material = "steel"
+min = ["-25 mm", "-12 mm", "-12 mm"]
+max = ["25 mm", "12 mm", "12 mm"]
+
+[cavity.motion]
+kind = "harmonic"
+amplitude = "1 mm"
+frequency = "30 Hz"
+direction = [1, 0, 0]
+phase = 1.5707963267948966
+
+[bag]
+triangles = 200
+)" + bag_extra + R"(
+[bag.balls]
+material = "steel"
+diameter = "4 mm"
+)" + balls + R"(
+[bag.film]
+material = "ldpe"
+thickness = "50 um"
+
+[[bag.strings]]
+at = "tail"
+anchor = ["-25 mm", 0, 0]
+stiffness = "200 N/m"
+damping = "0.01 N s/m"
+
+[[bag.strings]]
+at = "head"
+anchor = ["25 mm", 0, 0]
+stiffness = "200 N/m"
+damping = "0.01 N s/m"
+
+[output]
+frame_interval = "1 ms"
+)" + extra;
+}
+
+const char* kCapsule = "shape = \"capsule\"\naxis = [1, 0, 0]\nradius = \"7 mm\"\n";
+const char* kPillow = "shape = \"pillow\"\naxis = [1, 0, 0]\naspect = [2.5, 1.2, 1]\nexponent = 4\n";
+
+std::vector<Vec3> positions(const Scene& s) {
+  std::vector<Vec3> x;
+  for (const ParticleInit& p : s.particles) x.push_back(p.x);
+  return x;
+}
+
+// Distance from p to the nearest film triangle (node positions x) (unit: m).
+double film_distance(const TriangleMesh& mesh, const std::vector<Vec3>& x, const Vec3& p) {
+  double d2 = 1e300;
+  for (const auto& t : mesh.triangles) d2 = std::min(d2, closest_point_on_triangle(p, x[t[0]], x[t[1]], x[t[2]]).distance2);
+  return std::sqrt(d2);
+}
+
+// ---- HDF5 read-back (plain C API) -----------------------------------------------------------------
+std::vector<hsize_t> dims_of(hid_t file, const std::string& name) {
+  std::vector<hsize_t> d;
+  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (ds < 0) return d;
+  const hid_t space = H5Dget_space(ds);
+  d.resize(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
+  H5Sget_simple_extent_dims(space, d.data(), nullptr);
+  H5Sclose(space);
+  H5Dclose(ds);
+  return d;
+}
+
+template <class T>
+std::vector<T> read_all(hid_t file, const std::string& name, hid_t type) {
+  std::vector<T> v;
+  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (ds < 0) return v;
+  hsize_t total = 1;
+  for (hsize_t n : dims_of(file, name)) total *= n;
+  v.resize(total);
+  if (total > 0 && H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) v.clear();
+  H5Dclose(ds);
+  return v;
+}
+
+// A number after `"key": ` in a JSON text (first occurrence after `after`), NaN when absent.
+double json_number(const std::string& text, const std::string& key, const std::string& after = "") {
+  std::size_t from = after.empty() ? 0 : text.find(after);
+  if (from == std::string::npos) return std::nan("");
+  const std::size_t k = text.find("\"" + key + "\":", from);
+  if (k == std::string::npos) return std::nan("");
+  return std::strtod(text.c_str() + k + key.size() + 3, nullptr);
+}
+
+}  // namespace
+
+// ---- 7. filling ---------------------------------------------------------------------------------------
+
+// For both shapes: the same seed gives bitwise the same balls and film; another bag.balls.seed gives
+// other positions; no two balls overlap (centre distance >= r_i + r_j, exact); every ball is inside
+// the film (generalized winding number > 0.5) and clear of it by at least its radius plus the film's
+// half thickness (src/case/bag.cpp lattice_sites: r + t/2 + 2% of r); the bag's balls are the last
+// N particles and N is the count asked for.
+TEST(BagFill, DeterministicInsideAndClear) {
+  for (const char* shape : {kCapsule, kPillow}) {
+    SCOPED_TRACE(shape);
+    LoadedCase a(bag_case(shape)), b(bag_case(shape)), other(bag_case(shape), {"bag.balls.seed=99"});
+    const Scene& s = a.scene;
+    ASSERT_TRUE(s.bag);
+    const Bag& bag = *s.bag;
+    EXPECT_EQ(bag.balls, 30u);
+    EXPECT_EQ(bag.ball_first + bag.balls, s.particles.size());
+    EXPECT_TRUE(same_bits(positions(a.scene), positions(b.scene))) << "same seed, different balls";
+    EXPECT_TRUE(same_bits(bag.x0, b.scene.bag->x0)) << "same seed, different film";
+    EXPECT_TRUE(same_bits(bag.rest.vertices, b.scene.bag->rest.vertices));
+    EXPECT_FALSE(same_bits(positions(a.scene), positions(other.scene))) << "bag.balls.seed had no effect";
+    const double reach = 0.5 * bag.film.thickness;
+    double closest_pair = 1e300, least_clearance = 1e300, least_winding = 1e300;
+    for (std::size_t i = bag.ball_first; i < s.particles.size(); ++i) {
+      const ParticleInit& p = s.particles[i];
+      for (std::size_t j = i + 1; j < s.particles.size(); ++j) {
+        const double gap = (p.x - s.particles[j].x).norm() - p.radius - s.particles[j].radius;
+        closest_pair = std::min(closest_pair, gap);
+        EXPECT_GE(gap, 0.0) << "balls " << i << " and " << j << " overlap";
+      }
+      const double wn = winding_number(bag.rest, bag.x0, p.x);
+      least_winding = std::min(least_winding, wn);
+      EXPECT_GT(wn, 0.5) << "ball " << i << " outside the film";
+      const double clearance = film_distance(bag.rest, bag.x0, p.x) - p.radius - reach;
+      least_clearance = std::min(least_clearance, clearance);
+      EXPECT_GE(clearance, 0.0) << "ball " << i << " closer to the film than its radius + t/2";
+    }
+    std::printf("BagFill: %s: %zu balls, %zu triangles, fill fraction %.3f, outer %.2f x %.2f x %.2f mm; closest pair gap "
+                "%.3g m, least film clearance beyond r + t/2 %.3g m, least winding number %.4f\n",
+                bag.shape.c_str(), bag.balls, bag.rest.triangles.size(), bag.fill_fraction, 1e3 * bag.size.x(),
+                1e3 * bag.size.y(), 1e3 * bag.size.z(), closest_pair, least_clearance, least_winding);
+  }
+}
+
+// count / mass / mass_ratio + primary_mass: N = round(mass / ball mass) (src/case/bag.cpp
+// ball_count). Ball mass m = 7800 x 4/3 pi (2 mm)^3. mass = 23.4 m and 23.6 m give 23 and 24;
+// mass_ratio 0.05 with primary_mass = 20.2 m / 0.05 gives 20. Exactly one of the three is allowed.
+TEST(BagFill, CountMassAndMassRatio) {
+  const double m = sphere_mass(7800, 0.002);
+  auto n_for = [&](const std::string& balls) {
+    LoadedCase c(bag_case(kCapsule, balls));
+    return c.scene.bag->balls;
+  };
+  char b1[128], b2[128], b3[128];
+  std::snprintf(b1, sizeof b1, "mass = %.17g\n", 23.4 * m);
+  std::snprintf(b2, sizeof b2, "mass = %.17g\n", 23.6 * m);
+  std::snprintf(b3, sizeof b3, "mass_ratio = 0.05\nprimary_mass = %.17g\n", 20.2 * m / 0.05);
+  EXPECT_EQ(n_for("count = 17\n"), 17u);
+  EXPECT_EQ(n_for(b1), 23u);
+  EXPECT_EQ(n_for(b2), 24u);
+  EXPECT_EQ(n_for(b3), 20u);
+  EXPECT_THROW(n_for("count = 17\n" + std::string(b1)), InputError);
+  EXPECT_THROW(n_for(""), InputError);
+}
+
+// A bag of fixed size (bag.radius and bag.length given) asked for more balls than its lattice holds
+// is refused by `bagdem check`: exit code 2 (bad input), the message names bag.balls.count.
+// Capsule radius 7 mm, length 20 mm (about 2.6 cm^3): 200 balls of 4 mm (6.7 cm^3) cannot fit.
+TEST(BagFill, FixedSizeBagWithTooManyBallsIsRefused) {
+  TempDir dir;
+  dir.write("case.toml", bag_case(std::string(kCapsule) + "length = \"20 mm\"\n", "count = 200\n"));
+  const CmdResult r = run_bagdem({"check", dir.str()}, dir.path);
+  std::printf("BagFill: check of an overfull fixed bag: exit %d, stderr: %s", r.code, r.err.c_str());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("bag.balls.count"), std::string::npos) << r.err;
+}
+
+// ---- 8. check report --------------------------------------------------------------------------------
+
+// `bagdem check` on a bag case names the film's resolution (its number of triangles, the same as the
+// loaded scene's), the bag's size (outer dimensions in mm as resolved) and each string (name,
+// stiffness, anchor).
+TEST(BagCheckReport, ReportsFilmResolutionSizeAndStrings) {
+  TempDir dir;
+  dir.write("case.toml", bag_case(kCapsule));
+  const CmdResult r = run_bagdem({"check", dir.str()}, dir.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  LoadedCase c(bag_case(kCapsule));
+  const Bag& bag = *c.scene.bag;
+  std::printf("BagCheckReport: bagdem check prints:\n%s", r.out.c_str());
+  std::ostringstream tri;
+  tri << "resolution " << bag.rest.triangles.size() << " triangles";
+  EXPECT_NE(r.out.find(tri.str()), std::string::npos) << "no '" << tri.str() << "'";
+  // "outer L x W x H mm", printed to 4 significant digits: within 0.05% of the resolved size.
+  std::smatch m;
+  const std::regex outer(R"(outer ([0-9.eE+-]+) x ([0-9.eE+-]+) x ([0-9.eE+-]+) mm)");
+  ASSERT_TRUE(std::regex_search(r.out, m, outer)) << "no 'outer L x W x H mm'";
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::stod(m[k + 1].str()), 1e3 * bag.size[k], 5e-4 * 1e3 * bag.size[k]) << "extent " << k;
+  EXPECT_NE(r.out.find("30 balls"), std::string::npos);
+  for (const char* name : {"bag.strings.0", "bag.strings.1"}) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  EXPECT_NE(r.out.find("k 200 N/m"), std::string::npos);
+  EXPECT_NE(r.out.find("anchor [-0.025"), std::string::npos);
+  EXPECT_NE(r.out.find("anchor [0.025"), std::string::npos);
+}
+
+// ---- 9, 10. a run with a settle phase: bag.h5, summary.json, results.h5, results.xmf -------------------
+
+namespace {
+
+// One run of the small bag case with simulation.settle = 10 ms through the binary, shared by the
+// tests below.
+struct SettledRun {
+  TempDir dir;
+  fs::path case_dir, out;
+  CmdResult result;
+  SettledRun() {
+    case_dir = dir.path / "first";
+    out = dir.path / "first-out";
+    fs::create_directories(case_dir);
+    std::ofstream(case_dir / "case.toml") << bag_case(kCapsule);
+    // settle 10 ms through --set (the template has no settle)
+    result = run_bagdem({"run", case_dir.string(), "--out", out.string(), "--quiet", "--threads", "1", "--set",
+                         "simulation.settle=0.01"},
+                        dir.path);
+  }
+};
+
+const SettledRun& settled_run() {
+  static const SettledRun r;
+  return r;
+}
+
+}  // namespace
+
+// The run saves the settled bag to <out>/bag.h5 and reports it in summary.json ("bag": packing
+// fraction in (0.3, 0.75), the range of a bag of balls from loose to dense random packing).
+TEST(BagSettledReuse, RunSavesTheSettledBag) {
+  const SettledRun& run = settled_run();
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  EXPECT_TRUE(fs::exists(run.out / "bag.h5"));
+  const std::string summary = slurp(run.out / "summary.json");
+  ASSERT_NE(summary.find("\"bag\""), std::string::npos) << summary;
+  const double packing = json_number(summary, "packing_fraction", "\"bag\"");
+  const double balls = json_number(summary, "balls", "\"bag\"");
+  std::printf("BagSettledReuse: summary.json bag entry: balls %g, packing fraction %.4f\n", balls, packing);
+  EXPECT_EQ(balls, 30);
+  EXPECT_GT(packing, 0.3);
+  EXPECT_LT(packing, 0.75);
+}
+
+// bag.from: a second case starts from the saved bag. Its balls are exactly the saved ones (bag.h5,
+// cavity frame) plus the cavity's rest position (1 mm along x here: harmonic motion with phase
+// pi/2), bit for bit (the same addition); its film nodes likewise. The path works relative to the
+// case directory and absolute. With bag.centre, the balls' centroid is there (+ the cavity's rest
+// position) within 1e-12 m. The second case runs (exit 0). A saved bag with balls of another
+// diameter is refused (exit 2, naming bag.from).
+TEST(BagSettledReuse, BagFromLoadsTheSavedBag) {
+  const SettledRun& run = settled_run();
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  const fs::path saved_path = run.out / "bag.h5";
+  ASSERT_TRUE(fs::exists(saved_path));
+  const SavedBag saved = load_bag(saved_path.string());
+  ASSERT_EQ(saved.ball_position.size(), 30u);
+
+  TempDir dir;
+  const fs::path second = dir.path / "second";
+  fs::create_directories(second);
+  fs::copy_file(saved_path, second / "settled.h5");
+  const std::string relative = std::string(kCapsule) + "from = \"settled.h5\"\n";
+  const std::string absolute = std::string(kCapsule) + "from = \"" + saved_path.string() + "\"\n";
+  for (const std::string& bag_keys : {relative, absolute}) {
+    std::ofstream(second / "case.toml") << bag_case(bag_keys);
+    const Scene s = load_case(second.string());
+    const Vec3 rest = s.motion->at(0.0).position;
+    ASSERT_NEAR(rest.x(), 1e-3, 1e-15);
+    const Bag& bag = *s.bag;
+    ASSERT_EQ(bag.balls, saved.ball_position.size());
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < bag.balls; ++k) differ += !(s.particles[bag.ball_first + k].x == saved.ball_position[k] + rest);
+    for (std::size_t k = 0; k < bag.x0.size(); ++k) differ += !(bag.x0[k] == saved.film_position[k] + rest);
+    EXPECT_EQ(differ, 0u) << (bag_keys == relative ? "relative" : "absolute") << " bag.from";
+    EXPECT_EQ(bag.x0.size(), saved.film_position.size());
+  }
+  // With bag.centre.
+  std::ofstream(second / "case.toml") << bag_case(relative + "centre = [\"2 mm\", \"-1 mm\", \"-3 mm\"]\n");
+  {
+    const Scene s = load_case(second.string());
+    const Bag& bag = *s.bag;
+    Vec3 c(0, 0, 0);
+    for (std::size_t k = 0; k < bag.balls; ++k) c += s.particles[bag.ball_first + k].x;
+    c /= static_cast<double>(bag.balls);
+    const Vec3 expected = Vec3(2e-3, -1e-3, -3e-3) + s.motion->at(0.0).position;
+    std::printf("BagSettledReuse: bag.from with centre: balls' centroid (%.6g, %.6g, %.6g) m, expected (%.6g, %.6g, %.6g)\n",
+                c.x(), c.y(), c.z(), expected.x(), expected.y(), expected.z());
+    EXPECT_LT((c - expected).norm(), 1e-12);
+  }
+  // It runs.
+  const CmdResult r = run_bagdem({"run", second.string(), "--out", (dir.path / "second-out").string(), "--quiet", "--threads",
+                                  "1", "--set", "simulation.duration=0.001"},
+                                 dir.path);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir.path / "second-out" / "summary.json"));
+  // Balls of another diameter: refused.
+  std::ofstream(second / "case.toml") << bag_case(relative);
+  const CmdResult wrong = run_bagdem({"check", second.string(), "--set", "bag.balls.diameter=\"3 mm\""}, dir.path);
+  std::printf("BagSettledReuse: bag.from with 3 mm balls: exit %d, %s", wrong.code, wrong.err.c_str());
+  EXPECT_EQ(wrong.code, 2);
+  EXPECT_NE(wrong.err.find("bag.from"), std::string::npos) << wrong.err;
+}
+
+// results.h5 of a bag run: /film/triangles [T, 3] int32 (the film's triangles, T as in check) and
+// /film/position [F, V, 3] with F = the number of particle frames (/frames/time) and V the film's
+// nodes; results.xmf has a film grid of triangles reading /film/triangles and /film/position.
+TEST(BagResults, FilmInResultsAndXdmf) {
+  const SettledRun& run = settled_run();
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  LoadedCase c(bag_case(kCapsule), {"simulation.settle=0.01"});
+  const Bag& bag = *c.scene.bag;
+  const std::string h5 = (run.out / "results.h5").string();
+  const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const auto tri_dims = dims_of(f, "/film/triangles"), pos_dims = dims_of(f, "/film/position"),
+             time_dims = dims_of(f, "/frames/time"), frame_dims = dims_of(f, "/frames/position");
+  const auto triangles = read_all<std::int32_t>(f, "/film/triangles", H5T_NATIVE_INT32);
+  const auto film = read_all<double>(f, "/film/position", H5T_NATIVE_DOUBLE);
+  hid_t ds = H5Dopen2(f, "/film/triangles", H5P_DEFAULT);
+  const hid_t type = H5Dget_type(ds);
+  const bool int32 = H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 4;
+  H5Tclose(type);
+  H5Dclose(ds);
+  H5Fclose(f);
+  ASSERT_EQ(tri_dims.size(), 2u);
+  ASSERT_EQ(pos_dims.size(), 3u);
+  ASSERT_EQ(time_dims.size(), 1u);
+  std::printf("BagResults: /film/triangles [%llu, %llu], /film/position [%llu, %llu, %llu], /frames/time [%llu]\n",
+              static_cast<unsigned long long>(tri_dims[0]), static_cast<unsigned long long>(tri_dims[1]),
+              static_cast<unsigned long long>(pos_dims[0]), static_cast<unsigned long long>(pos_dims[1]),
+              static_cast<unsigned long long>(pos_dims[2]), static_cast<unsigned long long>(time_dims[0]));
+  EXPECT_TRUE(int32);
+  EXPECT_EQ(tri_dims[0], bag.rest.triangles.size());
+  EXPECT_EQ(tri_dims[1], 3u);
+  EXPECT_EQ(pos_dims[0], time_dims[0]) << "one film frame per particle frame";
+  EXPECT_GE(time_dims[0], 14u);  // frames every 1 ms over 14 ms, plus the first
+  EXPECT_EQ(pos_dims[1], bag.x0.size());
+  EXPECT_EQ(pos_dims[2], 3u);
+  EXPECT_EQ(frame_dims.at(0), time_dims[0]);
+  // The triangles are the film's, node indices in range.
+  ASSERT_EQ(triangles.size(), 3 * bag.rest.triangles.size());
+  std::size_t differ = 0;
+  for (std::size_t t = 0; t < bag.rest.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) differ += triangles[3 * t + k] != static_cast<std::int32_t>(bag.rest.triangles[t][k]);
+  EXPECT_EQ(differ, 0u);
+  // The first film frame is the film at t = 0.
+  ASSERT_GE(film.size(), 3 * bag.x0.size());
+  double first = 0;
+  for (std::size_t k = 0; k < bag.x0.size(); ++k)
+    first = std::max(first, (Vec3(film[3 * k], film[3 * k + 1], film[3 * k + 2]) - bag.x0[k]).norm());
+  EXPECT_EQ(first, 0.0);
+  const std::string xmf = slurp(run.out / "results.xmf");
+  EXPECT_NE(xmf.find("<Grid Name=\"film\""), std::string::npos);
+  EXPECT_NE(xmf.find("TopologyType=\"Triangle\" NumberOfElements=\"" + std::to_string(bag.rest.triangles.size()) + "\""),
+            std::string::npos);
+  EXPECT_NE(xmf.find(":/film/triangles"), std::string::npos);
+  EXPECT_NE(xmf.find(":/film/position"), std::string::npos);
+}
+
+// ---- 11. threads -------------------------------------------------------------------------------------
+
+namespace {
+
+struct Snapshot {
+  std::vector<Vec3> x, v, film_x, film_v;
+  EnergySample e;
+};
+
+Snapshot run_threads(const Scene& s, int threads, std::uint64_t steps) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  Simulation sim(s);
+  for (std::uint64_t k = 0; k < steps; ++k) sim.step();
+  omp_set_num_threads(before);
+  return {sim.particles().x, sim.particles().v, sim.film().x, sim.film().v, sim.energy()};
+}
+
+void expect_same(const Snapshot& a, const Snapshot& b) {
+  EXPECT_TRUE(same_bits(a.x, b.x)) << "ball positions differ";
+  EXPECT_TRUE(same_bits(a.v, b.v)) << "ball velocities differ";
+  EXPECT_TRUE(same_bits(a.film_x, b.film_x)) << "film positions differ";
+  EXPECT_TRUE(same_bits(a.film_v, b.film_v)) << "film velocities differ";
+  EXPECT_EQ(std::memcmp(&a.e, &b.e, sizeof a.e), 0) << "energy() differs";
+}
+
+}  // namespace
+
+// One and two OpenMP threads give bitwise the same balls and film (stepper.hpp, Determinism). The
+// film's parallel loops engage above kParallelMin = 512 nodes: bag.triangles = 1200 (~600 nodes),
+// 40 balls, the box shaken (strings, friction, film damping), 3000 steps.
+TEST(BagDeterminism, FilmParallelPathsMatchOneThread) {
+  LoadedCase c(bag_case(kCapsule, "count = 40\n"), {"bag.triangles=1200"});
+  ASSERT_GT(c.scene.bag->x0.size(), kParallelMin);
+  const Snapshot one = run_threads(c.scene, 1, 3000), two = run_threads(c.scene, 2, 3000);
+  std::printf("BagDeterminism: film %zu nodes, %zu balls, 3000 steps of %.3g s\n", one.film_x.size(), one.x.size(), c.scene.dt);
+  expect_same(one, two);
+  EXPECT_FALSE(same_bits(one.film_x, c.scene.bag->x0)) << "the film did not move";
+}
+
+// The same with the balls' parallel paths: 600 balls (above 512) in a coarse film, 1000 steps.
+TEST(BagDeterminism, BallParallelPathsMatchOneThread) {
+  LoadedCase c(bag_case("shape = \"capsule\"\naxis = [1, 0, 0]\nradius = \"15 mm\"\n", "count = 600\n"),
+               {"cavity.min=[-0.06, -0.02, -0.02]", "cavity.max=[0.06, 0.02, 0.02]", "bag.strings.0.anchor=[-0.06, 0, 0]",
+                "bag.strings.1.anchor=[0.06, 0, 0]", "bag.triangles=300"});
+  ASSERT_GT(c.scene.bag->balls, kParallelMin);
+  const Snapshot one = run_threads(c.scene, 1, 1000), two = run_threads(c.scene, 2, 1000);
+  std::printf("BagDeterminism: %zu balls, film %zu nodes, 1000 steps of %.3g s\n", one.x.size(), one.film_x.size(), c.scene.dt);
+  expect_same(one, two);
+}
+
+// ---- 12. restart -------------------------------------------------------------------------------------
+
+// save_state() mid-run and load_state() into a new Simulation, then continue: bitwise the same
+// balls, film nodes, energy() and state image as the uninterrupted run. The small bag case (strings,
+// friction histories, film damping, ball-film contacts), the bag placed 0.1 mm above the floor:
+// the box shaken from the start; stepped until the balls touch the film (4 contacts) and 1000 steps
+// more, saved, then 2000 steps.
+TEST(BagRestart, SaveLoadStateIsBitwise) {
+  LoadedCase c(bag_case(kCapsule), {"simulation.duration=0.03", "bag.centre=[0, 0, -0.0049]"});
+  const Scene& s = c.scene;
+  Simulation whole(s);
+  // Until at least 4 ball-film contacts are closed, then 1000 steps more; then 2000 steps on.
+  std::uint64_t n1 = 0;
+  while (whole.mesh_contact_count() < 4 && n1 < s.total_steps() / 2) whole.step(), ++n1;
+  for (int k = 0; k < 1000; ++k) whole.step(), ++n1;
+  const std::uint64_t n2 = 2000;
+  ASSERT_LE(n1 + n2, s.total_steps());
+  const std::vector<char> image = whole.save_state();
+  const std::size_t contacts = whole.mesh_contact_count();
+  for (std::uint64_t k = 0; k < n2; ++k) whole.step();
+
+  Simulation resumed(s);
+  resumed.load_state(image);
+  EXPECT_EQ(resumed.steps_done(), n1);
+  EXPECT_EQ(resumed.mesh_contact_count(), contacts);
+  for (std::uint64_t k = 0; k < n2; ++k) resumed.step();
+  std::printf("BagRestart: state image %zu bytes at step %llu (%zu ball-film contacts), %llu more steps\n", image.size(),
+              static_cast<unsigned long long>(n1), contacts, static_cast<unsigned long long>(n2));
+  EXPECT_GT(contacts, 0u) << "the restart should carry ball-film contact histories";
+  const Snapshot a{whole.particles().x, whole.particles().v, whole.film().x, whole.film().v, whole.energy()};
+  const Snapshot b{resumed.particles().x, resumed.particles().v, resumed.film().x, resumed.film().v, resumed.energy()};
+  expect_same(a, b);
+  EXPECT_TRUE(whole.save_state() == resumed.save_state()) << "the state images differ";
+}

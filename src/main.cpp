@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool quiet = false, resume = false;
 
-  auto* check = app.add_subcommand("check", "Validate a case and print the resolved scene: what is modelled, N, dt and how it was chosen, steps, memory.");
+  auto* check = app.add_subcommand("check", "Validate a case and print the resolved scene: what is modelled, N, dt and how it was chosen, steps, memory; for a bag its size, fill, film resolution and strings.");
   check->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   check->add_option("--set", sets, "Override a key of case.toml: --set simulation.duration=\"0.5 s\" (repeatable)");
 

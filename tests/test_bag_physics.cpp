@@ -397,6 +397,51 @@ TEST(BagDrop, BallsDoNotTouchTheFloorThroughTheFilm) {
                                       << 1e6 * r.deepest << " um deep";
 }
 
+// The force on the cavity includes the film's: a bag settling on the floor of a fixed box presses
+// on it through balls on the film and film nodes on the floor (film-wall contacts), and through
+// balls reaching the floor through the film. Reference: the momentum balance of the contents,
+// mean force on the cavity = M g - dP/dt over the window (P: momentum of balls and film nodes),
+// which is about (0, 0, -M g) as the bag comes to rest. Tolerance 1% of M g (the impulse is
+// tallied with the step's end forces, the velocities change with the mean of two steps' forces).
+TEST(BagDrop, ForceOnTheCavityBalancesTheBagsMomentum) {
+  LoadedCase c(drop_toml(0.8, R"(
+[bag]
+shape = "capsule"
+axis = [1, 0, 0]
+radius = "7 mm"
+triangles = 200
+centre = [0, 0, "7.2 mm"]
+
+[bag.balls]
+material = "steel"
+diameter = "4 mm"
+count = 50
+
+[bag.film]
+material = "ldpe"
+thickness = "50 um"
+)"));
+  Simulation sim(c.scene);
+  auto momentum = [&] {
+    Vec3 p(0, 0, 0);
+    for (std::size_t i = 0; i < sim.particles().size(); ++i) p += sim.particles().mass[i] * sim.particles().v[i];
+    for (std::size_t k = 0; k < sim.film().size(); ++k) p += sim.film().mass[k] * sim.film().v[k];
+    return p;
+  };
+  while (sim.time() < 0.06) sim.step();
+  sim.take_cavity_sample();  // the sums restart here
+  const Vec3 p0 = momentum();
+  const double t0 = sim.time();
+  while (sim.time() < 0.08) sim.step();
+  const Simulation::CavitySample f = sim.take_cavity_sample();
+  const double M = bag_mass(sim), weight = M * 9.81;
+  const Vec3 expected = M * c.scene.gravity - (momentum() - p0) / (sim.time() - t0);
+  std::printf("BagDrop: settling bag: mean force on the cavity (%.5g, %.5g, %.5g) N, M g - dP/dt (%.5g, %.5g, %.5g) N, "
+              "weight %.5g N\n", f.force.x(), f.force.y(), f.force.z(), expected.x(), expected.y(), expected.z(), weight);
+  EXPECT_LT((f.force - expected).norm(), 0.01 * weight);
+  EXPECT_GT(-f.force.z(), 0.5 * weight);  // the bag does press on the floor
+}
+
 namespace {
 
 // A capsule bag (40 balls of 4 mm, 2 GPa steel; LDPE film 50 um, 200 triangles) with its axis

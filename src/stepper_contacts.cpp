@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "bagdem/contact/hertz.hpp"
+#include "bagdem/contact/surface_law.hpp"
 #include "stepper_detail.hpp"
 
 namespace bagdem {
@@ -218,20 +219,10 @@ void Simulation::gather_walls_impl() {
         g.v_half = p_.v[p] - c_half;
       }
       const PairLaw& law = laws(p_.material[p], wall.material);
-      const NormalResult nr = hertz_normal(g, law);
-      Vec3 Fc = nr.force * g.n;
-      if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, wall_damping_prev_[p * nw + w]);
-      if constexpr (Tangential) {
-        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, wall_tan_[p * nw + w]);
-        Fc += tr.force;
-        T -= g.arm_i * g.n.cross(tr.force);
-        if constexpr (Energy) diss.y() += tr.dissipated;
-      }
-      if constexpr (Rolling) {
-        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, wall_roll_[p * nw + w]);
-        T += rr.torque;
-        if constexpr (Energy) diss.z() += rr.dissipated;
-      }
+      [[maybe_unused]] double no_tally = 0;
+      const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
+          g, law, dt, Energy ? wall_damping_prev_[p * nw + w] : no_tally, Tangential ? &wall_tan_[p * nw + w] : nullptr,
+          Rolling ? &wall_roll_[p * nw + w] : nullptr, T, diss);
       F += Fc;
       F_wall += Fc;
       // Torque on the cavity about its reference point, from the contact point on the wall.

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "bagdem/contact/hertz.hpp"
+#include "bagdem/contact/surface_law.hpp"
 #include "bagdem/stepper.hpp"
 #include "stepper_detail.hpp"
 
@@ -157,15 +158,12 @@ void Simulation::film_walls() {
       g.v_rel = film_.v_pred[k] - c_vel;
       g.v_half = film_.v[k] - c_half;
       g.w_half.setZero();
-      const PairLaw& law = scene_.laws(bag.material, wall.material);
-      const NormalResult nr = hertz_normal(g, law);
-      Vec3 Fc = nr.force * g.n;
-      if constexpr (Energy) dn += normal_dissipation(nr, g.v_half.dot(g.n), dt, film_wall_damping_prev_[h]);
-      if constexpr (Tangential) {
-        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, film_wall_tan_[h]);
-        Fc += tr.force;
-        if constexpr (Energy) dtg += tr.dissipated;
-      }
+      Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
+      [[maybe_unused]] double no_tally = 0;
+      const Vec3 Fc = surface_contact<Tangential, false, Energy>(
+          g, scene_.laws(bag.material, wall.material), dt, Energy ? film_wall_damping_prev_[h] : no_tally,
+          Tangential ? &film_wall_tan_[h] : nullptr, nullptr, no_torque, diss);
+      if constexpr (Energy) dn += diss.x(), dtg += diss.y();
       F_wall += Fc;
       L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
     }

@@ -25,6 +25,7 @@
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
+#include "bagdem/contact/surface_law.hpp"
 #include "bagdem/stepper.hpp"
 #include "stepper_detail.hpp"
 
@@ -307,21 +308,8 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
       g.v_rel = p_.v_pred[p] - vs_end;
       g.v_half = p_.v[p] - vs_half;
     }
-    const PairLaw& law = laws(p_.material[p], sf.material);
-    const NormalResult nr = hertz_normal(g, law);
-    Vec3 Fc = nr.force * g.n;
-    if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, s.damping_prev);
-    if constexpr (Tangential) {
-      const TangentialResult tr = mindlin_tangential(g, law, nr, dt, s.tangential);
-      Fc += tr.force;
-      T -= g.arm_i * g.n.cross(tr.force);
-      if constexpr (Energy) diss.y() += tr.dissipated;
-    }
-    if constexpr (Rolling) {
-      const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, s.rolling);
-      T += rr.torque;
-      if constexpr (Energy) diss.z() += rr.dissipated;
-    }
+    const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(g, laws(p_.material[p], sf.material), dt, s.damping_prev,
+                                                                 &s.tangential, &s.rolling, T, diss);
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
     if (sf.film) {
@@ -407,15 +395,10 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double
     g.v_rel = film_.v_pred[k] - c_vel;
     g.v_half = film_.v[k] - c_half;
     g.w_half.setZero();
-    const PairLaw& law = scene_.laws(bag.material, surfaces_[fd.surface].material);
-    const NormalResult nr = hertz_normal(g, law);
-    Vec3 Fc = nr.force * g.n;
-    if constexpr (Energy) dn += normal_dissipation(nr, g.v_half.dot(g.n), dt, s.damping_prev);
-    if constexpr (Tangential) {
-      const TangentialResult tr = mindlin_tangential(g, law, nr, dt, s.tangential);
-      Fc += tr.force;
-      if constexpr (Energy) dtg += tr.dissipated;
-    }
+    Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
+    const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, scene_.laws(bag.material, surfaces_[fd.surface].material),
+                                                               dt, s.damping_prev, &s.tangential, nullptr, no_torque, diss);
+    if constexpr (Energy) dn += diss.x(), dtg += diss.y();
     F_wall += Fc;
     L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
   }

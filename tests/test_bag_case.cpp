@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bag_support.hpp"
+#include "h5_read.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/bag_file.hpp"
@@ -115,32 +116,6 @@ double film_distance(const TriangleMesh& mesh, const std::vector<Vec3>& x, const
   double d2 = 1e300;
   for (const auto& t : mesh.triangles) d2 = std::min(d2, closest_point_on_triangle(p, x[t[0]], x[t[1]], x[t[2]]).distance2);
   return std::sqrt(d2);
-}
-
-// ---- HDF5 read-back (plain C API) -----------------------------------------------------------------
-std::vector<hsize_t> dims_of(hid_t file, const std::string& name) {
-  std::vector<hsize_t> d;
-  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  if (ds < 0) return d;
-  const hid_t space = H5Dget_space(ds);
-  d.resize(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
-  H5Sget_simple_extent_dims(space, d.data(), nullptr);
-  H5Sclose(space);
-  H5Dclose(ds);
-  return d;
-}
-
-template <class T>
-std::vector<T> read_all(hid_t file, const std::string& name, hid_t type) {
-  std::vector<T> v;
-  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  if (ds < 0) return v;
-  hsize_t total = 1;
-  for (hsize_t n : dims_of(file, name)) total *= n;
-  v.resize(total);
-  if (total > 0 && H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) v.clear();
-  H5Dclose(ds);
-  return v;
 }
 
 // A number after `"key": ` in a JSON text (first occurrence after `after`), NaN when absent.
@@ -374,15 +349,13 @@ TEST(BagResults, FilmInResultsAndXdmf) {
   const std::string h5 = (run.out / "results.h5").string();
   const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
-  const auto tri_dims = dims_of(f, "/film/triangles"), pos_dims = dims_of(f, "/film/position"),
-             time_dims = dims_of(f, "/frames/time"), frame_dims = dims_of(f, "/frames/position");
-  const auto triangles = read_all<std::int32_t>(f, "/film/triangles", H5T_NATIVE_INT32);
-  const auto film = read_all<double>(f, "/film/position", H5T_NATIVE_DOUBLE);
-  hid_t ds = H5Dopen2(f, "/film/triangles", H5P_DEFAULT);
-  const hid_t type = H5Dget_type(ds);
-  const bool int32 = H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 4;
-  H5Tclose(type);
-  H5Dclose(ds);
+  const Ints tri = read_ints(f, "/film/triangles");
+  const Doubles pos = read_doubles(f, "/film/position");
+  const auto tri_dims = tri.dims, pos_dims = pos.dims, time_dims = read_doubles(f, "/frames/time").dims,
+             frame_dims = read_doubles(f, "/frames/position").dims;
+  const std::vector<std::int32_t>& triangles = tri.values;
+  const std::vector<double>& film = pos.values;
+  const bool int32 = tri.int32;
   H5Fclose(f);
   ASSERT_EQ(tri_dims.size(), 2u);
   ASSERT_EQ(pos_dims.size(), 3u);

@@ -15,10 +15,17 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/bag_file.hpp"
 #include "bagdem/io/results_file.hpp"
+#include "h5_read.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
+using bagdem::testing::Doubles;
+using bagdem::testing::Ints;
+using bagdem::testing::open_read;
+using bagdem::testing::read_doubles;
+using bagdem::testing::read_ints;
 using bagdem::testing::TempDir;
+using bagdem::testing::unit_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -36,81 +43,6 @@ std::size_t count(const std::string& text, const std::string& s) {
   std::size_t n = 0;
   for (std::size_t i = text.find(s); i != std::string::npos; i = text.find(s, i + 1)) ++n;
   return n;
-}
-
-struct Doubles {
-  std::vector<hsize_t> dims;
-  std::vector<double> values;
-};
-
-Doubles read_doubles(hid_t file, const std::string& name) {
-  Doubles d;
-  hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  EXPECT_GE(ds, 0) << name;
-  if (ds < 0) return d;
-  hid_t space = H5Dget_space(ds);
-  d.dims.resize(H5Sget_simple_extent_ndims(space));
-  H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
-  hsize_t total = 1;
-  for (hsize_t n : d.dims) total *= n;
-  d.values.resize(total);
-  if (total > 0) {
-    EXPECT_GE(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data()), 0);
-  }
-  H5Sclose(space);
-  H5Dclose(ds);
-  return d;
-}
-
-struct Ints {
-  std::vector<hsize_t> dims;
-  std::vector<std::int32_t> values;
-  bool int32 = false;  // stored as a 4-byte integer
-};
-
-Ints read_ints(hid_t file, const std::string& name) {
-  Ints d;
-  hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  EXPECT_GE(ds, 0) << name;
-  if (ds < 0) return d;
-  hid_t type = H5Dget_type(ds);
-  d.int32 = H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 4;
-  H5Tclose(type);
-  hid_t space = H5Dget_space(ds);
-  d.dims.resize(H5Sget_simple_extent_ndims(space));
-  H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
-  hsize_t total = 1;
-  for (hsize_t n : d.dims) total *= n;
-  d.values.resize(total);
-  if (total > 0) {
-    EXPECT_GE(H5Dread(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data()), 0);
-  }
-  H5Sclose(space);
-  H5Dclose(ds);
-  return d;
-}
-
-std::string unit_of(hid_t file, const std::string& dataset) {
-  hid_t ds = H5Dopen2(file, dataset.c_str(), H5P_DEFAULT);
-  if (ds < 0) return "<no dataset>";
-  std::string out = "<missing>";
-  hid_t attr = H5Aopen(ds, "unit", H5P_DEFAULT);
-  if (attr >= 0) {
-    hid_t type = H5Aget_type(attr);
-    char* text = nullptr;
-    if (H5Tis_variable_str(type) > 0 && H5Aread(attr, type, &text) >= 0 && text) out = text;
-    H5free_memory(text);
-    H5Tclose(type);
-    H5Aclose(attr);
-  }
-  H5Dclose(ds);
-  return out;
-}
-
-hid_t open_read(const std::string& path) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  EXPECT_GE(f, 0) << path;
-  return f;
 }
 
 // Replaces dataset `name` by a [rows, 3] double dataset of zeros (to damage a saved bag).

@@ -11,8 +11,14 @@
 #include <vector>
 
 #include "bagdem/io/results_file.hpp"
+#include "h5_read.hpp"
 
 using namespace bagdem;
+using bagdem::testing::Doubles;
+using bagdem::testing::open_read;
+using bagdem::testing::read_doubles;
+using bagdem::testing::read_string_attribute;
+using bagdem::testing::unit_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -29,43 +35,6 @@ struct TempDir {
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
-struct Data {
-  std::vector<hsize_t> dims;
-  std::vector<double> values;
-};
-
-Data read_doubles(hid_t file, const std::string& name) {
-  Data d;
-  hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  EXPECT_GE(ds, 0) << name;
-  if (ds < 0) return d;
-  hid_t space = H5Dget_space(ds);
-  d.dims.resize(H5Sget_simple_extent_ndims(space));
-  H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
-  hsize_t total = 1;
-  for (hsize_t n : d.dims) total *= n;
-  d.values.resize(total);
-  if (total > 0) {
-    EXPECT_GE(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data()), 0);
-  }
-  H5Sclose(space);
-  H5Dclose(ds);
-  return d;
-}
-
-std::string read_string_attribute(hid_t obj, const std::string& name) {
-  hid_t attr = H5Aopen(obj, name.c_str(), H5P_DEFAULT);
-  if (attr < 0) return "<missing>";
-  hid_t type = H5Aget_type(attr);  // read as stored: HDF5 converts no ASCII <-> UTF-8
-  char* text = nullptr;
-  std::string out = "<not a variable-length string>";
-  if (H5Tis_variable_str(type) > 0 && H5Aread(attr, type, &text) >= 0 && text) out = text;
-  H5free_memory(text);
-  H5Tclose(type);
-  H5Aclose(attr);
-  return out;
-}
-
 double read_double_attribute(hid_t obj, const std::string& name) {
   double v = -1;
   hid_t attr = H5Aopen(obj, name.c_str(), H5P_DEFAULT);
@@ -74,20 +43,6 @@ double read_double_attribute(hid_t obj, const std::string& name) {
   EXPECT_GE(H5Aread(attr, H5T_NATIVE_DOUBLE, &v), 0);
   H5Aclose(attr);
   return v;
-}
-
-std::string unit_of(hid_t file, const std::string& dataset) {
-  hid_t ds = H5Dopen2(file, dataset.c_str(), H5P_DEFAULT);
-  if (ds < 0) return "<no dataset>";
-  std::string u = read_string_attribute(ds, "unit");
-  H5Dclose(ds);
-  return u;
-}
-
-hid_t open_read(const std::string& path) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  EXPECT_GE(f, 0) << path;
-  return f;
 }
 
 // Distinct, non-round values so that any misplaced element shows.
@@ -123,7 +78,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
 
   hid_t file = open_read(path);
   ASSERT_GE(file, 0);
-  const Data radius = read_doubles(file, "/particles/radius");
+  const Doubles radius = read_doubles(file, "/particles/radius");
   EXPECT_EQ(radius.values, kRadius);
   {
     hid_t ds = H5Dopen2(file, "/particles/material", H5P_DEFAULT);
@@ -142,7 +97,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
   EXPECT_EQ(read_doubles(file, "/frames/time").values, (std::vector<double>{0.0, 0.1}));
   const char* frame_sets[] = {"/frames/position", "/frames/velocity", "/frames/angular_velocity"};
   for (int kind = 0; kind < 3; ++kind) {
-    const Data d = read_doubles(file, frame_sets[kind]);
+    const Doubles d = read_doubles(file, frame_sets[kind]);
     ASSERT_EQ(d.dims, (std::vector<hsize_t>{2, 3, 3})) << frame_sets[kind];
     for (int f = 0; f < 2; ++f)
       for (int i = 0; i < 3; ++i)
@@ -151,13 +106,13 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
               << frame_sets[kind] << " f=" << f << " i=" << i << " c=" << c;
   }
 
-  const Data ctime = read_doubles(file, "/cavity/time");
+  const Doubles ctime = read_doubles(file, "/cavity/time");
   ASSERT_EQ(ctime.dims, std::vector<hsize_t>{5});
   for (int s = 0; s < 5; ++s) EXPECT_EQ(ctime.values[s], 0.005 * (s + 1));
   const char* cavity_sets[] = {"/cavity/position", "/cavity/velocity", "/cavity/force",
                                "/cavity/torque"};
   for (int kind = 0; kind < 4; ++kind) {
-    const Data d = read_doubles(file, cavity_sets[kind]);
+    const Doubles d = read_doubles(file, cavity_sets[kind]);
     ASSERT_EQ(d.dims, (std::vector<hsize_t>{5, 3})) << cavity_sets[kind];
     for (int s = 0; s < 5; ++s)
       for (int c = 0; c < 3; ++c)
@@ -170,7 +125,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
     H5Gclose(g);
   }
 
-  const Data etime = read_doubles(file, "/energy/time");
+  const Doubles etime = read_doubles(file, "/energy/time");
   ASSERT_EQ(etime.dims, std::vector<hsize_t>{4});
   for (int k = 0; k < 4; ++k) EXPECT_EQ(etime.values[k], 0.02 * k);
   const std::pair<const char*, double EnergySample::*> fields[] = {
@@ -183,7 +138,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
       {"dissipated_rolling", &EnergySample::dissipated_rolling},
       {"dissipated_damping", &EnergySample::dissipated_damping}};
   for (const auto& [name, member] : fields) {
-    const Data d = read_doubles(file, std::string("/energy/") + name);
+    const Doubles d = read_doubles(file, std::string("/energy/") + name);
     ASSERT_EQ(d.dims, std::vector<hsize_t>{4}) << name;
     for (int k = 0; k < 4; ++k) EXPECT_EQ(d.values[k], energy(k).*member) << name << " k=" << k;
   }
@@ -262,7 +217,7 @@ TEST(ResultsFileDeathTest, KilledRunLeavesTheLastFrame) {
         rf.append_frame(0.5, field(0, 0), field(0, 1), field(0, 2));
         std::raise(SIGKILL);
       },
-      testing::KilledBySignal(SIGKILL), "");
+      ::testing::KilledBySignal(SIGKILL), "");
   hid_t file = open_read(path);
   ASSERT_GE(file, 0);
   EXPECT_EQ(read_doubles(file, "/frames/time").values, std::vector<double>{0.5});
@@ -297,7 +252,7 @@ TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
   EXPECT_EQ(read_doubles(file, "/frames/velocity").dims, (std::vector<hsize_t>{1, 3, 3}));
   EXPECT_EQ(read_doubles(file, "/energy/dissipated_rolling").dims, std::vector<hsize_t>{3});
   EXPECT_EQ(read_doubles(file, "/cavity/time").values, (std::vector<double>{0.005, 0.01, 42.0}));
-  const Data force = read_doubles(file, "/cavity/force");
+  const Doubles force = read_doubles(file, "/cavity/force");
   ASSERT_EQ(force.dims, (std::vector<hsize_t>{3, 3}));
   for (int c = 0; c < 3; ++c) {
     EXPECT_EQ(force.values[1 * 3 + c], v3(1, 12, 2)[c]);  // kept from the first run

@@ -31,8 +31,8 @@ void find_mesh_candidates(const TriangleMesh& mesh, const std::vector<Vec3>& ver
   auto cell = [h](double c) { return static_cast<long>(std::floor(c / h)); };
 
   // (cell, triangle) entries for every cell the inflated bounding box of a triangle overlaps.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
-  entries.reserve(nt * 8);
+  auto& entries = out.cells;
+  entries.clear();
   for (std::uint32_t t = 0; t < nt; ++t) {
     const auto& tri = mesh.triangles[t];
     Vec3 lo = vertices[tri[0]], hi = lo;
@@ -47,10 +47,8 @@ void find_mesh_candidates(const TriangleMesh& mesh, const std::vector<Vec3>& ver
   std::sort(entries.begin(), entries.end());
 
   // Each sphere: the triangles of its cell, kept when truly within reach + skin (ascending, since
-  // entries of one cell are sorted by triangle).
-  std::vector<std::vector<std::uint32_t>> found(ns);
-#pragma omp parallel for schedule(static) if (ns > 512)
-  for (std::size_t i = 0; i < ns; ++i) {
+  // entries of one cell are sorted by triangle). Two passes, count then fill, into the CSR.
+  auto visit = [&](std::size_t i, auto&& keep) {
     const Vec3 c = centres[i] - shift;
     const std::uint64_t key = cell_key(cell(c.x()), cell(c.y()), cell(c.z()));
     auto it = std::lower_bound(entries.begin(), entries.end(), std::make_pair(key, std::uint32_t{0}));
@@ -58,12 +56,22 @@ void find_mesh_candidates(const TriangleMesh& mesh, const std::vector<Vec3>& ver
     for (; it != entries.end() && it->first == key; ++it) {
       const auto& tri = mesh.triangles[it->second];
       const TriangleHit hit = closest_point_on_triangle(c, vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]);
-      if (hit.distance2 < reach_i * reach_i) found[i].push_back(it->second);
+      if (hit.distance2 < reach_i * reach_i) keep(it->second);
     }
+  };
+#pragma omp parallel for schedule(static) if (ns > 512)
+  for (std::size_t i = 0; i < ns; ++i) {
+    std::uint32_t n = 0;
+    visit(i, [&n](std::uint32_t) { ++n; });
+    out.begin[i + 1] = n;
   }
-  for (std::size_t i = 0; i < ns; ++i) out.begin[i + 1] = out.begin[i] + static_cast<std::uint32_t>(found[i].size());
-  out.triangle.reserve(out.begin[ns]);
-  for (auto& f : found) out.triangle.insert(out.triangle.end(), f.begin(), f.end());
+  for (std::size_t i = 0; i < ns; ++i) out.begin[i + 1] += out.begin[i];
+  out.triangle.resize(out.begin[ns]);
+#pragma omp parallel for schedule(static) if (ns > 512)
+  for (std::size_t i = 0; i < ns; ++i) {
+    std::uint32_t at = out.begin[i];
+    visit(i, [&](std::uint32_t t) { out.triangle[at++] = t; });
+  }
 }
 
 }  // namespace bagdem

@@ -17,6 +17,8 @@ struct MeshCandidates {
   std::vector<std::uint32_t> begin;     // CSR over spheres: size spheres + 1
   std::vector<std::uint32_t> triangle;  // candidate triangles, ascending for each sphere
   std::size_t size() const { return triangle.size(); }
+  // Scratch of the search, kept so that a rebuild reuses its memory: (cell, triangle) entries.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;
 };
 
 // `vertices`: the mesh's vertex positions in the same frame as `centres - shift`.

@@ -65,6 +65,13 @@ void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, C& cavity_sums, 
   io.vec(ps.damping_prev), io.vec(x_build), io.vec(wall_tan), io.vec(wall_roll), io.vec(wall_damp), io.vec(wall_touch);
 }
 
+// The primary structure (empty vectors without one).
+template <class IO, class S>
+void structure_fields(IO& io, S& st, std::vector<Vec3>& cavity_load, Vec3& film_load) {
+  io.vec(st.q), io.vec(st.v), io.vec(st.v_pred), io.vec(st.a), io.vec(st.damping_prev), io.vec(st.load_prev);
+  io.pod(st.scalars), io.pod(st.load_now), io.vec(cavity_load), io.pod(film_load);
+}
+
 }  // namespace
 
 // The bag's film and the triangle contacts (empty vectors without them). The candidate lists are
@@ -87,6 +94,7 @@ std::vector<char> Simulation::save_state() const {
                              self.kinetic_elastic0_, self.p_, self.tally_, self.ps_, self.x_at_build_,
                              self.wall_tan_, self.wall_roll_, self.wall_damping_prev_, self.wall_touch_, self.cavity_, self.cavity_prev_);
   self.bag_state_fields(w);
+  structure_fields(w, self.structure_, self.cavity_load_, self.film_load_moments_);
   return std::move(w.out);
 }
 
@@ -102,6 +110,7 @@ void Simulation::load_state(const std::vector<char>& image) {
   fields<Reader, Simulation>(r, step_, builds_, cavity_sums_, potential0_, kinetic_elastic0_, p_,
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
   bag_state_fields(r);
+  structure_fields(r, structure_, cavity_load_, film_load_moments_);
   // What is derived from the pair list (first, gather CSR, per-pair buffers), without a new
   // broad-phase search.
   derive_pair_buffers();

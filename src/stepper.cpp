@@ -37,6 +37,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
   wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
   cavity_ = cavity_prev_ = cavity_at(0.0);
+  set_up_structure();
   set_up_film();
   set_up_meshes();
   update_neighbours(true);
@@ -46,18 +47,25 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   gather_walls();
   triangle_contacts();
   film_stage();
+  if (couple_) {
+    structure_forces();  // the contents' load at rest
+    release_step_ = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
+    if (release_step_ == 0) release_structure();
+  }
   potential0_ = potential_energy();
   const EnergySample e0 = energy();
   kinetic_elastic0_ = e0.kinetic + e0.elastic;
 }
 
 CavityState Simulation::cavity_at(double t) const {
+  if (couple_) return structure_cavity();
   if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
   return scene_.motion->at(t - scene_.settle);
 }
 
 void Simulation::step() {
   dt_step_ = scene_.dt;
+  if (couple_ && step_ == release_step_ && !structure_.scalars.released) release_structure();
   if (!profile_) {
     kick_drift();
     move_cavity();
@@ -66,6 +74,7 @@ void Simulation::step() {
     gather_walls();
     triangle_contacts();
     film_stage();
+    if (couple_) structure_forces();
     kick();
     ++step_;
     guards();
@@ -91,6 +100,7 @@ void Simulation::step() {
   lap(times_.triangles);
   film_stage();
   lap(times_.film);
+  if (couple_) structure_forces();
   kick();
   lap(times_.integrate);
   ++step_;
@@ -133,6 +143,7 @@ void Simulation::kick_drift() {
     film_.x[k] += dt * film_.v[k];
     film_.v_pred[k] = film_.v[k] + dv;
   }
+  if (couple_) structure_drift();
 }
 
 
@@ -240,6 +251,10 @@ void Simulation::kick() {
   for (std::size_t k = 0; k < nn; ++k) {
     film_.v[k] += h * film_.inv_mass[k] * film_.f[k];
     finite = finite && std::isfinite(film_.v[k].squaredNorm());
+  }
+  if (couple_) {
+    structure_kick();
+    for (double v : structure_.v) finite = finite && std::isfinite(v);
   }
   all_finite_ = finite;
 }

@@ -178,7 +178,7 @@ void Simulation::gather_walls_impl() {
     // planes need not enclose anything).
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
     double d_min = 1e300;  // nearest wall
-    Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0);
+    Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     const std::uint32_t touched_before = wall_touch_[p];
     std::uint32_t touched = 0;
     for (std::size_t w = 0; w < nw; ++w) {
@@ -227,7 +227,9 @@ void Simulation::gather_walls_impl() {
       F_wall += Fc;
       // Torque on the cavity about its reference point, from the contact point on the wall.
       T_cavity -= (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+      if (couple_) load += load_moments(x_local - d * g.n, -Fc);
     }
+    if (couple_) cavity_load_[p] = load;
     p_.f[p] = F;
     p_.t[p] = T;
     wall_touch_[p] = touched;

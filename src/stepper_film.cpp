@@ -54,6 +54,7 @@ void Simulation::film_stage() {
     film_.f[k] = gravity ? Vec3(film_.mass[k] * scene_.gravity) : Vec3::Zero();
     film_.f_damp[k].setZero();
   }
+  film_load_moments_.setZero();
   // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
   membrane_->add_forces(film_.x, film_.v_pred, film_.f, film_.f_damp);
   with_flags([this]<bool T, bool E>() { film_walls<T, E>(); }, scene_.models.tangential, scene_.models.energy);
@@ -91,6 +92,7 @@ void Simulation::film_stage() {
     state.pull_prev = pull;
     film_tally_.impulse -= dt * pull;
     film_tally_.ang_impulse -= dt * (st.anchor - scene_.cavity_reference).cross(pull);
+    if (couple_) film_load_moments_ += load_moments(st.anchor, -pull);
   }
 
   // The balls' loads, ball by ball.
@@ -125,7 +127,7 @@ void Simulation::film_walls() {
   const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;
   const double reach = 0.5 * bag.film.thickness;
   double work = 0, dn = 0, dtg = 0, deepest = 1e300;
-  Vec3 J(0, 0, 0), L(0, 0, 0);
+  Vec3 J(0, 0, 0), L(0, 0, 0), load(0, 0, 0);
   for (std::size_t k = 0; k < nn; ++k) {
     const Vec3 x_local = film_.x[k] - c_pos;
     Vec3 F_wall(0, 0, 0);
@@ -166,9 +168,10 @@ void Simulation::film_walls() {
       if constexpr (Energy) dn += diss.x(), dtg += diss.y();
       F_wall += Fc;
       L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+      if (couple_) load += load_moments(x_local - d * g.n, -Fc);
     }
     film_wall_touch_[k] = touched;
-    if (!node_reach_.empty()) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, dn, dtg, deepest);
+    if (!node_reach_.empty()) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, load, dn, dtg, deepest);
     film_.f[k] += F_wall;
     J -= dt * F_wall;
     if constexpr (Energy) {
@@ -178,6 +181,7 @@ void Simulation::film_walls() {
   }
   film_tally_.impulse += J;
   film_tally_.ang_impulse += L;
+  film_load_moments_ += load;
   film_tally_.work_cavity += work;
   film_tally_.diss_normal += dn;
   film_tally_.diss_tangential += dtg;

@@ -146,8 +146,9 @@ void Simulation::triangle_contacts_impl() {
   double excess = overlap_excess_;
 #pragma omp parallel for schedule(static) reduction(max : excess) if (n > kParallelMin)
   for (std::size_t p = 0; p < n; ++p) {
-    Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0);
-    mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, excess);
+    Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
+    mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
+    if (couple_) cavity_load_[p] += load;
     p_.f[p] = F;
     p_.t[p] = T;
     tally_.wall_impulse[p] -= dt * F_cavity;
@@ -199,7 +200,7 @@ bool Simulation::meshes_need_rebuild() const {
 
 template <bool Tangential, bool Rolling, bool Energy>
 void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
-                               double& excess) {
+                               Vec3& load, double& excess) {
   constexpr std::size_t K = kMaxMeshContacts;
   const double dt = dt_step_;
   const double r = p_.radius[p];
@@ -317,6 +318,7 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
     } else {
       F_cavity += Fc;
       T_cavity -= (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
+      if (couple_) load += load_moments(fd.hit.hit.point, -Fc);
     }
   }
   slot_count_[p] = static_cast<std::uint8_t>(nf);
@@ -326,7 +328,8 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
 // Film nodes against the STL walls: the film-wall law of stepper_film.cpp (R* = the film's contact
 // radius, m* = the node's mass, reach = half the thickness) on the sphere-triangle contact.
 template <bool Tangential, bool Energy>
-void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double& dn, double& dtg, double& deepest) {
+void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
+                                    double& deepest) {
   constexpr std::size_t K = kMaxMeshContacts;
   const Bag& bag = *scene_.bag;
   const double dt = dt_step_;
@@ -401,14 +404,15 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double
     if constexpr (Energy) dn += diss.x(), dtg += diss.y();
     F_wall += Fc;
     L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
+    if (couple_) load += load_moments(fd.hit.hit.point, -Fc);
   }
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
 }
 
-template void Simulation::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Simulation::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
 
 std::size_t Simulation::mesh_contact_count() const {
   std::size_t c = 0;

@@ -10,6 +10,7 @@
 #include "bagdem/bag/bag.hpp"
 #include "bagdem/material.hpp"
 #include "bagdem/motion/motion.hpp"
+#include "bagdem/structure/primary.hpp"
 #include "bagdem/vec3.hpp"
 #include "bagdem/walls/mesh_wall.hpp"
 #include "bagdem/walls/wall.hpp"
@@ -60,6 +61,9 @@ struct Scene {
   std::shared_ptr<const Motion> motion;  // motion time starts when settling ends
 
   std::shared_ptr<const Bag> bag;        // the bag (film, strings, its balls), or null
+  // The primary structure carrying the cavity (structure/primary.hpp), or null: the cavity then
+  // follows `motion`. With a primary, `motion` is fixed and the structure moves the cavity.
+  std::shared_ptr<const Primary> primary;
 
   Vec3 gravity = Vec3::Zero();  // (unit: m/s^2)
   double settle = 0;            // settle phase before the measured part, cavity at rest (unit: s)

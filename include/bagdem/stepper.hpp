@@ -2,7 +2,7 @@
 //
 //   1. kick_drift      v += dt/2 F/m, x += dt v, w += dt/2 T/I        velocity Verlet, first half
 //                      (balls and film nodes)
-//   2. move_cavity     cavity position and velocity at t + dt (prescribed)
+//   2. move_cavity     cavity position and velocity at t + dt (prescribed, or from the structure)
 //   3. neighbours      rebuild the Verlet pair list and the sphere-triangle candidate lists when a
 //                      ball or film node moved more than skin/2
 //   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
@@ -11,8 +11,10 @@
 //                      walls (stepper_meshes.cpp)
 //   7. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
 //                      its nodes (stepper_film.cpp)
-//   8. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
-//   9. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
+//   8. structure       the primary structure carrying the cavity: the contents' load on it, its
+//                      external force, its acceleration (stepper_structure.cpp)
+//   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
+//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
 // v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
@@ -33,6 +35,7 @@
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
+#include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
 
@@ -143,6 +146,36 @@ class Simulation {
   // Number of contacts (pairs and walls) currently closed.
   std::size_t contact_count() const;
 
+  // The primary structure (scene.primary): its state, its response at x_a, its energy.
+  struct StructureState {
+    std::vector<double> q, v, v_pred, a;  // generalized coordinates and their rates (structure/primary.hpp)
+    std::vector<double> damping_prev;     // C v_pred at the last step (trapezoidal tallies)
+    std::vector<double> load_prev;        // generalized load of the contents at the last step
+    struct Scalars {
+      double phase = 0;          // harmonic drive: phase of the force F sin(phase) (unit: rad)
+      double omega = 0;          // harmonic drive: circular frequency (unit: rad/s)
+      double force = 0;          // external force at x_f at the last step (unit: N)
+      bool released = false;     // settling is over: the structure moves
+      double work_external = 0;  // cumulative work of the external force (unit: J)
+      double work_contents = 0;  // cumulative work of the contents' load on the structure (unit: J)
+      double dissipated = 0;     // cumulative dissipation of the structure's damping (unit: J)
+    } scalars;
+    Vec3 load_now = Vec3::Zero();  // the contents' load moments (m0, m1, m2) at the last step
+  };
+  struct StructureResponse {
+    double displacement = 0, velocity = 0, acceleration = 0;  // at x_a along e (unit: m, m/s, m/s^2)
+    double force = 0;      // external force at x_f (unit: N)
+    double phase = 0;      // drive phase (unit: rad)
+    double cavity = 0;     // cavity displacement along e (unit: m)
+    double load = 0;       // transverse force of the contents on the cavity (unit: N)
+  };
+  const StructureState& structure() const { return structure_; }
+  StructureResponse structure_response() const;
+  double structure_energy() const;  // kinetic + elastic energy of the structure (unit: J)
+  // Harmonic drives: a new drive frequency from the next step on, the force's phase continuous
+  // (rigid-body modes move to the new steady state). Call it at a whole cycle of the drive.
+  void set_drive_frequency(double hz);
+
   // Checkpoint support: the complete dynamic state as a flat byte image, and its inverse.
   std::vector<char> save_state() const;
   void load_state(const std::vector<char>& image);
@@ -160,6 +193,21 @@ class Simulation {
   void film_stage();
   void kick();
   void guards();
+  void set_up_structure();
+  void release_structure();
+  void bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
+  void steady_rigid(double theta, double w, double sign);
+  void structure_drift();
+  CavityState structure_cavity() const;
+  double external_force(double t_motion) const;
+  void structure_forces();
+  void structure_kick();
+  // Moments (f, f s, f s^2) of the transverse force f = F . e the contents put on the cavity at
+  // `local` (cavity frame), s its axial distance from the cavity reference (structure/primary.hpp).
+  Vec3 load_moments(const Vec3& local, const Vec3& force_on_cavity) const {
+    const double s = (local - scene_.cavity_reference).dot(load_axis_), f = force_on_cavity.dot(load_dir_);
+    return {f, f * s, f * s * s};
+  }
   template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
   void pair_contacts_impl();
   template <bool Tangential, bool Rolling, bool Energy, bool Gather>
@@ -169,7 +217,8 @@ class Simulation {
   // Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
   // and the STL walls' share to F_cavity / T_cavity (force on the ball, torque on the cavity).
   template <bool Tangential, bool Rolling, bool Energy>
-  void mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, double& excess);
+  void mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, Vec3& load,
+                     double& excess);
   void set_up_film();
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
@@ -181,7 +230,7 @@ class Simulation {
   // Film node k against the STL walls: adds to the wall force on it F_wall, the angular impulse on
   // the cavity L, the dissipation (dn, dt) and lowers `deepest` to its signed distance.
   template <bool Tangential, bool Energy>
-  void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, double& dn, double& dtg, double& deepest);
+  void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
@@ -270,6 +319,14 @@ class Simulation {
     Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
   } film_tally_;
+
+  // ---- the primary structure (stepper_structure.cpp) ----
+  StructureState structure_;
+  bool couple_ = false;                       // a primary structure feels the contents' load
+  Vec3 load_axis_ = Vec3::Zero(), load_dir_ = Vec3::Zero();  // its axis and transverse direction
+  std::vector<Vec3> cavity_load_;             // per ball: load moments on the cavity this step
+  Vec3 film_load_moments_ = Vec3::Zero();     // the film's (walls and strings) this step
+  std::uint64_t release_step_ = 0;            // the step at which settling ends
 
   double potential0_ = 0;                     // gravity potential energy at t = 0 (unit: J)
   double kinetic_elastic0_ = 0;               // kinetic + elastic energy at t = 0 (unit: J)

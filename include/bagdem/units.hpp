@@ -30,6 +30,10 @@ inline constexpr Dimension force{1, 1, -2, 0};
 inline constexpr Dimension energy{2, 1, -2, 0};
 inline constexpr Dimension stiffness{0, 1, -2, 0};  // N/m
 inline constexpr Dimension damping{0, 1, -1, 0};    // N s/m
+inline constexpr Dimension area_moment{4, 0, 0, 0}; // second moment of area, m^4
+inline constexpr Dimension line_density{-1, 1, 0, 0};  // kg/m
+inline constexpr Dimension inertia{2, 1, 0, 0};     // kg m^2
+inline constexpr Dimension impulse{1, 1, -1, 0};    // N s
 }  // namespace dim
 
 // Parses "<number> [unit expression]" into an SI value of the expected dimension.

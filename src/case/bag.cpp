@@ -43,11 +43,11 @@ double superellipsoid_volume(const Vec3& semi, double p) {
 }
 
 // Number of balls asked for: count, total mass, or mass ratio against the primary's mass.
-std::size_t ball_count(const CaseReader& in, double ball_mass) {
+std::size_t ball_count(const CaseReader& in, double ball_mass, double primary_mass) {
   const bool by_count = in.has("bag.balls.count"), by_mass = in.has("bag.balls.mass"),
              by_ratio = in.has("bag.balls.mass_ratio");
   if (by_count + by_mass + by_ratio != 1)
-    in.fail("bag.balls", "needs exactly one of count, mass, or mass_ratio (with primary_mass)");
+    in.fail("bag.balls", "needs exactly one of count, mass, or mass_ratio (of [primary]'s mass, or of primary_mass)");
   if (by_count) {
     const long long n = in.integer("bag.balls.count", 0);
     if (n < 1 || n > 10000000) in.fail("bag.balls.count", "must be in [1, 1e7]");
@@ -61,7 +61,10 @@ std::size_t ball_count(const CaseReader& in, double ball_mass) {
   } else {
     key = "bag.balls.mass_ratio";
     const double ratio = in.quantity(key, dim::none);
-    const double primary = in.quantity("bag.balls.primary_mass", dim::mass);
+    // The primary structure's own mass, unless given (a prescribed-motion case has no structure).
+    const double primary = primary_mass > 0 && !in.has("bag.balls.primary_mass")
+                               ? primary_mass
+                               : in.quantity("bag.balls.primary_mass", dim::mass);
     if (!(ratio > 0)) in.fail(key, "must be > 0 (ball mass / primary mass)");
     if (!(primary > 0)) in.fail("bag.balls.primary_mass", "must be > 0");
     mass = ratio * primary;
@@ -232,7 +235,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     for (const char* k : {"radius", "length", "size", "aspect", "exponent", "fill_fraction", "triangles", "shape", "axis", "side"})
       in.has(std::string("bag.") + k);
   } else {
-    const std::size_t n = ball_count(in, ball_mass);
+    const std::size_t n = ball_count(in, ball_mass, s.primary ? s.primary->structure_mass : 0.0);
     const double ball_volume = static_cast<double>(n) * 4.0 / 3.0 * kPi * r * r * r;
     b.fill_fraction = in.quantity("bag.fill_fraction", dim::none, 0.5);
     if (!(b.fill_fraction > 0 && b.fill_fraction < 0.7))

@@ -10,6 +10,7 @@
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
 #include "bagdem/particles.hpp"
+#include "bagdem/structure/excitation.hpp"
 
 namespace bagdem {
 
@@ -64,7 +65,27 @@ std::string describe_scene(const Scene& s) {
   if (!s.mesh_walls.empty())
     for (const MeshWall& w : s.mesh_walls)
       o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
-  o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
+  if (s.primary) {
+    const Primary& P = *s.primary;
+    o << "primary     " << P.description << "\n"
+      << "            moves along [" << P.direction.transpose() << "]";
+    if (P.kind != "sdof")
+      o << ", axis [" << P.axis.transpose() << "], cavity at x_b = " << P.attach << " m, force at x_f = " << P.force_at
+        << " m, response at x_a = " << P.response_at << " m";
+    o << "; structure mass " << P.structure_mass << " kg" << (s.settle > 0 ? "; held while settling" : "") << "\n";
+    if (P.kind != "sdof") {
+      o << "            damping ratios";
+      for (std::size_t k = 0; k < P.size(); ++k) o << (k ? ", " : " ") << P.dof_names[k] << " " << P.damping_ratio[k];
+      o << "\n";
+    }
+    o << "excitation  " << (P.sweep ? "stepped-sine sweep, " + std::to_string(P.sweep->frequencies.size()) + " frequencies from " +
+                                          std::to_string(P.sweep->frequencies.front()) + " Hz; " : std::string())
+      << (P.excitation ? P.excitation->describe() : std::string("none"))
+      << (P.harmonic ? (P.start_steady ? " (starts in the bare steady state)" : " (starts from rest)") : "")
+      << "; expected cavity speed " << P.expected_cavity_speed << " m/s\n";
+  } else {
+    o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
+  }
   o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";
   o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n"
     << "            tangential Mindlin spring, history, Coulomb cap:       " << on(s.models.tangential)

@@ -147,6 +147,7 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   if (cm == names.end()) in.fail("cavity.material", "must name a material defined under [materials]");
   resolve_cavity(in, s, static_cast<int>(cm - names.begin()));
   resolve_motion(in, s);
+  resolve_primary(in, s);
   resolve_particles(in, s, names);
   resolve_bag(in, s, names);
   if (s.particles.empty()) in.fail("particles", "needs at least one group [particles.<name>] or a [bag]");

@@ -36,7 +36,8 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     }
     double v0 = 0;
     for (const auto& p : s.particles) v0 = std::max(v0, p.v.norm());
-    v = 2 * s.motion->max_speed() + std::sqrt(2 * s.gravity.norm() * height) + v0;
+    const double cavity_speed = s.primary ? s.primary->expected_cavity_speed : s.motion->max_speed();
+    v = 2 * cavity_speed + std::sqrt(2 * s.gravity.norm() * height) + v0;
     v = std::max(v, 0.01);
   }
   s.expected_speed = v;
@@ -123,6 +124,16 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     }
     dt_crit = std::min(dt_crit, dt_film);
   }
+  // The primary structure: velocity Verlet is stable for omega_max dt < 2 and its frequency error
+  // is (omega dt)^2 / 24; `auto` keeps omega_max dt <= 0.2 (0.17% at the highest mode kept).
+  double dt_structure = 1e300;
+  if (s.primary) {
+    const double w = s.primary->omega_max();
+    if (w > 0) {
+      dt_structure = 0.2 / w;
+      dt_crit = std::min(dt_crit, 2.0 / w);
+    }
+  }
   s.dt_critical = dt_crit;
 
   std::ostringstream why;
@@ -131,7 +142,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     if (!(s.dt > 0)) in.fail("simulation.timestep", "must be > 0 or \"auto\"");
     if (s.dt > dt_crit && !in.boolean("simulation.force_timestep", false)) {
       std::ostringstream m;
-      m << "is above the critical step " << dt_crit << " s of the stiffest contact at the expected "
+      m << "is above the critical step " << dt_crit << " s of the stiffest contact (or the primary structure's highest mode) at the expected "
         << "impact speed " << v << " m/s; the run would be unstable. Use \"auto\", a step below "
         << dt_crit << " s, or set simulation.force_timestep = true";
       in.fail("simulation.timestep", m.str());
@@ -148,12 +159,13 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     }
   } else {
     const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film;
-    s.dt = std::min({a, b, c, f});
+    s.dt = std::min({a, b, c, f, dt_structure});
     why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
         << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
         << " s, half the critical step = " << c << " s";
     if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
-    why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : "film")
+    if (s.primary) why << ", 0.2 / the structure's highest circular frequency = " << dt_structure << " s";
+    why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : s.dt == f ? "film" : "structure")
         << " limits";
     in.boolean("simulation.force_timestep", false);
   }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -67,6 +68,12 @@ struct ResultsFile::Impl {
   // frame's film is written), node and triangle counts.
   bool film = false;
   H5 film_position;
+  // Tables of scalar columns (/structure, /sweep): created with their first row.
+  struct Table {
+    std::vector<H5> columns;
+    hsize_t rows = 0;
+  };
+  std::map<std::string, Table> tables;
   hsize_t film_rows = 0, film_nodes = 0, film_triangles = 0;
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -247,6 +254,21 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
     p->film_rows = lengths.frames;
     p->film = true;
   }
+  // Tables: /structure follows the time series (cut to the checkpoint's rows); any other table is
+  // rewritten by its writer.
+  if (p->ok(H5Lexists(p->file, "structure", H5P_DEFAULT), "cannot look for /structure") > 0) {
+    H5 g(p->ok(H5Gopen2(p->file, "/structure", H5P_DEFAULT), "cannot open /structure"), H5Gclose);
+    H5G_info_t info;
+    p->ok(H5Gget_info(g, &info), "cannot read /structure");
+    Impl::Table& t = p->tables["structure"];
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+      char name[256];
+      p->ok(H5Lget_name_by_idx(g, ".", H5_INDEX_CRT_ORDER, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT),
+            "cannot list /structure");
+      t.columns.push_back(p->open_truncated(std::string("/structure/") + name, lengths.structure));
+    }
+    t.rows = lengths.structure;
+  }
   p->flush();
   return ResultsFile(p.release());
 }
@@ -391,6 +413,27 @@ void ResultsFile::append_energy(double t, const EnergySample& e) {
   for (std::size_t k = 0; k < std::size(kEnergyFields); ++k)
     p.append_row(p.energy[1 + k], p.len.energy, &(e.*kEnergyFields[k].second));
   ++p.len.energy;  // no flush, as for the cavity
+}
+
+void ResultsFile::append_table_row(const std::string& group, const std::vector<TableColumn>& columns,
+                                   const std::vector<double>& values) {
+  Impl& p = open_or_throw(impl_);
+  if (values.size() != columns.size())
+    throw std::invalid_argument("results file " + p.path + ": a row of /" + group + " has " +
+                                std::to_string(values.size()) + " values for " + std::to_string(columns.size()) + " columns");
+  Impl::Table& t = p.tables[group];
+  if (t.columns.empty()) {
+    // Creation order is kept, so that a reopened file lists the columns in the same order.
+    H5 gcpl(p.ok(H5Pcreate(H5P_GROUP_CREATE), "cannot create /" + group), H5Pclose);
+    p.ok(H5Pset_link_creation_order(gcpl, H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), "cannot create /" + group);
+    H5 g(p.ok(H5Gcreate2(p.file, group.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT), "cannot create group /" + group), H5Gclose);
+    for (const TableColumn& c : columns) t.columns.push_back(p.series(g, c.name, {}, kRowsPerChunk, c.unit));
+  }
+  if (t.columns.size() != columns.size())
+    throw std::invalid_argument("results file " + p.path + ": /" + group + " has " + std::to_string(t.columns.size()) + " columns");
+  for (std::size_t k = 0; k < columns.size(); ++k) p.append_row(t.columns[k], t.rows, &values[k]);
+  ++t.rows;
+  if (group == "structure") p.len.structure = t.rows;
 }
 
 SeriesLengths ResultsFile::lengths() const { return impl_ ? impl_->len : SeriesLengths{}; }

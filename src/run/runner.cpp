@@ -16,6 +16,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/stepper.hpp"
+#include "bagdem/structure/response.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -65,7 +66,14 @@ double balance_error(const EnergySample& e, double stored0) {
   return std::abs(residual) / scale;
 }
 
-// What the run loop itself must carry across a restart, beside the simulation state.
+// /structure columns (results_file.hpp): time; the response at x_a along e; the external force at
+// x_f; the cavity's displacement; the contents' transverse force on the cavity; the structure's
+// cumulative work and dissipation tallies and its stored energy.
+const std::vector<TableColumn> kStructureColumns = {
+    {"time", "s"},           {"displacement", "m"},     {"velocity", "m/s"},  {"acceleration", "m/s^2"},
+    {"force", "N"},          {"cavity_displacement", "m"}, {"contents_force", "N"}, {"work_external", "J"},
+    {"work_contents", "J"},  {"dissipated", "J"},       {"energy", "J"}};
+
 // What the run loop itself must carry across a restart, beside the simulation state.
 struct RunTallies {
   SeriesLengths lengths;               // rows written to results.h5
@@ -187,6 +195,18 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       std::fputs(m.str().c_str(), stderr);
     }
   };
+  // The primary structure at each cavity sample (instantaneous values at the sample's end), and the
+  // response at x_a kept for the summary's RMS and decay figures.
+  std::vector<double> response, response_acc;
+  auto structure_row = [&](std::optional<ResultsFile>& f) {
+    if (!scene.primary) return;
+    const Simulation::StructureResponse r = sim.structure_response();
+    const auto& S = sim.structure().scalars;
+    f->append_table_row("structure", kStructureColumns,
+                        {sim.time(), r.displacement, r.velocity, r.acceleration, r.force, r.cavity, r.load,
+                         S.work_external, S.work_contents, S.dissipated, sim.structure_energy()});
+    if (S.released) response.push_back(r.displacement), response_acc.push_back(r.acceleration);
+  };
   auto film_frame = [&](std::optional<ResultsFile>& f) {
     if (scene.bag) f->append_film_frame(sim.film().x);
   };
@@ -252,6 +272,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       if (s % n_cavity == 0 || s == total) {
         const Simulation::CavitySample c = sim.take_cavity_sample();
         file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque);
+        structure_row(file);
       }
       if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
       if (s % n_frame == 0 || s == total) {
@@ -331,6 +352,28 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     j << "  \"bag\": {\"balls\": " << scene.bag->balls << ", \"film_triangles\": " << scene.bag->rest.triangles.size()
       << ", \"packing_fraction\": " << rep.bag_packing << ", \"outer_m\": [" << rep.bag_outer.x() << ", "
       << rep.bag_outer.y() << ", " << rep.bag_outer.z() << "]},\n";
+  if (scene.primary) {
+    const Primary& P = *scene.primary;
+    const auto& S = sim.structure().scalars;
+    const double ds = static_cast<double>(n_cavity) * scene.dt;
+    rep.structure = true;
+    rep.response_rms = rms(response, ds, 0.0);
+    rep.acceleration_rms = rms(response_acc, ds, 0.0);
+    j << "  \"structure\": {\"kind\": \"" << P.kind << "\", \"response_at_m\": " << P.response_at
+      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms
+      << ", \"work_external_J\": " << S.work_external << ", \"work_contents_J\": " << S.work_contents
+      << ", \"dissipated_J\": " << S.dissipated << ", \"energy_J\": " << sim.structure_energy();
+    if (!P.harmonic && response.size() > 8) {
+      // Free decay or a blow: the decay of the response (structure/response.hpp, fit_decay).
+      const DecayFit d = fit_decay(response, ds);
+      rep.decay_time = d.decay_time;
+      rep.decay_zeta = d.zeta;
+      j << ", \"decay\": {\"peaks\": " << d.peaks << ", \"rate_1_s\": " << d.rate << ", \"damped_frequency_Hz\": "
+        << d.damped_frequency << ", \"damping_ratio\": " << d.zeta << ", \"decay_time_20dB_s\": " << d.decay_time
+        << ", \"measured_decay_time_20dB_s\": " << d.measured_decay_time << "}";
+    }
+    j << "},\n";
+  }
   j << "  \"cycles_measured\": " << rep.cycles << ",\n"
     << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
   write_atomically(summary, j.str());

@@ -37,4 +37,7 @@ void resolve_timestep(const CaseReader& in, Scene& s);
 namespace bagdem {
 // motion_kinds.cpp: [cavity.motion] -> Motion (table of kinds: fixed, harmonic, table).
 void resolve_motion(const CaseReader& in, Scene& s);
+// primary_kinds.cpp: [primary] and [excitation] -> Scene::primary (table of kinds: sdof, beam,
+// fe-beam; none = prescribed motion).
+void resolve_primary(const CaseReader& in, Scene& s);
 }  // namespace bagdem

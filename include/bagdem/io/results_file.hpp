@@ -21,6 +21,10 @@
 //   /film/triangles        [T, 3]         int (unit "1") a bag run's film: node indices of its
 //                                             triangles, counter-clockwise seen from outside
 //   /film/position         [F, V, 3]      m   the film's V nodes at each frame of /frames/time
+//   /structure/<column>    [S]                a run with a primary structure, at the cavity samples'
+//                                             times (run/runner.cpp lists the columns and units)
+//   /sweep/<column>        [P]                a stepped-sine sweep, one row per frequency
+//                                             (run/sweep.hpp lists the columns and units)
 // Datasets are chunked and extendible; the file is flushed after each frame so that a killed run
 // leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded.
 #pragma once
@@ -51,7 +55,13 @@ struct EnergySample {
 
 // Lengths of the time series written so far (stored in checkpoints; resume truncates to them).
 struct SeriesLengths {
-  std::size_t frames = 0, cavity = 0, energy = 0;
+  std::size_t frames = 0, cavity = 0, energy = 0, structure = 0;
+};
+
+// A column of a table of scalars (append_table_row).
+struct TableColumn {
+  const char* name;
+  const char* unit;
 };
 
 class ResultsFile {
@@ -84,6 +94,11 @@ class ResultsFile {
   void append_cavity(double t, const Vec3& position, const Vec3& velocity, const Vec3& mean_force,
                      const Vec3& mean_torque);
   void append_energy(double t, const EnergySample& e);
+  // A row of the table /<group>, one 1-D dataset per column (created, with its "unit" attribute,
+  // by the first row; later rows must give the same columns). /structure is cut to
+  // SeriesLengths::structure on reopening.
+  void append_table_row(const std::string& group, const std::vector<TableColumn>& columns,
+                        const std::vector<double>& values);
 
   SeriesLengths lengths() const;
   void flush();

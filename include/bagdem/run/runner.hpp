@@ -33,6 +33,11 @@ struct RunReport {
   bool bag = false;                    // the scene has a bag: the figures below are set
   double bag_packing = 0;              // its packing fraction when settling ended
   Vec3 bag_outer = Vec3::Zero();       // its outer length, width, height then (m)
+  bool structure = false;              // the scene has a primary structure: the figures below are set
+  double response_rms = 0;             // RMS displacement at x_a after release (m)
+  double acceleration_rms = 0;         // RMS acceleration at x_a (m/s^2)
+  double decay_time = 0;               // decay and impulse excitations: time to fall by 20 dB (s)
+  double decay_zeta = 0;               // their fitted damping ratio
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that

@@ -1,0 +1,67 @@
+// Frequency-response and time-response figures of a primary structure.
+//
+// Conventions: a harmonic signal is y(t) = Re(Y e^{i w t}); a force F0 sin(w t) is Re(-i F0 e^{i w t});
+// the receptance H = Y / F (complex, m/N) and the accelerance -w^2 H (m/s^2/N).
+//
+// Stepped sine (run/sweep.hpp): each drive frequency is rounded to a whole number N of time steps
+// per cycle, and the first harmonic of one cycle's samples is Y = (2/N) sum_n y_n e^{-i theta_n},
+// exact for any periodic response with harmonics below N/2 (discrete orthogonality). A frequency
+// point is steady when the last K cycles' Y lie within a relative tolerance of the latest.
+#pragma once
+#include <complex>
+#include <cstddef>
+#include <deque>
+#include <vector>
+
+namespace bagdem {
+
+// Steps per cycle for a requested frequency f (Hz) at step dt (s): N = max(8, round(1/(f dt))); the
+// frequency driven is then 1/(N dt).
+std::size_t steps_per_cycle(double f, double dt);
+
+// Steady state of a sequence of cycle amplitudes: steady when the last K amplitudes (K + 1 values
+// with the latest) all lie within rel_tol of the latest: |Y_i - Y_last| <= rel_tol |Y_last|.
+class SteadyStateDetector {
+ public:
+  SteadyStateDetector(std::size_t K, double rel_tol) : K_(K), tol_(rel_tol) {}
+  void add(std::complex<double> Y);
+  bool steady() const;
+  // Largest |Y_i - Y_last| / |Y_last| over the window (1 until K + 1 values were seen).
+  double last_change() const;
+
+ private:
+  std::size_t K_;
+  double tol_;
+  std::deque<std::complex<double>> window_;
+};
+
+// Analytic receptance of a viscously damped SDOF: 1 / (K - w^2 M + i w C) (unit: m/N).
+std::complex<double> sdof_receptance(double M, double C, double K, double w);
+
+// Peak reduction: dB = 20 log10(bare_peak / damped_peak); percent = 100 (1 - 10^(-dB/20))
+// (physics brief, section 3).
+double reduction_db(double bare_peak, double damped_peak);
+double reduction_percent(double db);
+
+// Peak of |H| over sampled frequencies inside [f_lo, f_hi]: the largest sample, refined by the
+// parabola through it and its two neighbours (in f, |H|) when it is not at an end of the range.
+struct Peak {
+  double frequency = 0, magnitude = 0;  // (unit: Hz, as the magnitudes)
+};
+Peak find_peak(const std::vector<double>& f, const std::vector<double>& mag, double f_lo, double f_hi);
+
+// Free decay of a sampled response y (uniform dt, after t_skip): its positive peaks (local maxima,
+// each refined by a parabola), a least-squares line through ln(peak) against time: the decay rate
+// sigma (1/s); the damped frequency from the mean peak spacing; zeta = sigma / sqrt(sigma^2 + w_d^2);
+// the time to fall by `factor` (default 10: 20 dB), ln(factor) / sigma, and the measured time from
+// the first peak until the peaks stay below first / factor (0 if they never do).
+struct DecayFit {
+  double rate = 0, damped_frequency = 0, zeta = 0, decay_time = 0, measured_decay_time = 0;
+  std::size_t peaks = 0;
+};
+DecayFit fit_decay(const std::vector<double>& y, double dt, double factor = 10, double t_skip = 0);
+
+// Root mean square of a sampled signal after t_skip.
+double rms(const std::vector<double>& y, double dt, double t_skip = 0);
+
+}  // namespace bagdem

@@ -1,0 +1,309 @@
+// Stepped-sine sweep (run/sweep.hpp).
+#include "bagdem/run/sweep.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/stepper.hpp"
+#include "bagdem/structure/response.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+using Complex = std::complex<double>;
+
+const std::vector<TableColumn> kSweepColumns = {
+    {"requested_frequency", "Hz"}, {"frequency", "Hz"},
+    {"response_re", "m"},          {"response_im", "m"},
+    {"receptance_re", "m/N"},      {"receptance_im", "m/N"},
+    {"bare_receptance_re", "m/N"}, {"bare_receptance_im", "m/N"},
+    {"accelerance_abs", "m/s^2/N"}, {"bare_accelerance_abs", "m/s^2/N"},
+    {"cavity_re", "m"},            {"cavity_im", "m"},
+    {"contents_force_re", "N"},    {"contents_force_im", "N"},
+    {"work_external_per_cycle", "J"}, {"dissipated_structure_per_cycle", "J"},
+    {"dissipated_contents_per_cycle", "J"}, {"energy_balance", "1"},
+    {"cycles", "1"},               {"steady", "1"},
+    {"change", "1"},               {"wall_time", "s"}};
+
+std::vector<double> row_of(const SweepPoint& p) {
+  const double w = kTwoPi * p.frequency;
+  return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
+          p.bare.real(), p.bare.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
+          p.cavity.imag(), p.contents_force.real(), p.contents_force.imag(), p.work_external, p.dissipated_structure,
+          p.dissipated_contents, p.balance, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.change,
+          p.wall_seconds};
+}
+
+void write_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
+  std::ostringstream s;
+  s << std::setprecision(10);
+  for (std::size_t k = 0; k < kSweepColumns.size(); ++k)
+    s << (k ? "," : "") << kSweepColumns[k].name << " [" << kSweepColumns[k].unit << "]";
+  s << "\n";
+  for (const SweepPoint& p : points) {
+    const std::vector<double> r = row_of(p);
+    for (std::size_t k = 0; k < r.size(); ++k) s << (k ? "," : "") << r[k];
+    s << "\n";
+  }
+  const fs::path tmp = path.string() + ".part";
+  {
+    std::ofstream f(tmp);
+    f << s.str();
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+// Energy the run has seen so far, for per-cycle differences.
+struct Ledger {
+  double work_external = 0, dissipated_structure = 0, dissipated_contents = 0, stored = 0;
+};
+Ledger ledger(const Simulation& sim) {
+  Ledger l;
+  const auto& S = sim.structure().scalars;
+  l.work_external = S.work_external;
+  l.dissipated_structure = S.dissipated;
+  if (sim.scene().models.energy) {
+    const EnergySample e = sim.energy();
+    l.dissipated_contents = e.dissipated();
+    // Contents: kinetic + elastic + gravity's potential (-work of gravity).
+    l.stored = e.kinetic + e.elastic - e.work_gravity;
+  }
+  l.stored += sim.structure_energy();
+  return l;
+}
+
+// The peak of the bare receptance in [lo, hi] (Hz): the largest of a fine scan, refined by golden
+// section.
+Peak bare_peak(const Primary& p, double lo, double hi) {
+  auto mag = [&](double f) { return std::abs(p.bare_receptance(kTwoPi * f)); };
+  const int n = 400;
+  double best = lo, best_m = -1;
+  for (int k = 0; k <= n; ++k) {
+    const double f = lo + (hi - lo) * k / n, m = mag(f);
+    if (m > best_m) best = f, best_m = m;
+  }
+  double a = std::max(lo, best - (hi - lo) / n), b = std::min(hi, best + (hi - lo) / n);
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 80; ++it) {
+    const double c = b - g * (b - a), d = a + g * (b - a);
+    if (mag(c) > mag(d)) b = d; else a = c;
+  }
+  const double f = 0.5 * (a + b);
+  return {f, mag(f)};
+}
+
+}  // namespace
+
+std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<ModePeak> out;
+  if (points.empty()) return out;
+  std::vector<SweepPoint> pts = points;
+  std::sort(pts.begin(), pts.end(), [](const SweepPoint& a, const SweepPoint& b) { return a.frequency < b.frequency; });
+  std::vector<std::size_t> elastic;
+  for (std::size_t k = 0; k < P.size(); ++k)
+    if (!P.rigid_body[k]) elastic.push_back(k);
+  std::vector<std::size_t> modes = P.sweep ? P.sweep->modes : std::vector<std::size_t>{};
+  if (modes.empty())
+    for (std::size_t k : elastic)
+      if (P.natural_frequency[k] >= pts.front().frequency && P.natural_frequency[k] <= pts.back().frequency) modes.push_back(k);
+  // Each point belongs to the elastic mode nearest in log-frequency.
+  auto nearest = [&](double f) {
+    std::size_t best = elastic.front();
+    for (std::size_t k : elastic)
+      if (std::abs(std::log(f / P.natural_frequency[k])) < std::abs(std::log(f / P.natural_frequency[best]))) best = k;
+    return best;
+  };
+  for (std::size_t m : modes) {
+    std::vector<double> f, mag;
+    for (const SweepPoint& p : pts)
+      if (nearest(p.frequency) == m) f.push_back(p.frequency), mag.push_back(std::abs(p.receptance));
+    if (f.empty()) continue;
+    ModePeak mp;
+    mp.name = P.dof_names[m];
+    const Peak damped = find_peak(f, mag, f.front(), f.back());
+    const Peak bare = bare_peak(P, f.front(), f.back());
+    mp.frequency = damped.frequency, mp.peak = damped.magnitude;
+    mp.bare_frequency = bare.frequency, mp.bare_peak = bare.magnitude;
+    mp.reduction_db = reduction_db(bare.magnitude, damped.magnitude);
+    mp.reduction_percent = reduction_percent(mp.reduction_db);
+    out.push_back(mp);
+  }
+  return out;
+}
+
+SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
+  if (!scene.primary || !scene.primary->sweep)
+    throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
+  if (opt.resume) throw InputError(scene.case_file, "", "", "--resume is not available for sweeps yet; run the sweep again");
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const Primary& P = *scene.primary;
+  const Primary::Sweep& plan = *P.sweep;
+  const fs::path out = opt.out_dir;
+  fs::create_directories(out);
+  const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5", summary = out / "summary.json";
+  const fs::path csv = out / "sweep.csv";
+  fs::remove(summary);
+  fs::remove(final_h5);
+
+  const auto t_start = std::chrono::steady_clock::now();
+  auto since = [](std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  Simulation sim(scene);
+  std::vector<std::string> mats;
+  for (const auto& m : scene.materials) mats.push_back(m.name);
+  ResultsFile file(part.string(), sim.particles().radius, sim.particles().material, mats, scene.dt);
+  file.set_attribute("case_file", scene.case_file);
+  file.set_attribute("resolved_config", scene.resolved);
+  file.set_attribute("settle_end", scene.settle);
+  file.set_attribute("timestep", scene.dt);
+  file.set_attribute("status", "running");
+  if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
+  std::vector<double> frame_times;
+  auto frame = [&] {
+    file.append_frame(sim.time(), sim.particles().x, sim.particles().v, sim.particles().w);
+    if (scene.bag) file.append_film_frame(sim.film().x);
+    frame_times.push_back(sim.time());
+  };
+  frame();
+
+  SweepReport rep;
+  const double F = P.amplitude;
+  try {
+    // Settling, the structure held.
+    const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
+    while (sim.steps_done() < settle_steps) sim.step();
+    if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
+
+    const std::size_t npts = plan.frequencies.size();
+    for (std::size_t i = 0; i < npts; ++i) {
+      const auto t_point = std::chrono::steady_clock::now();
+      SweepPoint pt;
+      pt.requested = plan.frequencies[i];
+      const std::size_t N = steps_per_cycle(pt.requested, scene.dt);
+      pt.frequency = 1.0 / (static_cast<double>(N) * scene.dt);
+      sim.set_drive_frequency(pt.frequency);
+      const double w = kTwoPi * pt.frequency;
+      SteadyStateDetector steady(plan.cycles, plan.tolerance);
+      std::vector<Ledger> starts;  // the ledger at the start of each cycle
+      std::vector<Complex> cav, load;
+      for (std::size_t c = 0; c < plan.max_cycles; ++c) {
+        starts.push_back(ledger(sim));
+        Complex Y(0, 0), U(0, 0), L(0, 0);
+        for (std::size_t n = 0; n < N; ++n) {
+          sim.step();
+          const Simulation::StructureResponse r = sim.structure_response();
+          const Complex e = std::polar(1.0, -r.phase);
+          Y += r.displacement * e, U += r.cavity * e, L += r.load * e;
+        }
+        const double k = 2.0 / static_cast<double>(N);
+        Y *= k, U *= k, L *= k;
+        steady.add(Y);
+        cav.push_back(U), load.push_back(L);
+        pt.response = Y;
+        pt.cycles = c + 1;
+        pt.change = steady.last_change();
+        if (!opt.quiet)
+          std::fprintf(stderr, "\r  [%zu/%zu] %.4g Hz: cycle %zu, |Y| = %.4g m, change %.2g%%   ", i + 1, npts, pt.frequency,
+                       c + 1, std::abs(Y), 100 * pt.change);
+        if (pt.cycles >= plan.min_cycles && steady.steady()) {
+          pt.steady = true;
+          break;
+        }
+      }
+      // Energy per cycle over the last K cycles (or all when fewer).
+      const Ledger end = ledger(sim);
+      const std::size_t K = std::min(plan.cycles, starts.size());
+      const Ledger& from = starts[starts.size() - K];
+      const double cycles = static_cast<double>(K);
+      pt.work_external = (end.work_external - from.work_external) / cycles;
+      pt.dissipated_structure = (end.dissipated_structure - from.dissipated_structure) / cycles;
+      pt.dissipated_contents = (end.dissipated_contents - from.dissipated_contents) / cycles;
+      const double residual = pt.work_external - pt.dissipated_structure - pt.dissipated_contents - (end.stored - from.stored) / cycles;
+      pt.balance = pt.work_external != 0 ? residual / std::abs(pt.work_external) : 0.0;
+      pt.receptance = pt.response / Complex(0, -F);
+      pt.bare = P.bare_receptance(w);
+      pt.cavity = cav.back(), pt.contents_force = load.back();
+      pt.wall_seconds = since(t_point);
+      rep.points.push_back(pt);
+      file.append_table_row("sweep", kSweepColumns, row_of(pt));
+      frame();
+      write_csv(csv, rep.points);
+      if (!opt.quiet) {
+        const double el = since(t_start);
+        std::fprintf(stderr, "\r  [%zu/%zu] %.5g Hz: |H| = %.4g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
+                     i + 1, npts, pt.frequency, std::abs(pt.receptance), std::abs(pt.bare),
+                     pt.steady ? "steady" : "NOT steady", pt.cycles, pt.wall_seconds,
+                     el / static_cast<double>(i + 1) * static_cast<double>(npts - i - 1));
+      }
+      if (!pt.steady) {
+        std::ostringstream m;
+        m << "warning: " << pt.frequency << " Hz did not reach steady state in " << plan.max_cycles
+          << " cycles (last change " << 100 * pt.change << "%, tolerance " << 100 * plan.tolerance
+          << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
+        std::fputs(m.str().c_str(), stderr);
+      }
+    }
+  } catch (const RunError& e) {
+    rep.message = e.what();
+    file.set_attribute("status", std::string("failed: ") + e.what());
+    file.close();
+    fs::rename(part, final_h5);
+    write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
+               scene.bag ? scene.bag->rest.triangles.size() : 0);
+    return rep;
+  }
+  rep.complete = true;
+  rep.wall_seconds = since(t_start);
+  rep.peaks = sweep_peaks(P, rep.points);
+  file.set_attribute("status", "complete");
+  file.close();
+  fs::rename(part, final_h5);
+  write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
+             scene.bag ? scene.bag->rest.triangles.size() : 0);
+
+  std::ostringstream j;
+  j << std::setprecision(10);
+  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << scene.case_file << "\",\n  \"kind\": \"stepped-sine\",\n"
+    << "  \"particles\": " << sim.particles().size() << ",\n  \"dt\": " << scene.dt << ",\n"
+    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
+    << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
+    << std::count_if(rep.points.begin(), rep.points.end(), [](const SweepPoint& p) { return !p.steady; }) << ",\n"
+    << "  \"force_amplitude_N\": " << F << ",\n  \"peaks\": [";
+  for (std::size_t k = 0; k < rep.peaks.size(); ++k) {
+    const ModePeak& m = rep.peaks[k];
+    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << m.bare_frequency
+      << ", \"bare_peak_m_per_N\": " << m.bare_peak << ", \"frequency_Hz\": " << m.frequency << ", \"peak_m_per_N\": "
+      << m.peak << ", \"reduction_dB\": " << m.reduction_db << ", \"reduction_percent\": " << m.reduction_percent << "}";
+  }
+  j << (rep.peaks.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  const fs::path tmp = summary.string() + ".part";
+  {
+    std::ofstream f(tmp);
+    f << j.str();
+  }
+  fs::rename(tmp, summary);
+  if (!opt.quiet)
+    for (const ModePeak& m : rep.peaks)
+      std::fprintf(stderr, "%s: bare peak %.5g m/N at %.5g Hz, with contents %.5g m/N at %.5g Hz: reduction %.2f dB (%.1f%%)\n",
+                   m.name.c_str(), m.bare_peak, m.bare_frequency, m.peak, m.frequency, m.reduction_db, m.reduction_percent);
+  return rep;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,196 @@
+// The primary structure's part of the step (structure/primary.hpp): it is integrated with the
+// contents by the same velocity Verlet.
+//   kick_drift   v += dt/2 a, q += dt v, v_pred = v + dt/2 a         (structure_drift)
+//   move_cavity  cavity = (phi_b . q) e, velocity (phi_b . v_pred) e  (structure_cavity)
+//   contacts     the contents' load moments (m0, m1, m2), per ball and for the film
+//   structure    Q = phi_f f(t) + G m - K q - C v_pred, a = M^-1 Q    (structure_forces)
+//   kick         v += dt/2 a                                          (structure_kick)
+// The structure is held at rest while the contents settle and released when settling ends, in the
+// state the excitation asks for. Tallies (trapezoidal rule over each step's displacement, as the
+// contacts' work): work of the external force, work of the contents' load, dissipation of C.
+#include <cmath>
+#include <numbers>
+
+#include "bagdem/stepper.hpp"
+#include "bagdem/structure/excitation.hpp"
+
+namespace bagdem {
+namespace {
+using VecMap = Eigen::Map<Eigen::VectorXd>;
+using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
+}  // namespace
+
+void Simulation::set_up_structure() {
+  if (!scene_.primary) return;
+  const Primary& P = *scene_.primary;
+  const std::size_t n = P.size();
+  couple_ = true;
+  load_axis_ = P.axis;
+  load_dir_ = P.direction;
+  cavity_load_.assign(p_.size(), Vec3::Zero());
+  StructureState& S = structure_;
+  S.q.assign(n, 0.0), S.v.assign(n, 0.0), S.v_pred.assign(n, 0.0), S.a.assign(n, 0.0);
+  S.damping_prev.assign(n, 0.0), S.load_prev.assign(n, 0.0);
+  S.scalars = {};
+  S.scalars.omega = 2 * std::numbers::pi * P.drive_frequency;
+}
+
+// Settling is over: the structure starts moving, from q0, v0 (rest, or a decay's initial
+// displacement). A harmonic drive starts at force phase 0 (no force jump) with the rigid-body modes
+// of a free-free beam in their steady state (they have no stiffness to bring a drift back); with
+// excitation.start = "steady" the whole structure starts in its bare steady state, at the phase at
+// which the cavity's displacement is zero (no jump of the walls into the settled contents).
+void Simulation::release_structure() {
+  const Primary& P = *scene_.primary;
+  StructureState& S = structure_;
+  S.scalars.released = true;
+  VecMap(S.q.data(), S.q.size()) = P.q0;
+  VecMap(S.v.data(), S.v.size()) = P.v0;
+  if (P.harmonic) {
+    const double w = S.scalars.omega;
+    S.scalars.phase = 0;
+    if (P.start_steady) {
+      Eigen::VectorXd q, v;
+      P.bare_steady_state(P.amplitude, w, q, v);
+      // u_b(theta) = Re(U e^{i theta}), U = phi_b . Q, Q = q(0) + i Im Q with Im Q = -v(0)/w.
+      const std::complex<double> U(P.at_cavity.dot(q), -P.at_cavity.dot(v) / w);
+      S.scalars.phase = std::abs(U) > 0 ? 0.5 * std::numbers::pi - std::arg(U) : 0.0;
+      bare_state_at(S.scalars.phase, w, q, v);
+      VecMap(S.q.data(), S.q.size()) = q;
+      VecMap(S.v.data(), S.v.size()) = v;
+    } else {
+      steady_rigid(S.scalars.phase, w, +1.0);
+    }
+  }
+  for (std::size_t k = 0; k < S.v.size(); ++k) S.v_pred[k] = S.v[k];
+  structure_forces();  // a at the start state, from the contents' load of the last step
+}
+
+// The bare steady state under F sin(theta + w t) at t = 0, from the responses to F sin(w t) and
+// F cos(w t) (sin(theta + wt) = cos(theta) sin(wt) + sin(theta) cos(wt)). With q_s(t) = Re(Q e^{iwt})
+// the sine response, the cosine response is Re(i Q e^{iwt}): at t = 0, q_c = v_s/w, v_c = -w q_s.
+void Simulation::bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const {
+  const Primary& P = *scene_.primary;
+  Eigen::VectorXd qs, vs;
+  P.bare_steady_state(P.amplitude, w, qs, vs);
+  const double c = std::cos(theta), s = std::sin(theta);
+  q = c * qs + s * (vs / w);
+  v = c * vs - s * (w * qs);
+}
+
+// Adds sign x (the bare steady state at phase theta) to the rigid-body DOFs (free-free beams).
+void Simulation::steady_rigid(double theta, double w, double sign) {
+  const Primary& P = *scene_.primary;
+  if (!P.harmonic || w <= 0) return;
+  Eigen::VectorXd q, v;
+  bare_state_at(theta, w, q, v);
+  for (std::size_t k = 0; k < P.size(); ++k) {
+    if (!P.rigid_body[k]) continue;
+    structure_.q[k] += sign * q[static_cast<Eigen::Index>(k)];
+    structure_.v[k] += sign * v[static_cast<Eigen::Index>(k)];
+  }
+}
+
+void Simulation::set_drive_frequency(double hz) {
+  if (!scene_.primary || !scene_.primary->harmonic) return;
+  StructureState& S = structure_;
+  const double w_new = 2 * std::numbers::pi * hz;
+  if (S.scalars.released) {
+    // Move the rigid-body DOFs from the old drive's steady state to the new one's.
+    steady_rigid(S.scalars.phase, S.scalars.omega, -1.0);
+    steady_rigid(S.scalars.phase, w_new, +1.0);
+    for (std::size_t k = 0; k < S.v.size(); ++k) S.v_pred[k] = S.v[k];  // a is unchanged (rigid DOFs)
+  }
+  S.scalars.omega = w_new;
+}
+
+void Simulation::structure_drift() {
+  StructureState& S = structure_;
+  if (!S.scalars.released) return;
+  const double dt = scene_.dt, h = 0.5 * dt;
+  for (std::size_t k = 0; k < S.q.size(); ++k) {
+    S.v[k] += h * S.a[k];
+    S.q[k] += dt * S.v[k];
+    S.v_pred[k] = S.v[k] + h * S.a[k];
+  }
+  S.scalars.phase += S.scalars.omega * dt;
+}
+
+CavityState Simulation::structure_cavity() const {
+  const Primary& P = *scene_.primary;
+  const StructureState& S = structure_;
+  ConstVecMap q(S.q.data(), S.q.size()), v(S.v_pred.data(), S.v_pred.size());
+  return {P.at_cavity.dot(q) * P.direction, P.at_cavity.dot(v) * P.direction};
+}
+
+double Simulation::external_force(double t_motion) const {
+  const Primary& P = *scene_.primary;
+  if (P.harmonic) return P.amplitude * std::sin(structure_.scalars.phase);
+  return P.excitation ? P.excitation->force(t_motion) : 0.0;
+}
+
+void Simulation::structure_forces() {
+  const Primary& P = *scene_.primary;
+  StructureState& S = structure_;
+  // The contents' load moments, ball by ball, then the film's (fixed order).
+  Vec3 m = film_load_moments_;
+  for (std::size_t p = 0; p < p_.size(); ++p) m += cavity_load_[p];
+  if (!S.scalars.released) {
+    S.load_now = m;
+    return;
+  }
+  const std::size_t n = S.q.size();
+  ConstVecMap q(S.q.data(), n), v(S.v_pred.data(), n), v_half(S.v.data(), n);
+  const Eigen::VectorXd Qc = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
+  const double t = time() + (dt_step_ > 0 ? scene_.dt : 0.0) - scene_.settle;  // end of this step
+  const double f = external_force(t);
+  const Eigen::VectorXd fd = P.damping.cwiseProduct(v);
+  const Eigen::VectorXd Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;
+  VecMap a(S.a.data(), n);
+  a = P.mass_inverse * Q;
+  if (dt_step_ > 0) {
+    // Trapezoidal work over this step's displacement dt v(n+1/2).
+    const Eigen::VectorXd dq = dt_step_ * v_half;
+    ConstVecMap fd_prev(S.damping_prev.data(), n), Qc_prev(S.load_prev.data(), n);
+    S.scalars.work_external += 0.5 * (f + S.scalars.force) * P.at_force.dot(dq);
+    S.scalars.work_contents += 0.5 * (Qc + Qc_prev).dot(dq);
+    S.scalars.dissipated += 0.5 * (fd + fd_prev).dot(dq);
+  }
+  S.scalars.force = f;
+  VecMap(S.damping_prev.data(), n) = fd;
+  VecMap(S.load_prev.data(), n) = Qc;
+  S.load_now = m;
+}
+
+void Simulation::structure_kick() {
+  StructureState& S = structure_;
+  if (!S.scalars.released) return;
+  const double h = 0.5 * scene_.dt;
+  for (std::size_t k = 0; k < S.v.size(); ++k) S.v[k] += h * S.a[k];
+}
+
+double Simulation::structure_energy() const {
+  if (!scene_.primary) return 0.0;
+  const Primary& P = *scene_.primary;
+  const std::size_t n = structure_.q.size();
+  ConstVecMap q(structure_.q.data(), n), v(structure_.v.data(), n);
+  return 0.5 * v.dot(P.mass * v) + 0.5 * q.dot(P.stiffness.cwiseProduct(q));
+}
+
+Simulation::StructureResponse Simulation::structure_response() const {
+  StructureResponse r;
+  if (!scene_.primary) return r;
+  const Primary& P = *scene_.primary;
+  const std::size_t n = structure_.q.size();
+  ConstVecMap q(structure_.q.data(), n), v(structure_.v.data(), n), a(structure_.a.data(), n);
+  r.displacement = P.at_response.dot(q);
+  r.velocity = P.at_response.dot(v);
+  r.acceleration = P.at_response.dot(a);
+  r.force = structure_.scalars.force;
+  r.phase = structure_.scalars.phase;
+  r.cavity = P.at_cavity.dot(q);
+  r.load = structure_.load_now.x();
+  return r;
+}
+
+}  // namespace bagdem

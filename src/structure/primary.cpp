@@ -1,0 +1,55 @@
+// What every primary kind shares (structure/primary.hpp): the mass matrix with the cavity's mass,
+// the load fit, and the bare structure's steady state and receptance.
+#include "bagdem/structure/primary.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <stdexcept>
+
+namespace bagdem {
+
+void finish_primary(Primary& p, const std::vector<Eigen::VectorXd>& shapes, double l) {
+  const Eigen::Index n = p.stiffness.size();
+  if (p.mass.rows() != n) p.mass = Eigen::MatrixXd::Identity(n, n);
+  p.mass += p.cavity_mass * p.at_cavity * p.at_cavity.transpose();
+  p.mass_inverse = p.mass.inverse();
+  // shapes: phi at x_b - l, x_b, x_b + l. The quadratic through them, c0 + c1 s + c2 s^2.
+  p.load_fit.resize(n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double lo = shapes[0][k], mid = shapes[1][k], hi = shapes[2][k];
+    p.load_fit(k, 0) = mid;
+    p.load_fit(k, 1) = l > 0 ? (hi - lo) / (2 * l) : 0.0;
+    p.load_fit(k, 2) = l > 0 ? (hi - 2 * mid + lo) / (2 * l * l) : 0.0;
+  }
+}
+
+double Primary::omega_max() const {
+  // Largest eigenvalue of M^-1 K (K diagonal, M symmetric positive definite).
+  const Eigen::MatrixXd K = stiffness.asDiagonal();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, mass, Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
+}
+
+namespace {
+Eigen::VectorXcd solve_bare(const Primary& p, double w, const Eigen::VectorXd& f) {
+  using C = std::complex<double>;
+  const Eigen::Index n = p.stiffness.size();
+  Eigen::MatrixXcd D = (-w * w) * p.mass.cast<C>();
+  for (Eigen::Index k = 0; k < n; ++k) D(k, k) += C(p.stiffness[k], w * p.damping[k]);
+  return D.partialPivLu().solve(f.cast<C>());
+}
+}  // namespace
+
+std::complex<double> Primary::bare_receptance(double w) const {
+  return at_response.cast<std::complex<double>>().dot(solve_bare(*this, w, at_force));
+}
+
+// f = F sin(w t) = Re(-i F e^{iwt}): q(t) = Re(Q e^{iwt}) with Q = D^-1 (-i F phi_f); at t = 0,
+// q = Re Q and v = Re(i w Q).
+void Primary::bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const {
+  const Eigen::VectorXcd Q = solve_bare(*this, w, at_force) * std::complex<double>(0, -F);
+  q = Q.real();
+  v = (Q * std::complex<double>(0, w)).real();
+}
+
+}  // namespace bagdem

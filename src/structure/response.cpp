@@ -1,0 +1,96 @@
+// Frequency-response and decay figures (structure/response.hpp).
+#include "bagdem/structure/response.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace bagdem {
+
+std::size_t steps_per_cycle(double f, double dt) {
+  return std::max<std::size_t>(8, static_cast<std::size_t>(std::llround(1.0 / (f * dt))));
+}
+
+void SteadyStateDetector::add(std::complex<double> Y) {
+  window_.push_back(Y);
+  while (window_.size() > K_ + 1) window_.pop_front();
+}
+
+double SteadyStateDetector::last_change() const {
+  if (window_.size() < K_ + 1) return 1.0;
+  const std::complex<double> last = window_.back();
+  double worst = 0;
+  for (const auto& y : window_) worst = std::max(worst, std::abs(y - last));
+  return std::abs(last) > 0 ? worst / std::abs(last) : (worst > 0 ? 1.0 : 0.0);
+}
+
+bool SteadyStateDetector::steady() const { return window_.size() >= K_ + 1 && last_change() <= tol_; }
+
+std::complex<double> sdof_receptance(double M, double C, double K, double w) {
+  return 1.0 / std::complex<double>(K - w * w * M, w * C);
+}
+
+double reduction_db(double bare_peak, double damped_peak) { return 20 * std::log10(bare_peak / damped_peak); }
+double reduction_percent(double db) { return 100 * (1 - std::pow(10.0, -db / 20)); }
+
+Peak find_peak(const std::vector<double>& f, const std::vector<double>& mag, double f_lo, double f_hi) {
+  std::size_t best = f.size();
+  for (std::size_t k = 0; k < f.size(); ++k)
+    if (f[k] >= f_lo && f[k] <= f_hi && (best == f.size() || mag[k] > mag[best])) best = k;
+  if (best == f.size()) return {};
+  Peak p{f[best], mag[best]};
+  if (best == 0 || best + 1 >= f.size() || f[best - 1] < f_lo || f[best + 1] > f_hi) return p;
+  // Parabola through the three points (x relative to the middle one).
+  const double x0 = f[best - 1] - f[best], x2 = f[best + 1] - f[best];
+  const double y0 = mag[best - 1] - mag[best], y2 = mag[best + 1] - mag[best];
+  // y = a x^2 + b x through (x0, y0), (0, 0), (x2, y2).
+  const double a = (y0 * x2 - y2 * x0) / (x0 * x2 * (x0 - x2)), b = (y0 - a * x0 * x0) / x0;
+  if (!(a < 0)) return p;
+  const double xm = -b / (2 * a);
+  if (xm < x0 || xm > x2) return p;
+  return {f[best] + xm, mag[best] + a * xm * xm + b * xm};
+}
+
+DecayFit fit_decay(const std::vector<double>& y, double dt, double factor, double t_skip) {
+  DecayFit d;
+  const auto first = static_cast<std::size_t>(std::ceil(t_skip / dt));
+  std::vector<double> t, lp;
+  for (std::size_t k = std::max<std::size_t>(first, 1); k + 1 < y.size(); ++k) {
+    if (!(y[k] > 0 && y[k] > y[k - 1] && y[k] >= y[k + 1])) continue;
+    // Parabola through the three samples: the peak's time and height.
+    const double a = 0.5 * (y[k - 1] - 2 * y[k] + y[k + 1]), b = 0.5 * (y[k + 1] - y[k - 1]);
+    const double x = a < 0 ? -b / (2 * a) : 0.0;
+    t.push_back((static_cast<double>(k) + x) * dt);
+    lp.push_back(std::log(y[k] + b * x + a * x * x));
+  }
+  d.peaks = t.size();
+  if (t.size() < 3) return d;
+  const double n = static_cast<double>(t.size());
+  double st = 0, sl = 0, stt = 0, stl = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) st += t[k], sl += lp[k], stt += t[k] * t[k], stl += t[k] * lp[k];
+  const double slope = (n * stl - st * sl) / (n * stt - st * st);
+  d.rate = -slope;
+  const double Td = (t.back() - t.front()) / (n - 1);
+  d.damped_frequency = 1.0 / Td;
+  const double wd = 2 * std::numbers::pi * d.damped_frequency;
+  d.zeta = d.rate / std::sqrt(d.rate * d.rate + wd * wd);
+  d.decay_time = d.rate > 0 ? std::log(factor) / d.rate : 0.0;
+  const double limit = lp.front() - std::log(factor);
+  for (std::size_t k = t.size(); k-- > 0;) {
+    if (lp[k] > limit) {
+      d.measured_decay_time = k + 1 < t.size() ? t[k + 1] - t.front() : 0.0;
+      break;
+    }
+  }
+  return d;
+}
+
+double rms(const std::vector<double>& y, double dt, double t_skip) {
+  const auto first = static_cast<std::size_t>(std::ceil(t_skip / dt));
+  double s = 0;
+  std::size_t n = 0;
+  for (std::size_t k = first; k < y.size(); ++k) s += y[k] * y[k], ++n;
+  return n ? std::sqrt(s / static_cast<double>(n)) : 0.0;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,246 @@
+// The primary structure carrying the cavity (structure/primary.hpp, stepper_structure.cpp,
+// run/sweep.hpp), through case files:
+//  - case keys and refusals;
+//  - an SDOF without contents (one ball that never touches a wall): the swept receptance against
+//    the analytic one, 1/(K - w^2 M + i w C), within 0.5% across the band;
+//  - a beam's free decay in one mode gives that mode's damping ratio;
+//  - a rigid mass carried by the cavity shifts the beam's frequencies as the exact (continuous
+//    Euler-Bernoulli) lumped-mass result;
+//  - coupled energy balance over steady cycles: W_ext = D_structure + D_contents within 1%;
+//  - balls at a node of a mode barely change its peak, at an antinode they reduce it.
+// Contents are soft (E = 10 MPa) and the structures slow (10-30 Hz) so that each test takes
+// seconds: the coupling, not the contact stiffness, is under test here.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <numbers>
+#include <sstream>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/run/runner.hpp"
+#include "bagdem/run/sweep.hpp"
+#include "bagdem/stepper.hpp"
+#include "bagdem/structure/modes.hpp"
+#include "bagdem/structure/response.hpp"
+#include "support.hpp"
+
+using namespace bagdem;
+using bagdem::testing::TempDir;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A case with soft balls in a box; `sections` adds [primary], [excitation], [particles...].
+std::string case_text(const std::string& sections, const std::string& simulation = "duration = \"0.1 s\"") {
+  std::ostringstream s;
+  s << "[simulation]\n" << simulation << "\ngravity = [0, 0, \"-9.81 m/s^2\"]\n\n"
+    << "[materials.soft]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"10 MPa\"\npoisson_ratio = 0.3\n\n"
+    << "[interactions.default]\nrestitution = 0.5\nfriction = 0.3\n\n"
+    << "[cavity]\nkind = \"box\"\nmaterial = \"soft\"\nmin = [\"-20 mm\", \"-20 mm\", \"-20 mm\"]\n"
+    << "max = [\"20 mm\", \"20 mm\", \"20 mm\"]\n\n"
+    << sections << "\n[output]\nenergy = true\n";
+  return s.str();
+}
+
+// One ball at the centre, no gravity: it never touches a wall while the box moves less than 15 mm.
+const char* kLoneBall = "[particles.ball]\nmaterial = \"soft\"\ndiameter = \"5 mm\"\npositions = [[0, 0, 0]]\n";
+
+Scene load(const TempDir& d, const std::string& text, const std::vector<std::string>& sets = {}) {
+  d.write("case.toml", text);
+  return load_case(d.str(), sets);
+}
+
+std::string input_error(const TempDir& d, const std::string& text) {
+  try {
+    load(d, text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+}  // namespace
+
+TEST(PrimaryCase, SdofKeysAreResolvedAndBadOnesRefused) {
+  TempDir d;
+  const std::string sdof = "[primary]\nkind = \"sdof\"\nmass = \"2 kg\"\nstiffness = \"31583 N/m\"\ndamping_ratio = 0.05\n"
+                           "\n[excitation]\nkind = \"harmonic\"\namplitude = \"1 N\"\nfrequency = \"20 Hz\"\n";
+  const Scene s = load(d, case_text(sdof + kLoneBall));
+  ASSERT_TRUE(s.primary);
+  EXPECT_EQ(s.primary->kind, "sdof");
+  EXPECT_NEAR(s.primary->natural_frequency[0], std::sqrt(31583.0 / 2) / (2 * kPi), 1e-9);
+  EXPECT_NEAR(s.primary->damping_ratio[0], 0.05, 1e-12);
+  EXPECT_NEAR(s.primary->damping[0], 2 * 0.05 * std::sqrt(31583.0 * 2), 1e-9);
+
+  EXPECT_NE(input_error(d, case_text(sdof + "damping = 3\n" + kLoneBall)).find("primary.damping"), std::string::npos);
+  const std::string moving = "[cavity.motion]\nkind = \"harmonic\"\namplitude = \"1 mm\"\nfrequency = \"20 Hz\"\n";
+  EXPECT_NE(input_error(d, case_text(sdof + moving + kLoneBall)).find("cavity.motion.kind"), std::string::npos);
+  const std::string beam = "[primary]\nkind = \"beam\"\nlength = \"1 m\"\nyoungs_modulus = \"70 GPa\"\nouter_diameter = \"20 mm\"\n"
+                           "line_density = \"1 kg/m\"\nends = \"pinned-pinned\"\nattach = \"10 mm\"\nforce_at = \"0.3 m\"\n"
+                           "response_at = \"0.3 m\"\n\n[excitation]\nkind = \"none\"\n";
+  const std::string e = input_error(d, case_text(beam + kLoneBall));
+  EXPECT_NE(e.find("primary.attach"), std::string::npos) << e;  // the 40-mm box sticks out of the beam
+  EXPECT_NE(input_error(d, case_text("[excitation]\nkind = \"none\"\n" + std::string(kLoneBall))).find("excitation"),
+            std::string::npos);
+}
+
+// An SDOF without contents: the simulated receptance is the analytic one.
+TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
+  TempDir d;
+  const double M = 2, fn = 20, zeta = 0.05, K = M * std::pow(2 * kPi * fn, 2), C = 2 * zeta * std::sqrt(K * M);
+  std::ostringstream p;
+  p << "[primary]\nkind = \"sdof\"\nmass = " << M << "\nstiffness = " << K << "\ndamping = " << C << "\n\n"
+    << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"20 N\"\nband = [\"12 Hz\", \"28 Hz\"]\npoints = 9\n"
+    << "steady_tolerance = 1e-4\nmax_cycles = 400\n" << kLoneBall;
+  const Scene s = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]"});
+  RunOptions o;
+  o.out_dir = (d.path / "out").string();
+  o.quiet = true;
+  const SweepReport r = run_sweep(s, o);
+  ASSERT_TRUE(r.complete) << r.message;
+  double worst = 0;
+  for (const SweepPoint& pt : r.points) {
+    const double w = 2 * kPi * pt.frequency;
+    const std::complex<double> H = 1.0 / std::complex<double>(K - w * w * M, w * C);
+    const double err = std::abs(pt.receptance - H) / std::abs(H);
+    std::printf("  %.4f Hz: |H| %.6e (analytic %.6e), complex error %.2e, %zu cycles\n", pt.frequency,
+                std::abs(pt.receptance), std::abs(H), err, pt.cycles);
+    worst = std::max(worst, err);
+    EXPECT_TRUE(pt.steady);
+  }
+  EXPECT_LT(worst, 5e-3);
+}
+
+namespace {
+
+// A pinned-pinned beam of 1 m, 1 kg/m, EI = 10.13 N m^2: modes at 5, 20, 45 Hz.
+std::string beam_keys(double attach, const std::string& more = "") {
+  std::ostringstream b;
+  b << "[primary]\nkind = \"beam\"\nlength = \"1 m\"\nyoungs_modulus = 10.1321\nsecond_moment = 1\n"
+    << "line_density = \"1 kg/m\"\nends = \"pinned-pinned\"\nmodes = 6\nattach = " << attach << "\n"
+    << "force_at = 0.13\nresponse_at = 0.13\n" << more;
+  return b.str();
+}
+
+}  // namespace
+
+// Free decay from a displacement in mode 1: the fitted damping ratio is the modal one.
+TEST(StructureBeam, FreeDecayOfOneModeGivesItsDampingRatio) {
+  TempDir d;
+  const std::string p = beam_keys(0.5, "damping_ratio = [0.02, 0.01]\n") +
+                        "\n[excitation]\nkind = \"decay\"\nmode = 1\ndisplacement = \"5 mm\"\n" + kLoneBall;
+  const Scene s = load(d, case_text(p, "duration = \"3 s\""), {"simulation.gravity=[0,0,0]"});
+  EXPECT_NEAR(s.primary->natural_frequency[0], 5.0, 1e-3);
+  RunOptions o;
+  o.out_dir = (d.path / "out").string();
+  o.quiet = true;
+  const RunReport r = run_scene(s, o);
+  ASSERT_TRUE(r.complete) << r.message;
+  std::printf("  decay: zeta %.6f (modal 0.02), 20-dB time %.4f s (analytic %.4f s)\n", r.decay_zeta, r.decay_time,
+              std::log(10.0) / (0.02 * 2 * kPi * 5.0));
+  EXPECT_NEAR(r.decay_zeta, 0.02, 0.02 * 0.01);
+  EXPECT_NEAR(r.decay_time, std::log(10.0) / (0.02 * 2 * kPi * 5.0 * std::sqrt(1 - 0.0004)) * std::sqrt(1 - 0.0004), 0.02 * r.decay_time);
+}
+
+// A rigid mass carried by the cavity: the modal model's frequencies (with its 6 modes) against the
+// exact continuous result, and a simulated free decay in the first coupled mode.
+TEST(StructureBeam, CavityMassShiftsTheFrequenciesAsTheExactLumpedMass) {
+  TempDir d;
+  const double m = 0.3, x = 0.3;  // 30% of the beam's mass at x/L = 0.3
+  std::ostringstream more;
+  more << "cavity_mass = " << m << "\nmodes = 12\n";
+  std::string keys = beam_keys(x, "damping_ratio = 0\n");
+  keys.replace(keys.find("modes = 6\n"), 10, "");
+  const std::string p = keys + more.str() + "\n[excitation]\nkind = \"none\"\n" + kLoneBall;
+  const Scene s = load(d, case_text(p, "duration = \"1 s\""), {"simulation.gravity=[0,0,0]"});
+  const Primary& P = *s.primary;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Eigen::MatrixXd(P.stiffness.asDiagonal()), P.mass);
+  UniformBeam u{1.0, 10.1321, 1.0, BeamEnds::pinned_pinned};
+  const std::vector<double> exact = lumped_mass_frequencies(u, x, m, 3);
+  for (int k = 0; k < 3; ++k) {
+    const double model = std::sqrt(es.eigenvalues()[k]);
+    const double bare = 2 * kPi * P.natural_frequency[static_cast<std::size_t>(k)];
+    std::printf("  mode %d: bare %.5f, exact with mass %.5f, modal model %.5f rad/s (%+.3f%%)\n", k + 1, bare,
+                exact[static_cast<std::size_t>(k)], model, 100 * (model / exact[static_cast<std::size_t>(k)] - 1));
+    EXPECT_NEAR(model, exact[static_cast<std::size_t>(k)], 1e-3 * exact[static_cast<std::size_t>(k)]);
+    EXPECT_LT(exact[static_cast<std::size_t>(k)], bare * 0.99);  // the mass lowers each frequency by more than 1%
+  }
+  // Simulated: released in the first coupled mode's shape, it rings at that frequency.
+  Scene s2 = s;
+  auto P2 = std::make_shared<Primary>(P);
+  P2->q0 = 1e-3 * es.eigenvectors().col(0) / P.at_response.dot(es.eigenvectors().col(0));
+  s2.primary = P2;
+  Simulation sim(s2);
+  std::vector<double> y;
+  const auto steps = static_cast<std::size_t>(1.0 / s2.dt);
+  for (std::size_t k = 0; k < steps; ++k) {
+    sim.step();
+    y.push_back(sim.structure_response().displacement);
+  }
+  const DecayFit f = fit_decay(y, s2.dt);
+  std::printf("  simulated ring-down: %.5f Hz against exact %.5f Hz\n", f.damped_frequency, exact[0] / (2 * kPi));
+  EXPECT_NEAR(f.damped_frequency, exact[0] / (2 * kPi), 2e-3 * exact[0] / (2 * kPi));
+}
+
+namespace {
+
+// 12 soft 8-mm balls lying on the floor of the box (clearance 16 mm across e = y).
+const char* kBalls = "[particles.balls]\nmaterial = \"soft\"\ndiameter = \"8 mm\"\ncount = 12\nfill = \"lattice\"\n";
+
+}  // namespace
+
+// Two-way coupling closes the energy balance: the external force's work per steady cycle goes into
+// the structure's damping and the contents' dissipation.
+TEST(StructureCoupled, EnergyBalanceOverSteadyCycles) {
+  TempDir d;
+  const double M = 0.25, fn = 12, zeta = 0.05, K = M * std::pow(2 * kPi * fn, 2);
+  std::ostringstream p;
+  p << "[primary]\nkind = \"sdof\"\nmass = " << M << "\nstiffness = " << K << "\ndamping_ratio = " << zeta << "\n\n"
+    << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"2 N\"\nfrequencies = [\"12 Hz\", \"13 Hz\"]\n"
+    << "steady_tolerance = 0.02\nsteady_cycles = 4\nmin_cycles = 8\nmax_cycles = 40\n" << kBalls;
+  const Scene s = load(d, case_text(p.str(), "duration = \"1 s\"\nsettle = \"0.2 s\""));
+  RunOptions o;
+  o.out_dir = (d.path / "out").string();
+  o.quiet = true;
+  const SweepReport r = run_sweep(s, o);
+  ASSERT_TRUE(r.complete) << r.message;
+  for (const SweepPoint& pt : r.points) {
+    std::printf("  %.3f Hz: W_ext %.4e J/cycle = D_structure %.4e + D_contents %.4e; closure %.2e; |Y| %.3g m\n",
+                pt.frequency, pt.work_external, pt.dissipated_structure, pt.dissipated_contents, pt.balance,
+                std::abs(pt.response));
+    EXPECT_LT(std::abs(pt.balance), 0.01);
+    EXPECT_GT(pt.dissipated_contents, 0.05 * pt.work_external);  // the contents do dissipate
+    EXPECT_NEAR(pt.work_external, pt.dissipated_structure + pt.dissipated_contents, 0.01 * pt.work_external);
+  }
+}
+
+// Balls carried at a node of mode 2 (mid-span of the pinned-pinned beam) barely change its peak;
+// at an antinode (x/L = 0.25) they reduce it.
+TEST(StructureBeam, ContentsAtANodeBarelyChangeThatModeAntinodeReducesIt) {
+  auto reduction = [](double attach) {
+    TempDir d;
+    const std::string p = beam_keys(attach, "damping_ratio = 0.01\n") +
+                          "\n[excitation]\nkind = \"stepped-sine\"\namplitude = \"0.6 N\"\naround_modes = [2]\n"
+                          "span = 0.12\npoints = 7\nsteady_tolerance = 0.02\nsteady_cycles = 3\nmin_cycles = 6\n"
+                          "max_cycles = 60\nstart = \"steady\"\n" + kBalls;
+    const Scene s = load(d, case_text(p, "duration = \"1 s\"\nsettle = \"0.2 s\""));
+    RunOptions o;
+    o.out_dir = (d.path / "out").string();
+    o.quiet = true;
+    const SweepReport r = run_sweep(s, o);
+    EXPECT_TRUE(r.complete) << r.message;
+    EXPECT_EQ(r.peaks.size(), 1u);
+    if (r.peaks.empty()) return 0.0;
+    std::printf("  contents at x = %.3f m: mode 2 peak %.4g m/N (bare %.4g): %.2f dB (%.1f%%)\n", attach,
+                r.peaks[0].peak, r.peaks[0].bare_peak, r.peaks[0].reduction_db, r.peaks[0].reduction_percent);
+    return r.peaks[0].reduction_db;
+  };
+  const double node = reduction(0.5), antinode = reduction(0.25);
+  EXPECT_LT(std::abs(node), 0.5);
+  EXPECT_GT(antinode, 3.0);
+}

@@ -105,7 +105,9 @@ BeamEnds read_ends(const CaseReader& in) {
 
 std::vector<double> read_ratios(const CaseReader& in, const std::string& key, double fallback) {
   std::vector<double> z;
-  if (const std::size_t n = in.array_size(key); n > 0) {
+  if (in.has(key) && in.root().at_path(key).is_array()) {
+    const std::size_t n = in.array_size(key);
+    if (n == 0) in.fail(key, "must not be an empty list");
     for (std::size_t k = 0; k < n; ++k) z.push_back(in.quantity(key + "." + std::to_string(k), dim::none));
   } else {
     z.push_back(in.quantity(key, dim::none, fallback));
@@ -286,6 +288,9 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       sw->min_cycles = static_cast<std::size_t>(std::max(1LL, in.integer("excitation.min_cycles", 5)));
       sw->max_cycles = static_cast<std::size_t>(std::max(1LL, in.integer("excitation.max_cycles", 200)));
       if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
+      const long long refine = in.integer("excitation.refine", 4);
+      if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
+      sw->refine = static_cast<std::size_t>(refine);
       p.sweep = sw;
     }
     p.drive_frequency = f.front();

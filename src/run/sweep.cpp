@@ -38,6 +38,7 @@ const std::vector<TableColumn> kSweepColumns = {
     {"work_external_per_cycle", "J"}, {"dissipated_structure_per_cycle", "J"},
     {"dissipated_contents_per_cycle", "J"}, {"energy_balance", "1"},
     {"cycles", "1"},               {"steady", "1"},
+    {"spread", "1"},
     {"change", "1"},               {"wall_time", "s"}};
 
 std::vector<double> row_of(const SweepPoint& p) {
@@ -45,7 +46,7 @@ std::vector<double> row_of(const SweepPoint& p) {
   return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
           p.bare.real(), p.bare.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
           p.cavity.imag(), p.contents_force.real(), p.contents_force.imag(), p.work_external, p.dissipated_structure,
-          p.dissipated_contents, p.balance, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.change,
+          p.dissipated_contents, p.balance, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.spread, p.change,
           p.wall_seconds};
 }
 
@@ -110,19 +111,28 @@ Peak bare_peak(const Primary& p, double lo, double hi) {
 
 }  // namespace
 
-std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
-  std::vector<ModePeak> out;
+namespace {
+
+// The modes whose peaks a sweep evaluates (the plan's, or every elastic mode inside the swept
+// band), and for each the points nearest to it in log-frequency among the elastic modes, sorted
+// by frequency.
+struct ModePoints {
+  std::size_t dof;
+  std::vector<const SweepPoint*> points;
+};
+std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<ModePoints> out;
   if (points.empty()) return out;
-  std::vector<SweepPoint> pts = points;
-  std::sort(pts.begin(), pts.end(), [](const SweepPoint& a, const SweepPoint& b) { return a.frequency < b.frequency; });
+  std::vector<const SweepPoint*> pts;
+  for (const SweepPoint& p : points) pts.push_back(&p);
+  std::sort(pts.begin(), pts.end(), [](const SweepPoint* a, const SweepPoint* b) { return a->frequency < b->frequency; });
   std::vector<std::size_t> elastic;
   for (std::size_t k = 0; k < P.size(); ++k)
     if (!P.rigid_body[k]) elastic.push_back(k);
   std::vector<std::size_t> modes = P.sweep ? P.sweep->modes : std::vector<std::size_t>{};
   if (modes.empty())
     for (std::size_t k : elastic)
-      if (P.natural_frequency[k] >= pts.front().frequency && P.natural_frequency[k] <= pts.back().frequency) modes.push_back(k);
-  // Each point belongs to the elastic mode nearest in log-frequency.
+      if (P.natural_frequency[k] >= pts.front()->frequency && P.natural_frequency[k] <= pts.back()->frequency) modes.push_back(k);
   auto nearest = [&](double f) {
     std::size_t best = elastic.front();
     for (std::size_t k : elastic)
@@ -130,12 +140,37 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
     return best;
   };
   for (std::size_t m : modes) {
+    ModePoints mp{m, {}};
+    for (const SweepPoint* p : pts)
+      if (nearest(p->frequency) == m) mp.points.push_back(p);
+    if (!mp.points.empty()) out.push_back(std::move(mp));
+  }
+  return out;
+}
+
+// The next frequency of a mode's peak refinement: halfway between the largest |H| and its larger
+// neighbour (the side the peak lies on); 0 when the largest is at an end of the mode's points or
+// the step would be below 1e-4 of the frequency.
+double refinement_frequency(const ModePoints& m) {
+  const auto& p = m.points;
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < p.size(); ++i)
+    if (std::abs(p[i]->receptance) > std::abs(p[k]->receptance)) k = i;
+  if (k == 0 || k + 1 >= p.size()) return 0.0;
+  const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
+  const double f = 0.5 * (p[k]->frequency + side->frequency);
+  return std::abs(f - p[k]->frequency) > 1e-4 * p[k]->frequency ? f : 0.0;
+}
+
+}  // namespace
+
+std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<ModePeak> out;
+  for (const ModePoints& m : group_by_mode(P, points)) {
     std::vector<double> f, mag;
-    for (const SweepPoint& p : pts)
-      if (nearest(p.frequency) == m) f.push_back(p.frequency), mag.push_back(std::abs(p.receptance));
-    if (f.empty()) continue;
+    for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
-    mp.name = P.dof_names[m];
+    mp.name = P.dof_names[m.dof];
     const Peak damped = find_peak(f, mag, f.front(), f.back());
     const Peak bare = bare_peak(P, f.front(), f.back());
     mp.frequency = damped.frequency, mp.peak = damped.magnitude;
@@ -191,11 +226,13 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     while (sim.steps_done() < settle_steps) sim.step();
     if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
 
-    const std::size_t npts = plan.frequencies.size();
-    for (std::size_t i = 0; i < npts; ++i) {
+    std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
+    // One frequency point, from the state the last one left.
+    auto run_point = [&](double requested) {
       const auto t_point = std::chrono::steady_clock::now();
+      const std::size_t i = rep.points.size();
       SweepPoint pt;
-      pt.requested = plan.frequencies[i];
+      pt.requested = requested;
       const std::size_t N = steps_per_cycle(pt.requested, scene.dt);
       pt.frequency = 1.0 / (static_cast<double>(N) * scene.dt);
       sim.set_drive_frequency(pt.frequency);
@@ -216,7 +253,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         Y *= k, U *= k, L *= k;
         steady.add(Y);
         cav.push_back(U), load.push_back(L);
-        pt.response = Y;
+        pt.response = steady.mean();
         pt.cycles = c + 1;
         pt.change = steady.last_change();
         if (!opt.quiet)
@@ -239,7 +276,10 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       pt.balance = pt.work_external != 0 ? residual / std::abs(pt.work_external) : 0.0;
       pt.receptance = pt.response / Complex(0, -F);
       pt.bare = P.bare_receptance(w);
-      pt.cavity = cav.back(), pt.contents_force = load.back();
+      // The cavity's and the contents' first harmonics over the same last K cycles.
+      pt.cavity = pt.contents_force = Complex(0, 0);
+      for (std::size_t c = cav.size() - K; c < cav.size(); ++c) pt.cavity += cav[c] / cycles, pt.contents_force += load[c] / cycles;
+      pt.spread = steady.spread();
       pt.wall_seconds = since(t_point);
       rep.points.push_back(pt);
       file.append_table_row("sweep", kSweepColumns, row_of(pt));
@@ -250,7 +290,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         std::fprintf(stderr, "\r  [%zu/%zu] %.5g Hz: |H| = %.4g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
                      i + 1, npts, pt.frequency, std::abs(pt.receptance), std::abs(pt.bare),
                      pt.steady ? "steady" : "NOT steady", pt.cycles, pt.wall_seconds,
-                     el / static_cast<double>(i + 1) * static_cast<double>(npts - i - 1));
+                     el / static_cast<double>(i + 1) * static_cast<double>(npts > i + 1 ? npts - i - 1 : 0));
       }
       if (!pt.steady) {
         std::ostringstream m;
@@ -259,7 +299,12 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
           << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
         std::fputs(m.str().c_str(), stderr);
       }
-    }
+    };
+    for (double f : plan.frequencies) run_point(f);
+    // Peak refinement: per mode, `refine` more points, each halving the gap on the peak's side.
+    for (std::size_t r = 0; r < plan.refine; ++r)
+      for (const ModePoints& m : group_by_mode(P, rep.points))
+        if (const double f = refinement_frequency(m); f > 0) run_point(f);
   } catch (const RunError& e) {
     rep.message = e.what();
     file.set_attribute("status", std::string("failed: ") + e.what());

@@ -11,7 +11,7 @@
 // A point mass adds m to its node's w diagonal and J to its theta diagonal. Supports remove w
 // (pinned) or w and theta (clamped) from the system.
 // clang-format off
-#include "eigen_dense.hpp"  // first, before anything includes the intrinsics (see there)
+#include <Eigen/Dense>
 // clang-format on
 #include <algorithm>
 #include <array>

@@ -17,7 +17,7 @@
 // mode with a node at the mass (|phi_k(x_m)| < 1e-9 of the classic shape, max ~1) is no pole and is
 // itself a loaded mode. For a free-free beam the two rigid modes stay at omega = 0.
 // clang-format off
-#include "eigen_dense.hpp"  // first, before anything includes the intrinsics (see there)
+#include <Eigen/Dense>
 // clang-format on
 #include <algorithm>
 #include <cmath>

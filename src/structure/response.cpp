@@ -13,18 +13,37 @@ std::size_t steps_per_cycle(double f, double dt) {
 
 void SteadyStateDetector::add(std::complex<double> Y) {
   window_.push_back(Y);
-  while (window_.size() > K_ + 1) window_.pop_front();
+  while (window_.size() > 2 * K_) window_.pop_front();
+}
+
+std::complex<double> SteadyStateDetector::block_mean(std::size_t first, std::size_t count) const {
+  std::complex<double> m(0, 0);
+  for (std::size_t i = first; i < first + count; ++i) m += window_[i];
+  return count ? m / static_cast<double>(count) : m;
+}
+
+std::complex<double> SteadyStateDetector::mean() const {
+  const std::size_t n = std::min(K_, window_.size());
+  return block_mean(window_.size() - n, n);
 }
 
 double SteadyStateDetector::last_change() const {
-  if (window_.size() < K_ + 1) return 1.0;
-  const std::complex<double> last = window_.back();
-  double worst = 0;
-  for (const auto& y : window_) worst = std::max(worst, std::abs(y - last));
-  return std::abs(last) > 0 ? worst / std::abs(last) : (worst > 0 ? 1.0 : 0.0);
+  if (window_.size() < 2 * K_) return 1.0;
+  const std::complex<double> last = block_mean(K_, K_), before = block_mean(0, K_);
+  const double d = std::abs(last - before);
+  return std::abs(last) > 0 ? d / std::abs(last) : (d > 0 ? 1.0 : 0.0);
 }
 
-bool SteadyStateDetector::steady() const { return window_.size() >= K_ + 1 && last_change() <= tol_; }
+bool SteadyStateDetector::steady() const { return window_.size() >= 2 * K_ && last_change() <= tol_; }
+
+double SteadyStateDetector::spread() const {
+  const std::size_t n = std::min(K_, window_.size());
+  if (n == 0) return 0.0;
+  const std::complex<double> m = mean();
+  double s = 0;
+  for (std::size_t i = window_.size() - n; i < window_.size(); ++i) s += std::norm(window_[i] - m);
+  return std::abs(m) > 0 ? std::sqrt(s / static_cast<double>(n)) / std::abs(m) : 0.0;
+}
 
 std::complex<double> sdof_receptance(double M, double C, double K, double w) {
   return 1.0 / std::complex<double>(K - w * w * M, w * C);

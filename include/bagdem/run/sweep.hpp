@@ -3,8 +3,10 @@
 // the next (the force's phase stays continuous). Each frequency is rounded to a whole number N of
 // time steps per cycle, so that the first harmonic of a cycle's N samples,
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
-// is exact for any periodic response. The point is steady when the last K cycles' Y lie within the
-// tolerance of the latest (SteadyStateDetector); at most max_cycles are run, with a warning.
+// is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
+// the point is steady when the mean Y of the last K cycles differs from that of the K before by
+// less than the tolerance (SteadyStateDetector); the point's response is that mean, with its
+// cycle-to-cycle scatter. At most max_cycles are run, with a warning.
 //
 // Per point: the complex response at x_a (displacement Y and acceleration -w^2 Y, as the study's
 // accelerometer), the receptance H = Y / (-i F), the bare structure's analytic receptance at the
@@ -14,7 +16,11 @@
 // cycles: work of the external force W, dissipation in the structure D_s and in the contents
 // (the damper) D_c, and the closure (W - D_s - D_c - change of stored energy) / W.
 // Per mode (excitation.around_modes, or every elastic mode inside the band): the bare and the
-// damped peak of |H| (find_peak) and the reduction in dB and percent (physics brief section 3).
+// damped peak of |H| and the reduction in dB and percent (physics brief section 3). A lightly
+// damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
+// planned frequencies the sweep adds `excitation.refine` points per mode, each halfway between
+// the largest |H| and its larger neighbour; the damped peak is then the parabola through the
+// largest and its neighbours (find_peak), the bare peak that of the analytic receptance.
 //
 // Files (CASE_DIR/out unless --out): sweep.csv (rewritten after each point), results.h5 with the
 // table /sweep (one row per point, columns as in sweep.csv) and a particle frame after each point,
@@ -32,7 +38,7 @@ namespace bagdem {
 struct SweepPoint {
   double requested = 0;                   // requested frequency (unit: Hz)
   double frequency = 0;                   // driven: 1 / (N dt) (unit: Hz)
-  std::complex<double> response;         // first harmonic of the displacement at x_a (unit: m)
+  std::complex<double> response;         // first harmonic of the displacement at x_a, mean over the last K cycles (unit: m)
   std::complex<double> receptance;       // response / force (unit: m/N)
   std::complex<double> bare;             // the bare structure's receptance (unit: m/N)
   std::complex<double> cavity;           // first harmonic of the cavity's displacement (unit: m)
@@ -43,7 +49,8 @@ struct SweepPoint {
   double balance = 0;                     // relative closure of the energy balance over those cycles
   std::size_t cycles = 0;                 // cycles run at this frequency
   bool steady = false;                    // reached the tolerance (else max_cycles)
-  double change = 0;                      // last relative change of the amplitude
+  double change = 0;                      // relative change between the last two K-cycle means
+  double spread = 0;                      // cycle-to-cycle scatter of the amplitude over the last K cycles (relative RMS)
   double wall_seconds = 0;
 };
 

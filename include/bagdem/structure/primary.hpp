@@ -87,6 +87,7 @@ struct Primary {
     std::size_t cycles = 3;            // K
     std::size_t min_cycles = 5;        // at each frequency at least
     std::size_t max_cycles = 200;      // cap (with a warning)
+    std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
   };
   std::shared_ptr<const Sweep> sweep;  // null unless stepped-sine
 

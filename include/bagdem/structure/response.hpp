@@ -19,20 +19,28 @@ namespace bagdem {
 // frequency driven is then 1/(N dt).
 std::size_t steps_per_cycle(double f, double dt);
 
-// Steady state of a sequence of cycle amplitudes: steady when the last K amplitudes (K + 1 values
-// with the latest) all lie within rel_tol of the latest: |Y_i - Y_last| <= rel_tol |Y_last|.
+// Steady state of a sequence of cycle amplitudes Y_i. A granular damper's response is chaotic from
+// cycle to cycle (scatter of several percent at the impacts), so single cycles are not compared:
+// the mean of the last K amplitudes is compared with the mean of the K before, and the point is
+// steady when |mean_last - mean_before| <= rel_tol |mean_last|. For a smoothly decaying transient
+// this is the same test on block means.
 class SteadyStateDetector {
  public:
   SteadyStateDetector(std::size_t K, double rel_tol) : K_(K), tol_(rel_tol) {}
   void add(std::complex<double> Y);
   bool steady() const;
-  // Largest |Y_i - Y_last| / |Y_last| over the window (1 until K + 1 values were seen).
+  // |mean_last - mean_before| / |mean_last| (1 until 2K values were seen).
   double last_change() const;
+  // Mean of the last K amplitudes (of those seen, when fewer).
+  std::complex<double> mean() const;
+  // Scatter of the last K amplitudes: RMS of |Y_i - mean| / |mean|.
+  double spread() const;
 
  private:
+  std::complex<double> block_mean(std::size_t first, std::size_t count) const;
   std::size_t K_;
   double tol_;
-  std::deque<std::complex<double>> window_;
+  std::deque<std::complex<double>> window_;  // the last 2K values
 };
 
 // Analytic receptance of a viscously damped SDOF: 1 / (K - w^2 M + i w C) (unit: m/N).

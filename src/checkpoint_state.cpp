@@ -69,7 +69,10 @@ void fields(IO& io, std::uint64_t& step, std::uint64_t& builds, C& cavity_sums, 
 template <class IO, class S>
 void structure_fields(IO& io, S& st, std::vector<Vec3>& cavity_load, Vec3& film_load) {
   io.vec(st.q), io.vec(st.v), io.vec(st.v_pred), io.vec(st.a), io.vec(st.damping_prev), io.vec(st.load_prev);
-  io.pod(st.scalars), io.pod(st.load_now), io.vec(cavity_load), io.pod(film_load);
+  auto& c = st.scalars;  // field by field: the struct's padding bytes would make images differ
+  io.pod(c.phase), io.pod(c.omega), io.pod(c.force), io.pod(c.released), io.pod(c.work_external);
+  io.pod(c.work_contents), io.pod(c.dissipated);
+  io.pod(st.load_now), io.vec(cavity_load), io.pod(film_load);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ const std::vector<TableColumn> kSweepColumns = {
     {"response_re", "m"},          {"response_im", "m"},
     {"receptance_re", "m/N"},      {"receptance_im", "m/N"},
     {"bare_receptance_re", "m/N"}, {"bare_receptance_im", "m/N"},
+    {"acceleration_re", "m/s^2"},  {"acceleration_im", "m/s^2"},
     {"accelerance_abs", "m/s^2/N"}, {"bare_accelerance_abs", "m/s^2/N"},
     {"cavity_re", "m"},            {"cavity_im", "m"},
     {"contents_force_re", "N"},    {"contents_force_im", "N"},
@@ -44,7 +45,7 @@ const std::vector<TableColumn> kSweepColumns = {
 std::vector<double> row_of(const SweepPoint& p) {
   const double w = kTwoPi * p.frequency;
   return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
-          p.bare.real(), p.bare.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
+          p.bare.real(), p.bare.imag(), -w * w * p.response.real(), -w * w * p.response.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
           p.cavity.imag(), p.contents_force.real(), p.contents_force.imag(), p.work_external, p.dissipated_structure,
           p.dissipated_contents, p.balance, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.spread, p.change,
           p.wall_seconds};

@@ -1,0 +1,135 @@
+// Force histories (structure/excitation.hpp) and frequency-response figures (structure/response.hpp)
+// against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+#include "bagdem/structure/excitation.hpp"
+#include "bagdem/structure/response.hpp"
+
+using namespace bagdem;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+}
+
+TEST(Response, StepsPerCycleRoundToAWholeNumber) {
+  EXPECT_EQ(steps_per_cycle(85.6, 1e-6), 11682u);  // 1 / (85.6 Hz x 1 us) = 11682.2
+  EXPECT_EQ(steps_per_cycle(1e6, 1e-6), 8u);       // never fewer than 8
+}
+
+TEST(Response, SteadyStateComparesBlockMeans) {
+  SteadyStateDetector d(3, 0.01);
+  for (int c = 0; c < 5; ++c) {
+    d.add({1.0, 0.5});
+    EXPECT_FALSE(d.steady());  // fewer than 2K = 6 values
+  }
+  d.add({1.0, 0.5});
+  EXPECT_TRUE(d.steady());
+  EXPECT_EQ(d.last_change(), 0.0);
+  // A transient Y_c = 1 + e^{-c/4}: the block means differ by (e^{-c/4} terms); steady at the first
+  // c where |mean(last 3) - mean(3 before)| <= 0.01 |mean(last 3)|, found here by brute force.
+  SteadyStateDetector t(3, 0.01);
+  int first = -1;
+  for (int c = 0; c < 60 && first < 0; ++c) {
+    t.add(1.0 + std::exp(-c / 4.0));
+    if (t.steady()) first = c;
+  }
+  int expect = -1;
+  for (int c = 5; c < 60 && expect < 0; ++c) {
+    double last = 0, before = 0;
+    for (int k = 0; k < 3; ++k) last += 1 + std::exp(-(c - k) / 4.0), before += 1 + std::exp(-(c - 3 - k) / 4.0);
+    if (std::abs(last - before) <= 0.01 * last) expect = c;
+  }
+  EXPECT_EQ(first, expect);
+  EXPECT_GT(first, 10);
+  // Scatter: +-5% alternating around 1 gives a spread of 5%.
+  SteadyStateDetector s(4, 0.01);
+  for (int c = 0; c < 8; ++c) s.add(c % 2 ? 1.05 : 0.95);
+  EXPECT_TRUE(s.steady());
+  EXPECT_NEAR(s.spread(), 0.05, 1e-12);
+}
+
+TEST(Response, SdofReceptanceLimitsAndReductionFormula) {
+  const double M = 2, K = 8e4, C = 12, wn = std::sqrt(K / M);
+  EXPECT_NEAR(std::abs(sdof_receptance(M, C, K, 0.0)), 1 / K, 1e-18);
+  EXPECT_NEAR(std::abs(sdof_receptance(M, C, K, wn)), 1 / (C * wn), 1e-15);
+  EXPECT_NEAR(std::arg(sdof_receptance(M, C, K, wn)), -kPi / 2, 1e-12);
+  EXPECT_NEAR(reduction_percent(20.0), 90.0, 1e-12);
+  EXPECT_NEAR(reduction_percent(reduction_db(2.0, 1.0)), 50.0, 1e-12);
+  EXPECT_NEAR(reduction_db(10.0, 1.0), 20.0, 1e-12);
+}
+
+// The peak of a sampled SDOF receptance (zeta 0.05, samples 1% apart): the parabola through the
+// three largest gives the analytic peak w_n sqrt(1 - 2 zeta^2) and its height 1/(2 zeta sqrt(1 - zeta^2) K).
+TEST(Response, FindPeakRefinesASampledResonance) {
+  const double M = 1, zeta = 0.05, fn = 50, wn = 2 * kPi * fn, K = wn * wn, C = 2 * zeta * wn;
+  std::vector<double> f, mag;
+  for (double x = 40.3; x < 60; x *= 1.01) f.push_back(x), mag.push_back(std::abs(sdof_receptance(M, C, K, 2 * kPi * x)));
+  const Peak p = find_peak(f, mag, 40, 60);
+  const double f_peak = fn * std::sqrt(1 - 2 * zeta * zeta), h_peak = 1 / (2 * zeta * std::sqrt(1 - zeta * zeta) * K);
+  std::printf("  peak %.5f Hz (analytic %.5f), |H| %.6e (analytic %.6e)\n", p.frequency, f_peak, p.magnitude, h_peak);
+  EXPECT_NEAR(p.frequency, f_peak, 1e-3 * f_peak);
+  EXPECT_NEAR(p.magnitude, h_peak, 1e-3 * h_peak);
+  // A peak at the end of the range is returned as sampled.
+  EXPECT_EQ(find_peak(f, mag, 40, 45).frequency, f[static_cast<std::size_t>(std::max_element(mag.begin(), mag.begin() + 12) - mag.begin())]);
+}
+
+TEST(Response, FitDecayRecoversDampingRatioAndDecayTime) {
+  const double zeta = 0.02, fn = 30, wn = 2 * kPi * fn, wd = wn * std::sqrt(1 - zeta * zeta), dt = 1.0 / (fn * 200);
+  std::vector<double> y;
+  for (int k = 0; k < 200 * 40; ++k) {
+    const double t = k * dt;
+    y.push_back(std::exp(-zeta * wn * t) * std::cos(wd * t + 0.3));
+  }
+  const DecayFit d = fit_decay(y, dt);
+  std::printf("  zeta %.8f (0.02), decay time %.6f s (analytic %.6f), measured %.6f s, %zu peaks\n", d.zeta, d.decay_time,
+              std::log(10.0) / (zeta * wn), d.measured_decay_time, d.peaks);
+  EXPECT_NEAR(d.zeta, zeta, 1e-5 * zeta);
+  EXPECT_NEAR(d.damped_frequency, wd / (2 * kPi), 1e-6 * fn);
+  EXPECT_NEAR(d.decay_time, std::log(10.0) / (zeta * wn), 1e-4);
+  // The first peak whose successors all lie below 1/10 of the first: within one period of ln(10)/sigma.
+  EXPECT_NEAR(d.measured_decay_time, std::log(10.0) / (zeta * wn), 1.0 / fn);
+  EXPECT_NEAR(rms(std::vector<double>(100, 3.0), 0.1), 3.0, 1e-15);
+}
+
+TEST(Excitation, ImpulseIntegratesToItsImpulse) {
+  const auto f = make_impulse_force(0.05, 2e-4, 1e-3);
+  EXPECT_EQ(f->force(0.9e-3), 0.0);
+  EXPECT_EQ(f->force(1.3e-3), 0.0);
+  const int n = 20000;  // Simpson over the pulse
+  const double a = 1e-3, h = 2e-4 / n;
+  double J = f->force(a) + f->force(a + n * h);
+  for (int k = 1; k < n; ++k) J += (k % 2 ? 4 : 2) * f->force(a + k * h);
+  EXPECT_NEAR(J * h / 3, 0.05, 1e-9 * 0.05);
+}
+
+// The random force: its RMS, its spectrum confined to the band (first harmonics over one period at
+// frequencies k/T_p), and its seed.
+TEST(Excitation, RandomForceHasItsRmsAndBandAndSeed) {
+  const double rms_req = 2.0, lo = 50, hi = 150, T = 2.0;  // 200 lines in the band
+  const auto f = make_random_force(rms_req, lo, hi, 11, T);
+  const int n = 200000;
+  const double dt = T / n;
+  double s = 0;
+  std::vector<double> y(n);
+  for (int k = 0; k < n; ++k) y[static_cast<std::size_t>(k)] = f->force(k * dt), s += y[static_cast<std::size_t>(k)] * y[static_cast<std::size_t>(k)];
+  const double r = std::sqrt(s / n);
+  auto line = [&](int k) {  // amplitude of the line k/T
+    std::complex<double> c(0, 0);
+    for (int i = 0; i < n; i += 4) c += y[static_cast<std::size_t>(i)] * std::polar(1.0, -2 * kPi * k * i * dt / T);
+    return 2 * std::abs(c) / (n / 4);
+  };
+  const double in_band = line(200), out_low = line(60), out_high = line(400);
+  std::printf("  RMS %.6f N (requested 2); line 100 Hz %.4e, 30 Hz %.2e, 200 Hz %.2e N\n", r, in_band, out_low, out_high);
+  EXPECT_NEAR(r, rms_req, 0.01 * rms_req);
+  EXPECT_LT(out_low, 1e-5 * in_band);
+  EXPECT_LT(out_high, 1e-5 * in_band);
+  EXPECT_EQ(make_random_force(rms_req, lo, hi, 11, T)->force(0.123), f->force(0.123));
+  EXPECT_NE(make_random_force(rms_req, lo, hi, 12, T)->force(0.123), f->force(0.123));
+  EXPECT_NEAR(f->force(0.123 + T), f->force(0.123), 1e-12);  // periodic (to the rounding of t mod T)
+}

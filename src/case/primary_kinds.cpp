@@ -60,30 +60,29 @@ Primary sdof(const CaseReader& in, const Scene&) {
   return make_sdof_primary(M, K, C, mc);
 }
 
-// A section's EI and rhoA from the keys under `prefix` (falling back to `base` when given).
+// A section's E, I and rhoA from the keys under `prefix`; a key not given comes from `base` (the
+// beam's own keys, for a segment of a stepped beam) when there is one.
 struct Section {
-  double EI = 0, rhoA = 0;
+  double E = 0, I = 0, rhoA = 0;
 };
 Section read_section(const CaseReader& in, const std::string& prefix, double length, const Section* base) {
   Section sec;
   const std::string E_key = prefix + "youngs_modulus", I_key = prefix + "second_moment";
   const std::string D_key = prefix + "outer_diameter", d_key = prefix + "inner_diameter";
-  const bool has_E = in.has(E_key), has_I = in.has(I_key), has_D = in.has(D_key);
-  if (base && !has_E && !has_I && !has_D) {
-    sec.EI = base->EI;
+  const bool has_I = in.has(I_key), has_D = in.has(D_key);
+  sec.E = base && !in.has(E_key) ? base->E : positive(in, E_key, dim::pressure, "Pa");
+  if (has_I && has_D) in.fail(I_key, "give either second_moment or outer_diameter (with inner_diameter for a tube), not both");
+  if (has_I) {
+    sec.I = positive(in, I_key, dim::area_moment, "m^4");
+  } else if (has_D) {
+    const double D = positive(in, D_key, dim::length, "m");
+    const double d = in.quantity(d_key, dim::length, 0.0);
+    if (!(d >= 0 && d < D)) in.fail(d_key, "must be in [0, outer_diameter)");
+    sec.I = kPi * (std::pow(D, 4) - std::pow(d, 4)) / 64;
+  } else if (base) {
+    sec.I = base->I;
   } else {
-    const double E = positive(in, E_key, dim::pressure, "Pa");
-    if (has_I == has_D) in.fail(has_I ? I_key : D_key, "give either second_moment or outer_diameter (with inner_diameter for a tube)");
-    double I = 0;
-    if (has_I) {
-      I = positive(in, I_key, dim::area_moment, "m^4");
-    } else {
-      const double D = positive(in, D_key, dim::length, "m");
-      const double d = in.quantity(d_key, dim::length, 0.0);
-      if (!(d >= 0 && d < D)) in.fail(d_key, "must be in [0, outer_diameter)");
-      I = kPi * (std::pow(D, 4) - std::pow(d, 4)) / 64;
-    }
-    sec.EI = E * I;
+    in.fail(I_key, "is required: give second_moment (m^4) or outer_diameter (with inner_diameter for a tube)");
   }
   const std::string rho_key = prefix + "line_density", m_key = prefix + "mass";
   const bool has_rho = in.has(rho_key), has_m = in.has(m_key);
@@ -161,7 +160,7 @@ Primary beam(const CaseReader& in, const Scene& s, const Vec3& axis) {
   UniformBeam u;
   u.length = positive(in, "primary.length", dim::length, "m");
   const Section sec = read_section(in, "primary.", u.length, nullptr);
-  u.EI = sec.EI, u.rhoA = sec.rhoA;
+  u.EI = sec.E * sec.I, u.rhoA = sec.rhoA;
   u.ends = read_ends(in);
   return beam_from_modes(in, s, "beam", analytic_beam_modes(u, mode_count(in), true), u.rhoA * u.length, axis);
 }
@@ -176,7 +175,7 @@ Primary fe_beam(const CaseReader& in, const Scene& s, const Vec3& axis) {
     base = read_section(in, "primary.", fe.length, nullptr);
   double mass = 0;
   if (ns == 0) {
-    fe.segments.push_back({0.0, fe.length, base->EI, base->rhoA});
+    fe.segments.push_back({0.0, fe.length, base->E * base->I, base->rhoA});
   } else {
     double at = 0;
     for (std::size_t k = 0; k < ns; ++k) {
@@ -187,7 +186,7 @@ Primary fe_beam(const CaseReader& in, const Scene& s, const Vec3& axis) {
       if (std::abs(g.x0 - at) > 1e-9 * fe.length) in.fail(p + "from", "segments must follow each other from 0 without gaps (expected " + std::to_string(at) + " m)");
       if (!(g.x1 > g.x0 && g.x1 <= fe.length * (1 + 1e-12))) in.fail(p + "to", "must be above `from` and at most the length");
       const Section sec = read_section(in, p, g.x1 - g.x0, base ? &*base : nullptr);
-      g.EI = sec.EI, g.rhoA = sec.rhoA;
+      g.EI = sec.E * sec.I, g.rhoA = sec.rhoA;
       fe.segments.push_back(g);
       at = g.x1;
     }
@@ -322,6 +321,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     if (!(tau > 0)) in.fail("excitation.duration", "must be > 0 (s)");
     if (!(t0 >= 0)) in.fail("excitation.start_time", "must be >= 0 (s)");
     p.excitation = make_impulse_force(J, tau, t0);
+    p.force_time_scale = tau;
     // The blow's velocity at the cavity: J phi_f phi_b per mode (mass-normalised), summed in magnitude.
     p.expected_cavity_speed = std::abs(J) * (p.mass_inverse * p.at_force).cwiseAbs().dot(p.at_cavity.cwiseAbs());
   } else if (kind == "random") {
@@ -333,6 +333,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     const double period = in.quantity("excitation.period", dim::time, 0.0);
     if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
     p.excitation = make_random_force(rms, band[0], band[1], seed, period);
+    p.force_time_scale = 1 / band[1];
     // A bound: the RMS force at the worst frequency of the band, times 3 (peak factor).
     for (int k = 0; k <= 200; ++k) {
       const double w = 2 * kPi * (band[0] + (band[1] - band[0]) * k / 200.0);

@@ -133,6 +133,8 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       dt_structure = 0.2 / w;
       dt_crit = std::min(dt_crit, 2.0 / w);
     }
+    // The force itself: 20 steps over a hammer blow, 20 per period of the highest random line.
+    if (s.primary->force_time_scale > 0) dt_structure = std::min(dt_structure, s.primary->force_time_scale / 20);
   }
   s.dt_critical = dt_crit;
 
@@ -164,7 +166,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
         << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
         << " s, half the critical step = " << c << " s";
     if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
-    if (s.primary) why << ", 0.2 / the structure's highest circular frequency = " << dt_structure << " s";
+    if (s.primary) why << ", the structure (0.2 / its highest circular frequency, 1/20 of the force's time scale) " << dt_structure << " s";
     why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : s.dt == f ? "film" : "structure")
         << " limits";
     in.boolean("simulation.force_timestep", false);

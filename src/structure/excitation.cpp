@@ -67,13 +67,20 @@ class Random final : public Excitation {
     }
     // Equal amplitudes a with RMS a sqrt(n/2).
     a_ = rms * std::sqrt(2.0 / static_cast<double>(w_.size()));
-    // One period tabulated with exact values and slopes.
+    // One period tabulated with exact values and slopes, unless that table would pass 2^20 rows
+    // (a narrow band at a high frequency): then the sum is evaluated at each call.
     const auto n = static_cast<std::size_t>(std::ceil(64 * hi * T_));
+    if (n > (1u << 20)) return;
     h_ = T_ / static_cast<double>(n);
     f_.resize(n + 1), d_.resize(n + 1);
     for (std::size_t i = 0; i <= n; ++i) exact(static_cast<double>(i) * h_, f_[i], d_[i]);
   }
   double force(double t) const override {
+    if (f_.empty()) {
+      double f, df;
+      exact(t, f, df);
+      return f;
+    }
     double s = std::fmod(t, T_);
     if (s < 0) s += T_;
     auto i = static_cast<std::size_t>(s / h_);

@@ -11,7 +11,8 @@
 //             period T_p (default: 200 lines in the band, T_p = 200 / (f_hi - f_lo)), so its spectrum
 //             is exactly zero outside the band over a whole period. Evaluated from a table of one
 //             period at spacing 1/(64 f_hi), interpolated with cubic Hermite splines whose slopes are
-//             the exact derivative: the relative error is below 1e-5 of the RMS.
+//             the exact derivative: the relative error is below 1e-5 of the RMS. (A table of more
+//             than 2^20 rows, a narrow band at a high frequency, is not built: the sum is evaluated.)
 //   none      0 (free decay from an initial displacement)
 #pragma once
 #include <cstdint>

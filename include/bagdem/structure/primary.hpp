@@ -75,6 +75,8 @@ struct Primary {
   double drive_frequency = 0;        // harmonic: the (first) drive frequency (unit: Hz)
   bool start_steady = false;         // harmonic: start in the bare structure's steady state
   Eigen::VectorXd q0, v0;            // initial state when settling ends (decay, or zero)
+  double force_time_scale = 0;       // shortest time the force varies over (a blow's duration, the
+                                     // period of the highest random line), 0 if none (unit: s)
   double expected_cavity_speed = 0;  // largest cavity speed the excitation should cause (bare
                                      // structure), for the time step and impact checks (unit: m/s)
 

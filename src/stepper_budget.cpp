@@ -36,7 +36,7 @@ void Simulation::for_each_contact(Fn&& fn) const {
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = scene_.walls[w];
       Vec3 n;
-      const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - cavity_.position, n);
+      const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
       fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
          scene_.models.tangential ? &wall_tan_[p * nw + w] : nullptr,

@@ -143,9 +143,7 @@ void Simulation::gather_walls_impl() {
   const std::size_t n = p_.size();
   const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
-  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
-  const Vec3 c_step = cavity_.position - cavity_prev_.position;
-  const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;  // mean cavity velocity over the step
+  const WallMotion rigid = rigid_motion();  // the walls' motion (per ball with a slope: motion_at)
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
@@ -172,7 +170,9 @@ void Simulation::gather_walls_impl() {
     }
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
-    const Vec3 x_local = p_.x[p] - c_pos;
+    const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
+    const Vec3 &c_vel = wm.vel, &c_half = wm.half, &c_step = wm.step;  // c_half: mean over the step
+    const Vec3 x_local = p_.x[p] - wm.pos;
     const double r = p_.radius[p];
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).

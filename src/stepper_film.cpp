@@ -61,9 +61,11 @@ void Simulation::film_stage() {
 
   // Strings, from the tie's mean position to the anchor moving with the cavity.
   const double dt = dt_step_;
-  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : cavity_.velocity;
   for (std::size_t s = 0; s < bag.strings.size(); ++s) {
     const BagString& st = bag.strings[s];
+    // The anchor moves with the cavity at its own place (the slope's shear included).
+    const WallMotion wm = motion_at(st.anchor + cavity_.position);
+    const Vec3& c_half = wm.half;
     Vec3 c(0, 0, 0), vc(0, 0, 0), vc_half(0, 0, 0);
     for (std::uint32_t k : st.nodes) {
       c += film_.x[k];
@@ -72,21 +74,21 @@ void Simulation::film_stage() {
     }
     const double inv_n = 1.0 / static_cast<double>(st.nodes.size());
     c *= inv_n, vc *= inv_n, vc_half *= inv_n;
-    const Vec3 d = st.anchor + cavity_.position - c;
+    const Vec3 d = st.anchor + wm.pos - c;
     const double L = d.norm();
     StringState& state = strings_[s];
     double tension = 0, damping = 0;
     Vec3 u = L > 0 ? Vec3(d / L) : Vec3::Zero();
     if (L > st.rest_length) {
       const double elastic = st.stiffness * (L - st.rest_length);
-      tension = std::max(0.0, elastic + st.damping * (cavity_.velocity - vc).dot(u));
+      tension = std::max(0.0, elastic + st.damping * (wm.vel - vc).dot(u));
       damping = tension - elastic;
     }
     const Vec3 pull = tension * u;  // on the tie, towards the anchor (on the cavity: -pull)
     for (std::uint32_t k : st.nodes) film_.f[k] += inv_n * pull;
     if (scene_.models.energy) {
       film_tally_.diss_damping += 0.5 * (damping + state.damping_prev) * (c_half - vc_half).dot(u) * dt;
-      film_tally_.work_cavity += 0.5 * (pull + state.pull_prev).dot(cavity_.position - cavity_prev_.position);
+      film_tally_.work_cavity += 0.5 * (pull + state.pull_prev).dot(wm.step);
     }
     state.damping_prev = damping;
     state.pull_prev = pull;
@@ -122,14 +124,14 @@ void Simulation::film_walls() {
   const Bag& bag = *scene_.bag;
   const std::size_t nn = film_.size(), nw = scene_.walls.size();
   const double dt = dt_step_;
-  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
-  const Vec3 c_step = cavity_.position - cavity_prev_.position;
-  const Vec3 c_half = dt > 0 ? Vec3(c_step / dt) : c_vel;
+  const WallMotion rigid = rigid_motion();
   const double reach = 0.5 * bag.film.thickness;
   double work = 0, dn = 0, dtg = 0, deepest = 1e300;
   Vec3 J(0, 0, 0), L(0, 0, 0), load(0, 0, 0);
   for (std::size_t k = 0; k < nn; ++k) {
-    const Vec3 x_local = film_.x[k] - c_pos;
+    const WallMotion wm = tilt_ ? motion_at(film_.x[k]) : rigid;
+    const Vec3 &c_vel = wm.vel, &c_half = wm.half, &c_step = wm.step;
+    const Vec3 x_local = film_.x[k] - wm.pos;
     Vec3 F_wall(0, 0, 0);
     const std::uint32_t touched_before = film_wall_touch_[k];
     std::uint32_t touched = 0;
@@ -198,7 +200,7 @@ double Simulation::film_elastic_energy() const {
     Vec3 c(0, 0, 0);
     for (std::uint32_t k : st.nodes) c += film_.x[k];
     c /= static_cast<double>(st.nodes.size());
-    const double L = (st.anchor + cavity_.position - c).norm();
+    const double L = (st.anchor + motion_at(st.anchor + cavity_.position).pos - c).norm();
     if (L > st.rest_length) u += 0.5 * st.stiffness * (L - st.rest_length) * (L - st.rest_length);
   }
   for (std::size_t k = 0; k < node_slot_count_.size(); ++k)
@@ -211,7 +213,7 @@ double Simulation::film_elastic_energy() const {
   for (std::size_t k = 0; k < film_.size(); ++k)
     for (std::size_t w = 0; w < nw; ++w) {
       Vec3 n;
-      const double overlap = 0.5 * bag.film.thickness - wall_distance(scene_.walls[w], film_.x[k] - cavity_.position, n);
+      const double overlap = 0.5 * bag.film.thickness - wall_distance(scene_.walls[w], film_.x[k] - motion_at(film_.x[k]).pos, n);
       if (overlap <= 0) continue;
       u += hertz_energy(scene_.laws(bag.material, scene_.walls[w].material), bag.contact_radius, overlap);
       if (scene_.models.tangential) u += mindlin_energy(film_wall_tan_[k * nw + w]);

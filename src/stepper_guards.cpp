@@ -65,9 +65,8 @@ void Simulation::guards() {
   }
   // A particle outside the cavity also shows as a huge wall overlap: name the escape first.
   if (escaped) {
-    const Vec3 c = cavity_.position;
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 xl = p_.x[i] - c;
+      const Vec3 xl = p_.x[i] - motion_at(p_.x[i]).pos;
       std::string where;
       for (const Wall& w : scene_.walls) {
         Vec3 nrm;

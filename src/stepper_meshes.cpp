@@ -142,10 +142,11 @@ template <bool Tangential, bool Rolling, bool Energy>
 void Simulation::triangle_contacts_impl() {
   const std::size_t n = p_.size();
   const double dt = dt_step_;
-  const Vec3 c_step = cavity_.position - cavity_prev_.position;
+  const WallMotion rigid = rigid_motion();
   double excess = overlap_excess_;
 #pragma omp parallel for schedule(static) reduction(max : excess) if (n > kParallelMin)
   for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 c_step = tilt_ ? motion_at(p_.x[p]).step : rigid.step;
     Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
     if (couple_) cavity_load_[p] += load;
@@ -185,15 +186,19 @@ void Simulation::build_mesh_candidates(const std::vector<Vec3>& balls, const std
 bool Simulation::meshes_need_rebuild() const {
   if (surfaces_.empty()) return false;
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
+  // The candidates of STL walls are found for the cavity's translation; a slope moves a point at
+  // most |shear| l (l: half the cavity's axial extent) further, which is taken off the allowance.
+  const double tilt = tilt_ ? cavity_.shear.norm() * tilt_extent_ : 0.0;
+  const double limit_walls2 = std::pow(std::max(0.0, 0.5 * scene_.skin - tilt), 2);
   if (!scene_.mesh_walls.empty()) {
     const Vec3 dc = cavity_.position - cavity_at_build_;
     for (std::size_t i = 0; i < p_.size(); ++i)
-      if ((p_.x[i] - x_at_build_[i] - dc).squaredNorm() > limit2) return true;
+      if ((p_.x[i] - x_at_build_[i] - dc).squaredNorm() > limit_walls2) return true;
   }
   const Vec3 dc = cavity_.position - cavity_at_build_;
   for (std::size_t k = 0; k < film_.size(); ++k) {
     if ((film_.x[k] - film_at_build_[k]).squaredNorm() > limit2) return true;
-    if (!node_reach_.empty() && (film_.x[k] - film_at_build_[k] - dc).squaredNorm() > limit2) return true;
+    if (!node_reach_.empty() && (film_.x[k] - film_at_build_[k] - dc).squaredNorm() > limit_walls2) return true;
   }
   return false;
 }
@@ -204,8 +209,8 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
   constexpr std::size_t K = kMaxMeshContacts;
   const double dt = dt_step_;
   const double r = p_.radius[p];
-  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
-  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : c_vel;
+  const WallMotion wm = motion_at(p_.x[p]);
+  const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
 
   // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
   Found found[K];
@@ -333,8 +338,8 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& 
   constexpr std::size_t K = kMaxMeshContacts;
   const Bag& bag = *scene_.bag;
   const double dt = dt_step_;
-  const Vec3 c_pos = cavity_.position, c_vel = cavity_.velocity;
-  const Vec3 c_half = dt > 0 ? Vec3((cavity_.position - cavity_prev_.position) / dt) : c_vel;
+  const WallMotion wm = motion_at(film_.x[k]);
+  const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
   const double reach = node_reach_[k];
   const Vec3 x = film_.x[k] - c_pos;
   Found found[K];

@@ -25,6 +25,8 @@ void Simulation::set_up_structure() {
   const Primary& P = *scene_.primary;
   const std::size_t n = P.size();
   couple_ = true;
+  tilt_ = P.follow_slope;
+  tilt_extent_ = P.half_extent;
   load_axis_ = P.axis;
   load_dir_ = P.direction;
   cavity_load_.assign(p_.size(), Vec3::Zero());
@@ -120,7 +122,12 @@ CavityState Simulation::structure_cavity() const {
   const Primary& P = *scene_.primary;
   const StructureState& S = structure_;
   ConstVecMap q(S.q.data(), S.q.size()), v(S.v_pred.data(), S.v_pred.size());
-  return {P.at_cavity.dot(q) * P.direction, P.at_cavity.dot(v) * P.direction};
+  CavityState c{P.at_cavity.dot(q) * P.direction, P.at_cavity.dot(v) * P.direction};
+  if (P.follow_slope) {
+    c.shear = P.slope_at_cavity.dot(q) * P.direction;
+    c.shear_rate = P.slope_at_cavity.dot(v) * P.direction;
+  }
+  return c;
 }
 
 double Simulation::external_force(double t_motion) const {

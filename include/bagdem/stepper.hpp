@@ -202,6 +202,26 @@ class Simulation {
   double external_force(double t_motion) const;
   void structure_forces();
   void structure_kick();
+  // The cavity's motion at a lab point x: its displacement, the velocity at the end of the step,
+  // the mean velocity over the step and the step's displacement. Without a slope the same for
+  // every point (rigid_motion); with one, each adds shear * s (s: the point's axial coordinate).
+  struct WallMotion {
+    Vec3 pos, vel, half, step;
+  };
+  WallMotion rigid_motion() const {
+    const Vec3 step = cavity_.position - cavity_prev_.position;
+    return {cavity_.position, cavity_.velocity, dt_step_ > 0 ? Vec3(step / dt_step_) : cavity_.velocity, step};
+  }
+  WallMotion motion_at(const Vec3& x) const {
+    WallMotion m = rigid_motion();
+    if (!tilt_) return m;
+    const double s = (x - cavity_.position - scene_.cavity_reference).dot(load_axis_);
+    m.pos += s * cavity_.shear;
+    m.vel += s * cavity_.shear_rate;
+    m.step += s * (cavity_.shear - cavity_prev_.shear);
+    if (dt_step_ > 0) m.half = m.step / dt_step_;
+    return m;
+  }
   // Moments (f, f s, f s^2) of the transverse force f = F . e the contents put on the cavity at
   // `local` (cavity frame), s its axial distance from the cavity reference (structure/primary.hpp).
   Vec3 load_moments(const Vec3& local, const Vec3& force_on_cavity) const {
@@ -323,6 +343,8 @@ class Simulation {
   // ---- the primary structure (stepper_structure.cpp) ----
   StructureState structure_;
   bool couple_ = false;                       // a primary structure feels the contents' load
+  bool tilt_ = false;                         // the cavity follows the beam's slope too (motion_at)
+  double tilt_extent_ = 0;                    // half the cavity's axial extent (unit: m)
   Vec3 load_axis_ = Vec3::Zero(), load_dir_ = Vec3::Zero();  // its axis and transverse direction
   std::vector<Vec3> cavity_load_;             // per ball: load moments on the cavity this step
   Vec3 film_load_moments_ = Vec3::Zero();     // the film's (walls and strings) this step

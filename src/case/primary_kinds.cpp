@@ -139,6 +139,7 @@ Primary beam_from_modes(const CaseReader& in, const Scene& s, const std::string&
     in.fail("primary.attach", m.str());
   }
   b.zeta = read_ratios(in, "primary.damping_ratio", 0.005);
+  b.follow_slope = in.boolean("primary.follow_slope", false);
   b.suspension_frequency = in.quantity("primary.suspension_frequency", dim::frequency, 1.0);
   b.suspension_damping = in.quantity("primary.suspension_damping_ratio", dim::none, 0.05);
   if (!(b.suspension_frequency > 0)) in.fail("primary.suspension_frequency", "must be > 0 (Hz)");

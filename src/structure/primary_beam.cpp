@@ -25,6 +25,9 @@ Primary make_beam_primary(const BeamPrimarySpec& b) {
   p.attach = b.attach, p.force_at = b.force_at, p.response_at = b.response_at;
   p.cavity_mass = b.cavity_mass;
   p.structure_mass = b.structure_mass;
+  p.follow_slope = b.follow_slope;
+  p.half_extent = b.half_extent;
+  p.slope_at_cavity.resize(N);
   p.stiffness.resize(N), p.damping.resize(N);
   p.at_force.resize(N), p.at_response.resize(N), p.at_cavity.resize(N);
   std::vector<Eigen::VectorXd> around(3, Eigen::VectorXd(N));
@@ -50,6 +53,7 @@ Primary make_beam_primary(const BeamPrimarySpec& b) {
     p.at_force[K] = m.shape(k, b.force_at);
     p.at_response[K] = m.shape(k, b.response_at);
     p.at_cavity[K] = m.shape(k, b.attach);
+    p.slope_at_cavity[K] = m.slope(k, b.attach);
     around[0][K] = m.shape(k, std::max(0.0, b.attach - l));
     around[1][K] = p.at_cavity[K];
     around[2][K] = m.shape(k, std::min(p.length, b.attach + l));

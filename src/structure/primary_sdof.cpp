@@ -15,6 +15,7 @@ Primary make_sdof_primary(double M, double K, double C, double cavity_mass) {
   p.stiffness = Eigen::VectorXd::Constant(1, K);
   p.damping = Eigen::VectorXd::Constant(1, C);
   p.at_force = p.at_response = p.at_cavity = Eigen::VectorXd::Ones(1);
+  p.slope_at_cavity = Eigen::VectorXd::Zero(1);
   p.cavity_mass = cavity_mass;
   p.structure_mass = M;
   p.dof_names = {"mass"};

@@ -17,6 +17,11 @@ namespace bagdem {
 struct CavityState {
   Vec3 position = Vec3::Zero();  // displacement of the cavity frame from its rest place (unit: m)
   Vec3 velocity = Vec3::Zero();  // (unit: m/s)
+  // A beam's slope carried by the cavity (primary.follow_slope): the small rotation theta about
+  // axis x e, linearised as a shear, adds shear * s to the displacement of a point at axial
+  // coordinate s (structure/primary.hpp). shear = theta e; zero for prescribed motion.
+  Vec3 shear = Vec3::Zero();       // (unit: 1)
+  Vec3 shear_rate = Vec3::Zero();  // (unit: 1/s)
 };
 
 class Motion {

@@ -24,7 +24,10 @@
 // axial extent). The interpolation error is third order in l, 7e-4 of the load for mode 3 of the
 // pipe at l = 20 mm. The cavity itself translates rigidly with the beam at x_b (no rotation): the
 // work the walls do on the contents differs from the work the load does on the beam by the
-// variation of the mode shapes over the cavity, which the energy budget reports.
+// variation of the mode shapes over the cavity, which the sweep's energy closure reports. With
+// primary.follow_slope the cavity also turns with the beam's slope theta = phi'(x_b) . q at x_b
+// (about axis x e), linearised as a shear: a point at axial coordinate s moves by (w_b + theta s) e,
+// so the walls' motion matches the load's projection to second order in the cavity's length.
 //
 // Integration: velocity Verlet with the contents (stepper.hpp), the damping force from the velocity
 // predicted to the end of the step as the contact dashpots do. Verlet's frequency error is
@@ -61,6 +64,9 @@ struct Primary {
   Eigen::MatrixXd mass, mass_inverse;   // (unit: kg for sdof; 1 for mass-normalised modes)
   Eigen::VectorXd stiffness, damping;   // diagonal of K (unit: N/m or 1/s^2) and C (N s/m or 1/s)
   Eigen::VectorXd at_force, at_response, at_cavity;  // phi(x_f), phi(x_a), phi(x_b)
+  bool follow_slope = false;         // the cavity also turns with the beam's slope at x_b
+  Eigen::VectorXd slope_at_cavity;   // phi'(x_b) (unit: 1/(m sqrt(kg)); zero for sdof)
+  double half_extent = 0;            // half the cavity's length along the axis (unit: m)
   Eigen::MatrixXd load_fit;          // n x 3: Q = load_fit * (m0, m1, m2) (see above)
   std::vector<std::string> dof_names;  // "mass", "rigid translation", "mode 1", ...
   std::vector<double> natural_frequency;  // per DOF of the bare structure without cavity mass (unit: Hz)
@@ -115,6 +121,7 @@ struct BeamPrimarySpec {
   double suspension_damping = 0;
   double attach = 0, force_at = 0, response_at = 0;  // x_b, x_f, x_a (unit: m)
   double half_extent = 0;                  // half the cavity's length along the axis (unit: m)
+  bool follow_slope = false;               // the cavity turns with the beam's slope at x_b
   double cavity_mass = 0;                  // (unit: kg)
   double structure_mass = 0;               // the beam's own mass (unit: kg)
 };

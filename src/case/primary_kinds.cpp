@@ -228,11 +228,7 @@ std::vector<double> number_list(const CaseReader& in, const std::string& key, Di
 }
 
 // Speed amplitude of the cavity in the bare structure's steady state at w under force amplitude F.
-double cavity_speed(const Primary& p, double F, double w) {
-  Eigen::VectorXd q, v;
-  p.bare_steady_state(F, w, q, v);
-  return w * std::hypot(p.at_cavity.dot(q), p.at_cavity.dot(v) / w);
-}
+double cavity_speed(const Primary& p, double F, double w) { return w * p.bare_cavity_amplitude(F, w); }
 
 void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
   const std::string kind = in.choice("excitation.kind", {"harmonic", "stepped-sine", "decay", "impulse", "random", "none"}, "harmonic");

@@ -52,4 +52,10 @@ void Primary::bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::V
   v = (Q * std::complex<double>(0, w)).real();
 }
 
+double Primary::bare_cavity_amplitude(double F, double w) const {
+  Eigen::VectorXd q, v;
+  bare_steady_state(F, w, q, v);
+  return std::hypot(at_cavity.dot(q), at_cavity.dot(v) / w);
+}
+
 }  // namespace bagdem

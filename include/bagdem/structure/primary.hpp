@@ -106,6 +106,8 @@ struct Primary {
   std::complex<double> bare_receptance(double w) const;
   // Steady state of the structure without contents under f = F sin(w t) at t = 0: q and v.
   void bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
+  // Amplitude of the cavity's displacement in that steady state (unit: m).
+  double bare_cavity_amplitude(double F, double w) const;
 };
 
 // One mass on a spring and dashpot: M (kg), K (N/m), C (N s/m).

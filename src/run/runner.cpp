@@ -16,6 +16,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/stepper.hpp"
+#include "output_files.hpp"
 #include "bagdem/structure/response.hpp"
 
 namespace bagdem {
@@ -23,32 +24,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Writes `text` to `path` atomically (temporary name, then rename).
-void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
-
 // A number for JSON with 10 significant digits.
 std::string number(double v) {
   std::ostringstream s;
   s << std::setprecision(10) << v;
   return s.str();
-}
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') { o += "\\n"; continue; }
-    o += c;
-  }
-  return o;
 }
 
 // Steps between two events of an interval (at least 1).

@@ -18,6 +18,7 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
+#include "output_files.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -62,13 +63,7 @@ void write_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
     for (std::size_t k = 0; k < r.size(); ++k) s << (k ? "," : "") << r[k];
     s << "\n";
   }
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp);
-    f << s.str();
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+  write_atomically(path, s.str());
 }
 
 // Energy the run has seen so far, for per-cycle differences.
@@ -326,7 +321,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
 
   std::ostringstream j;
   j << std::setprecision(10);
-  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << scene.case_file << "\",\n  \"kind\": \"stepped-sine\",\n"
+  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n  \"kind\": \"stepped-sine\",\n"
     << "  \"particles\": " << sim.particles().size() << ",\n  \"dt\": " << scene.dt << ",\n"
     << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
     << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
@@ -339,12 +334,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       << m.peak << ", \"reduction_dB\": " << m.reduction_db << ", \"reduction_percent\": " << m.reduction_percent << "}";
   }
   j << (rep.peaks.empty() ? "]\n}\n" : "\n  ]\n}\n");
-  const fs::path tmp = summary.string() + ".part";
-  {
-    std::ofstream f(tmp);
-    f << j.str();
-  }
-  fs::rename(tmp, summary);
+  write_atomically(summary, j.str());
   if (!opt.quiet)
     for (const ModePeak& m : rep.peaks)
       std::fprintf(stderr, "%s: bare peak %.5g m/N at %.5g Hz, with contents %.5g m/N at %.5g Hz: reduction %.2f dB (%.1f%%)\n",

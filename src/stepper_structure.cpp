@@ -65,7 +65,12 @@ void Simulation::release_structure() {
     }
   }
   for (std::size_t k = 0; k < S.v.size(); ++k) S.v_pred[k] = S.v[k];
-  structure_forces();  // a at the start state, from the contents' load of the last step
+  // a at the start state, from the contents' load of the last step and the force at t = 0 (as at
+  // set-up: dt_step_ = 0, so nothing is tallied).
+  const double keep = dt_step_;
+  dt_step_ = 0;
+  structure_forces();
+  dt_step_ = keep;
 }
 
 // The bare steady state under F sin(theta + w t) at t = 0, from the responses to F sin(w t) and

@@ -153,24 +153,26 @@ void Simulation::structure_forces() {
   }
   const std::size_t n = S.q.size();
   ConstVecMap q(S.q.data(), n), v(S.v_pred.data(), n), v_half(S.v.data(), n);
-  const Eigen::VectorXd Qc = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
+  // Scratch sized once (no allocation in the step); fd and Qc become this step's "previous".
+  Eigen::VectorXd &Qc = structure_scratch_.load, &fd = structure_scratch_.damping, &Q = structure_scratch_.total;
+  Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
+  Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
   const double t = time() + (dt_step_ > 0 ? scene_.dt : 0.0) - scene_.settle;  // end of this step
   const double f = external_force(t);
-  const Eigen::VectorXd fd = P.damping.cwiseProduct(v);
-  const Eigen::VectorXd Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;
+  fd = P.damping.cwiseProduct(v);
+  Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;
   VecMap a(S.a.data(), n);
-  a = P.mass_inverse * Q;
+  a.noalias() = P.mass_inverse * Q;
+  VecMap fd_prev(S.damping_prev.data(), n), Qc_prev(S.load_prev.data(), n);
   if (dt_step_ > 0) {
     // Trapezoidal work over this step's displacement dt v(n+1/2).
-    const Eigen::VectorXd dq = dt_step_ * v_half;
-    ConstVecMap fd_prev(S.damping_prev.data(), n), Qc_prev(S.load_prev.data(), n);
-    S.scalars.work_external += 0.5 * (f + S.scalars.force) * P.at_force.dot(dq);
-    S.scalars.work_contents += 0.5 * (Qc + Qc_prev).dot(dq);
-    S.scalars.dissipated += 0.5 * (fd + fd_prev).dot(dq);
+    S.scalars.work_external += 0.5 * (f + S.scalars.force) * dt_step_ * P.at_force.dot(v_half);
+    S.scalars.work_contents += 0.5 * dt_step_ * (Qc + Qc_prev).dot(v_half);
+    S.scalars.dissipated += 0.5 * dt_step_ * (fd + fd_prev).dot(v_half);
   }
   S.scalars.force = f;
-  VecMap(S.damping_prev.data(), n) = fd;
-  VecMap(S.load_prev.data(), n) = Qc;
+  fd_prev = fd;
+  Qc_prev = Qc;
   S.load_now = m;
 }
 

@@ -342,6 +342,9 @@ class Simulation {
 
   // ---- the primary structure (stepper_structure.cpp) ----
   StructureState structure_;
+  struct {
+    Eigen::VectorXd load, damping, total;     // scratch of structure_forces (Q_contents, C v, Q)
+  } structure_scratch_;
   bool couple_ = false;                       // a primary structure feels the contents' load
   bool tilt_ = false;                         // the cavity follows the beam's slope too (motion_at)
   double tilt_extent_ = 0;                    // half the cavity's axial extent (unit: m)

@@ -35,6 +35,35 @@ void Simulation::set_up_structure() {
   S.damping_prev.assign(n, 0.0), S.load_prev.assign(n, 0.0);
   S.scalars = {};
   S.scalars.omega = 2 * std::numbers::pi * P.drive_frequency;
+  // Held while the contents settle, already at the displacement it is released from (a decay's
+  // initial displacement, a steady start's state); the cavity's displacement is counted from
+  // there, so the settled contents see no jump of the walls at release.
+  Eigen::VectorXd v;
+  release_state(q_hold_, v, S.scalars.phase);
+  VecMap(S.q.data(), S.q.size()) = q_hold_;
+}
+
+// The state the structure is released in (see release_structure) and the drive's phase then.
+void Simulation::release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& phase) const {
+  const Primary& P = *scene_.primary;
+  q = P.q0, v = P.v0, phase = 0;
+  if (!P.harmonic) return;
+  const double w = structure_.scalars.omega;
+  Eigen::VectorXd qs, vs;
+  if (P.start_steady) {
+    P.bare_steady_state(P.amplitude, w, qs, vs);
+    // u_b(theta) = Re(U e^{i theta}), U = phi_b . Q, Q = q(0) + i Im Q with Im Q = -v(0)/w.
+    const std::complex<double> U(P.at_cavity.dot(qs), -P.at_cavity.dot(vs) / w);
+    phase = std::abs(U) > 0 ? 0.5 * std::numbers::pi - std::arg(U) : 0.0;
+    bare_state_at(phase, w, q, v);
+  } else {
+    bare_state_at(phase, w, qs, vs);
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      if (!P.rigid_body[k]) continue;
+      const auto K = static_cast<Eigen::Index>(k);
+      q[K] += qs[K], v[K] += vs[K];
+    }
+  }
 }
 
 // Settling is over: the structure starts moving, from q0, v0 (rest, or a decay's initial
@@ -43,30 +72,19 @@ void Simulation::set_up_structure() {
 // excitation.start = "steady" the whole structure starts in its bare steady state, at the phase at
 // which the cavity's displacement is zero (no jump of the walls into the settled contents).
 void Simulation::release_structure() {
-  const Primary& P = *scene_.primary;
   StructureState& S = structure_;
   S.scalars.released = true;
-  VecMap(S.q.data(), S.q.size()) = P.q0;
-  VecMap(S.v.data(), S.v.size()) = P.v0;
-  if (P.harmonic) {
-    const double w = S.scalars.omega;
-    S.scalars.phase = 0;
-    if (P.start_steady) {
-      Eigen::VectorXd q, v;
-      P.bare_steady_state(P.amplitude, w, q, v);
-      // u_b(theta) = Re(U e^{i theta}), U = phi_b . Q, Q = q(0) + i Im Q with Im Q = -v(0)/w.
-      const std::complex<double> U(P.at_cavity.dot(q), -P.at_cavity.dot(v) / w);
-      S.scalars.phase = std::abs(U) > 0 ? 0.5 * std::numbers::pi - std::arg(U) : 0.0;
-      bare_state_at(S.scalars.phase, w, q, v);
-      VecMap(S.q.data(), S.q.size()) = q;
-      VecMap(S.v.data(), S.v.size()) = v;
-    } else {
-      steady_rigid(S.scalars.phase, w, +1.0);
-    }
-  }
-  for (std::size_t k = 0; k < S.v.size(); ++k) S.v_pred[k] = S.v[k];
-  // a at the start state, from the contents' load of the last step and the force at t = 0 (as at
-  // set-up: dt_step_ = 0, so nothing is tallied).
+  Eigen::VectorXd q, v;
+  release_state(q, v, S.scalars.phase);  // with the drive frequency of now (a sweep's first, rounded)
+  VecMap(S.q.data(), S.q.size()) = q;
+  VecMap(S.v.data(), S.v.size()) = v;
+  restart_acceleration();
+}
+
+// a from the present state, the contents' load of the last step and the force now (as at set-up:
+// dt_step_ = 0, so nothing is tallied and the previous-step values restart from here).
+void Simulation::restart_acceleration() {
+  for (std::size_t k = 0; k < structure_.v.size(); ++k) structure_.v_pred[k] = structure_.v[k];
   const double keep = dt_step_;
   dt_step_ = 0;
   structure_forces();
@@ -106,7 +124,9 @@ void Simulation::set_drive_frequency(double hz) {
     // Move the rigid-body DOFs from the old drive's steady state to the new one's.
     steady_rigid(S.scalars.phase, S.scalars.omega, -1.0);
     steady_rigid(S.scalars.phase, w_new, +1.0);
-    for (std::size_t k = 0; k < S.v.size(); ++k) S.v_pred[k] = S.v[k];  // a is unchanged (rigid DOFs)
+    S.scalars.omega = w_new;
+    restart_acceleration();  // K q and C v changed with the rigid DOFs
+    return;
   }
   S.scalars.omega = w_new;
 }
@@ -126,10 +146,12 @@ void Simulation::structure_drift() {
 CavityState Simulation::structure_cavity() const {
   const Primary& P = *scene_.primary;
   const StructureState& S = structure_;
-  ConstVecMap q(S.q.data(), S.q.size()), v(S.v_pred.data(), S.v_pred.size());
-  CavityState c{P.at_cavity.dot(q) * P.direction, P.at_cavity.dot(v) * P.direction};
+  // Displacement from where the structure was held while the contents settled.
+  const Eigen::VectorXd dq = ConstVecMap(S.q.data(), S.q.size()) - q_hold_;
+  ConstVecMap v(S.v_pred.data(), S.v_pred.size());
+  CavityState c{P.at_cavity.dot(dq) * P.direction, P.at_cavity.dot(v) * P.direction};
   if (P.follow_slope) {
-    c.shear = P.slope_at_cavity.dot(q) * P.direction;
+    c.shear = P.slope_at_cavity.dot(dq) * P.direction;
     c.shear_rate = P.slope_at_cavity.dot(v) * P.direction;
   }
   return c;
@@ -157,7 +179,8 @@ void Simulation::structure_forces() {
   Eigen::VectorXd &Qc = structure_scratch_.load, &fd = structure_scratch_.damping, &Q = structure_scratch_.total;
   Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
   Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
-  const double t = time() + (dt_step_ > 0 ? scene_.dt : 0.0) - scene_.settle;  // end of this step
+  // Time since release at the end of this step (at release itself: 0).
+  const double t = static_cast<double>(step_ + (dt_step_ > 0 ? 1 : 0) - release_step_) * scene_.dt;
   const double f = external_force(t);
   fd = P.damping.cwiseProduct(v);
   Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;

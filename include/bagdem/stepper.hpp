@@ -195,6 +195,8 @@ class Simulation {
   void guards();
   void set_up_structure();
   void release_structure();
+  void release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& phase) const;
+  void restart_acceleration();
   void bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
   void steady_rigid(double theta, double w, double sign);
   void structure_drift();
@@ -342,6 +344,7 @@ class Simulation {
 
   // ---- the primary structure (stepper_structure.cpp) ----
   StructureState structure_;
+  Eigen::VectorXd q_hold_;                    // where the structure is held while the contents settle
   struct {
     Eigen::VectorXd load, damping, total;     // scratch of structure_forces (Q_contents, C v, Q)
   } structure_scratch_;

@@ -139,7 +139,7 @@ Primary beam_from_modes(const CaseReader& in, const Scene& s, const std::string&
     in.fail("primary.attach", m.str());
   }
   b.zeta = read_ratios(in, "primary.damping_ratio", 0.005);
-  b.follow_slope = in.boolean("primary.follow_slope", false);
+  b.follow_slope = in.boolean("primary.follow_slope", true);
   b.suspension_frequency = in.quantity("primary.suspension_frequency", dim::frequency, 1.0);
   b.suspension_damping = in.quantity("primary.suspension_damping_ratio", dim::none, 0.05);
   if (!(b.suspension_frequency > 0)) in.fail("primary.suspension_frequency", "must be > 0 (Hz)");
@@ -235,7 +235,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
   if (kind == "harmonic" || kind == "stepped-sine") {
     p.harmonic = true;
     p.amplitude = in.quantity("excitation.amplitude", dim::force);
-    if (!(p.amplitude >= 0)) in.fail("excitation.amplitude", "must be >= 0 (N)");
+    if (!(p.amplitude > 0) || !std::isfinite(p.amplitude)) in.fail("excitation.amplitude", "must be > 0 (N)");
     p.start_steady = in.choice("excitation.start", {"rest", "steady"}, "rest") == "steady";
     std::vector<double> f;
     if (kind == "harmonic") {

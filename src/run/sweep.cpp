@@ -146,8 +146,9 @@ std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepP
 
 // The next frequency of a mode's peak refinement: halfway between the largest |H| and its larger
 // neighbour (the side the peak lies on); 0 when the largest is at an end of the mode's points or
-// the step would be below 1e-4 of the frequency.
-double refinement_frequency(const ModePoints& m) {
+// the step would be below 1e-4 of the frequency, or would round to the steps per cycle of one of
+// the two points (the same frequency again).
+double refinement_frequency(const ModePoints& m, double dt) {
   const auto& p = m.points;
   std::size_t k = 0;
   for (std::size_t i = 1; i < p.size(); ++i)
@@ -155,6 +156,8 @@ double refinement_frequency(const ModePoints& m) {
   if (k == 0 || k + 1 >= p.size()) return 0.0;
   const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
   const double f = 0.5 * (p[k]->frequency + side->frequency);
+  const std::size_t N = steps_per_cycle(f, dt);
+  if (N == steps_per_cycle(p[k]->frequency, dt) || N == steps_per_cycle(side->frequency, dt)) return 0.0;
   return std::abs(f - p[k]->frequency) > 1e-4 * p[k]->frequency ? f : 0.0;
 }
 
@@ -300,7 +303,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     // Peak refinement: per mode, `refine` more points, each halving the gap on the peak's side.
     for (std::size_t r = 0; r < plan.refine; ++r)
       for (const ModePoints& m : group_by_mode(P, rep.points))
-        if (const double f = refinement_frequency(m); f > 0) run_point(f);
+        if (const double f = refinement_frequency(m, scene.dt); f > 0) run_point(f);
   } catch (const RunError& e) {
     rep.message = e.what();
     file.set_attribute("status", std::string("failed: ") + e.what());

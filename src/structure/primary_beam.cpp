@@ -59,7 +59,9 @@ Primary make_beam_primary(const BeamPrimarySpec& b) {
     around[2][K] = m.shape(k, std::min(p.length, b.attach + l));
   }
   p.q0 = p.v0 = Eigen::VectorXd::Zero(N);
-  finish_primary(p, around, l);
+  // A cavity that only translates takes its load at x_b (the projection that matches its motion);
+  // one that turns with the slope takes it where it acts (the quadratic fit over its length).
+  finish_primary(p, around, b.follow_slope ? l : 0.0);
   std::ostringstream d;
   d.precision(5);
   d << m.describe() << "; modes at";

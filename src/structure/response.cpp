@@ -61,6 +61,7 @@ Peak find_peak(const std::vector<double>& f, const std::vector<double>& mag, dou
   if (best == 0 || best + 1 >= f.size() || f[best - 1] < f_lo || f[best + 1] > f_hi) return p;
   // Parabola through the three points (x relative to the middle one).
   const double x0 = f[best - 1] - f[best], x2 = f[best + 1] - f[best];
+  if (!(x0 < 0 && x2 > 0)) return p;  // repeated frequencies: no parabola
   const double y0 = mag[best - 1] - mag[best], y2 = mag[best + 1] - mag[best];
   // y = a x^2 + b x through (x0, y0), (0, 0), (x2, y2).
   const double a = (y0 * x2 - y2 * x0) / (x0 * x2 * (x0 - x2)), b = (y0 - a * x0 * x0) / x0;

@@ -18,20 +18,20 @@
 //
 // The contents' load. Each force F the contents put on the cavity at axial position s (along the
 // beam) does the virtual work (F . e) sum_k phi_k(s) dq_k, so Q_k = sum (F . e) phi_k(s): the bag is
-// felt over its length. The stepper tallies, per step, the moments m_j = sum (F . e) s^j (j = 0, 1,
-// 2; s measured from x_b) of the transverse load, and Q = G m, where row k of G holds the
+// felt over its length (follow_slope, the default; a cavity that only translates takes its load at
+// x_b, the projection that matches its motion, G = [phi_b, 0, 0]). The stepper tallies, per step,
+// the moments m_j = sum (F . e) s^j (j = 0, 1, 2; s measured from x_b) of the transverse load, and
+// Q = G m, where row k of G holds the
 // coefficients of the quadratic through phi_k at x_b - l, x_b and x_b + l (l: half the cavity's
 // axial extent). The interpolation error is third order in l, 7e-4 of the load for mode 3 of the
-// pipe at l = 20 mm. The cavity itself translates rigidly with the beam at x_b (no rotation): the
-// work the walls do on the contents differs from the work the load does on the beam by the
-// variation of the mode shapes over the cavity, which the sweep's energy closure reports. With
-// primary.follow_slope the cavity also turns with the beam's slope theta = phi'(x_b) . q at x_b
-// (about axis x e), linearised as a shear: a point at axial coordinate s moves by (w_b + theta s) e,
-// so the walls' motion matches the load's projection to second order in the cavity's length.
+// pipe at l = 20 mm. The cavity moves with the beam at x_b and, with follow_slope, turns with its
+// slope theta = phi'(x_b) . q (about axis x e), linearised as a shear: a point at axial coordinate
+// s moves by (w_b + theta s) e, so the walls' motion matches the load's projection to second order
+// in the cavity's length.
 //
 // Integration: velocity Verlet with the contents (stepper.hpp), the damping force from the velocity
 // predicted to the end of the step as the contact dashpots do. Verlet's frequency error is
-// (omega dt)^2/24, 2e-8 at 85.6 Hz with dt = 2 us; stability needs omega_max dt < 2, checked
+// (omega dt)^2/24, 4.8e-8 at 85.6 Hz with dt = 2 us; stability needs omega_max dt < 2, checked
 // when the case is loaded.
 #pragma once
 #include <Eigen/Dense>

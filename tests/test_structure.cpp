@@ -55,6 +55,14 @@ Scene load(const TempDir& d, const std::string& text, const std::vector<std::str
   return load_case(d.str(), sets);
 }
 
+// Run options writing to d/out, without progress output.
+RunOptions quiet_in(const TempDir& d) {
+  RunOptions o;
+  o.out_dir = (d.path / "out").string();
+  o.quiet = true;
+  return o;
+}
+
 std::string input_error(const TempDir& d, const std::string& text) {
   try {
     load(d, text);
@@ -99,9 +107,7 @@ TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
     << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"20 N\"\nband = [\"12 Hz\", \"28 Hz\"]\npoints = 9\n"
     << "steady_tolerance = 1e-4\nmax_cycles = 400\n" << kLoneBall;
   const Scene s = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]"});
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const SweepReport r = run_sweep(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   double worst = 0;
@@ -137,9 +143,7 @@ TEST(StructureBeam, FreeDecayOfOneModeGivesItsDampingRatio) {
                         "\n[excitation]\nkind = \"decay\"\nmode = 1\ndisplacement = \"2 mm\"\n" + kLoneBall;
   const Scene s = load(d, case_text(p, "duration = \"3 s\""), {"simulation.gravity=[0,0,0]"});
   EXPECT_NEAR(s.primary->natural_frequency[0], 5.0, 1e-3);
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const RunReport r = run_scene(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   std::printf("  decay: zeta %.6f (modal 0.02), 20-dB time %.4f s (analytic %.4f s)\n", r.decay_zeta, r.decay_time,
@@ -205,9 +209,7 @@ TEST(StructureCoupled, EnergyBalanceOverSteadyCycles) {
     << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"0.5 N\"\nfrequencies = [\"11.5 Hz\", \"12 Hz\"]\n"
     << "steady_tolerance = 0.003\nsteady_cycles = 4\nmin_cycles = 8\nmax_cycles = 150\n" << kBalls;
   const Scene s = load(d, case_text(p.str(), "duration = \"1 s\"\nsettle = \"0.2 s\""));
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const SweepReport r = run_sweep(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   for (const SweepPoint& pt : r.points) {
@@ -233,9 +235,7 @@ TEST(StructureBeam, ContentsAtANodeBarelyChangeThatModeAntinodeReducesIt) {
                           "span = 0.2\npoints = 9\nrefine = 4\nsteady_tolerance = 0.01\nsteady_cycles = 3\nmin_cycles = 6\n"
                           "max_cycles = 120\nstart = \"steady\"\n" + std::string(balls);
     const Scene s = load(d, case_text(p, "duration = \"1 s\"\nsettle = \"0.2 s\""));
-    RunOptions o;
-    o.out_dir = (d.path / "out").string();
-    o.quiet = true;
+    const RunOptions o = quiet_in(d);
     const SweepReport r = run_sweep(s, o);
     EXPECT_TRUE(r.complete) << r.message;
     EXPECT_EQ(r.peaks.size(), 1u);
@@ -264,9 +264,7 @@ TEST(StructureSdof, ImpulseResponseAndItsDecay) {
     << "[excitation]\nkind = \"impulse\"\nimpulse = \"0.01 N s\"\nduration = \"0.1 ms\"\n" << kLoneBall
     << "\n";
   const Scene s = load(d, case_text(p.str(), "duration = \"1.5 s\""), {"simulation.gravity=[0,0,0]", "output.cavity_interval=1e-4"});
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const RunReport r = run_scene(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   const double wn = 2 * kPi * fn, wd = wn * std::sqrt(1 - zeta * zeta);
@@ -402,9 +400,7 @@ TEST(StructureBeam, DecayWithSettledContentsStartsWithoutAJump) {
   TempDir d;
   const std::string p = beam_keys(0.5, "damping_ratio = 0.02\n") + "\n[excitation]\nkind = \"decay\"\nmode = 1\ndisplacement = \"8 mm\"\n" + kBalls;
   const Scene s = load(d, case_text(p, "duration = \"0.4 s\"\nsettle = \"0.2 s\""));
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const RunReport r = run_scene(s, o);
   EXPECT_TRUE(r.complete) << r.message;
   EXPECT_GT(r.response_rms, 1e-3);  // it rings

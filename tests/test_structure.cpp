@@ -207,7 +207,7 @@ TEST(StructureCoupled, EnergyBalanceOverSteadyCycles) {
   std::ostringstream p;
   p << "[primary]\nkind = \"sdof\"\nmass = " << M << "\nstiffness = " << K << "\ndamping_ratio = " << zeta << "\n\n"
     << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"0.5 N\"\nfrequencies = [\"11.5 Hz\", \"12 Hz\"]\n"
-    << "steady_tolerance = 0.003\nsteady_cycles = 4\nmin_cycles = 8\nmax_cycles = 150\n" << kBalls;
+    << "steady_tolerance = 0.003\nsteady_cycles = 8\nmin_cycles = 16\nmax_cycles = 200\n" << kBalls;
   const Scene s = load(d, case_text(p.str(), "duration = \"1 s\"\nsettle = \"0.2 s\""));
   const RunOptions o = quiet_in(d);
   const SweepReport r = run_sweep(s, o);

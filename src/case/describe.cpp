@@ -85,15 +85,12 @@ std::string describe_scene(const Scene& s) {
       << "; expected cavity speed " << P.expected_cavity_speed << " m/s\n";
     if (P.harmonic) {
       // The bare structure's largest cavity amplitude over the drive frequencies, and Gamma.
-      double X = 0, gamma = 0;
       const std::vector<double> f = P.sweep ? P.sweep->frequencies : std::vector<double>{P.drive_frequency};
-      for (double fk : f) {
-        const double w = 2 * std::numbers::pi * fk, U = P.bare_cavity_amplitude(P.amplitude, w);
-        X = std::max(X, U);
-        if (s.gravity.norm() > 0) gamma = std::max(gamma, U * w * w / s.gravity.norm());
-      }
-      o << "            bare structure: cavity amplitude up to " << X << " m (Gamma = X w^2 / g up to " << gamma
-        << ") over the drive frequencies\n";
+      double w = 0;
+      const double X = P.bare_cavity_amplitude_max(P.amplitude, f, w);
+      o << "            bare structure: cavity amplitude up to " << X << " m at " << w / (2 * std::numbers::pi)
+        << " Hz (Gamma = X w^2 / g = " << (s.gravity.norm() > 0 ? X * w * w / s.gravity.norm() : 0.0)
+        << ") over the swept range\n";
     }
   } else {
     o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";

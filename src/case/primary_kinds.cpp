@@ -268,8 +268,9 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
             in.fail(key, "must name an elastic mode of the primary, 1 to " + std::to_string(elastic.size()));
           const std::size_t dof = elastic[static_cast<std::size_t>(m - 1)];
           sw->modes.push_back(dof);
-          // Around the bare mode's frequency with the cavity mass: the peak of the bare receptance.
-          const double fm = p.natural_frequency[dof];
+          // Around the bare mode's frequency with the cavity mass (the DOFs are in frequency order,
+          // and a cavity mass keeps that order).
+          const double fm = p.bare_frequencies()[dof];
           for (long long k = 0; k < pts; ++k)
             f.push_back(fm * (1 - span + 2 * span * (pts == 1 ? 0.5 : static_cast<double>(k) / static_cast<double>(pts - 1))));
         }
@@ -280,9 +281,14 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       sw->frequencies = f;
       sw->tolerance = in.quantity("excitation.steady_tolerance", dim::none, 0.01);
       if (!(sw->tolerance > 0)) in.fail("excitation.steady_tolerance", "must be > 0");
-      sw->cycles = static_cast<std::size_t>(std::max(1LL, in.integer("excitation.steady_cycles", 3)));
-      sw->min_cycles = static_cast<std::size_t>(std::max(1LL, in.integer("excitation.min_cycles", 5)));
-      sw->max_cycles = static_cast<std::size_t>(std::max(1LL, in.integer("excitation.max_cycles", 200)));
+      auto count = [&](const char* key, long long fallback) {
+        const long long v = in.integer(key, fallback);
+        if (v < 1 || v > 1000000) in.fail(key, "must be a whole number in [1, 1e6]");
+        return static_cast<std::size_t>(v);
+      };
+      sw->cycles = count("excitation.steady_cycles", 3);
+      sw->min_cycles = count("excitation.min_cycles", 5);
+      sw->max_cycles = count("excitation.max_cycles", 200);
       if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
       const long long refine = in.integer("excitation.refine", 4);
       if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
@@ -290,7 +296,11 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       p.sweep = sw;
     }
     p.drive_frequency = f.front();
-    for (double x : f) p.expected_cavity_speed = std::max(p.expected_cavity_speed, cavity_speed(p, p.amplitude, 2 * kPi * x));
+    // The largest bare cavity speed over the swept range, resonances between the points included
+    // (the refinement points may drive there).
+    double w_at = 0;
+    const double X = p.bare_cavity_amplitude_max(p.amplitude, f, w_at);
+    p.expected_cavity_speed = X * w_at;
   } else if (kind == "decay") {
     const double X = in.quantity("excitation.displacement", dim::length);
     if (!(X != 0) || !std::isfinite(X)) in.fail("excitation.displacement", "must be a non-zero displacement at response_at (m)");
@@ -329,6 +339,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed)));
     const double period = in.quantity("excitation.period", dim::time, 0.0);
     if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
+    if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");
     p.excitation = make_random_force(rms, band[0], band[1], seed, period);
     p.force_time_scale = 1 / band[1];
     // A bound: the RMS force at the worst frequency of the band, times 3 (peak factor).

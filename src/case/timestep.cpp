@@ -171,6 +171,27 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
         << " limits";
     in.boolean("simulation.force_timestep", false);
   }
+  if (s.primary) {
+    // The drive and the force must be resolved by the chosen step.
+    if (s.primary->harmonic) {
+      double f_max = s.primary->drive_frequency;
+      if (s.primary->sweep)
+        for (double f : s.primary->sweep->frequencies) f_max = std::max(f_max, f);
+      if (f_max * s.dt > 1.0 / 20) {
+        std::ostringstream w;
+        w << "the drive frequency " << f_max << " Hz has only " << 1 / (f_max * s.dt) << " steps per cycle at dt = "
+          << s.dt << " s; it is driven at 1 / (N dt) with N whole (at least 8): reduce simulation.timestep";
+        s.warnings.push_back(w.str());
+      }
+    }
+    if (s.primary->force_time_scale > 0 && s.dt > s.primary->force_time_scale / 20) {
+      std::ostringstream w;
+      w << "simulation.timestep = " << s.dt << " s resolves the force's time scale " << s.primary->force_time_scale
+        << " s (a blow's duration, or the highest random line's period) with fewer than 20 steps; use \"auto\" or a step of at most "
+        << s.primary->force_time_scale / 20 << " s";
+      s.warnings.push_back(w.str());
+    }
+  }
   why << "; expected impact speed " << v << " m/s; critical step " << dt_crit << " s";
   s.dt_reason = why.str();
 }

@@ -3,7 +3,9 @@
 #include "bagdem/structure/primary.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace bagdem {
@@ -50,6 +52,30 @@ void Primary::bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::V
   const Eigen::VectorXcd Q = solve_bare(*this, w, at_force) * std::complex<double>(0, -F);
   q = Q.real();
   v = (Q * std::complex<double>(0, w)).real();
+}
+
+double Primary::bare_cavity_amplitude_max(double F, const std::vector<double>& f, double& w_at) const {
+  double best = 0;
+  w_at = 0;
+  auto consider = [&](double hz) {
+    const double w = 2 * std::numbers::pi * hz, a = bare_cavity_amplitude(F, w);
+    if (a > best) best = a, w_at = w;
+  };
+  if (f.empty()) return 0.0;
+  const auto [lo, hi] = std::minmax_element(f.begin(), f.end());
+  for (double hz : f) consider(hz);
+  const int n = 4000;
+  for (int k = 0; k <= n && *hi > *lo; ++k) consider(*lo * std::pow(*hi / *lo, static_cast<double>(k) / n));
+  return best;
+}
+
+std::vector<double> Primary::bare_frequencies() const {
+  const Eigen::MatrixXd K = stiffness.asDiagonal();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, mass, Eigen::EigenvaluesOnly);
+  std::vector<double> f;
+  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k)
+    f.push_back(std::sqrt(std::max(0.0, es.eigenvalues()[k])) / (2 * std::numbers::pi));
+  return f;
 }
 
 double Primary::bare_cavity_amplitude(double F, double w) const {

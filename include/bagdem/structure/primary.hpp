@@ -108,6 +108,12 @@ struct Primary {
   void bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
   // Amplitude of the cavity's displacement in that steady state (unit: m).
   double bare_cavity_amplitude(double F, double w) const;
+  // Its largest value over [f_lo, f_hi] (Hz): the given frequencies and a fine logarithmic scan
+  // (4000 points, 0.01% apart over a 10%-wide band), so a sharp resonance between them is found.
+  // Returns the amplitude (m) and sets w_at to the circular frequency where it is reached.
+  double bare_cavity_amplitude_max(double F, const std::vector<double>& frequencies, double& w_at) const;
+  // Natural frequencies of the structure without contents, cavity mass included (unit: Hz), sorted.
+  std::vector<double> bare_frequencies() const;
 };
 
 // One mass on a spring and dashpot: M (kg), K (N/m), C (N s/m).

@@ -17,6 +17,19 @@
 
 namespace bagdem::testing {
 
+// The materials of the bag suites' cases: bearing steel softened to 2 GPa (balls, walls) and the
+// LDPE film, as case.toml tables.
+inline constexpr const char* kSteelAndFilm = R"([materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "2 GPa"
+poisson_ratio = 0.3
+
+[materials.ldpe]
+density = "920 kg/m^3"
+youngs_modulus = "0.25 GPa"
+poisson_ratio = 0.4
+)";
+
 // case.toml written into a fresh temporary directory, then loaded with `overrides` (--set syntax).
 struct LoadedCase {
   TempDir dir;

@@ -43,15 +43,7 @@ duration = "0.004 s"
 gravity = [0, 0, "-9.81 m/s^2"]
 seed = 4
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
+)" + std::string(kSteelAndFilm) + R"(
 
 [interactions.default]
 restitution = 0.5

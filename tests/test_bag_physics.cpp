@@ -38,16 +38,7 @@ duration = "0.075 s"
 gravity = [0, 0, "-9.81 m/s^2"]
 seed = 3
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
-
+%s
 [interactions.default]
 restitution = %.17g
 friction = %.17g
@@ -92,7 +83,7 @@ anchor = ["18.5 mm", 0, 0]
 stiffness = "20 N/m"
 damping = %.17g
 )",
-                restitution, friction, film_damping, string_damping, string_damping);
+                kSteelAndFilm, restitution, friction, film_damping, string_damping, string_damping);
   return buf;
 }
 
@@ -210,16 +201,7 @@ duration = "0.1 s"
 gravity = [0, 0, "-9.81 m/s^2"]
 seed = 5
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
-
+%s
 [interactions.default]
 restitution = %.17g
 friction = 0.3
@@ -229,7 +211,7 @@ kind = "box"
 material = "steel"
 min = ["-30 mm", "-20 mm", 0]
 max = ["30 mm", "20 mm", "60 mm"]
-)", e);
+)", kSteelAndFilm, e);
   return buf + contents;
 }
 
@@ -454,15 +436,7 @@ duration = "0.12 s"
 gravity = [0, 0, "-9.81 m/s^2"]
 seed = 11
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
+)" + std::string(kSteelAndFilm) + R"(
 
 [interactions.default]
 restitution = 0.5
@@ -655,15 +629,7 @@ duration = "1 s"
 gravity = [0, 0, "-9.81 m/s^2"]
 seed = 17
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
+)" + std::string(kSteelAndFilm) + R"(
 
 [interactions.default]
 restitution = 0.5
@@ -958,16 +924,7 @@ duration = "0.002 s"
 gravity = [0, 0, 0]
 %s
 
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
-
+%s
 [interactions.default]
 restitution = 0.5
 
@@ -999,7 +956,7 @@ count = 1
 material = "ldpe"
 thickness = "50 um"
 )",
-                simulation_extra.c_str(), y0, speed);
+                simulation_extra.c_str(), kSteelAndFilm, y0, speed);
   return buf;
 }
 

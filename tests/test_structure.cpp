@@ -405,3 +405,48 @@ TEST(StructureBeam, DecayWithSettledContentsStartsWithoutAJump) {
   EXPECT_TRUE(r.complete) << r.message;
   EXPECT_GT(r.response_rms, 1e-3);  // it rings
 }
+
+// A run with a structure killed and resumed reports the same RMS and decay over the whole run as
+// one uninterrupted run (the response before the kill is read back from the partial results).
+TEST(StructureSdof, ResumedRunReportsTheWholeRunsResponse) {
+  TempDir d;
+  std::ostringstream p;
+  p << "[primary]\nkind = \"sdof\"\nmass = 1\nstiffness = " << std::pow(2 * kPi * 25, 2) << "\ndamping_ratio = 0.03\n\n"
+    << "[excitation]\nkind = \"impulse\"\nimpulse = \"0.01 N s\"\nduration = \"0.1 ms\"\n" << kLoneBall << "\n";
+  const Scene s = load(d, case_text(p.str(), "duration = \"0.6 s\""),
+                       {"simulation.gravity=[0,0,0]", "output.checkpoint_interval=0.05"});
+  RunOptions whole = quiet_in(d);
+  whole.out_dir = (d.path / "whole").string();
+  const RunReport a = run_scene(s, whole);
+  ASSERT_TRUE(a.complete) << a.message;
+  RunOptions cut = quiet_in(d);
+  cut.stop_after_steps = static_cast<long long>(0.3 / s.dt);  // killed half way: checkpoint at 0.25 s
+  EXPECT_FALSE(run_scene(s, cut).complete);
+  cut.stop_after_steps = -1;
+  cut.resume = true;
+  const RunReport b = run_scene(s, cut);
+  ASSERT_TRUE(b.complete) << b.message;
+  EXPECT_GT(a.response_rms, 0);
+  EXPECT_DOUBLE_EQ(b.response_rms, a.response_rms);
+  EXPECT_DOUBLE_EQ(b.acceleration_rms, a.acceleration_rms);
+  EXPECT_DOUBLE_EQ(b.decay_zeta, a.decay_zeta);
+  EXPECT_DOUBLE_EQ(b.decay_time, a.decay_time);
+}
+
+// The default sampling of the structure resolves its response, and a coarse one is warned about.
+TEST(PrimaryCase, StructureSamplingResolvesTheResponseFrequency) {
+  TempDir d;
+  std::ostringstream p;
+  p << "[primary]\nkind = \"sdof\"\nmass = 1\nstiffness = " << std::pow(2 * kPi * 400, 2) << "\ndamping_ratio = 0.03\n\n"
+    << "[excitation]\nkind = \"decay\"\ndisplacement = \"1 mm\"\n" << kLoneBall << "\n";
+  const Scene s = load(d, case_text(p.str()), {"simulation.gravity=[0,0,0]"});
+  EXPECT_NEAR(s.primary->response_frequency, 400, 1e-3);  // K printed to 6 digits
+  EXPECT_LE(s.output.cavity_interval, 1.0 / (40 * 400) * (1 + 1e-6));
+  const auto warned = [](const Scene& sc) {
+    for (const auto& w : sc.warnings)
+      if (w.find("output.cavity_interval") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_FALSE(warned(s));
+  EXPECT_TRUE(warned(load(d, case_text(p.str()), {"simulation.gravity=[0,0,0]", "output.cavity_interval=0.0002"})));
+}

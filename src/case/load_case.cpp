@@ -74,7 +74,18 @@ void resolve_output(const CaseReader& in, Scene& s) {
     period = 1.0 / in.quantity("cavity.motion.frequency", dim::frequency);
   OutputSettings& o = s.output;
   o.frame_interval = in.quantity("output.frame_interval", dim::time, total / 50);
-  o.cavity_interval = in.quantity("output.cavity_interval", dim::time, period > 0 ? period / 100 : 100 * s.dt);
+  // With a primary structure the samples (its /structure table, and the response that the decay fit
+  // and RMS of the summary use) resolve the oscillation it responds with.
+  const double response_period = s.primary && s.primary->response_frequency > 0 ? 1 / s.primary->response_frequency : 0.0;
+  const double sample = period > 0 ? period / 100 : response_period > 0 ? std::min(100 * s.dt, response_period / 40) : 100 * s.dt;
+  o.cavity_interval = in.quantity("output.cavity_interval", dim::time, std::max(sample, s.dt));
+  if (response_period > 0 && o.cavity_interval > response_period / 20) {
+    std::ostringstream w;
+    w << "output.cavity_interval = " << o.cavity_interval << " s samples the structure's response at "
+      << s.primary->response_frequency << " Hz fewer than 20 times per period: its RMS and decay fit lose accuracy; "
+      << "use at most " << response_period / 20 << " s (the default samples 40 times)";
+    s.warnings.push_back(w.str());
+  }
   o.energy_interval = in.quantity("output.energy_interval", dim::time, o.cavity_interval);
   o.checkpoint_interval = in.quantity("output.checkpoint_interval", dim::time, 0.0);
   o.skip_cycles = in.quantity("output.skip_cycles", dim::none, 1.0);

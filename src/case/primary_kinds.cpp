@@ -319,6 +319,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     p.q0[static_cast<Eigen::Index>(dof)] = X / phi;
     const double w = std::sqrt(p.stiffness[static_cast<Eigen::Index>(dof)] / p.mass(static_cast<Eigen::Index>(dof), static_cast<Eigen::Index>(dof)));
     p.expected_cavity_speed = w * std::abs(p.at_cavity.dot(p.q0));
+    p.response_frequency = w / (2 * kPi);
     p.excitation = make_no_force();
   } else if (kind == "impulse") {
     const double J = in.quantity("excitation.impulse", dim::impulse);
@@ -350,7 +351,14 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
   } else {
     p.excitation = make_no_force();
   }
-  if (p.harmonic) p.excitation = make_harmonic_force(p.amplitude, p.drive_frequency);
+  if (p.harmonic) {
+    p.excitation = make_harmonic_force(p.amplitude, p.drive_frequency);
+    p.response_frequency = p.drive_frequency;
+    if (p.sweep) p.response_frequency = *std::max_element(p.sweep->frequencies.begin(), p.sweep->frequencies.end());
+  }
+  if (p.response_frequency == 0)  // a blow, random force or none: the first elastic mode rings longest
+    for (std::size_t k = 0; k < p.size() && p.response_frequency == 0; ++k)
+      if (!p.rigid_body[k]) p.response_frequency = p.natural_frequency[k];
 }
 
 }  // namespace

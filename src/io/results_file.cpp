@@ -436,6 +436,16 @@ void ResultsFile::append_table_row(const std::string& group, const std::vector<T
   if (group == "structure") p.len.structure = t.rows;
 }
 
+std::vector<double> ResultsFile::read_series(const std::string& dataset) const {
+  Impl& p = open_or_throw(impl_);
+  H5 ds(p.ok(H5Dopen2(p.file, dataset.c_str(), H5P_DEFAULT), "cannot open dataset " + dataset), H5Dclose);
+  std::size_t n = 1;
+  for (hsize_t d : p.dims(ds)) n *= d;
+  std::vector<double> v(n);
+  if (n > 0) p.ok(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "cannot read " + dataset);
+  return v;
+}
+
 SeriesLengths ResultsFile::lengths() const { return impl_ ? impl_->len : SeriesLengths{}; }
 
 void ResultsFile::flush() {

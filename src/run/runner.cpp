@@ -211,6 +211,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     run = c.tallies;
     fs::remove(summary);  // a run in progress is not complete
     file.emplace(ResultsFile::reopen(part.string(), run.lengths));
+    if (scene.primary && run.lengths.structure > 0) {
+      // The response before the interruption, for the summary's RMS and decay over the whole run:
+      // the rows after release (the structure is released at the start of the step after settling).
+      const std::vector<double> t = file->read_series("/structure/time");
+      const std::vector<double> y = file->read_series("/structure/displacement");
+      const std::vector<double> a = file->read_series("/structure/acceleration");
+      for (std::size_t k = 0; k < t.size(); ++k)
+        if (t[k] > scene.settle + 0.5 * scene.dt) response.push_back(y[k]), response_acc.push_back(a[k]);
+    }
     for (std::size_t k = 0; k < run.lengths.frames; ++k) {
       const std::uint64_t s = std::min<std::uint64_t>(k * n_frame, total);
       frame_times.push_back(static_cast<double>(s) * scene.dt);

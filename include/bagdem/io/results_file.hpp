@@ -100,6 +100,9 @@ class ResultsFile {
   void append_table_row(const std::string& group, const std::vector<TableColumn>& columns,
                         const std::vector<double>& values);
 
+  // A dataset of the file as written so far (e.g. "/structure/displacement"), flattened row-major.
+  std::vector<double> read_series(const std::string& dataset) const;
+
   SeriesLengths lengths() const;
   void flush();
   void close();  // idempotent

@@ -83,6 +83,10 @@ struct Primary {
   Eigen::VectorXd q0, v0;            // initial state when settling ends (decay, or zero)
   double force_time_scale = 0;       // shortest time the force varies over (a blow's duration, the
                                      // period of the highest random line), 0 if none (unit: s)
+  double response_frequency = 0;     // the oscillation the response analysis must resolve: the
+                                     // highest drive frequency, the decaying mode's, or else the
+                                     // first elastic mode's (unit: Hz); output.cavity_interval
+                                     // samples it at least 40 times per period by default
   double expected_cavity_speed = 0;  // largest cavity speed the excitation should cause (bare
                                      // structure), for the time step and impact checks (unit: m/s)
 

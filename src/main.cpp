@@ -1,5 +1,7 @@
-// bagdem: command line. Subcommands: check, run, bench. `bagdem <cmd> --help` explains each.
+// bagdem: command line. Subcommands: check, run, reduce, compare, drop, export, bench.
+// `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
+#include <omp.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -7,6 +9,10 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/reduce/compare.hpp"
+#include "bagdem/reduce/drop_test.hpp"
+#include "bagdem/reduce/export.hpp"
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/sweep.hpp"
@@ -40,6 +46,45 @@ int main(int argc, char** argv) {
   run->add_option("--set", sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
   run->add_flag("--quiet", quiet, "No progress line");
   run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (needs output.checkpoint_interval > 0)");
+
+  auto* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
+                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles with standard errors, energy per cycle, "
+                                            "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
+                                            "restitution three ways (per impact, Eq. 19a, and the drop test if `bagdem drop` was run). Writes OUT/reduced.csv "
+                                            "(columns: docs/outputs.md).");
+  reduce->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
+  reduce->add_option("--out", out_dir, "Output directory of the run (default CASE_DIR/out)");
+  reduce->add_option("--set", sets, "The --set overrides the run was made with (repeatable)");
+
+  std::string form = "consistent";
+  auto* compare = app.add_subcommand("compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
+                                              "continuum model's prediction from the DEM-derived C_b, M_b and e (the modal model with the bag's "
+                                              "impedance, the study's SDOF Eq. 7 and Eq. 20), with the errors. Writes OUT/compare.csv (also done at "
+                                              "the end of a sweep).");
+  compare->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
+  compare->add_option("--out", out_dir, "Output directory of the sweep (default CASE_DIR/out)");
+  compare->add_option("--set", sets, "The --set overrides the sweep was run with (repeatable)");
+  compare->add_option("--form", form, "Eq. (7)/(20) form: consistent (default) or printed (the study's as-printed equations)")
+      ->check(CLI::IsMember({"consistent", "printed"}));
+
+  double drop_speed = 0;
+  auto* drop = app.add_subcommand("drop", "Drop test of the case's bag: its contents, settled as in the case, are launched against a wall of the "
+                                        "resting cavity along the excitation direction; prints e_drop = rebound / approach speed of their "
+                                        "centre of mass and writes OUT/drop.csv; `bagdem reduce` then reports it beside the other two estimates.");
+  drop->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
+  drop->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
+  drop->add_option("--set", sets, "Override a key of case.toml (repeatable)");
+  drop->add_option("--speed", drop_speed, "Launch speed in m/s (default: the case's expected impact speed)");
+  drop->add_option("--threads", threads, "OpenMP threads")->check(CLI::Range(1, 1024));
+
+  std::vector<std::string> formats = {"csv", "json", "h5"};
+  std::string export_to;
+  auto* exporter = app.add_subcommand("export", "Export the reduced-parameter table of a run or a study (C_b, M_b, e, loss factor against "
+                                               "frequency, amplitude and Gamma, with the swept design parameters) as CSV, JSON and HDF5 with "
+                                               "units, for FE and continuum codes (columns: docs/outputs.md).");
+  exporter->add_option("dir", out_dir, "A run's output directory or a study's (holds reduced.csv)")->required();
+  exporter->add_option("--formats", formats, "Any of csv json h5 (default all)")->check(CLI::IsMember({"csv", "json", "h5"}));
+  exporter->add_option("--to", export_to, "Path of the exported files without extension (default DIR/export)");
 
   BenchOptions bench_opt;
   auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers).");
@@ -81,6 +126,8 @@ int main(int argc, char** argv) {
         for (const ModePeak& m : r.peaks)
           std::printf("%s: peak %.4g m/N at %.5g Hz (bare %.4g m/N at %.5g Hz): reduction %.2f dB = %.1f%%\n", m.name.c_str(),
                       m.peak, m.frequency, m.bare_peak, m.bare_frequency, m.reduction_db, m.reduction_percent);
+        std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
+        std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
         return 0;
       }
       if (!quiet) std::cerr << "bagdem run " << case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
@@ -90,6 +137,8 @@ int main(int argc, char** argv) {
         std::cerr << "error: " << r.message << "\n";
         return kExitRunError;
       }
+      if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
+      if (!r.reduce_message.empty()) std::fprintf(stderr, "reduction skipped: %s\n", r.reduce_message.c_str());
       std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n",
                   r.wall_seconds, r.ns_per_particle_step, r.energy_balance_error);
       if (r.cycles > 0)
@@ -100,6 +149,37 @@ int main(int argc, char** argv) {
         if (r.decay_time > 0)
           std::printf("decay: damping ratio %.4g, time to fall by 20 dB %.4g s\n", r.decay_zeta, r.decay_time);
       }
+      return 0;
+    }
+    const std::string out = out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir;
+    if (reduce->parsed()) {
+      const Scene s = load_case(case_dir, sets);
+      std::vector<ReducedRow> rows = reduce_run(s, out);
+      attach_drop_result(rows, out);
+      std::printf("%s%s", describe_reduced(rows).c_str(), describe_restitution(rows).c_str());
+      return 0;
+    }
+    if (compare->parsed()) {
+      const Scene s = load_case(case_dir, sets);
+      if (!s.primary || !s.primary->sweep)
+        throw InputError(s.case_file, "excitation.kind", "", "compare needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
+      const continuum::Form f = form == "printed" ? continuum::Form::printed : continuum::Form::consistent;
+      const std::vector<CompareRow> rows = compare_with_continuum(*s.primary, s.primary->amplitude, reduce_run(s, out), f);
+      write_compare_csv(std::filesystem::path(out) / "compare.csv", rows);
+      std::printf("%s", describe_compare(rows, f).c_str());
+      return 0;
+    }
+    if (drop->parsed()) {
+      if (threads > 0) omp_set_num_threads(threads);
+      const Scene s = load_case(case_dir, sets);
+      const DropResult d = run_drop_test(s, drop_speed, out, false);
+      write_drop_result(std::filesystem::path(out) / "drop_result.csv", d);
+      std::printf("e_drop = %.4f (approach %.4g m/s, rebound %.4g m/s, peak force %.4g N, contact %.4g ms)\n", d.restitution,
+                  d.v_before, d.v_after, d.peak_force, 1e3 * d.duration);
+      return 0;
+    }
+    if (exporter->parsed()) {
+      for (const std::string& p : export_reduced(out_dir, export_to, formats)) std::printf("wrote %s\n", p.c_str());
       return 0;
     }
     if (bench->parsed()) return bench_opt.bag ? run_bag_bench(bench_opt) : run_bench(bench_opt);

@@ -114,7 +114,21 @@ Simulation::CavitySample Simulation::take_cavity_sample() {
     c.torque = L / span;
   }
   cavity_sums_ = {};
+  c.contents_velocity = contents_relative_velocity();  // at the end of the interval
   return c;
+}
+
+void Simulation::add_contents_velocity(const Vec3& dv) {
+  for (std::size_t i = 0; i < p_.size(); ++i) p_.v[i] += dv;
+  for (std::size_t k = 0; k < film_.size(); ++k) film_.v[k] += dv;
+}
+
+Vec3 Simulation::contents_relative_velocity() const {
+  Vec3 momentum = Vec3::Zero();
+  double mass = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) momentum += p_.mass[i] * p_.v[i], mass += p_.mass[i];
+  for (std::size_t k = 0; k < film_.size(); ++k) momentum += film_.mass[k] * film_.v[k], mass += film_.mass[k];
+  return mass > 0 ? Vec3(momentum / mass - cavity_.velocity) : Vec3::Zero();
 }
 
 std::size_t Simulation::contact_count() const {

@@ -68,7 +68,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
     ResultsFile rf(path, kRadius, kMaterial, {"glass", "steel"}, 0.005);
     for (int f = 0; f < 2; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
     for (int s = 0; s < 5; ++s)
-      rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3));
+      rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4));
     for (int k = 0; k < 4; ++k) rf.append_energy(0.02 * k, energy(k));
     const SeriesLengths len = rf.lengths();
     EXPECT_EQ(len.frames, 2u);
@@ -110,8 +110,8 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
   ASSERT_EQ(ctime.dims, std::vector<hsize_t>{5});
   for (int s = 0; s < 5; ++s) EXPECT_EQ(ctime.values[s], 0.005 * (s + 1));
   const char* cavity_sets[] = {"/cavity/position", "/cavity/velocity", "/cavity/force",
-                               "/cavity/torque"};
-  for (int kind = 0; kind < 4; ++kind) {
+                               "/cavity/torque", "/cavity/contents_velocity"};
+  for (int kind = 0; kind < 5; ++kind) {
     const Doubles d = read_doubles(file, cavity_sets[kind]);
     ASSERT_EQ(d.dims, (std::vector<hsize_t>{5, 3})) << cavity_sets[kind];
     for (int s = 0; s < 5; ++s)
@@ -193,6 +193,7 @@ TEST(ResultsFileWrite, EveryDatasetHasItsUnit) {
                                                           {"/cavity/velocity", "m/s"},
                                                           {"/cavity/force", "N"},
                                                           {"/cavity/torque", "N m"},
+                                                          {"/cavity/contents_velocity", "m/s"},
                                                           {"/energy/time", "s"},
                                                           {"/energy/kinetic", "J"},
                                                           {"/energy/elastic", "J"},
@@ -213,7 +214,7 @@ TEST(ResultsFileDeathTest, KilledRunLeavesTheLastFrame) {
   EXPECT_EXIT(
       {
         ResultsFile rf(path, kRadius, kMaterial, {"glass"}, 0.01);
-        rf.append_cavity(0.01, v3(0, 10, 0), v3(0, 11, 1), v3(0, 12, 2), v3(0, 13, 3));
+        rf.append_cavity(0.01, v3(0, 10, 0), v3(0, 11, 1), v3(0, 12, 2), v3(0, 13, 3), v3(0, 14, 4));
         rf.append_frame(0.5, field(0, 0), field(0, 1), field(0, 2));
         std::raise(SIGKILL);
       },
@@ -233,7 +234,7 @@ TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
     ResultsFile rf(path, kRadius, kMaterial, {"glass", "steel"}, 0.005);
     for (int f = 0; f < 3; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
     for (int s = 0; s < 5; ++s)
-      rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3));
+      rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4));
     for (int k = 0; k < 5; ++k) rf.append_energy(0.02 * k, energy(k));
   }
   {
@@ -241,7 +242,7 @@ TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
     EXPECT_EQ(rf.lengths().frames, 1u);
     EXPECT_EQ(rf.lengths().cavity, 2u);
     EXPECT_EQ(rf.lengths().energy, 3u);
-    rf.append_cavity(42.0, v3(7, 20, 0), v3(7, 21, 1), v3(7, 22, 2), v3(7, 23, 3));
+    rf.append_cavity(42.0, v3(7, 20, 0), v3(7, 21, 1), v3(7, 22, 2), v3(7, 23, 3), v3(7, 24, 4));
     EXPECT_EQ(rf.lengths().cavity, 3u);
     rf.close();
     rf.close();  // idempotent

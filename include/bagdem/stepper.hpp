@@ -125,6 +125,7 @@ class Simulation {
     Vec3 velocity = Vec3::Zero();  // (unit: m/s)
     Vec3 force = Vec3::Zero();     // (unit: N)
     Vec3 torque = Vec3::Zero();    // (unit: N m)
+    Vec3 contents_velocity = Vec3::Zero();  // the contents' centre of mass relative to the cavity, at the end (unit: m/s)
   };
   // Wall-clock time spent in each stage since profiling was switched on (benchmarks; off by
   // default: reading the clock costs about 1% of a small step).
@@ -170,6 +171,10 @@ class Simulation {
     double load = 0;       // transverse force of the contents on the cavity (unit: N)
   };
   const StructureState& structure() const { return structure_; }
+  // Velocity of the contents' centre of mass (balls and film nodes) relative to the cavity, now.
+  Vec3 contents_relative_velocity() const;
+  // Adds dv to the velocity of every ball and film node (a drop test's launch) (unit: m/s).
+  void add_contents_velocity(const Vec3& dv);
   StructureResponse structure_response() const;
   double structure_energy() const;  // kinetic + elastic energy of the structure (unit: J)
   // Harmonic drives: a new drive frequency from the next step on, the force's phase continuous

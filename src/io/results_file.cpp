@@ -28,7 +28,7 @@ static_assert(sizeof(int) == 4, "/particles/material is stored as int32");
 constexpr std::pair<const char*, const char*> kFrameFields[] = {
     {"position", "m"}, {"velocity", "m/s"}, {"angular_velocity", "rad/s"}};
 constexpr std::pair<const char*, const char*> kCavityFields[] = {
-    {"position", "m"}, {"velocity", "m/s"}, {"force", "N"}, {"torque", "N m"}};
+    {"position", "m"}, {"velocity", "m/s"}, {"force", "N"}, {"torque", "N m"}, {"contents_velocity", "m/s"}};
 // Energy datasets (J), named exactly as the EnergySample fields.
 constexpr std::pair<const char*, double EnergySample::*> kEnergyFields[] = {
     {"kinetic", &EnergySample::kinetic},
@@ -398,11 +398,12 @@ void ResultsFile::append_film_frame(const std::vector<Vec3>& position) {
 }
 
 void ResultsFile::append_cavity(double t, const Vec3& position, const Vec3& velocity,
-                                const Vec3& mean_force, const Vec3& mean_torque) {
+                                const Vec3& mean_force, const Vec3& mean_torque, const Vec3& contents_velocity) {
   Impl& p = open_or_throw(impl_);
-  const Vec3* fields[] = {&position, &velocity, &mean_force, &mean_torque};  // kCavityFields
+  const Vec3* fields[] = {&position, &velocity, &mean_force, &mean_torque, &contents_velocity};  // kCavityFields
+  static_assert(std::size(fields) == std::size(kCavityFields));
   p.append_row(p.cavity[0], p.len.cavity, &t);
-  for (std::size_t k = 0; k < 4; ++k)
+  for (std::size_t k = 0; k < std::size(fields); ++k)
     p.append_row(p.cavity[1 + k], p.len.cavity, fields[k]->data());
   ++p.len.cavity;  // no flush (frequent): the next frame, flush() or close() does it
 }

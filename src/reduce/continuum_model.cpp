@@ -225,8 +225,10 @@ std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, 
   require(model.shape_at_force.allFinite() && model.shape_at_response.allFinite() && model.shape_at_bag.allFinite() &&
               (!full_mass || model.mass.allFinite()),
           fn, "shapes/mass", std::numeric_limits<double>::quiet_NaN(), "finite");
-  require_non_negative(fn, "bag_mass", bag_mass);
-  require_non_negative(fn, "bag_damping", bag_damping);
+  // A measured impedance (reduce/compare.hpp) may have a negative effective mass (the contents moving
+  // against the cavity) or a slightly negative damping (scatter): only finiteness is required.
+  require_finite(fn, "bag_mass", bag_mass);
+  require_finite(fn, "bag_damping", bag_damping);
   require_non_negative(fn, "w", w);
 
   // Dynamic stiffness in modal coordinates: K - w^2 M + i w C, then the bag's rank-one terms.

@@ -17,6 +17,7 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/stepper.hpp"
 #include "output_files.hpp"
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/structure/response.hpp"
 
 namespace bagdem {
@@ -242,7 +243,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     frame_times.push_back(0);
   }
 
-  if (scene.bag && settle_step == 0 && sim.steps_done() == 0) bag_settled();
+  // The contents' free travel along the excitation when settling ends (reduce/reduce.hpp: d/X).
+  const Vec3 excitation = excitation_direction(scene);
+  auto record_clearance = [&] {
+    if (excitation.norm() > 0) file->set_attribute("clearance", contents_clearance(scene, sim, excitation));
+  };
+  if (settle_step == 0 && sim.steps_done() == 0) {
+    if (scene.bag) bag_settled();
+    record_clearance();
+  }
   Progress progress(opt.quiet, sim.steps_done());
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t first_step = sim.steps_done();
@@ -256,11 +265,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       sim.step();
       const std::uint64_t s = sim.steps_done();
       const double t = sim.time();
-      if (scene.bag && s == settle_step) bag_settled();
+      if (s == settle_step) {
+        if (scene.bag) bag_settled();
+        record_clearance();
+      }
       if (energy && s == measure_step) run.dissipated_at_measure = total_dissipation(sim.energy());
       if (s % n_cavity == 0 || s == total) {
         const Simulation::CavitySample c = sim.take_cavity_sample();
-        file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque);
+        file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque, c.contents_velocity);
         structure_row(file);
       }
       if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
@@ -366,6 +378,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   j << "  \"cycles_measured\": " << rep.cycles << ",\n"
     << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
   write_atomically(summary, j.str());
+  // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
+  if (!scene.primary && f_drive > 0 && rep.cycles >= 2) {
+    try {
+      rep.reduced = reduce_run(scene, out.string());
+    } catch (const InputError& e) {
+      rep.reduce_message = e.what();
+    }
+  }
   return rep;
 }
 

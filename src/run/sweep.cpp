@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,9 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/reduce/compare.hpp"
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
 #include "output_files.hpp"
@@ -53,17 +57,36 @@ std::vector<double> row_of(const SweepPoint& p) {
 }
 
 void write_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
-  std::ostringstream s;
-  s << std::setprecision(10);
-  for (std::size_t k = 0; k < kSweepColumns.size(); ++k)
-    s << (k ? "," : "") << kSweepColumns[k].name << " [" << kSweepColumns[k].unit << "]";
-  s << "\n";
-  for (const SweepPoint& p : points) {
-    const std::vector<double> r = row_of(p);
-    for (std::size_t k = 0; k < r.size(); ++k) s << (k ? "," : "") << r[k];
-    s << "\n";
+  std::vector<std::vector<double>> rows;
+  for (const SweepPoint& p : points) rows.push_back(row_of(p));
+  write_table_csv(path, kSweepColumns, rows);
+}
+
+// peaks.csv: one row per evaluated mode.
+void write_peaks_csv(const fs::path& path, const std::vector<ModePeak>& peaks) {
+  static const std::vector<TableColumn> columns = {{"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m/N"},
+                                                   {"frequency", "Hz"}, {"peak", "m/N"}, {"reduction_dB", "dB"},
+                                                   {"reduction_percent", "%"}};
+  std::vector<std::vector<double>> rows;
+  for (const ModePeak& m : peaks)
+    rows.push_back({static_cast<double>(m.mode), m.bare_frequency, m.bare_peak, m.frequency, m.peak, m.reduction_db, m.reduction_percent});
+  write_table_csv(path, columns, rows);
+}
+
+// bare_curve.csv: the bare structure's analytic response at 400 frequencies over the swept band,
+// the smooth reference of the plots.
+void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<SweepPoint>& points) {
+  static const std::vector<TableColumn> columns = {{"frequency", "Hz"}, {"bare_receptance_abs", "m/N"}, {"bare_accelerance_abs", "m/s^2/N"}};
+  if (points.empty()) return;
+  double lo = points.front().frequency, hi = lo;
+  for (const SweepPoint& p : points) lo = std::min(lo, p.frequency), hi = std::max(hi, p.frequency);
+  std::vector<std::vector<double>> rows;
+  const int n = hi > lo ? 400 : 1;
+  for (int k = 0; k < n; ++k) {
+    const double f = n > 1 ? lo + (hi - lo) * k / (n - 1) : lo, w = kTwoPi * f, h = std::abs(P.bare_receptance(w));
+    rows.push_back({f, h, w * w * h});
   }
-  write_atomically(path, s.str());
+  write_table_csv(path, columns, rows);
 }
 
 // Energy the run has seen so far, for per-cycle differences.
@@ -170,6 +193,7 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
     for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
     mp.name = P.dof_names[m.dof];
+    for (std::size_t k = 0; k <= m.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
     const Peak damped = find_peak(f, mag, f.front(), f.back());
     const Peak bare = bare_peak(P, f.front(), f.back());
     mp.frequency = damped.frequency, mp.peak = damped.magnitude;
@@ -194,6 +218,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   const fs::path csv = out / "sweep.csv";
   fs::remove(summary);
   fs::remove(final_h5);
+  for (const char* stale : {"reduced.csv", "peaks.csv", "bare_curve.csv", "compare.csv"}) fs::remove(out / stale);
 
   const auto t_start = std::chrono::steady_clock::now();
   auto since = [](std::chrono::steady_clock::time_point t0) {
@@ -224,6 +249,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
     while (sim.steps_done() < settle_steps) sim.step();
     if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
+    const ReductionContext context = reduction_context(scene, &sim, P.direction);
 
     std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
     // One frequency point, from the state the last one left.
@@ -239,14 +265,20 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       SteadyStateDetector steady(plan.cycles, plan.tolerance);
       std::vector<Ledger> starts;  // the ledger at the start of each cycle
       std::vector<Complex> cav, load;
+      // The last K cycles step by step, for the reduction (reduce/reduce.hpp).
+      std::deque<CavitySeries> recent;
       for (std::size_t c = 0; c < plan.max_cycles; ++c) {
         starts.push_back(ledger(sim));
         Complex Y(0, 0), U(0, 0), L(0, 0);
+        if (recent.size() == plan.cycles) recent.pop_front();
+        CavitySeries& series = recent.emplace_back();
         for (std::size_t n = 0; n < N; ++n) {
           sim.step();
           const Simulation::StructureResponse r = sim.structure_response();
           const Complex e = std::polar(1.0, -r.phase);
           Y += r.displacement * e, U += r.cavity * e, L += r.load * e;
+          series.t.push_back(sim.time()), series.x.push_back(r.cavity), series.force.push_back(r.load);
+          series.v_rel.push_back(sim.contents_relative_velocity().dot(P.direction));
         }
         const double k = 2.0 / static_cast<double>(N);
         Y *= k, U *= k, L *= k;
@@ -279,11 +311,22 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       pt.cavity = pt.contents_force = Complex(0, 0);
       for (std::size_t c = cav.size() - K; c < cav.size(); ++c) pt.cavity += cav[c] / cycles, pt.contents_force += load[c] / cycles;
       pt.spread = steady.spread();
+      // The damper's effective parameters over the same cycles (one step = one sample).
+      CavitySeries last;
+      for (const CavitySeries& c : recent) {
+        last.t.insert(last.t.end(), c.t.begin(), c.t.end()), last.x.insert(last.x.end(), c.x.begin(), c.x.end());
+        last.force.insert(last.force.end(), c.force.begin(), c.force.end());
+        last.v_rel.insert(last.v_rel.end(), c.v_rel.begin(), c.v_rel.end());
+      }
+      ReducedRow reduced = reduce_series(last, pt.frequency, last.t.front() - 0.5 * scene.dt, context);
+      reduced.response_amplitude = std::abs(pt.response);
+      rep.reduced.push_back(reduced);
       pt.wall_seconds = since(t_point);
       rep.points.push_back(pt);
       file.append_table_row("sweep", kSweepColumns, row_of(pt));
       frame();
       write_csv(csv, rep.points);
+      write_reduced_csv(out / "reduced.csv", rep.reduced);
       if (!opt.quiet) {
         const double el = since(t_start);
         std::fprintf(stderr, "\r  [%zu/%zu] %.5g Hz: |H| = %.4g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
@@ -337,6 +380,10 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       << m.peak << ", \"reduction_dB\": " << m.reduction_db << ", \"reduction_percent\": " << m.reduction_percent << "}";
   }
   j << (rep.peaks.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  write_peaks_csv(out / "peaks.csv", rep.peaks);
+  rep.compare = compare_with_continuum(P, F, rep.reduced);
+  write_compare_csv(out / "compare.csv", rep.compare);
+  write_bare_curve(out / "bare_curve.csv", P, rep.points);
   write_atomically(summary, j.str());
   if (!opt.quiet)
     for (const ModePeak& m : rep.peaks)

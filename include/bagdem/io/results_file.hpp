@@ -9,12 +9,15 @@
 //   /frames/position       [F, N, 3]      m
 //   /frames/velocity       [F, N, 3]      m/s
 //   /frames/angular_velocity [F, N, 3]    rad/s
-//   /cavity/time           [S]            s   end of each sample interval
-//   /cavity/position       [S, 3]         m   cavity displacement at the end of the interval
-//   /cavity/velocity       [S, 3]         m/s at the end of the interval
+//   /cavity/time           [S]            s   middle of each sample interval (mean of its step times)
+//   /cavity/position       [S, 3]         m   cavity displacement, mean over the interval
+//   /cavity/velocity       [S, 3]         m/s cavity velocity, mean over the interval
 //   /cavity/force          [S, 3]         N   force the contents exert on the cavity, mean over the
 //                                             interval (impulse / interval), no gravity
 //   /cavity/torque         [S, 3]         N m same, about the cavity reference point
+//   /cavity/contents_velocity [S, 3]      m/s velocity of the contents' centre of mass (balls and
+//                                             film) relative to the cavity, at the end of the
+//                                             interval (time + interval/2): impacts' restitution
 //                          attribute "interval" (s)
 //   /energy/time           [E]            s
 //   /energy/<name>         [E]            J   for name in EnergySample (see below)
@@ -92,7 +95,7 @@ class ResultsFile {
   void append_film_frame(const std::vector<Vec3>& position);
 
   void append_cavity(double t, const Vec3& position, const Vec3& velocity, const Vec3& mean_force,
-                     const Vec3& mean_torque);
+                     const Vec3& mean_torque, const Vec3& contents_velocity);
   void append_energy(double t, const EnergySample& e);
   // A row of the table /<group>, one 1-D dataset per column (created, with its "unit" attribute,
   // by the first row; later rows must give the same columns). /structure is cut to

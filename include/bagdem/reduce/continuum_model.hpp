@@ -167,7 +167,8 @@ struct ModalModel {
 };
 // The receptance at x_a (unit: m/N) with the bag a point mass (unit: kg) and dashpot (unit: N s/m)
 // at x_b: H(w) = phi_a^T (K - w^2 (M + M_b phi_b phi_b^T) + i w (C + C_b phi_b phi_b^T))^-1 phi_f,
-// w >= 0 (unit: rad/s); dense complex LU with partial pivoting. A singular system (an undamped
+// w >= 0 (unit: rad/s); dense complex LU with partial pivoting. The bag's mass and damping may be
+// measured values (reduce/compare.hpp): any finite values, negative ones included, are accepted. A singular system (an undamped
 // resonance, a rigid mode at w = 0) throws std::domain_error.
 std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, double bag_damping,
                                       double w);

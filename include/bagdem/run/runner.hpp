@@ -6,10 +6,13 @@
 //                   its root attribute "status" says which
 //   results.xmf     XDMF index of the particle frames for ParaView
 //   summary.json    written last and atomically: its presence marks a complete run
+//   reduced.csv     harmonic cavity motion: the contents' effective parameters (reduce/reduce.hpp)
 //   checkpoint.bin  the latest checkpoint (output.checkpoint_interval > 0); --resume continues it
 #pragma once
 #include <string>
+#include <vector>
 
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/scene.hpp"
 
 namespace bagdem {
@@ -38,6 +41,8 @@ struct RunReport {
   double acceleration_rms = 0;         // RMS acceleration at x_a (m/s^2)
   double decay_time = 0;               // decay and impulse excitations: time to fall by 20 dB (s)
   double decay_zeta = 0;               // their fitted damping ratio
+  std::vector<ReducedRow> reduced;     // harmonic cavity motion: the effective parameters (reduced.csv)
+  std::string reduce_message;          // why the reduction was not possible, if it was not
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that

@@ -24,12 +24,16 @@
 //
 // Files (CASE_DIR/out unless --out): sweep.csv (rewritten after each point), results.h5 with the
 // table /sweep (one row per point, columns as in sweep.csv) and a particle frame after each point,
+// reduced.csv (the damper's effective parameters per point, reduce/reduce.hpp), peaks.csv (one
+// row per mode), bare_curve.csv (the bare structure's analytic response over the band), and
 // summary.json with the peaks (written last).
 #pragma once
 #include <complex>
 #include <string>
 #include <vector>
 
+#include "bagdem/reduce/compare.hpp"
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/scene.hpp"
 
@@ -56,6 +60,7 @@ struct SweepPoint {
 
 struct ModePeak {
   std::string name;                       // "mode 1", ...
+  std::size_t mode = 0;                   // elastic mode number (1 = the first elastic mode)
   double bare_frequency = 0, bare_peak = 0;  // peak of |H| of the bare structure (unit: Hz, m/N)
   double frequency = 0, peak = 0;         // peak of |H| with the contents (unit: Hz, m/N)
   double reduction_db = 0, reduction_percent = 0;
@@ -66,6 +71,8 @@ struct SweepReport {
   std::string message;                    // failure, if any
   std::vector<SweepPoint> points;
   std::vector<ModePeak> peaks;
+  std::vector<ReducedRow> reduced;        // per point: the damper's effective parameters (reduced.csv)
+  std::vector<CompareRow> compare;        // per point: DEM against the continuum model (compare.csv)
   double wall_seconds = 0;
 };
 

@@ -1,0 +1,31 @@
+// Small tables of numbers as CSV files (sweep.csv, reduced.csv, peaks.csv, compare.csv): a header
+// of "name [unit]" entries, then one row of numbers per line (full precision, "nan" for a missing
+// figure). Written atomically (a temporary name, then rename), so a reader never sees half a table.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bagdem/io/results_file.hpp"
+
+namespace bagdem {
+
+void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
+                     const std::vector<std::vector<double>>& rows);
+
+// Reads the given columns (by name, any order and extra columns in the file allowed) of a table;
+// throws InputError naming the file and the column when one is missing or a value is not a number.
+std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns);
+
+// Any table as text: names and units from the header, the cells as written (studies add string
+// columns such as the varied keys' values). Throws InputError naming the file if it cannot be read
+// or a row has another number of cells than the header.
+struct TextTable {
+  std::vector<std::string> names, units;
+  std::vector<std::vector<std::string>> rows;
+  // Index of a column, or names.size() when absent.
+  std::size_t find(const std::string& name) const;
+};
+TextTable read_text_table(const std::filesystem::path& path);
+
+}  // namespace bagdem

@@ -1,0 +1,34 @@
+// The bag's restitution from a drop test (physics brief section 5, method ii): the case's contents,
+// settled as in the case, are launched at speed V against a wall of the resting cavity (the one
+// across the larger gap along the excitation direction e), and e_drop = -v_after / v_before of
+// their centre of mass along e (brief Eq. 9), v_after taken when the wall force has been zero for
+// a settling span after the impact (100 steps and 1% of the flight time). Gravity stays as in the
+// case; the cavity is held fixed and a primary structure is not simulated.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bagdem/scene.hpp"
+
+namespace bagdem {
+
+struct DropResult {
+  double speed = 0;          // launch speed V (m/s)
+  double v_before = 0;       // centre-of-mass speed along the impact normal just before contact (m/s)
+  double v_after = 0;        // rebound speed after it (m/s, positive away from the wall)
+  double restitution = 0;    // e_drop = v_after / v_before
+  double peak_force = 0;     // largest wall force during the impact (N)
+  double duration = 0;       // time the wall force was non-zero (s)
+  double gap = 0;            // gap crossed before the impact (m)
+};
+
+// Runs the drop; speed <= 0 takes the case's expected impact speed (the cavity's speed amplitude
+// of its motion, or of the primary's bare response). Throws InputError when the scene has no
+// contents or no excitation direction, RunError if the run goes unstable. Writes out_dir/drop.csv
+// (time, wall force, relative velocity of the centre of mass) and returns the figures.
+DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem::path& out_dir, bool quiet);
+// drop_result.csv: the figures above, one row (read by `bagdem reduce`).
+void write_drop_result(const std::filesystem::path& path, const DropResult& result);
+
+}  // namespace bagdem

@@ -1,0 +1,105 @@
+// Reduction of a run to the damper's effective parameters (physics brief section 5): the rows of
+// reduced.csv, one per driven frequency.
+//
+// Input: the cavity's displacement x along the excitation direction e, the force F the contents
+// exert on the cavity along e (both means over sample intervals), and the contents' centre-of-mass
+// velocity relative to the cavity along e (point samples at the intervals' ends), over whole steady
+// cycles of the drive frequency f. Output per frequency:
+//   - M_eff, C_eff by first-harmonic projection, F_hat = (w^2 M_eff - i w C_eff) X_hat, per cycle and
+//     averaged, with standard errors over cycles (reduce/harmonic_projection.hpp);
+//   - energy per cycle pi C_eff w |X|^2, loss factor C_eff / (M_eff w), M_eff / M_bag,
+//     C_b / (M_b w) = C_eff / (M_bag w) (the brief's convention: the bag's real mass), Gamma = |X| w^2 / g,
+//     d / |X| with d the free clearance of the contents along e when settling ended;
+//   - the impacts (reduce/impacts.hpp): their phase phi in the study's convention (x = |X| cos theta,
+//     phi = theta at the impact modulo pi, so that the cavity speed at impact is w |X| sin phi, Eq. 11a),
+//     impacts per cycle, mean peak force and duration (resolved to about one sample interval), and the
+//     restitution e of each impact from the contents' centre-of-mass velocity normal to the wall
+//     (brief Eq. 9: -v_after / v_before); e inverted from C_b/(M_b w) and phi with Eq. (19a).
+// Column names and units: reduced_columns() (documented in docs/outputs.md).
+#pragma once
+#include <complex>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/scene.hpp"
+
+namespace bagdem {
+
+class Simulation;
+
+// What the reduction needs to know of the scene (SI units).
+struct ReductionContext {
+  Vec3 direction = Vec3::UnitX();   // excitation direction e (unit)
+  double bag_mass = 0;              // the contents' real mass: balls + film (film mass scaling undone) (kg)
+  double primary_mass = 0;          // the structure's own mass (mass ratio); 0 under prescribed motion (kg)
+  double balls = 0;                 // number of balls
+  double ball_diameter = 0;         // mean ball diameter (m)
+  double clearance = 0;             // free travel d of the contents along e when settling ended; NaN if unknown (m)
+  double gravity = 9.81;            // |g| for Gamma (m/s^2); 9.81 when the scene has none
+};
+// The excitation direction of a scene: the primary's, or that of the cavity's harmonic motion
+// (its displacement a quarter period in); zero when the scene has neither.
+Vec3 excitation_direction(const Scene& scene);
+
+// The context of a scene; the clearance is measured on `sim` (its current state) when given.
+ReductionContext reduction_context(const Scene& scene, const Simulation* sim, const Vec3& direction);
+
+// Gaps between the contents and the cavity's walls along +e and -e: the distances from the contents'
+// centre of mass to the walls along the line through it (planes and bores; NaN with triangulated
+// walls) less the contents' extent on that side (balls with their radius, film nodes).
+struct ContentsGaps {
+  double plus = 0, minus = 0;  // (m)
+};
+ContentsGaps contents_gaps(const Scene& scene, const Simulation& sim, const Vec3& e);
+// Free travel d of the contents along e: the sum of the two gaps.
+double contents_clearance(const Scene& scene, const Simulation& sim, const Vec3& e);
+
+// Samples along e over a run or one frequency point. t: the end of each sample interval (s);
+// x, force: means over [t - interval, t] (m, N); v_rel: point samples at t (m/s).
+struct CavitySeries {
+  std::vector<double> t, x, force, v_rel;
+};
+
+struct ReducedRow {
+  double frequency = 0, cavity_amplitude = 0, gamma = 0, clearance_ratio = 0;
+  double bag_mass = 0, mass_ratio = 0, balls = 0, ball_diameter = 0;
+  double M_eff = 0, M_eff_se = 0, C_eff = 0, C_eff_se = 0, M_eff_ratio = 0, Cb_over_Mbw = 0, Cb_over_Mbw_se = 0;
+  double loss_factor = 0, energy_per_cycle = 0, energy_per_cycle_se = 0;
+  double impact_phase = 0, impacts_per_cycle = 0, e_impact = 0, e_impact_sd = 0, e_impact_count = 0, e_eq19a = 0;
+  double e_drop = std::numeric_limits<double>::quiet_NaN();  // from `bagdem drop` when it was run
+  double peak_impact_force = 0, max_impact_force = 0, impact_duration = 0;
+  double response_amplitude = 0;    // |Y| at the structure's response point (coupled runs; NaN otherwise)
+  double cycles = 0;
+  std::complex<double> displacement, force;  // X_hat (m) and F_hat (N), for the comparison
+};
+
+// Reduces whole cycles of f (Hz) after t_skip (s).
+ReducedRow reduce_series(const CavitySeries& series, double f, double t_skip, const ReductionContext& context);
+
+// The table's columns (name, unit) and a row's values in that order.
+const std::vector<TableColumn>& reduced_columns();
+std::vector<double> reduced_values(const ReducedRow& row);
+// Writes rows as CSV (header "name [unit]"), atomically.
+void write_reduced_csv(const std::filesystem::path& path, const std::vector<ReducedRow>& rows);
+// Reads a reduced.csv back (for compare and export); throws InputError naming the file if malformed.
+std::vector<ReducedRow> read_reduced_csv(const std::filesystem::path& path);
+
+// `bagdem reduce` of a run under prescribed harmonic cavity motion: reads out_dir/results.h5
+// (complete), reduces the cycles after settling, the ramp and output.skip_cycles, writes
+// out_dir/reduced.csv and returns the row. InputError when the run is not reducible (no harmonic
+// motion, incomplete, fewer than 2 measured cycles). A coupled sweep reduces itself point by point
+// (run/sweep.cpp); reduce then rereads its reduced.csv.
+std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir);
+
+// A terminal table of the rows.
+std::string describe_reduced(const std::vector<ReducedRow>& rows);
+// The restitution three ways per row (per impact, Eq. 19a, drop test) and how far they disagree.
+std::string describe_restitution(const std::vector<ReducedRow>& rows);
+// When out_dir/drop_result.csv exists (bagdem drop), sets e_drop of every row and rewrites
+// out_dir/reduced.csv.
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir);
+
+}  // namespace bagdem

@@ -1,0 +1,190 @@
+// `bagdem export` (reduce/export.hpp).
+#include "bagdem/reduce/export.hpp"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "../run/output_files.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+const std::vector<ExportColumn>& export_columns() {
+  static const std::vector<ExportColumn> c = {
+      {"frequency", "drive frequency"},
+      {"cavity_amplitude", "amplitude |X| of the cavity's displacement along the excitation"},
+      {"gamma", "dimensionless acceleration Gamma = |X| w^2 / g"},
+      {"clearance_ratio", "d/|X|: the contents' free travel along the excitation when settled over |X|"},
+      {"bag_mass", "the bag's real mass M_b (balls and film)"},
+      {"mass_ratio", "M_b / M_p (the structure's own mass); NaN under prescribed motion"},
+      {"balls", "number of balls"},
+      {"ball_diameter", "mean ball diameter"},
+      {"M_eff", "effective mass: F_hat = (w^2 M_eff - i w C_eff) X_hat, first harmonic over whole steady cycles"},
+      {"M_eff_se", "standard error of M_eff over cycles"},
+      {"M_eff_ratio", "M_eff / M_b"},
+      {"C_eff", "effective viscous damping C_b"},
+      {"C_eff_se", "standard error of C_eff over cycles"},
+      {"Cb_over_Mbw", "C_b / (M_b w) with the real bag mass (the study's Eq. 19a quantity)"},
+      {"Cb_over_Mbw_se", "its standard error"},
+      {"loss_factor", "C_eff / (M_eff w)"},
+      {"energy_per_cycle", "energy the contents dissipate per cycle, pi C_eff w |X|^2"},
+      {"energy_per_cycle_se", "its standard error"},
+      {"impact_phase", "phi: the cavity's phase at the impacts (x = |X| cos theta, phi = theta mod pi)"},
+      {"impacts_per_cycle", "impacts on the walls per cycle"},
+      {"e_impact", "restitution of the bag from each impact: -v_after/v_before of its centre of mass (mean)"},
+      {"e_impact_sd", "standard deviation of the per-impact restitution"},
+      {"e_eq19a", "restitution inverted from C_b/(M_b w) and phi with the study's Eq. (19a)"},
+      {"e_drop", "restitution from the drop test (bagdem drop), NaN if not run"},
+      {"peak_impact_force", "mean over impacts of the peak wall force (resolved to the sample interval)"},
+      {"impact_duration", "mean impact duration (to about one sample interval)"},
+      {"response_amplitude", "|Y| at the structure's response point (coupled runs)"},
+      {"cycles", "steady cycles reduced"}};
+  return c;
+}
+
+namespace {
+
+std::string json_number(const std::string& cell) {
+  char* end = nullptr;
+  const double v = std::strtod(cell.c_str(), &end);
+  if (cell.empty() || *end != '\0' || !std::isfinite(v)) return "null";
+  std::ostringstream o;
+  o << std::setprecision(17) << v;
+  return o.str();
+}
+
+bool numeric_column(const TextTable& t, std::size_t k) {
+  for (const auto& r : t.rows) {
+    char* end = nullptr;
+    std::strtod(r[k].c_str(), &end);
+    if (r[k].empty() || *end != '\0') return false;
+  }
+  return true;
+}
+
+void h5_attribute(hid_t obj, const char* name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, value.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+void write_h5(const fs::path& path, const TextTable& t, const std::vector<std::size_t>& cols, const std::vector<std::string>& descriptions) {
+  const fs::path tmp = path.string() + ".part";
+  const hid_t file = H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot create " + tmp.string());
+  const hid_t g = H5Gcreate2(file, "export", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t n = t.rows.size();
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    const std::size_t k = cols[j];
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    hid_t ds;
+    if (numeric_column(t, k)) {
+      std::vector<double> v;
+      for (const auto& r : t.rows) v.push_back(std::strtod(r[k].c_str(), nullptr));
+      ds = H5Dcreate2(g, t.names[k].c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      if (n) H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    } else {
+      const hid_t type = H5Tcopy(H5T_C_S1);
+      H5Tset_size(type, H5T_VARIABLE);
+      std::vector<const char*> v;
+      for (const auto& r : t.rows) v.push_back(r[k].c_str());
+      ds = H5Dcreate2(g, t.names[k].c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      if (n) H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+      H5Tclose(type);
+    }
+    h5_attribute(ds, "unit", t.units[k]);
+    h5_attribute(ds, "description", descriptions[j]);
+    H5Dclose(ds);
+    H5Sclose(space);
+  }
+  H5Gclose(g);
+  if (H5Fclose(file) < 0) throw std::runtime_error("cannot write " + tmp.string());
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats) {
+  const fs::path in = fs::path(dir) / "reduced.csv";
+  if (!fs::exists(in)) throw InputError(in.string(), "", "", "is missing: run (or reduce) the case or the study first");
+  const TextTable t = read_text_table(in);
+  // The study's inputs first (every column that is not a reduced quantity), then the reduced ones.
+  std::vector<std::size_t> cols;
+  std::vector<std::string> descriptions;
+  const std::vector<ExportColumn>& known = export_columns();
+  auto is_known = [&](const std::string& name) {
+    for (const ExportColumn& c : known)
+      if (name == c.name) return true;
+    return false;
+  };
+  static const char* kRaw[] = {"displacement_re", "displacement_im", "force_re", "force_im", "e_impact_count", "max_impact_force"};
+  for (std::size_t k = 0; k < t.names.size(); ++k) {
+    bool raw = false;
+    for (const char* r : kRaw) raw = raw || t.names[k] == r;
+    if (!is_known(t.names[k]) && !raw) cols.push_back(k), descriptions.push_back("study input");
+  }
+  for (const ExportColumn& c : known)
+    if (const std::size_t k = t.find(c.name); k < t.names.size()) cols.push_back(k), descriptions.push_back(c.description);
+
+  const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
+  if (!base.parent_path().empty()) fs::create_directories(base.parent_path());
+  std::vector<std::string> written;
+  for (const std::string& f : formats) {
+    const fs::path path = base.string() + "." + f;
+    if (f == "csv") {
+      std::ostringstream o;
+      for (std::size_t j = 0; j < cols.size(); ++j) o << (j ? "," : "") << t.names[cols[j]] << " [" << t.units[cols[j]] << "]";
+      o << "\n";
+      for (const auto& r : t.rows) {
+        for (std::size_t j = 0; j < cols.size(); ++j) {
+          const std::string& c = r[cols[j]];
+          const bool quote = c.find(',') != std::string::npos;
+          o << (j ? "," : "") << (quote ? "\"" : "") << c << (quote ? "\"" : "");
+        }
+        o << "\n";
+      }
+      write_atomically(path, o.str());
+    } else if (f == "json") {
+      std::ostringstream o;
+      o << "{\n  \"source\": \"" << json_escape(in.string()) << "\",\n  \"columns\": [\n";
+      for (std::size_t j = 0; j < cols.size(); ++j)
+        o << "    {\"name\": \"" << json_escape(t.names[cols[j]]) << "\", \"unit\": \"" << json_escape(t.units[cols[j]])
+          << "\", \"description\": \"" << json_escape(descriptions[j]) << "\"}" << (j + 1 < cols.size() ? ",\n" : "\n");
+      o << "  ],\n  \"rows\": [\n";
+      std::vector<bool> numeric;
+      for (std::size_t k : cols) numeric.push_back(numeric_column(t, k));
+      for (std::size_t i = 0; i < t.rows.size(); ++i) {
+        o << "    {";
+        for (std::size_t j = 0; j < cols.size(); ++j) {
+          const std::string& c = t.rows[i][cols[j]];
+          o << (j ? ", " : "") << "\"" << json_escape(t.names[cols[j]]) << "\": ";
+          if (numeric[j]) o << json_number(c);
+          else o << '"' << json_escape(c) << '"';
+        }
+        o << "}" << (i + 1 < t.rows.size() ? ",\n" : "\n");
+      }
+      o << "  ]\n}\n";
+      write_atomically(path, o.str());
+    } else if (f == "h5") {
+      write_h5(path, t, cols, descriptions);
+    } else {
+      throw InputError(dir, "--formats", f, "must be csv, json or h5");
+    }
+    written.push_back(path.string());
+  }
+  return written;
+}
+
+}  // namespace bagdem

@@ -1,0 +1,369 @@
+// Reduction of a run to the damper's effective parameters (reduce/reduce.hpp).
+#include "bagdem/reduce/reduce.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/reduce/continuum_model.hpp"
+#include "bagdem/reduce/harmonic_projection.hpp"
+#include "bagdem/reduce/impacts.hpp"
+#include "bagdem/particles.hpp"
+#include "bagdem/stepper.hpp"
+#include "bagdem/io/table_csv.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Distance from c along the unit direction u to a wall (in the cavity frame), +inf if the ray
+// does not meet it.
+double ray_to_wall(const Wall& w, const Vec3& c, const Vec3& u) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (w.kind == WallKind::Plane) {
+    const double s = (c - w.point).dot(w.direction), approach = -u.dot(w.direction);
+    return approach > 1e-12 ? std::max(0.0, s / approach) : inf;
+  }
+  // Inside a bore: |q + t u_perp| = R, the positive root.
+  const Vec3 a = w.direction, d = c - w.point;
+  const Vec3 q = d - d.dot(a) * a, up = u - u.dot(a) * a;
+  const double A = up.squaredNorm(), B = q.dot(up), C = q.squaredNorm() - w.radius * w.radius;
+  if (A < 1e-24) return inf;
+  const double disc = B * B - A * C;
+  return disc < 0 ? inf : std::max(0.0, (-B + std::sqrt(disc)) / A);
+}
+
+// Circular mean of axial data (angles defined modulo pi), in [0, pi).
+double axial_mean(const std::vector<double>& angles) {
+  double c = 0, s = 0;
+  for (double a : angles) c += std::cos(2 * a), s += std::sin(2 * a);
+  double m = 0.5 * std::atan2(s, c);
+  if (m < 0) m += kPi;
+  return m;
+}
+
+const std::vector<TableColumn> kColumns = {
+    {"frequency", "Hz"}, {"cavity_amplitude", "m"}, {"gamma", "1"}, {"clearance_ratio", "1"},
+    {"bag_mass", "kg"}, {"mass_ratio", "1"}, {"balls", "1"}, {"ball_diameter", "m"},
+    {"M_eff", "kg"}, {"M_eff_se", "kg"}, {"C_eff", "N s/m"}, {"C_eff_se", "N s/m"},
+    {"M_eff_ratio", "1"}, {"Cb_over_Mbw", "1"}, {"Cb_over_Mbw_se", "1"}, {"loss_factor", "1"},
+    {"energy_per_cycle", "J"}, {"energy_per_cycle_se", "J"}, {"impact_phase", "rad"}, {"impacts_per_cycle", "1"},
+    {"e_impact", "1"}, {"e_impact_sd", "1"}, {"e_impact_count", "1"}, {"e_eq19a", "1"},
+    {"peak_impact_force", "N"}, {"max_impact_force", "N"}, {"impact_duration", "s"}, {"response_amplitude", "m"},
+    {"cycles", "1"}, {"e_drop", "1"}, {"displacement_re", "m"}, {"displacement_im", "m"}, {"force_re", "N"}, {"force_im", "N"}};
+
+}  // namespace
+
+ContentsGaps contents_gaps(const Scene& scene, const Simulation& sim, const Vec3& e) {
+  if (!scene.mesh_walls.empty() || scene.walls.empty()) return {kNaN, kNaN};
+  const Particles& p = sim.particles();
+  const FilmNodes& film = sim.film();
+  const Vec3 shift = sim.cavity().position;  // walls are in the cavity frame
+  Vec3 m = Vec3::Zero();
+  double mass = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    m += p.mass[i] * p.x[i], mass += p.mass[i];
+    lo = std::min(lo, p.x[i].dot(e) - p.radius[i]), hi = std::max(hi, p.x[i].dot(e) + p.radius[i]);
+  }
+  for (std::size_t k = 0; k < film.size(); ++k) {
+    m += film.mass[k] * film.x[k], mass += film.mass[k];
+    lo = std::min(lo, film.x[k].dot(e)), hi = std::max(hi, film.x[k].dot(e));
+  }
+  if (!(mass > 0)) return {kNaN, kNaN};
+  const Vec3 c = m / mass - shift;
+  double plus = std::numeric_limits<double>::infinity(), minus = plus;
+  for (const Wall& w : scene.walls) plus = std::min(plus, ray_to_wall(w, c, e)), minus = std::min(minus, ray_to_wall(w, c, -e));
+  if (!std::isfinite(plus + minus)) return {kNaN, kNaN};
+  const double ce = (m / mass).dot(e);
+  return {std::max(0.0, plus - (hi - ce)), std::max(0.0, minus - (ce - lo))};
+}
+
+double contents_clearance(const Scene& scene, const Simulation& sim, const Vec3& e) {
+  const ContentsGaps g = contents_gaps(scene, sim, e);
+  return g.plus + g.minus;
+}
+
+Vec3 excitation_direction(const Scene& scene) {
+  if (scene.primary) return scene.primary->direction;
+  const double f = scene.motion ? scene.motion->frequency() : 0.0;
+  if (!(f > 0)) return Vec3::Zero();
+  const Vec3 x0 = scene.motion->at(0.0).position;
+  Vec3 e = scene.motion->at(0.25 / f).position - x0;
+  if (e.norm() == 0) e = scene.motion->at(0.5 / f).position - x0;
+  return e.norm() > 0 ? Vec3(e.normalized()) : Vec3::Zero();
+}
+
+ReductionContext reduction_context(const Scene& scene, const Simulation* sim, const Vec3& direction) {
+  ReductionContext c;
+  c.direction = direction.normalized();
+  const double g = scene.gravity.norm();
+  c.gravity = g > 0 ? g : 9.81;
+  double balls = 0, diameters = 0, mass = 0;
+  for (const ParticleInit& p : scene.particles) {
+    const double m = sphere_mass(scene.materials[static_cast<std::size_t>(p.material)].density, p.radius);
+    mass += m, balls += 1, diameters += 2 * p.radius;
+  }
+  c.balls = balls;
+  c.ball_diameter = balls > 0 ? diameters / balls : 0;
+  if (sim && scene.bag) {
+    double film = 0;
+    for (double m : sim->film().mass) film += m;
+    mass += film / scene.bag->mass_scaling;
+  }
+  c.bag_mass = mass;
+  c.primary_mass = scene.primary ? scene.primary->structure_mass : 0;
+  c.clearance = sim ? contents_clearance(scene, *sim, c.direction) : kNaN;
+  return c;
+}
+
+ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const ReductionContext& ctx) {
+  const double w = 2 * kPi * f;
+  const EffectiveParameters ep = effective_parameters(s.t, s.x, s.force, f, t_skip, Sampling::interval_mean);
+  ReducedRow r;
+  r.frequency = f;
+  r.displacement = ep.displacement, r.force = ep.force;
+  const double X = std::abs(ep.displacement);
+  r.cavity_amplitude = X;
+  r.gamma = X * w * w / ctx.gravity;
+  r.clearance_ratio = X > 0 ? ctx.clearance / X : kNaN;
+  r.bag_mass = ctx.bag_mass;
+  r.mass_ratio = ctx.primary_mass > 0 ? ctx.bag_mass / ctx.primary_mass : kNaN;
+  r.balls = ctx.balls, r.ball_diameter = ctx.ball_diameter;
+  r.M_eff = ep.mass, r.M_eff_se = ep.mass_se, r.C_eff = ep.damping, r.C_eff_se = ep.damping_se;
+  r.M_eff_ratio = ctx.bag_mass > 0 ? ep.mass / ctx.bag_mass : kNaN;
+  r.Cb_over_Mbw = ctx.bag_mass > 0 ? ep.damping / (ctx.bag_mass * w) : kNaN;
+  r.Cb_over_Mbw_se = ctx.bag_mass > 0 ? ep.damping_se / (ctx.bag_mass * w) : kNaN;
+  r.loss_factor = ep.loss_factor;
+  r.energy_per_cycle = ep.energy_per_cycle, r.energy_per_cycle_se = ep.energy_per_cycle_se;
+  r.cycles = static_cast<double>(ep.cycles);
+  r.response_amplitude = kNaN;
+
+  // Impacts over the same whole cycles: same-side bursts closer than a twentieth of a period are
+  // one impact (a bag's contents arrive in waves).
+  const double T = 1 / f, t0 = std::max(t_skip, s.t.empty() ? 0.0 : s.t.front());
+  const double span = static_cast<double>(ep.cycles) * T;
+  std::vector<double> t, F, v;
+  for (std::size_t k = 0; k < s.t.size(); ++k)
+    if (s.t[k] >= t0 - 1e-12 * T && s.t[k] <= t0 + span + 1e-12 * T) t.push_back(s.t[k]), F.push_back(s.force[k]), v.push_back(s.v_rel[k]);
+  const std::vector<Impact> impacts = t.size() > 2 ? find_impacts(t, F, t.front(), 0.05, T / 20) : std::vector<Impact>{};
+  r.impacts_per_cycle = static_cast<double>(impacts.size()) / std::max(1.0, r.cycles);
+  if (!impacts.empty()) {
+    std::vector<double> phases;
+    double peak = 0, peak_max = 0, duration = 0;
+    for (const Impact& i : impacts) {
+      phases.push_back(std::fmod(motion_phase(ep.displacement, w, i.t_centroid), kPi));
+      peak += i.peak_force, duration += i.duration();
+      peak_max = std::max(peak_max, i.peak_force);
+    }
+    const double n = static_cast<double>(impacts.size());
+    r.impact_phase = axial_mean(phases);
+    r.peak_impact_force = peak / n, r.max_impact_force = peak_max, r.impact_duration = duration / n;
+    const RestitutionStats e = impact_restitution(impacts, t, v);
+    r.e_impact_count = static_cast<double>(e.values.size());
+    r.e_impact = e.values.empty() ? kNaN : e.mean;
+    r.e_impact_sd = e.values.size() > 1 ? e.sd : kNaN;
+    r.e_eq19a = continuum::restitution_from_damping(r.Cb_over_Mbw, r.impact_phase).value_or(kNaN);
+  } else {
+    r.impact_phase = r.e_impact = r.e_impact_sd = r.e_eq19a = kNaN;
+  }
+  return r;
+}
+
+const std::vector<TableColumn>& reduced_columns() { return kColumns; }
+
+std::vector<double> reduced_values(const ReducedRow& r) {
+  return {r.frequency, r.cavity_amplitude, r.gamma, r.clearance_ratio, r.bag_mass, r.mass_ratio, r.balls,
+          r.ball_diameter, r.M_eff, r.M_eff_se, r.C_eff, r.C_eff_se, r.M_eff_ratio, r.Cb_over_Mbw,
+          r.Cb_over_Mbw_se, r.loss_factor, r.energy_per_cycle, r.energy_per_cycle_se, r.impact_phase,
+          r.impacts_per_cycle, r.e_impact, r.e_impact_sd, r.e_impact_count, r.e_eq19a, r.peak_impact_force,
+          r.max_impact_force, r.impact_duration, r.response_amplitude, r.cycles, r.e_drop, r.displacement.real(),
+          r.displacement.imag(), r.force.real(), r.force.imag()};
+}
+
+void write_reduced_csv(const fs::path& path, const std::vector<ReducedRow>& rows) {
+  std::vector<std::vector<double>> values;
+  for (const ReducedRow& r : rows) values.push_back(reduced_values(r));
+  write_table_csv(path, kColumns, values);
+}
+
+std::vector<ReducedRow> read_reduced_csv(const fs::path& path) {
+  const std::vector<std::vector<double>> values = read_table_csv(path, kColumns);
+  std::vector<ReducedRow> rows;
+  for (const std::vector<double>& v : values) {
+    ReducedRow r;
+    double* fields[] = {&r.frequency, &r.cavity_amplitude, &r.gamma, &r.clearance_ratio, &r.bag_mass, &r.mass_ratio,
+                        &r.balls, &r.ball_diameter, &r.M_eff, &r.M_eff_se, &r.C_eff, &r.C_eff_se, &r.M_eff_ratio,
+                        &r.Cb_over_Mbw, &r.Cb_over_Mbw_se, &r.loss_factor, &r.energy_per_cycle, &r.energy_per_cycle_se,
+                        &r.impact_phase, &r.impacts_per_cycle, &r.e_impact, &r.e_impact_sd, &r.e_impact_count,
+                        &r.e_eq19a, &r.peak_impact_force, &r.max_impact_force, &r.impact_duration,
+                        &r.response_amplitude, &r.cycles, &r.e_drop};
+    static_assert(std::size(fields) + 4 == 34);
+    for (std::size_t k = 0; k < std::size(fields); ++k) *fields[k] = v[k];
+    r.displacement = {v[30], v[31]};
+    r.force = {v[32], v[33]};
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+namespace {
+
+// A dataset of a closed results file, flattened.
+std::vector<double> read_dataset(hid_t file, const std::string& name, const std::string& path) {
+  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (ds < 0) throw InputError(path, name, "", "is missing: the run wrote no such series");
+  const hid_t space = H5Dget_space(ds);
+  const int nd = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(nd, 0)));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  std::size_t n = 1;
+  for (hsize_t d : dims) n *= d;
+  std::vector<double> v(n);
+  const herr_t ok = n ? H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) : 0;
+  H5Sclose(space);
+  H5Dclose(ds);
+  if (ok < 0) throw InputError(path, name, "", "cannot be read");
+  return v;
+}
+
+std::string string_attribute(hid_t file, const char* name) {
+  if (H5Aexists(file, name) <= 0) return "";
+  const hid_t a = H5Aopen(file, name, H5P_DEFAULT);
+  const hid_t type = H5Aget_type(a);
+  std::string s;
+  if (H5Tis_variable_str(type) > 0) {
+    char* p = nullptr;
+    const hid_t mem = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mem, H5T_VARIABLE);
+    H5Tset_cset(mem, H5Tget_cset(type));
+    if (H5Aread(a, mem, &p) >= 0 && p) s = p, H5free_memory(p);
+    H5Tclose(mem);
+  } else {
+    s.resize(H5Tget_size(type));
+    H5Aread(a, type, s.data());
+    if (const std::size_t nul = s.find('\0'); nul != std::string::npos) s.resize(nul);
+  }
+  H5Tclose(type);
+  H5Aclose(a);
+  return s;
+}
+
+double double_attribute(hid_t file, const char* name) {
+  if (H5Aexists(file, name) <= 0) return kNaN;
+  double v = kNaN;
+  const hid_t a = H5Aopen(file, name, H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+  H5Aclose(a);
+  return v;
+}
+
+}  // namespace
+
+std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir) {
+  const fs::path out = out_dir;
+  if (scene.primary && scene.primary->sweep) {
+    const fs::path csv = out / "reduced.csv";
+    if (!fs::exists(csv)) throw InputError(csv.string(), "", "", "is missing: run the sweep first (bagdem run)");
+    return read_reduced_csv(csv);
+  }
+  const double f = scene.motion->frequency();
+  if (scene.primary || !(f > 0))
+    throw InputError(scene.case_file, "cavity.motion.kind", "", "reduction needs harmonic cavity motion ([cavity.motion] kind = \"harmonic\") or a stepped-sine sweep of a primary structure");
+  const fs::path h5 = out / "results.h5";
+  if (!fs::exists(h5)) throw InputError(h5.string(), "", "", "is missing: run the case first (bagdem run)");
+  const H5E_auto2_t none = nullptr;
+  H5Eset_auto2(H5E_DEFAULT, none, nullptr);
+  const hid_t file = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
+  std::vector<double> t, pos, force, vrel;
+  double clearance = kNaN;
+  try {
+    const std::string status = string_attribute(file, "status");
+    if (status != "complete") throw InputError(h5.string(), "status", status, "must be \"complete\": reduce a finished run");
+    t = read_dataset(file, "/cavity/time", h5.string());
+    pos = read_dataset(file, "/cavity/position", h5.string());
+    force = read_dataset(file, "/cavity/force", h5.string());
+    vrel = read_dataset(file, "/cavity/contents_velocity", h5.string());
+    clearance = double_attribute(file, "clearance");
+  } catch (...) {
+    H5Fclose(file);
+    throw;
+  }
+  H5Fclose(file);
+  if (t.size() < 4) throw InputError(h5.string(), "/cavity/time", std::to_string(t.size()), "too few samples to reduce");
+  const Vec3 e = excitation_direction(scene);
+  if (e.norm() == 0) throw InputError(scene.case_file, "cavity.motion", "", "the cavity does not move: nothing to reduce");
+  // Samples are interval means centred on t: the intervals end half an interval later. The run's
+  // last sample may cover a shorter interval (the run's end): it is left out.
+  const double interval = t[1] - t[0];
+  std::size_t n = t.size();
+  if (std::abs((t[n - 1] - t[n - 2]) - interval) > 1e-6 * interval) --n;
+  CavitySeries s;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 x(pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]), F(force[3 * k], force[3 * k + 1], force[3 * k + 2]);
+    const Vec3 v(vrel[3 * k], vrel[3 * k + 1], vrel[3 * k + 2]);
+    s.t.push_back(t[k] + 0.5 * interval), s.x.push_back(x.dot(e)), s.force.push_back(F.dot(e)), s.v_rel.push_back(v.dot(e));
+  }
+  ReductionContext ctx = reduction_context(scene, nullptr, e);
+  ctx.clearance = clearance;
+  if (scene.bag) {  // the film's real mass needs its nodes: a simulation's initial state has them
+    const Simulation sim(scene);
+    ctx.bag_mass = reduction_context(scene, &sim, e).bag_mass;
+  }
+  const double t_skip = scene.settle + scene.motion->ramp_time() + scene.output.skip_cycles / f;
+  const std::vector<ReducedRow> rows{reduce_series(s, f, t_skip, ctx)};
+  write_reduced_csv(out / "reduced.csv", rows);
+  return rows;
+}
+
+std::string describe_restitution(const std::vector<ReducedRow>& rows) {
+  std::ostringstream o;
+  o << std::setprecision(4);
+  for (const ReducedRow& r : rows) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (double e : {r.e_impact, r.e_eq19a, r.e_drop})
+      if (std::isfinite(e)) lo = std::min(lo, e), hi = std::max(hi, e);
+    o << "restitution at " << r.frequency << " Hz: per impact " << r.e_impact << " (sd " << r.e_impact_sd << ", "
+      << r.e_impact_count << " impacts), Eq. (19a) " << r.e_eq19a << ", drop test "
+      << (std::isfinite(r.e_drop) ? std::to_string(r.e_drop) : std::string("not run (bagdem drop)"));
+    if (hi >= lo) o << "; they span " << hi - lo;
+    o << "\n";
+  }
+  return o.str();
+}
+
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir) {
+  const fs::path p = fs::path(out_dir) / "drop_result.csv";
+  if (!fs::exists(p)) return;
+  const std::vector<std::vector<double>> v = read_table_csv(p, {{"restitution", "1"}});
+  if (v.empty()) return;
+  for (ReducedRow& r : rows) r.e_drop = v.front().front();
+  write_reduced_csv(fs::path(out_dir) / "reduced.csv", rows);
+}
+
+std::string describe_reduced(const std::vector<ReducedRow>& rows) {
+  std::ostringstream o;
+  o << std::setprecision(4);
+  o << "    f [Hz]    X [m]   Gamma    d/X   M_eff/M_bag    Cb/(Mb w)    loss   E/cycle [J]  phi [rad]  e(impact)  e(19a)  F_peak [N]  t_imp [s]\n";
+  for (const ReducedRow& r : rows) {
+    o << std::setw(10) << r.frequency << std::setw(10) << r.cavity_amplitude << std::setw(8) << r.gamma << std::setw(7)
+      << r.clearance_ratio << std::setw(8) << r.M_eff_ratio << "+-" << std::setw(6) << r.M_eff_se / r.bag_mass
+      << std::setw(8) << r.Cb_over_Mbw << "+-" << std::setw(6) << r.Cb_over_Mbw_se << std::setw(8) << r.loss_factor
+      << std::setw(12) << r.energy_per_cycle << std::setw(10) << r.impact_phase << std::setw(10) << r.e_impact
+      << std::setw(9) << r.e_eq19a << std::setw(11) << r.peak_impact_force << std::setw(11) << r.impact_duration << "\n";
+  }
+  return o.str();
+}
+
+}  // namespace bagdem

@@ -355,13 +355,13 @@ void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_di
 std::string describe_reduced(const std::vector<ReducedRow>& rows) {
   std::ostringstream o;
   o << std::setprecision(4);
-  o << "    f [Hz]    X [m]   Gamma    d/X   M_eff/M_bag    Cb/(Mb w)    loss   E/cycle [J]  phi [rad]  e(impact)  e(19a)  F_peak [N]  t_imp [s]\n";
+  o << "  f [Hz]      X [m]  Gamma     d/X  M_eff/M_bag (se)     Cb/(Mb w) (se)       loss  E/cycle [J]  phi [rad]  e(impact)   e(19a)  F_peak [N]  t_imp [s]\n";
   for (const ReducedRow& r : rows) {
-    o << std::setw(10) << r.frequency << std::setw(10) << r.cavity_amplitude << std::setw(8) << r.gamma << std::setw(7)
-      << r.clearance_ratio << std::setw(8) << r.M_eff_ratio << "+-" << std::setw(6) << r.M_eff_se / r.bag_mass
-      << std::setw(8) << r.Cb_over_Mbw << "+-" << std::setw(6) << r.Cb_over_Mbw_se << std::setw(8) << r.loss_factor
-      << std::setw(12) << r.energy_per_cycle << std::setw(10) << r.impact_phase << std::setw(10) << r.e_impact
-      << std::setw(9) << r.e_eq19a << std::setw(11) << r.peak_impact_force << std::setw(11) << r.impact_duration << "\n";
+    o << std::setw(8) << r.frequency << " " << std::setw(10) << r.cavity_amplitude << " " << std::setw(6) << r.gamma << " "
+      << std::setw(7) << r.clearance_ratio << " " << std::setw(8) << r.M_eff_ratio << " (" << std::setw(7) << r.M_eff_se / r.bag_mass
+      << ") " << std::setw(8) << r.Cb_over_Mbw << " (" << std::setw(7) << r.Cb_over_Mbw_se << ") " << std::setw(8) << r.loss_factor
+      << " " << std::setw(12) << r.energy_per_cycle << " " << std::setw(10) << r.impact_phase << " " << std::setw(10) << r.e_impact
+      << " " << std::setw(8) << r.e_eq19a << " " << std::setw(11) << r.peak_impact_force << " " << std::setw(10) << r.impact_duration << "\n";
   }
   return o.str();
 }

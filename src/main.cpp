@@ -1,4 +1,4 @@
-// bagdem: command line. Subcommands: check, run, reduce, compare, drop, export, bench.
+// bagdem: command line. Subcommands: check, run, sweep, reduce, compare, drop, export, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -16,6 +16,7 @@
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/sweep.hpp"
+#include "bagdem/study/study.hpp"
 
 using namespace bagdem;
 
@@ -98,7 +99,12 @@ int main(int argc, char** argv) {
   bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
 
+  // sweep: parameter studies over a case (src/study; MPI starts there, and only there).
+  study::SweepArgs sweep_args;
+  CLI::App* sweep = study::add_sweep_command(app, sweep_args);
+
   CLI11_PARSE(app, argc, argv);
+  if (sweep->parsed()) return study::sweep_command(sweep_args);
   try {
     if (check->parsed()) {
       const Scene s = load_case(case_dir, sets);

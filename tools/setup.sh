@@ -4,7 +4,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BAGDEM_BUILD_DIR:-$ROOT/build}"
 PACKAGES=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libnanoflann-dev
-          libgtest-dev libtomlplusplus-dev libcli11-dev python3-numpy python3-h5py python3-matplotlib)
+          libgtest-dev libtomlplusplus-dev libcli11-dev python3-numpy python3-h5py python3-matplotlib
+          libopenmpi-dev openmpi-bin)
 
 install_missing() {
   local missing=()
@@ -28,7 +29,8 @@ install_missing() {
 }
 
 build() {
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  # MPI lets `bagdem sweep` share a study among the ranks of mpirun (HDF5 stays the serial library).
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBAGDEM_MPI=ON >/dev/null
   # Quiet on success (warnings are shown); the whole log on failure, which stops the script.
   local log
   log=$(mktemp)

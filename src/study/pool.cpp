@@ -1,0 +1,275 @@
+// The points as child processes (study/study.hpp, run_points): fork + exec of the bagdem binary,
+// at most J at once, each child's stdout and stderr in its point's log.txt, point.done written
+// (temporary name + rename) once a child exited 0, and a progress line at each change.
+//
+// Children are started with fork/exec rather than posix_spawn because they must ask the kernel to
+// kill them when the sweep dies (prctl PR_SET_PDEATHSIG), which posix_spawn cannot do. Between fork
+// and exec the child calls only async-signal-safe functions (the sweep may hold MPI's threads).
+// The sweep polls its children with waitpid(pid, WNOHANG) every 50 ms instead of waiting on any
+// child, so that it never reaps a process it did not start (an MPI library may have its own).
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <thread>
+
+#include "bagdem/study/study.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string duration_text(double s) {
+  char b[32];
+  if (s < 120) std::snprintf(b, sizeof b, "%.0f s", s);
+  else if (s < 7200) std::snprintf(b, sizeof b, "%.1f min", s / 60);
+  else std::snprintf(b, sizeof b, "%.1f h", s / 3600);
+  return b;
+}
+
+std::string host_name() {
+  char b[256] = {};
+  if (gethostname(b, sizeof b - 1) != 0) return "?";
+  return b;
+}
+
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".part";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+// The last `n` non-empty lines of a log, each indented (the run's own error message ends it).
+std::string log_tail(const fs::path& log, std::size_t n) {
+  std::ifstream f(log);
+  std::deque<std::string> lines;
+  for (std::string l; std::getline(f, l);) {
+    // A progress line overwrites itself with '\r': keep what was written last.
+    while (!l.empty() && l.back() == '\r') l.pop_back();
+    if (const auto cr = l.rfind('\r'); cr != std::string::npos) l = l.substr(cr + 1);
+    if (l.find_first_not_of(" \t\r") == std::string::npos) continue;
+    lines.push_back(l);
+    if (lines.size() > n) lines.pop_front();
+  }
+  std::string o;
+  for (const auto& l : lines) o += "    | " + l + "\n";
+  return o;
+}
+
+std::string exit_text(int code) {
+  if (code > 128) return "killed by signal " + std::to_string(code - 128);
+  switch (code) {
+    case 1: return "exit 1: a system error";
+    case 2: return "exit 2: bad input";
+    case 3: return "exit 3: the run went unstable";
+    case 127: return "exit 127: the bagdem binary could not be executed";
+    default: return "exit " + std::to_string(code);
+  }
+}
+
+std::string quoted(const std::string& a) {
+  if (!a.empty() && a.find_first_of(" \t\"'\\$`;&|<>()*?[]{}") == std::string::npos) return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The child's argument list: bagdem run CASE --set ... --out DIR --quiet --threads T.
+std::vector<std::string> run_arguments(const Plan& plan, const Point& p, const PoolOptions& opt) {
+  std::vector<std::string> a = {"bagdem", "run", plan.spec.case_dir};
+  for (const std::string& s : p.sets) a.insert(a.end(), {"--set", s});
+  a.insert(a.end(), {"--out", plan.point_dir(p), "--quiet", "--threads", std::to_string(opt.threads)});
+  return a;
+}
+
+// Starts one child with its stdout and stderr on `log_fd` and stdin on /dev/null.
+pid_t spawn(const std::string& executable, const std::vector<std::string>& args, int log_fd, int null_fd) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::system_error(errno, std::generic_category(), "fork");
+  if (pid == 0) {
+    // Die with the sweep; if it died before this line ran, the signal was never armed: leave.
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);  // the sweep's blocked signals are not the run's
+    if (dup2(null_fd, 0) < 0 || dup2(log_fd, 1) < 0 || dup2(log_fd, 2) < 0) _exit(127);
+    // MPI's sockets and the like stay with the sweep.
+    if (close_range(3, ~0U, 0) != 0)
+      for (int fd = 3; fd < 1024; ++fd) close(fd);
+    execv(executable.c_str(), argv.data());
+    static const char msg[] = "bagdem sweep: cannot execute the bagdem binary\n";
+    const ssize_t ignored = write(2, msg, sizeof msg - 1);
+    (void)ignored;
+    _exit(127);
+  }
+  return pid;
+}
+
+struct Child {
+  pid_t pid = -1;
+  std::size_t index = 0;
+  Clock::time_point start;
+};
+
+// Kills and reaps the children still running if run_points leaves by an exception.
+struct Reaper {
+  std::vector<Child>& running;
+  ~Reaper() {
+    for (const Child& c : running) {
+      kill(c.pid, SIGKILL);
+      int st = 0;
+      waitpid(c.pid, &st, 0);
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::size_t>& todo, const PoolOptions& opt) {
+  const std::string prefix = opt.ranks > 1 ? "[rank " + std::to_string(opt.rank) + "/" + std::to_string(opt.ranks) + "] " : "";
+  const std::string host = host_name();
+  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (null_fd < 0) throw std::system_error(errno, std::generic_category(), "open /dev/null");
+  struct CloseFd {
+    int fd;
+    ~CloseFd() { close(fd); }
+  } close_null{null_fd};
+
+  std::deque<std::size_t> queue(todo.begin(), todo.end());
+  std::vector<Child> running;
+  Reaper reaper{running};
+  std::vector<PointOutcome> outcomes;
+  std::size_t done = opt.done_before, failed = 0;
+  double done_seconds = 0;  // wall time of the points done in this sweep
+  std::size_t done_now = 0;
+  const auto t0 = Clock::now();
+  const auto jobs = static_cast<std::size_t>(std::max(1, opt.jobs));
+
+  auto progress = [&] {
+    const double el = seconds_since(t0);
+    std::string eta = "--";
+    if (done_now > 0) {
+      // What is left: the unstarted points at the mean time each, and the running ones' remainders,
+      // shared among the J slots.
+      const double mean = done_seconds / static_cast<double>(done_now);
+      double work = mean * static_cast<double>(queue.size());
+      for (const Child& c : running) work += std::max(0.0, mean - seconds_since(c.start));
+      eta = duration_text(work / static_cast<double>(jobs));
+    }
+    std::fprintf(stderr, "%ssweep: %zu done, %zu running, %zu failed, %zu left (of %zu); %s elapsed, ETA %s\n", prefix.c_str(), done,
+                 running.size(), failed, queue.size(), opt.total, duration_text(el).c_str(), eta.c_str());
+  };
+
+  auto start = [&](std::size_t index) {
+    const Point& p = plan.points[index];
+    const fs::path dir = plan.point_dir(p);
+    fs::remove_all(dir);  // whatever an interrupted run left is not trusted
+    fs::create_directories(dir);
+    write_file_atomically(dir / "point.toml", point_toml(plan, p));
+    const std::vector<std::string> args = run_arguments(plan, p, opt);
+    const std::string log = (dir / "log.txt").string();
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
+    std::string head = "# bagdem sweep: " + p.name + " on rank " + std::to_string(opt.rank) + " of " + std::to_string(opt.ranks) + " (" +
+                       host + "):";
+    for (const std::string& a : args) head.append(" ").append(quoted(a));
+    head += "\n";
+    const ssize_t wrote = write(fd, head.data(), head.size());
+    Child c;
+    c.index = index;
+    c.start = Clock::now();
+    try {
+      if (wrote != static_cast<ssize_t>(head.size())) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
+      c.pid = spawn(opt.executable, args, fd, null_fd);
+    } catch (...) {
+      close(fd);
+      throw;
+    }
+    close(fd);
+    running.push_back(c);
+  };
+
+  auto finish = [&](const Child& c, int status) {
+    const Point& p = plan.points[c.index];
+    const fs::path dir = plan.point_dir(p);
+    PointOutcome o;
+    o.index = c.index;
+    o.wall_seconds = seconds_since(c.start);
+    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
+    o.done = o.exit_code == 0;
+    if (o.done) {
+      std::ostringstream d;
+      d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
+        << "\"\nwall_time = " << o.wall_seconds << "  # s\n";
+      write_file_atomically(dir / "point.done", d.str());
+      ++done, ++done_now;
+      done_seconds += o.wall_seconds;
+    } else {
+      ++failed;
+      std::fprintf(stderr, "%s%s failed (%s) after %s; the end of %s:\n%s", prefix.c_str(), p.name.c_str(), exit_text(o.exit_code).c_str(),
+                   duration_text(o.wall_seconds).c_str(), (dir / "log.txt").c_str(), log_tail(dir / "log.txt", 6).c_str());
+    }
+    outcomes.push_back(o);
+  };
+
+  auto fill = [&] {
+    while (running.size() < jobs && !queue.empty()) {
+      const std::size_t next = queue.front();
+      queue.pop_front();
+      start(next);
+    }
+  };
+  if (queue.empty()) return outcomes;
+  fill();
+  progress();
+  while (!running.empty()) {
+    bool changed = false;
+    for (std::size_t k = 0; k < running.size();) {
+      int status = 0;
+      const pid_t r = waitpid(running[k].pid, &status, WNOHANG);
+      if (r == 0 || (r < 0 && errno == EINTR)) {
+        ++k;
+        continue;
+      }
+      if (r < 0) throw std::system_error(errno, std::generic_category(), "waitpid");
+      const Child c = running[k];
+      running.erase(running.begin() + static_cast<long>(k));
+      finish(c, status);
+      changed = true;
+    }
+    if (changed) {
+      fill();  // before the report, so that the line shows the pool as it now is
+      progress();
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  return outcomes;
+}
+
+}  // namespace bagdem::study

@@ -1,0 +1,189 @@
+// `bagdem sweep` (study/study.hpp): the command line, the core budget, and the order of the work:
+//  1. every rank reads the study, plans it, checks the budget, loads every point's case and
+//     compares OUT with the plan; an error here is the same on every rank: rank 0 prints it, all
+//     return 2, nothing is written;
+//  2. rank 0 removes merged tables of an earlier sweep; each rank runs its points
+//     (index % ranks == rank) that are not done, in its own pool of J children of T threads;
+//  3. after a barrier rank 0 merges the tables and prints the summary; every rank returns its code.
+// A failure after step 1 on one rank (a full disk, say) aborts every rank, since the others would
+// wait at the barrier for ever.
+#include <sched.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "bagdem/error.hpp"
+#include "bagdem/study/study.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+int machine_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+Budget resolve_budget(const StudySpec& spec, int available, const std::string& available_from) {
+  Budget b;
+  b.threads = spec.threads > 0 ? spec.threads : 1;
+  b.cores = spec.cores > 0 ? spec.cores : std::max(1, available);
+  b.cores_from = spec.cores > 0 ? "--cores " + std::to_string(spec.cores) : available_from;
+  b.jobs = spec.jobs > 0 ? spec.jobs : b.cores / b.threads;
+  if (b.jobs < 1 || b.jobs * b.threads > b.cores) {
+    const int fit = std::max(1, b.cores / b.threads);
+    const int jobs = std::max(1, b.jobs);
+    throw InputError("bagdem sweep", "", "",
+                     "--jobs " + std::to_string(jobs) + " x --threads " + std::to_string(b.threads) + " = " + std::to_string(jobs * b.threads) +
+                         " threads exceed the " + std::to_string(b.cores) + " cores available (" + b.cores_from +
+                         "): the runs would compete for cores and each be slower. " +
+                         (b.threads > b.cores ? "Lower --threads to at most " + std::to_string(b.cores)
+                                              : "Lower --jobs to " + std::to_string(fit) + " (or --threads)") +
+                         ", or give --cores if more cores are really free");
+  }
+  return b;
+}
+
+CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
+  auto* s = app.add_subcommand(
+      "sweep",
+      "Parameter study: run a case at every point of a grid (or zip) of values of its keys, J runs at once, each in "
+      "OUT/point-NNN/ (default CASE_DIR/study, or STUDY_DIR/out for a study.toml); merges the points' tables "
+      "(sweep.csv, ...) into OUT/<table>.csv and OUT/study.h5. Resumable: done points are skipped. Under mpirun the "
+      "ranks share the points. Exit codes: 0 all points done, 2 bad input (nothing run), 3 a point failed. "
+      "See docs/studies.md.");
+  s->add_option("dir", a.dir, "CASE_DIR (holds case.toml) or STUDY_DIR (holds study.toml)")->required();
+  s->add_option("--vary", a.vary,
+                "A key of case.toml and its values, comma-separated TOML values: --vary primary.damping_ratio=0.02,0.05 "
+                "--vary 'bag.balls.diameter=\"4 mm\",\"8 mm\"' (repeatable; the grid of all keys)")
+      ->allow_extra_args(false);  // one value per --vary: the directory may follow
+  s->add_flag("--zip", a.zip, "Take the --vary lists together (equal lengths) instead of their grid");
+  s->add_option("--set", a.sets, "Override a key of case.toml in every point: --set simulation.duration=\"0.2 s\" (repeatable)")
+      ->allow_extra_args(false);
+  s->add_option("--seeds", a.seeds, "Ensemble: run each point with simulation.seed = 1..N; adds <table>_ensemble.csv")
+      ->check(CLI::Range(1, 100000));
+  s->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
+  s->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
+  s->add_option("--cores", a.cores, "Cores this sweep may use (default: this machine's, divided among the MPI ranks on it)")
+      ->check(CLI::Range(1, 65536));
+  s->add_option("--out", a.out, "Output directory (default CASE_DIR/study, or STUDY_DIR/out)");
+  return s;
+}
+
+int sweep_command(const SweepArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::optional<Ranks> ranks;
+  try {
+    ranks.emplace();
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  }
+  const bool lead = ranks->rank() == 0;
+  const std::string prefix = ranks->size() > 1 ? "[rank " + std::to_string(ranks->rank()) + "/" + std::to_string(ranks->size()) + "] " : "";
+
+  // 1. Read, plan, validate: the same on every rank. The ranks agree on the outcome before any
+  // writes, so that none runs points while another has stopped.
+  Plan plan;
+  Budget budget;
+  std::vector<bool> done;
+  std::vector<std::string> warnings;
+  int failure = 0;
+  std::string message;
+  try {
+    plan = make_plan(read_spec(args));
+    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from());
+    warnings = validate_plan(plan);
+    done = done_points(plan);
+  } catch (const InputError& e) {
+    failure = kExitInputError, message = e.what();
+  } catch (const std::exception& e) {
+    failure = 1, message = e.what();
+  }
+  const int lead_failure = ranks->broadcast(failure);
+  if (failure != 0 && (lead || lead_failure == 0))  // the lead speaks for all; another rank only when it alone failed
+    std::fprintf(stderr, "%serror: %s\n", lead ? "" : prefix.c_str(), message.c_str());
+  if (const int any = ranks->max(failure); any != 0) return any;
+
+  try {
+    // 2. This rank's points.
+    if (lead) {
+      for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      std::string shape;
+      if (plan.spec.vary.empty()) shape = "the case as it is";
+      else if (plan.spec.combine == Combine::zip)
+        shape = "zip of " + std::to_string(plan.spec.vary.size()) + " lists of " + std::to_string(plan.spec.vary[0].values.size()) + " values";
+      else
+        for (const Varied& v : plan.spec.vary) shape += (shape.empty() ? "grid " : " x ") + std::to_string(v.values.size());
+      if (plan.spec.seeds > 1) shape += ", " + std::to_string(plan.spec.seeds) + " seeds each";
+      std::fprintf(stderr, "bagdem sweep %s: %zu points (%s) -> %s; %d rank%s, each running %d at once with %d thread%s on %d cores (%s)\n",
+                   plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks->size(),
+                   ranks->size() > 1 ? "s" : "", budget.jobs, budget.threads, budget.threads > 1 ? "s" : "", budget.cores,
+                   budget.cores_from.c_str());
+      fs::create_directories(plan.spec.out_dir);
+      remove_merged_tables(plan);
+    }
+    PoolOptions pool;
+    pool.executable = args.executable;
+    pool.jobs = budget.jobs;
+    pool.threads = budget.threads;
+    pool.rank = ranks->rank();
+    pool.ranks = ranks->size();
+    std::vector<std::size_t> todo;
+    for (const Point& p : plan.points) {
+      if (static_cast<int>(p.index % static_cast<std::size_t>(ranks->size())) != ranks->rank()) continue;
+      ++pool.total;
+      if (done[p.index]) ++pool.done_before;
+      else todo.push_back(p.index);
+    }
+    if (pool.done_before > 0)
+      std::fprintf(stderr, "%sresuming: %zu of %zu points done by an earlier sweep, skipped\n", prefix.c_str(), pool.done_before, pool.total);
+    run_points(plan, todo, pool);
+
+    // 3. Merge.
+    ranks->barrier();
+    int code = 0;
+    if (lead) {
+      std::vector<bool> finished(plan.points.size());
+      std::vector<std::string> failed;
+      for (const Point& p : plan.points) {
+        finished[p.index] = fs::exists(fs::path(plan.point_dir(p)) / "point.done");
+        if (!finished[p.index]) failed.push_back(p.name);
+      }
+      const std::vector<std::string> written = merge_tables(plan, finished);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (failed.empty()) {
+        std::printf("sweep complete: %zu points done, %.1f s wall -> %s\n", plan.points.size(), wall, plan.spec.out_dir.c_str());
+      } else {
+        std::string list;
+        for (std::size_t k = 0; k < failed.size() && k < 10; ++k) list += (k ? ", " : "") + failed[k];
+        if (failed.size() > 10) list += ", ...";
+        std::printf("sweep finished with %zu failed point%s of %zu (%s: see %s log.txt), %.1f s wall -> %s\n", failed.size(),
+                    failed.size() > 1 ? "s" : "", plan.points.size(), list.c_str(), failed.size() > 1 ? "their" : "its", wall,
+                    plan.spec.out_dir.c_str());
+        code = kExitRunError;
+      }
+      if (written.empty()) {
+        std::string names;
+        for (const std::string& t : plan.spec.tables) names += (names.empty() ? "" : ", ") + t + ".csv";
+        std::printf("no point wrote any of %s: no merged tables\n", names.c_str());
+      } else {
+        std::string list;
+        for (const std::string& w : written) list += (list.empty() ? "" : ", ") + w;
+        std::printf("tables: %s\n", list.c_str());
+      }
+      std::fflush(stdout);
+    }
+    return ranks->broadcast(code);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
+    if (ranks->size() > 1) ranks->abort(1);
+    return 1;
+  }
+}
+
+}  // namespace bagdem::study

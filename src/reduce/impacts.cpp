@@ -14,9 +14,10 @@ namespace bagdem {
 
 namespace {
 
-// Samples [first, last] (inclusive) of one impact, and its side.
+// One impact: the samples above the threshold [first, last], the pulse's feet [foot_first, foot_last]
+// (inclusive), and its side.
 struct Run {
-  std::size_t first = 0, last = 0;
+  std::size_t first = 0, last = 0, foot_first = 0, foot_last = 0;
   int side = 0;
 };
 
@@ -24,15 +25,18 @@ int sign(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
 
 Impact describe(const std::vector<double>& t, const std::vector<double>& F, const Run& r, double delta) {
   Impact m;
-  m.t_start = t[r.first - 1];  // = t_first - Delta; kept runs never start at sample 0
+  // Interval k is [t_k - Delta, t_k]; every kept run and foot starts at sample 1 or later.
+  m.t_start = t[r.first - 1];
   m.t_end = t[r.last];
+  m.t_foot_start = t[r.foot_first - 1];
+  m.t_foot_end = t[r.foot_last];
   double weighted_time = 0, weight = 0;
-  for (std::size_t k = r.first; k <= r.last; ++k) {
+  for (std::size_t k = r.foot_first; k <= r.foot_last; ++k) {
     m.impulse += F[k] * delta;
     weighted_time += std::abs(F[k]) * (t[k] - 0.5 * delta);  // interval k's midpoint
     weight += std::abs(F[k]);
-    m.peak_force = std::max(m.peak_force, std::abs(F[k]));
   }
+  for (std::size_t k = r.first; k <= r.last; ++k) m.peak_force = std::max(m.peak_force, std::abs(F[k]));
   m.t_centroid = weighted_time / weight;
   m.side = m.impulse != 0 ? sign(m.impulse) : r.side;
   return m;
@@ -67,7 +71,7 @@ std::vector<Impact> find_impacts(const std::vector<double>& t, const std::vector
       ++k;
       continue;
     }
-    Run r{k, k, sign(force[k])};
+    Run r{.first = k, .last = k, .foot_first = k, .foot_last = k, .side = sign(force[k])};
     while (r.last + 1 < S && above(r.last + 1) && sign(force[r.last + 1]) == r.side) ++r.last;
     k = r.last + 1;
     // Cut by the record: started before the first analysed sample (or the record), or still going.
@@ -90,9 +94,22 @@ std::vector<Impact> find_impacts(const std::vector<double>& t, const std::vector
     merged.push_back(r);
   }
 
+  // The feet: outwards while |F| falls and keeps the impact's sign, never before sample 1 (interval 0
+  // has no recorded start), t_skip, or the previous impact's foot.
   std::vector<Impact> impacts;
   impacts.reserve(merged.size());
-  for (const Run& r : merged) impacts.push_back(describe(t, force, r, delta));
+  std::size_t lowest = std::max<std::size_t>(i0, 1);
+  auto tail = [&](std::size_t from, std::size_t to, int side) {
+    return sign(force[to]) == side && std::abs(force[to]) < std::abs(force[from]);
+  };
+  for (Run& r : merged) {
+    r.foot_first = r.first;
+    while (r.foot_first > lowest && tail(r.foot_first, r.foot_first - 1, r.side)) --r.foot_first;
+    r.foot_last = r.last;
+    while (r.foot_last + 1 < S && tail(r.foot_last, r.foot_last + 1, r.side)) ++r.foot_last;
+    lowest = r.foot_last + 1;
+    impacts.push_back(describe(t, force, r, delta));
+  }
   return impacts;
 }
 
@@ -105,9 +122,9 @@ RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const st
   const double tolerance = 1e-6 * delta;  // t_start and t_end are sample times, up to round-off
   RestitutionStats stats;
   for (const Impact& m : impacts) {
-    // The last sample at or before t_start and the first at or after t_end.
-    const auto before = std::upper_bound(t.begin(), t.end(), m.t_start + tolerance);
-    const auto after = std::lower_bound(t.begin(), t.end(), m.t_end - tolerance);
+    // The last sample at or before the pulse's first foot and the first at or after its last.
+    const auto before = std::upper_bound(t.begin(), t.end(), m.t_foot_start + tolerance);
+    const auto after = std::lower_bound(t.begin(), t.end(), m.t_foot_end - tolerance);
     if (before == t.begin() || after == t.end()) continue;
     const double v_before = v[static_cast<std::size_t>(before - t.begin()) - 1];
     const double v_after = v[static_cast<std::size_t>(after - t.begin())];

@@ -12,10 +12,21 @@
 // start of the next, t_start' - t_end) are merged into one, with the samples between. A run that the
 // record cuts (at its first sample, or at t_skip while the sample before t_skip is above the
 // threshold too, or at its last sample) is left out: its impulse and duration are unknown.
-//   t_start    = t_a - Delta (the start of the first interval above the threshold), t_end = t_b
-//   impulse    = sum_k F_k Delta over [a, b] = integral of F over [t_start, t_end], exact (signed)
-//   t_centroid = sum_k |F_k| (t_k - Delta/2) / sum_k |F_k|: the interval midpoints weighted by force
-//   peak_force = max_k |F_k|
+// Timing, from the samples a .. b above the threshold:
+//   t_start = t_a - Delta (the start of the first interval above the threshold), t_end = t_b
+//   peak_force = max |F_k|
+// Impulse, from the whole pulse: the samples below the threshold at the pulse's ends still carry
+// impulse (a half-sine at threshold fraction 0.05 keeps about 1% of it there), so the impulse and the
+// centroid extend from a .. b outwards to the pulse's feet a' .. b': as long as |F| keeps falling and
+// keeps its sign (stopping at a zero, a sign change or a local minimum of |F|, at t_skip, and at the
+// previous impact's foot):
+//   t_foot_start = t_a' - Delta, t_foot_end = t_b'
+//   impulse    = sum_k F_k Delta over [a', b'] = integral of F over [t_foot_start, t_foot_end], exact
+//   t_centroid = sum_k |F_k| (t_k - Delta/2) / sum_k |F_k| over [a', b']: interval midpoints weighted
+//                by force
+// For a pulse that rises from and falls back to zero the impulse is its whole impulse, exact (the
+// interval means telescope); a steady background force (friction on the cavity floor) ends the feet
+// at its level, and the part of the background under the pulse is counted.
 // Resolution: interval means keep the impulse exactly but not the shape inside an interval.
 //  * Duration: if the force is near linear across each threshold crossing, t_start and t_end lie
 //    within Delta/2 of the times the force crosses the threshold, so the duration is known to about
@@ -28,21 +39,22 @@
 //
 // Restitution (physics brief section 5 (i); the study's Eq. (9)): from the contents' centre-of-mass
 // velocity relative to the cavity, v (point samples at the same times), e = -v_after / v_before, with
-// v_before the sample at t_start (the end of the last interval below the threshold, i.e. the last
-// sample before the impact's force) and v_after the sample at t_end (the first sample after it).
+// v_before the sample at t_foot_start (the last sample before any of the pulse's force) and v_after
+// the sample at t_foot_end (the first sample after all of it), so the whole velocity change counts.
 // Only impacts in which the contents approach the wall that was hit count: v_before * side > 0
-// (the wall on side s is hit by contents moving along s). Others (the bag already at rest against
-// the wall, pushed by it, or leaving it) are skipped.
+// (contents moving in +x hit the +x wall, side +1). Others (the bag pushed by a wall it is leaving,
+// or pulled by its strings) are skipped.
 #pragma once
 #include <vector>
 
 namespace bagdem {
 
 struct Impact {
-  double t_start = 0, t_end = 0;  // first and last sample time above the threshold, widened by one interval before (unit: s)
+  double t_start = 0, t_end = 0;  // first and last sample time above the threshold, widened by one interval before (s)
+  double t_foot_start = 0, t_foot_end = 0;  // the same for the whole pulse, foot to foot: what impulse, centroid cover (s)
   double t_centroid = 0;          // force-weighted mean time (unit: s)
   double peak_force = 0;          // largest |F_k| (unit: N)
-  double impulse = 0;             // integral of F (unit: N s), signed
+  double impulse = 0;             // integral of F over the whole pulse (unit: N s), signed
   int side = 0;                   // sign of the impulse: which wall (+1 / -1 along the axis)
   double duration() const { return t_end - t_start; }  // (unit: s)
 };
@@ -55,13 +67,14 @@ std::vector<Impact> find_impacts(const std::vector<double>& t, const std::vector
 
 struct RestitutionStats {
   std::vector<double> values;   // e of each counted impact, in time order
-  double mean = 0, sd = 0, standard_error = 0;  // mean, sample sd (n - 1), sd / sqrt(n); NaN when undefined (n = 0; n < 2 for the spread)
+  // Mean, sample sd (n - 1) and sd / sqrt(n); NaN when undefined (no values; fewer than 2 for sd and error).
+  double mean = 0, sd = 0, standard_error = 0;
 };
 
 // Restitution of each impact from the relative velocity v (contents' centre of mass minus cavity,
-// along the same axis, point samples at the times t; unit: m/s). An impact without a sample at or
-// before t_start or at or after t_end, or with v_before = 0, is skipped. Throws std::invalid_argument
-// for sizes that differ or non-uniform t.
+// along the same axis, point samples at the times t; unit: m/s), over [t_foot_start, t_foot_end].
+// An impact without a sample at or before t_foot_start or at or after t_foot_end is skipped.
+// Throws std::invalid_argument for sizes that differ or non-uniform t.
 RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const std::vector<double>& t,
                                     const std::vector<double>& v);
 

@@ -144,12 +144,13 @@ HarmonicFit first_harmonic(const std::vector<double>& t, const std::vector<doubl
 }
 
 EffectiveParameters effective_parameters(const std::vector<double>& t, const std::vector<double>& x,
-                                         const std::vector<double>& force, double f, double t_skip) {
+                                         const std::vector<double>& force, double f, double t_skip,
+                                         Sampling displacement_sampling) {
   const Cycles cy = whole_cycles(t, x.size(), f, t_skip, "effective_parameters (displacement)");
   if (force.size() != t.size())
     throw std::invalid_argument("effective_parameters: " + std::to_string(force.size()) + " force values for " +
                                 std::to_string(t.size()) + " times");
-  const HarmonicFit X = fit_cycles(t, x, cy, f, Sampling::point);
+  const HarmonicFit X = fit_cycles(t, x, cy, f, displacement_sampling);
   const HarmonicFit F = fit_cycles(t, force, cy, f, Sampling::interval_mean);
   const double w = 2 * std::numbers::pi * f;
   const std::size_t n = X.per_cycle.size();

@@ -84,13 +84,15 @@ struct EffectiveParameters {
   std::size_t cycles = 0;              // whole cycles used
 };
 
-// Effective mass and damping of the contents from the cavity displacement x (point samples) and the
-// contents' force on the cavity F (interval means), both the components along the excitation
+// Effective mass and damping of the contents from the cavity displacement x (point samples, or
+// interval means as results.h5 records it: displacement_sampling) and the contents' force on the
+// cavity F (interval means), both the components along the excitation
 // direction, at times t. Per cycle, then averaged; standard errors = sample standard deviation over
 // the cycles / sqrt(cycles) (NaN with one cycle). Throws std::invalid_argument as first_harmonic
 // does, and when a cycle of x has no first harmonic (X_j = 0).
 EffectiveParameters effective_parameters(const std::vector<double>& t, const std::vector<double>& x,
-                                         const std::vector<double>& force, double f, double t_skip);
+                                         const std::vector<double>& force, double f, double t_skip,
+                                         Sampling displacement_sampling = Sampling::point);
 
 // Phase theta of a cavity motion written |X| cos(theta) (physics brief section 2: the study's phase of
 // impact phi is theta at the impact): for x = Re(X_hat e^{i w t}), theta = w t + arg(X_hat), wrapped

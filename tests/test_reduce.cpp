@@ -55,6 +55,14 @@ std::string squeezed_ball(const std::string& more, const std::string& duration) 
   return s.str();
 }
 
+// Run options writing to d/out, without progress output.
+RunOptions quiet_in(const TempDir& d) {
+  RunOptions o;
+  o.out_dir = (d.path / "out").string();
+  o.quiet = true;
+  return o;
+}
+
 }  // namespace
 
 TEST(Reduce, RigidMassGluedToTheCavityHasItsMassAndNoDamping) {
@@ -62,9 +70,7 @@ TEST(Reduce, RigidMassGluedToTheCavityHasItsMassAndNoDamping) {
   d.write("case.toml", squeezed_ball("[cavity.motion]\nkind = \"harmonic\"\namplitude = \"0.1 mm\"\nfrequency = \"20 Hz\"\ndirection = [1, 0, 0]\n",
                                      "0.25 s"));
   const Scene s = load_case(d.str());
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const RunReport r = run_scene(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   ASSERT_EQ(r.reduced.size(), 1u) << r.reduce_message;
@@ -98,9 +104,7 @@ TEST(Reduce, SweepReducesAGluedMassAndTheModelReproducesTheResponse) {
     << "start = \"steady\"\nrefine = 0\nsteady_tolerance = 1e-5\nmin_cycles = 8\n";
   d.write("case.toml", squeezed_ball(p.str(), "0.1 s"));
   const Scene s = load_case(d.str());
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
+  const RunOptions o = quiet_in(d);
   const SweepReport r = run_sweep(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   ASSERT_EQ(r.reduced.size(), 3u);

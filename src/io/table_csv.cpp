@@ -29,33 +29,18 @@ void write_table_csv(const std::filesystem::path& path, const std::vector<TableC
 }
 
 std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path.string(), "", "", "cannot be opened");
-  std::string line;
-  std::getline(f, line);
-  std::vector<std::string> header;
-  {
-    std::stringstream h(line);
-    std::string cell;
-    while (std::getline(h, cell, ',')) header.push_back(cell.substr(0, cell.find(" [")));
-  }
+  const TextTable t = read_text_table(path);
   std::vector<std::size_t> index;
   for (const TableColumn& c : columns) {
-    std::size_t k = 0;
-    while (k < header.size() && header[k] != c.name) ++k;
-    if (k == header.size()) throw InputError(path.string(), c.name, "", "column missing from the table");
+    const std::size_t k = t.find(c.name);
+    if (k == t.names.size()) throw InputError(path.string(), c.name, "", "column missing from the table");
     index.push_back(k);
   }
   std::vector<std::vector<double>> rows;
-  while (std::getline(f, line)) {
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream r(line);
-    std::string cell;
-    while (std::getline(r, cell, ',')) cells.push_back(cell);
+  for (const std::vector<std::string>& cells : t.rows) {
     std::vector<double> row;
     for (std::size_t j = 0; j < index.size(); ++j) {
-      const std::string& v = index[j] < cells.size() ? cells[index[j]] : std::string();
+      const std::string& v = cells[index[j]];
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
       if (v.empty() || *end != '\0') throw InputError(path.string(), columns[j].name, v, "must be a number (row " + std::to_string(rows.size() + 1) + ")");
@@ -72,48 +57,56 @@ std::size_t TextTable::find(const std::string& name) const {
   return k;
 }
 
-namespace {
-// Splits a CSV line; a cell in double quotes may hold commas ("" is a quote).
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
+std::vector<std::vector<std::string>> read_csv_cells(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot read " + path.string());
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  const std::string text = ss.str();
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string cell;
+  bool quoted = false, any = false;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
     if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
+      if (c == '"' && k + 1 < text.size() && text[k + 1] == '"') cell += '"', ++k;
       else if (c == '"') quoted = false;
-      else cells.back() += c;
-    } else if (c == '"') {
-      quoted = true;
+      else cell += c;
+      continue;
+    }
+    if (c == '"') {
+      quoted = any = true;
     } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c != '\r') {
-      cells.back() += c;
+      row.push_back(cell), cell.clear(), any = true;
+    } else if (c == '\n' || c == '\r') {
+      if (c == '\r' && k + 1 < text.size() && text[k + 1] == '\n') ++k;
+      if (any || !cell.empty()) row.push_back(cell), rows.push_back(row);
+      row.clear(), cell.clear(), any = false;
+    } else {
+      cell += c, any = true;
     }
   }
-  return cells;
+  if (any || !cell.empty()) row.push_back(cell), rows.push_back(row);
+  return rows;
 }
-}  // namespace
 
 TextTable read_text_table(const std::filesystem::path& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path.string(), "", "", "cannot be opened");
+  if (!std::filesystem::exists(path)) throw InputError(path.string(), "", "", "cannot be opened");
+  std::vector<std::vector<std::string>> cells = read_csv_cells(path);
+  if (cells.empty()) throw InputError(path.string(), "", "", "is empty: no header");
   TextTable t;
-  std::string line;
-  if (!std::getline(f, line)) throw InputError(path.string(), "", "", "is empty: no header");
-  for (const std::string& h : split_csv(line)) {
+  for (const std::string& h : cells.front()) {
     const std::size_t b = h.rfind(" [");
     const bool unit = b != std::string::npos && h.back() == ']';
     t.names.push_back(unit ? h.substr(0, b) : h);
     t.units.push_back(unit ? h.substr(b + 2, h.size() - b - 3) : "");
   }
-  while (std::getline(f, line)) {
-    if (line.empty()) continue;
-    std::vector<std::string> cells = split_csv(line);
-    if (cells.size() != t.names.size())
-      throw InputError(path.string(), "", "", "row " + std::to_string(t.rows.size() + 1) + " has " + std::to_string(cells.size()) +
+  for (std::size_t r = 1; r < cells.size(); ++r) {
+    if (cells[r].size() != t.names.size())
+      throw InputError(path.string(), "", "", "row " + std::to_string(r) + " has " + std::to_string(cells[r].size()) +
                                                  " cells for " + std::to_string(t.names.size()) + " columns");
-    t.rows.push_back(std::move(cells));
+    t.rows.push_back(std::move(cells[r]));
   }
   return t;
 }

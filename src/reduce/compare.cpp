@@ -27,18 +27,6 @@ continuum::ModalModel modal_model(const Primary& P) {
   return m;
 }
 
-// The elastic DOF nearest to f in log-frequency.
-std::size_t nearest_mode(const Primary& P, double f, double& mode_number) {
-  std::size_t best = P.size(), number = 0;
-  for (std::size_t k = 0; k < P.size(); ++k) {
-    if (P.rigid_body[k]) continue;
-    ++number;
-    if (best == P.size() || std::abs(std::log(f / P.natural_frequency[k])) < std::abs(std::log(f / P.natural_frequency[best])))
-      best = k, mode_number = static_cast<double>(number);
-  }
-  return best;
-}
-
 double relative(double model, double dem) { return dem != 0 ? (model - dem) / dem : kNaN; }
 
 }  // namespace
@@ -56,7 +44,9 @@ std::vector<CompareRow> compare_with_continuum(const Primary& P, double F, const
     c.model_response = std::abs(continuum::modal_receptance(model, r.M_eff, r.C_eff, w)) * F;
     c.model_error = relative(c.model_response, c.dem_response);
     // The SDOF of the nearest mode seen at the bag; its modal mass includes any cavity mass.
-    const std::size_t k = nearest_mode(P, r.frequency, c.mode);
+    std::size_t number = 0;
+    const std::size_t k = P.nearest_elastic_mode(r.frequency, &number);
+    c.mode = static_cast<double>(number);
     c.eq7_response = c.eq7_error = c.eq20_response = c.eq20_error = kNaN;
     if (k < P.size() && P.at_cavity[static_cast<Eigen::Index>(k)] != 0) {
       const auto i = static_cast<Eigen::Index>(k);

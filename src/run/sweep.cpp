@@ -152,16 +152,10 @@ std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepP
   if (modes.empty())
     for (std::size_t k : elastic)
       if (P.natural_frequency[k] >= pts.front()->frequency && P.natural_frequency[k] <= pts.back()->frequency) modes.push_back(k);
-  auto nearest = [&](double f) {
-    std::size_t best = elastic.front();
-    for (std::size_t k : elastic)
-      if (std::abs(std::log(f / P.natural_frequency[k])) < std::abs(std::log(f / P.natural_frequency[best]))) best = k;
-    return best;
-  };
   for (std::size_t m : modes) {
     ModePoints mp{m, {}};
     for (const SweepPoint* p : pts)
-      if (nearest(p->frequency) == m) mp.points.push_back(p);
+      if (P.nearest_elastic_mode(p->frequency) == m) mp.points.push_back(p);
     if (!mp.points.empty()) out.push_back(std::move(mp));
   }
   return out;
@@ -272,6 +266,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         Complex Y(0, 0), U(0, 0), L(0, 0);
         if (recent.size() == plan.cycles) recent.pop_front();
         CavitySeries& series = recent.emplace_back();
+        for (auto* v : {&series.t, &series.x, &series.force, &series.v_rel}) v->reserve(N);  // no growth inside the steps
         for (std::size_t n = 0; n < N; ++n) {
           sim.step();
           const Simulation::StructureResponse r = sim.structure_response();

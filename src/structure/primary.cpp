@@ -84,4 +84,17 @@ double Primary::bare_cavity_amplitude(double F, double w) const {
   return std::hypot(at_cavity.dot(q), at_cavity.dot(v) / w);
 }
 
+std::size_t Primary::nearest_elastic_mode(double f, std::size_t* number) const {
+  std::size_t best = size(), count = 0;
+  for (std::size_t k = 0; k < size(); ++k) {
+    if (rigid_body[k]) continue;
+    ++count;
+    if (best == size() || std::abs(std::log(f / natural_frequency[k])) < std::abs(std::log(f / natural_frequency[best]))) {
+      best = k;
+      if (number) *number = count;
+    }
+  }
+  return best;
+}
+
 }  // namespace bagdem

@@ -25,6 +25,7 @@
 #include <system_error>
 #include <thread>
 
+#include "../run/output_files.hpp"
 #include "bagdem/study/study.hpp"
 
 namespace bagdem::study {
@@ -48,16 +49,6 @@ std::string host_name() {
   char b[256] = {};
   if (gethostname(b, sizeof b - 1) != 0) return "?";
   return b;
-}
-
-void write_file_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
 }
 
 // The last `n` non-empty lines of a log, each indented (the run's own error message ends it).
@@ -190,7 +181,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
     const fs::path dir = plan.point_dir(p);
     fs::remove_all(dir);  // whatever an interrupted run left is not trusted
     fs::create_directories(dir);
-    write_file_atomically(dir / "point.toml", point_toml(plan, p));
+    write_atomically(dir / "point.toml", point_toml(plan, p));
     const std::vector<std::string> args = run_arguments(plan, p, opt);
     const std::string log = (dir / "log.txt").string();
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
@@ -226,7 +217,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       std::ostringstream d;
       d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
         << "\"\nwall_time = " << o.wall_seconds << "  # s\n";
-      write_file_atomically(dir / "point.done", d.str());
+      write_atomically(dir / "point.done", d.str());
       ++done, ++done_now;
       done_seconds += o.wall_seconds;
     } else {

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../run/output_files.hpp"
+#include "bagdem/io/table_csv.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
 
@@ -51,16 +53,6 @@ std::pair<std::string, std::string> split_column(const std::string& c) {
 
 std::string with_unit(const std::string& name, const std::string& unit) { return unit.empty() ? name : name + " [" + unit + "]"; }
 
-void write_text_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
-
 // The unit of a varied key's SI column: that of its first value with a unit; "SI" when every
 // value is a plain number (its unit is the case's for that key, which the sweep does not know).
 std::string key_unit(const Varied& v) {
@@ -77,36 +69,7 @@ std::size_t inputs_width(const Plan& plan) { return 3 + 2 * plan.spec.vary.size(
 }  // namespace
 
 Table read_csv(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot read " + path);
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  const std::string text = ss.str();
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> row;
-  std::string cell;
-  bool quoted = false, any = false;
-  for (std::size_t k = 0; k < text.size(); ++k) {
-    const char c = text[k];
-    if (quoted) {
-      if (c == '"' && k + 1 < text.size() && text[k + 1] == '"') cell += '"', ++k;
-      else if (c == '"') quoted = false;
-      else cell += c;
-      continue;
-    }
-    if (c == '"') {
-      quoted = any = true;
-    } else if (c == ',') {
-      row.push_back(cell), cell.clear(), any = true;
-    } else if (c == '\n' || c == '\r') {
-      if (c == '\r' && k + 1 < text.size() && text[k + 1] == '\n') ++k;
-      if (any || !cell.empty()) row.push_back(cell), rows.push_back(row);
-      row.clear(), cell.clear(), any = false;
-    } else {
-      cell += c, any = true;
-    }
-  }
-  if (any || !cell.empty()) row.push_back(cell), rows.push_back(row);
+  std::vector<std::vector<std::string>> rows = read_csv_cells(path);
   Table t;
   if (rows.empty()) return t;
   t.columns = rows.front();
@@ -287,12 +250,12 @@ std::vector<std::string> merge_tables(const Plan& plan, const std::vector<bool>&
   for (const std::string& name : plan.spec.tables) {
     const std::optional<Table> m = merge_table(plan, done, name);
     if (!m) continue;
-    write_text_atomically(out / (name + ".csv"), csv_text(*m));
+    write_atomically(out / (name + ".csv"), csv_text(*m));
     written.push_back(name + ".csv (" + std::to_string(m->rows.size()) + " rows)");
     h5.emplace_back(name, *m);
     if (plan.spec.seeds > 1) {
       const Table e = ensemble_table(plan, *m);
-      write_text_atomically(out / (name + "_ensemble.csv"), csv_text(e));
+      write_atomically(out / (name + "_ensemble.csv"), csv_text(e));
       written.push_back(name + "_ensemble.csv (" + std::to_string(e.rows.size()) + " rows)");
       h5.emplace_back(name + "_ensemble", e);
     }

@@ -17,6 +17,11 @@ void write_table_csv(const std::filesystem::path& path, const std::vector<TableC
 // throws InputError naming the file and the column when one is missing or a value is not a number.
 std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns);
 
+// The cells of a CSV file, row by row (RFC 4180: a quoted cell may hold commas, quotes as "" and
+// line breaks; CRLF or LF line ends; blank lines skipped). Throws std::runtime_error when the file
+// cannot be read.
+std::vector<std::vector<std::string>> read_csv_cells(const std::filesystem::path& path);
+
 // Any table as text: names and units from the header, the cells as written (studies add string
 // columns such as the varied keys' values). Throws InputError naming the file if it cannot be read
 // or a row has another number of cells than the header.

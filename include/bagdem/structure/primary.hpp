@@ -116,6 +116,9 @@ struct Primary {
   // (4000 points, 0.01% apart over a 10%-wide band), so a sharp resonance between them is found.
   // Returns the amplitude (m) and sets w_at to the circular frequency where it is reached.
   double bare_cavity_amplitude_max(double F, const std::vector<double>& frequencies, double& w_at) const;
+  // The elastic DOF whose natural frequency is nearest to f (Hz) in log-frequency (size() when
+  // there is none), and its elastic mode number (1 = the first elastic mode) in *number.
+  std::size_t nearest_elastic_mode(double f, std::size_t* number = nullptr) const;
   // Natural frequencies of the structure without contents, cavity mass included (unit: Hz), sorted.
   std::vector<double> bare_frequencies() const;
 };

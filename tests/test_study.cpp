@@ -28,6 +28,7 @@
 #include <numbers>
 #include <thread>
 
+#include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
 #include "h5_read.hpp"
@@ -408,6 +409,55 @@ TEST(Study, FailedPointIsReportedAndTheOthersFinish) {
 // Two seeds per force: the ensemble table's mean, sample sd and standard error of each numeric
 // column against the merged rows. The case has no random input, so the physics is the same for
 // both seeds (sd 0) while the wall time differs (sd > 0).
+// The studies shipped in cases/studies: each plans and loads every point as `bagdem sweep` would
+// before running (a key renamed or a bag that stops fitting fails here). The ball-size study keeps
+// the mass ratio with whole balls, 102, 13, 7 and 1 (the 20-mm point is one ball, a near-rigid
+// slug), and each point's actual ratio is within half a ball of 8%; the mass-ratio study spans
+// 5-14% and the position study puts the cavity at the study's x/L.
+TEST(Study, ShippedStudiesLoadEveryPoint) {
+  const fs::path root = fs::path(BAGDEM_CASES_DIR) / "studies";
+  auto plan_of = [&](const std::string& name) {
+    study::SweepArgs a;
+    a.dir = (root / name).string();
+    study::Plan plan = study::make_plan(study::read_spec(a));
+    study::validate_plan(plan);
+    return plan;
+  };
+  auto bag_of = [](const study::Plan& plan, const study::Point& p) {
+    const Scene s = load_case(plan.spec.case_dir, p.sets);
+    double mass = 0;
+    for (std::size_t k = s.bag->ball_first; k < s.bag->ball_first + s.bag->balls; ++k)
+      mass += 4.0 / 3.0 * kPi * std::pow(s.particles[k].radius, 3) * s.materials[static_cast<std::size_t>(s.particles[k].material)].density;
+    return std::make_tuple(s.bag->balls, mass / s.primary->structure_mass, mass / static_cast<double>(s.bag->balls), s.primary->structure_mass);
+  };
+
+  const study::Plan size = plan_of("ball-size");
+  ASSERT_EQ(size.points.size(), 4u);
+  const std::size_t counts[] = {102, 13, 7, 1};
+  for (const study::Point& p : size.points) {
+    const auto [balls, ratio, ball_mass, primary] = bag_of(size, p);
+    EXPECT_EQ(balls, counts[p.index]) << p.name;
+    EXPECT_LE(std::abs(ratio - 0.08) * primary, 0.5 * ball_mass + 1e-12) << p.name << ": ratio " << ratio;
+  }
+
+  const study::Plan ratio = plan_of("mass-ratio");
+  ASSERT_EQ(ratio.points.size(), 10u);
+  for (const study::Point& p : ratio.points) {
+    const auto [balls, actual, ball_mass, primary] = bag_of(ratio, p);
+    const double asked = 0.05 + 0.01 * static_cast<double>(p.index);
+    EXPECT_LE(std::abs(actual - asked) * primary, 0.5 * ball_mass + 1e-12) << p.name << ": ratio " << actual;
+    EXPECT_NEAR(ball_mass, 7800 * 4.0 / 3.0 * kPi * 8e-9, 1e-12) << p.name << ": 4-mm steel balls";
+  }
+
+  const study::Plan position = plan_of("position");
+  const double x_over_L[] = {0.095, 0.132, 0.224, 0.316, 0.356, 0.5, 0.644, 0.684, 0.776, 0.868, 0.905};
+  ASSERT_EQ(position.points.size(), 11u);
+  for (const study::Point& p : position.points) {
+    const Scene s = load_case(position.spec.case_dir, p.sets);
+    EXPECT_NEAR(s.primary->attach / s.primary->length, x_over_L[p.index], 5e-5) << p.name;
+  }
+}
+
 TEST(Study, EnsembleOverSeedsGivesMeanSdAndSe) {
   TempDir d;
   const std::string c = make_case(d), out = (d.path / "out").string();

@@ -74,6 +74,18 @@ std::size_t ball_count(const CaseReader& in, double ball_mass, double primary_ma
   return static_cast<std::size_t>(n);
 }
 
+// The sites inside the film and clear of it: no triangle within r + reach (+1% of d).
+std::vector<Vec3> clear_of_film(const TriangleMesh& mesh, const std::vector<Vec3>& sites, double r, double reach) {
+  const double clear = r + reach + 0.02 * r;
+  MeshCandidates near;
+  find_mesh_candidates(mesh, mesh.vertices, sites, std::vector<double>(sites.size(), clear), Vec3::Zero(), 0.0, 0.0, near);
+  std::vector<Vec3> inside;
+  for (std::size_t s = 0; s < sites.size(); ++s)
+    if (near.begin[s] == near.begin[s + 1] && winding_number(mesh, mesh.vertices, sites[s]) > 0.5)
+      inside.push_back(sites[s]);
+  return inside;
+}
+
 // FCC lattice sites strictly inside the film at rest, clear of it by the ball radius plus half the
 // thickness (and 1% of the diameter), lowest first along gravity (nearest the centre without it).
 std::vector<Vec3> lattice_sites(const TriangleMesh& mesh, const Vec3& centre, double r, double reach, const Vec3& gravity,
@@ -94,14 +106,7 @@ std::vector<Vec3> lattice_sites(const TriangleMesh& mesh, const Vec3& centre, do
           const Vec3 x = origin + a * (Vec3(i, j, k) + b);
           if ((x - lo).minCoeff() > r && (hi - x).minCoeff() > r) sites.push_back(x);
         }
-  // Clear of the film: no triangle within r + reach (+1% of d).
-  const double clear = r + reach + 0.02 * r;
-  MeshCandidates near;
-  find_mesh_candidates(mesh, mesh.vertices, sites, std::vector<double>(sites.size(), clear), Vec3::Zero(), 0.0, 0.0, near);
-  std::vector<Vec3> inside;
-  for (std::size_t s = 0; s < sites.size(); ++s)
-    if (near.begin[s] == near.begin[s + 1] && winding_number(mesh, mesh.vertices, sites[s]) > 0.5)
-      inside.push_back(sites[s]);
+  std::vector<Vec3> inside = clear_of_film(mesh, sites, r, reach);
   const Vec3 down = gravity.norm() > 0 ? Vec3(gravity.normalized()) : Vec3::Zero();
   std::stable_sort(inside.begin(), inside.end(), [&](const Vec3& p, const Vec3& q) {
     if (down.norm() > 0) {
@@ -250,7 +255,11 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
       const Vec3 ext = s.cavity_hi - s.cavity_lo;
       const double across = std::min(ext.dot(b.side.cwiseAbs()), ext.dot(height_dir.cwiseAbs()));
       const double radius = in.quantity("bag.radius", dim::length, 0.4 * across);
-      if (!(radius > 2 * r)) in.fail("bag.radius", "must be larger than a ball's diameter");
+      // A lattice needs a radius above one ball diameter; a single ball sits on the axis.
+      const double least = n == 1 ? 1.02 * r + 0.5 * t : 2 * r;
+      if (!(radius > least))
+        in.fail("bag.radius", n == 1 ? "must exceed the ball's radius plus half the film's thickness (one ball)"
+                                     : "must be larger than a ball's diameter");
       double fixed_length = 0;
       if (in.has("bag.length")) {
         fixed_length = in.quantity("bag.length", dim::length);
@@ -288,7 +297,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     std::vector<Vec3> sites;
     for (int attempt = 0;; ++attempt) {
       make(volume);
-      sites = lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
+      sites = n == 1 ? clear_of_film(b.rest, {centre}, r, 0.5 * t) : lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
       if (sites.size() >= n || !sized || attempt == 40) break;
       volume *= 1.05;
     }
@@ -306,7 +315,10 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     b.balls = n;
     for (std::size_t k = 0; k < n; ++k) s.particles.push_back({sites[k], Vec3::Zero(), Vec3::Zero(), r, ball_material});
     std::ostringstream src;
-    src << "filled on an FCC lattice, lowest sites first (seed " << seed << ")";
+    if (n == 1)
+      src << "one ball at the bag's centre";
+    else
+      src << "filled on an FCC lattice, lowest sites first (seed " << seed << ")";
     b.source = src.str();
   }
   for (std::size_t k = b.ball_first; k < s.particles.size(); ++k)

@@ -48,7 +48,12 @@ std::string describe_scene(const Scene& s) {
     const double film_mass = area * b.film.thickness * b.film.density;
     o << "bag         " << b.shape << ", " << b.balls << " balls (" << b.source << "), outer " << 1e3 * b.size.x()
       << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z() << " mm at rest, volume " << V * 1e6
-      << " cm^3, fill fraction " << b.fill_fraction << "\n"
+      << " cm^3, fill fraction " << b.fill_fraction << "\n";
+    double ball_mass = 0;
+    for (std::size_t k = b.ball_first; k < b.ball_first + b.balls; ++k) ball_mass += sphere_mass(s.materials[static_cast<std::size_t>(s.particles[k].material)].density, s.particles[k].radius);
+    o << "            balls " << ball_mass << " kg";
+    if (s.primary) o << " = " << ball_mass / s.primary->structure_mass << " of the structure's mass (whole balls)";
+    o << "\n"
       << "film        " << s.materials[static_cast<std::size_t>(b.material)].name << ", thickness " << b.film.thickness
       << " m, mass " << film_mass << " kg; resolution " << b.rest.triangles.size() << " triangles, "
       << b.rest.vertices.size() << " nodes, mean edge " << b.mean_edge << " m (" << b.mean_edge / (2 * rmin)

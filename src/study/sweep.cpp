@@ -71,6 +71,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
   s->add_option("--cores", a.cores, "Cores this sweep may use (default: this machine's, divided among the MPI ranks on it)")
       ->check(CLI::Range(1, 65536));
   s->add_option("--out", a.out, "Output directory (default CASE_DIR/study, or STUDY_DIR/out)");
+  s->add_flag("--check", a.check,
+              "Plan the study and load every point's case (as the sweep does before it runs), print the points and "
+              "whether each is done, then exit: 0 if every point loads, 2 if not. Writes nothing");
   return s;
 }
 
@@ -124,9 +127,20 @@ int sweep_command(const SweepArgs& args) {
                    plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks->size(),
                    ranks->size() > 1 ? "s" : "", budget.jobs, budget.threads, budget.threads > 1 ? "s" : "", budget.cores,
                    budget.cores_from.c_str());
-      fs::create_directories(plan.spec.out_dir);
-      remove_merged_tables(plan);
+      if (args.check) {
+        for (const Point& p : plan.points) {
+          std::string values;
+          for (std::size_t k = 0; k < plan.spec.vary.size(); ++k)
+            values += (k ? ", " : "") + plan.spec.vary[k].key + " = " + plan.spec.vary[k].values[p.choice[k]].given;
+          if (p.seed > 0) values += (values.empty() ? "" : ", ") + std::string("seed ") + std::to_string(p.seed);
+          std::printf("%s  %-5s %s\n", p.name.c_str(), done[p.index] ? "done" : "to do", values.c_str());
+        }
+      } else {
+        fs::create_directories(plan.spec.out_dir);
+        remove_merged_tables(plan);
+      }
     }
+    if (args.check) return 0;
     PoolOptions pool;
     pool.executable = args.executable;
     pool.jobs = budget.jobs;

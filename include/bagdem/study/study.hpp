@@ -68,6 +68,7 @@ struct SweepArgs {
   std::vector<std::string> vary;          // "key=v1,v2,..."
   std::vector<std::string> sets;          // "key=value"
   bool zip = false;
+  bool check = false;                     // --check: plan and load every point, print the plan, run nothing
   int seeds = 0, jobs = 0, threads = 0, cores = 0;  // 0: not given
   std::string out;
   std::string executable = "/proc/self/exe";  // what runs the points (tests may point elsewhere)

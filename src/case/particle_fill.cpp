@@ -360,14 +360,15 @@ void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::st
       list = format == "csv" ? read_csv(in, key, path) : read_lammps_data(in, key, path);
     }
     if (!key.empty()) {
+      const double tol = in.quantity("simulation.initial_overlap", dim::none, 1e-3);
+      if (!(tol >= 0 && tol < 0.1)) in.fail("simulation.initial_overlap", "must be in [0, 0.1)");
+      // A ball may fit snugly (zero clearance: it touches both walls), within the overlap tolerance.
       for (auto& p : list) {
         p.material = grp.material;
-        if (2 * p.radius >= extent)
+        if (2 * p.radius > extent + 2 * tol * p.radius)
           in.fail(key, "a particle of diameter " + std::to_string(2 * p.radius) +
                            " m is larger than the cavity (smallest extent " + std::to_string(extent) + " m)");
       }
-      const double tol = in.quantity("simulation.initial_overlap", dim::none, 1e-3);
-      if (!(tol >= 0 && tol < 0.1)) in.fail("simulation.initial_overlap", "must be in [0, 0.1)");
       check_explicit(in, key, s, list, s.particles.size(), grid, tol);
       s.particles.insert(s.particles.end(), list.begin(), list.end());
       continue;

@@ -16,6 +16,7 @@
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/sweep.hpp"
+#include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
 
 using namespace bagdem;
@@ -30,12 +31,19 @@ int main(int argc, char** argv) {
 
   std::string case_dir, out_dir;
   std::vector<std::string> sets;
+  std::string fidelity;  // --fidelity: a preset's overrides, appended to sets (study/trade.hpp)
+  auto add_fidelity = [&fidelity](CLI::App* sub) {
+    sub->add_option("--fidelity", fidelity,
+                    "A preset of the speed/accuracy trade: fast, balanced (the case as written) or reference (see bagdem trade)")
+        ->check(CLI::IsMember({"fast", "balanced", "reference"}));
+  };
   int threads = 0;
   bool quiet = false, resume = false;
 
   auto* check = app.add_subcommand("check", "Validate a case and print the resolved scene: what is modelled, N, dt and how it was chosen, steps, memory; for a bag its size, fill, film resolution and strings.");
   check->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   check->add_option("--set", sets, "Override a key of case.toml: --set simulation.duration=\"0.5 s\" (repeatable)");
+  add_fidelity(check);
 
   auto* run = app.add_subcommand("run", "Run a case: writes results.h5 (+ results.xmf for ParaView) and, when complete, summary.json. "
                                       "A case with a primary structure ([primary]: sdof, beam, fe-beam) driven by a stepped-sine "
@@ -45,6 +53,7 @@ int main(int argc, char** argv) {
   run->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
   run->add_option("--threads", threads, "OpenMP threads (default: all cores; results are identical for any count)")->check(CLI::Range(1, 1024));
   run->add_option("--set", sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
+  add_fidelity(run);
   run->add_flag("--quiet", quiet, "No progress line");
   run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (needs output.checkpoint_interval > 0)");
 
@@ -56,6 +65,7 @@ int main(int argc, char** argv) {
   reduce->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   reduce->add_option("--out", out_dir, "Output directory of the run (default CASE_DIR/out)");
   reduce->add_option("--set", sets, "The --set overrides the run was made with (repeatable)");
+  add_fidelity(reduce);
 
   std::string form = "consistent";
   auto* compare = app.add_subcommand("compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
@@ -65,6 +75,7 @@ int main(int argc, char** argv) {
   compare->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   compare->add_option("--out", out_dir, "Output directory of the sweep (default CASE_DIR/out)");
   compare->add_option("--set", sets, "The --set overrides the sweep was run with (repeatable)");
+  add_fidelity(compare);
   compare->add_option("--form", form, "Eq. (7)/(20) form: consistent (default) or printed (the study's as-printed equations)")
       ->check(CLI::IsMember({"consistent", "printed"}));
 
@@ -75,6 +86,7 @@ int main(int argc, char** argv) {
   drop->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   drop->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
   drop->add_option("--set", sets, "Override a key of case.toml (repeatable)");
+  add_fidelity(drop);
   drop->add_option("--speed", drop_speed, "Launch speed in m/s (default: the case's expected impact speed)");
   drop->add_option("--threads", threads, "OpenMP threads")->check(CLI::Range(1, 1024));
 
@@ -103,9 +115,18 @@ int main(int argc, char** argv) {
   study::SweepArgs sweep_args;
   CLI::App* sweep = study::add_sweep_command(app, sweep_args);
 
+  // trade: the speed/accuracy trade of a case (src/study/trade.cpp).
+  study::TradeArgs trade_args;
+  CLI::App* trade = study::add_trade_command(app, trade_args);
+
   CLI11_PARSE(app, argc, argv);
   if (sweep->parsed()) return study::sweep_command(sweep_args);
+  if (trade->parsed()) return study::trade_command(trade_args);
   try {
+    if (!fidelity.empty()) {
+      const auto more = study::fidelity_sets(case_dir, sets, fidelity);
+      sets.insert(sets.end(), more.begin(), more.end());
+    }
     if (check->parsed()) {
       const Scene s = load_case(case_dir, sets);
       std::cout << describe_scene(s);

@@ -9,6 +9,7 @@
 //  - --fidelity fast halves the steps per contact: a contact-limited step doubles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -167,4 +168,24 @@ TEST(Trade, RunsTheLadderAndComparesEachRungWithTheReference) {
       EXPECT_NEAR(number_in(row[c_tc]) / tc0, std::pow(stiffness.at(row[c_rung]), -0.4), 1e-6) << row[c_rung];
     }
   }
+}
+
+TEST(Trade, SweepFidelityPresetReachesEveryPoint) {
+  TempDir t;
+  const std::string dir = write_case(t);
+  study::SweepArgs a;
+  a.dir = dir;
+  a.vary = {"interactions.default.restitution=0.4,0.6"};
+  a.fidelity = "fast";
+  const study::Plan plan = study::make_plan(study::read_spec(a));
+  ASSERT_EQ(plan.points.size(), 2u);
+  for (const study::Point& p : plan.points) {
+    EXPECT_NE(std::find(p.sets.begin(), p.sets.end(), "simulation.steps_per_contact=20"), p.sets.end()) << p.name;
+    EXPECT_NE(std::find(p.sets.begin(), p.sets.end(), "simulation.timestep_safety=0.4"), p.sets.end()) << p.name;
+  }
+  // study.toml takes it too, and refuses another name.
+  std::ofstream(t.path / "study.toml") << "case = \"case\"\nfidelity = \"fastest\"\n[vary]\n\"simulation.seed\" = [1, 2]\n";
+  study::SweepArgs b;
+  b.dir = t.path.string();
+  EXPECT_THROW(study::read_spec(b), InputError);
 }

@@ -16,6 +16,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
+#include "bagdem/study/trade.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
@@ -122,10 +123,10 @@ void read_study_file(const fs::path& file, StudySpec& s) {
     throw InputError(m.str());
   }
   const std::string f = file.string();
-  static const std::set<std::string> allowed = {"case", "combine", "seeds", "set", "vary", "jobs", "threads", "cores", "out", "tables"};
+  static const std::set<std::string> allowed = {"case", "combine", "seeds", "set", "vary", "jobs", "threads", "cores", "out", "tables", "fidelity"};
   for (const auto& [k, node] : t)
     if (!allowed.count(std::string(k.str())))
-      throw InputError(f, std::string(k.str()), "", "unknown key; study.toml takes case, combine, seeds, set, vary, jobs, threads, cores, out, tables");
+      throw InputError(f, std::string(k.str()), "", "unknown key; study.toml takes case, combine, seeds, set, vary, jobs, threads, cores, out, tables, fidelity");
   const auto c = t["case"].value<std::string>();
   if (!c) throw InputError(f, "case", "", "is required: the base case directory, relative to this file");
   s.case_dir = (dir / *c).lexically_normal().string();
@@ -157,6 +158,12 @@ void read_study_file(const fs::path& file, StudySpec& s) {
   if (t.contains("set"))
     for (const auto& x : strings("set", "[\"simulation.duration = \\\"0.2 s\\\"\"]")) s.sets.push_back(normal_set(x, f));
   if (t.contains("tables")) s.tables = strings("tables", "[\"sweep\", \"peaks\"]");
+  if (t.contains("fidelity")) {
+    const auto p = t["fidelity"].value<std::string>();
+    if (!p || (*p != "fast" && *p != "balanced" && *p != "reference"))
+      throw InputError(f, "fidelity", "", "must be \"fast\", \"balanced\" or \"reference\" (a preset of bagdem trade)");
+    s.fidelity = *p;
+  }
   if (t.contains("vary")) {
     const auto* v = t["vary"].as_table();
     if (!v) throw InputError(f, "vary", "", "must be a table of keys of case.toml and their values: [vary] \"bag.balls.diameter\" = [\"4 mm\", \"8 mm\"]");
@@ -255,6 +262,9 @@ StudySpec read_spec(const SweepArgs& a) {
   if (!a.out.empty()) s.out_dir = fs::absolute(a.out).lexically_normal().string();
   if (!fs::is_regular_file(fs::path(s.case_dir) / "case.toml"))
     throw InputError(s.source, "case", s.case_dir, "no case.toml there: the base case is a directory holding case.toml");
+  // A fidelity preset: its overrides (of the base case) follow the fixed ones.
+  if (!a.fidelity.empty()) s.fidelity = a.fidelity;
+  for (const std::string& x : fidelity_sets(s.case_dir, s.sets, s.fidelity.empty() ? "balanced" : s.fidelity)) s.sets.push_back(x);
   return s;
 }
 

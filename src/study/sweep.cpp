@@ -71,6 +71,8 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
   s->add_option("--cores", a.cores, "Cores this sweep may use (default: this machine's, divided among the MPI ranks on it)")
       ->check(CLI::Range(1, 65536));
   s->add_option("--out", a.out, "Output directory (default CASE_DIR/study, or STUDY_DIR/out)");
+  s->add_option("--fidelity", a.fidelity, "A preset of the speed/accuracy trade for every point: fast, balanced or reference (bagdem trade)")
+      ->check(CLI::IsMember({"fast", "balanced", "reference"}));
   s->add_flag("--check", a.check,
               "Plan the study and load every point's case (as the sweep does before it runs), print the points and "
               "whether each is done, then exit: 0 if every point loads, 2 if not. Writes nothing");

@@ -60,6 +60,7 @@ struct StudySpec {
   int seeds = 1;                         // ensemble size; 1 = the case's own seed, no override
   int jobs = 0, threads = 0, cores = 0;  // 0 = default (see resolve_budget)
   std::vector<std::string> tables = {"reduced", "peaks", "sweep"};  // point tables to merge (NAME.csv)
+  std::string fidelity;                  // a preset of bagdem trade ("" = the case as written); its overrides are in sets
 };
 
 // The arguments of `bagdem sweep` (add_sweep_command).
@@ -69,6 +70,7 @@ struct SweepArgs {
   std::vector<std::string> sets;          // "key=value"
   bool zip = false;
   bool check = false;                     // --check: plan and load every point, print the plan, run nothing
+  std::string fidelity;                   // --fidelity: fast, balanced or reference (study/trade.hpp)
   int seeds = 0, jobs = 0, threads = 0, cores = 0;  // 0: not given
   std::string out;
   std::string executable = "/proc/self/exe";  // what runs the points (tests may point elsewhere)

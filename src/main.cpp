@@ -109,6 +109,10 @@ int main(int argc, char** argv) {
   bench->add_option("--energy", bench_opt.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
   bench->add_flag("--bag", bench_opt.bag, "The bagged scene (cases/box-beanbag) instead: cost per step and its split between balls and film");
   bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
+  bench->add_flag("--growth", bench_opt.growth,
+                  "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
+                  "cost per particle-step and peak memory against N, and their fitted exponents");
+  bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
 
   // sweep: parameter studies over a case (src/study; MPI starts there, and only there).
@@ -209,7 +213,8 @@ int main(int argc, char** argv) {
       for (const std::string& p : export_reduced(out_dir, export_to, formats)) std::printf("wrote %s\n", p.c_str());
       return 0;
     }
-    if (bench->parsed()) return bench_opt.bag ? run_bag_bench(bench_opt) : run_bench(bench_opt);
+    if (bench->parsed())
+      return bench_opt.growth ? run_growth_bench(bench_opt) : bench_opt.bag ? run_bag_bench(bench_opt) : run_bench(bench_opt);
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitInputError;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "bagdem/case/load_case.hpp"
@@ -47,7 +48,115 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   return s;
 }
 
+// The peers' bed of N particles (runs/N*.vib1.data), unpacked if gzipped; "" if absent.
+std::string peers_bed(const std::string& peers, int N) {
+  std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
+  if (!fs::exists(data) && fs::exists(data + ".gz")) {
+    const std::string tmp = (fs::temp_directory_path() / ("bagdem_N" + std::to_string(N) + ".vib1.data")).string();
+    if (!fs::exists(tmp) && std::system(("gunzip -c '" + data + ".gz' > '" + tmp + "'").c_str()) != 0)
+      throw std::runtime_error("cannot unpack " + data + ".gz");
+    data = tmp;
+  }
+  return fs::exists(data) ? data : "";
+}
+
+// Peak resident memory of this process so far (VmHWM) (unit: bytes).
+double peak_memory() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return 1024.0 * std::stod(line.substr(6));
+  return NAN;
+}
+
 }  // namespace
+
+double log_log_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double a = std::log(x[i]), b = std::log(y[i]);
+    sx += a, sy += b, sxx += a * a, sxy += a * b;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// Growth: the N = 1000 bed tiled k x k. Every size runs the same steps, so that neighbour-list
+// rebuilds (driven by the motion, not by N) weigh alike; sizes run in ascending order, so the
+// process's peak memory after a size is that size's.
+int run_growth_bench(const BenchOptions& opt) {
+  const std::string src = BAGDEM_SOURCE_DIR;
+  const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
+  const std::string data = peers_bed(peers, 1000);
+  if (data.empty()) {
+    std::fprintf(stderr, "error: %s/runs/N1000.vib1.data not found: the growth benchmark tiles the peers' settled bed\n",
+                 peers.c_str());
+    return 2;
+  }
+  const long long steps = std::max(100LL, static_cast<long long>(10000 * opt.step_scale));
+  std::printf("Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "
+              "tallies %s; median of %d runs; wall clock\n",
+              steps, opt.energy ? "on" : "off", opt.repeats);
+  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | peak memory (MB) | bytes/particle |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  const Scene one = load_case(src + "/cases/pdbox-peers", pdbox_overrides(1000, data));
+  const Vec3 L = one.cavity_hi - one.cavity_lo;
+  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
+  std::vector<std::pair<double, double>> memory;
+  const double base_memory = peak_memory();
+  std::vector<int> tiles = opt.tiles;
+  std::sort(tiles.begin(), tiles.end());
+  for (int k : tiles) {
+    // The box widened k times in x and y (its walls are planes through cavity_lo and cavity_hi).
+    std::ostringstream mx;
+    mx << "cavity.max=[" << k * L.x() << ", " << k * L.y() << ", " << L.z() << "]";
+    std::vector<std::string> o = pdbox_overrides(1000, data);
+    o[0] = mx.str();
+    Scene scene = load_case(src + "/cases/pdbox-peers", o);
+    const std::vector<ParticleInit> bed = scene.particles;
+    scene.particles.clear();
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j)
+        for (ParticleInit p : bed) {
+          p.x += Vec3(i * L.x(), j * L.y(), 0);
+          scene.particles.push_back(p);
+        }
+    const double N = static_cast<double>(scene.particles.size());
+    double peak = 0;
+    for (const std::string& method : opt.methods) {
+      Scene sc = scene;
+      sc.broad_phase = method;
+      sc.models.energy = opt.energy;
+      for (int th : opt.threads) {
+        std::vector<double> ns;
+        std::uint64_t builds = 0;
+        for (int r = 0; r < opt.repeats; ++r) ns.push_back(1e9 * timed_run(sc, steps, th, &builds) / (static_cast<double>(steps) * N));
+        peak = std::max(peak, peak_memory());
+        std::vector<double> sorted = ns;
+        std::sort(sorted.begin(), sorted.end());
+        const double median = sorted[sorted.size() / 2];
+        fits[{method, th}].emplace_back(N, median * 1e-9 * N);
+        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.1f | %.0f |\n", N, k, method.c_str(), th, median, sorted.front(),
+                    sorted.back(), static_cast<unsigned long long>(builds), peak / 1048576, (peak - base_memory) / N);
+        std::fflush(stdout);
+      }
+    }
+    memory.emplace_back(N, peak - base_memory);
+  }
+  if (tiles.size() >= 2) {
+    std::printf("\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
+    for (const auto& [key, pts] : fits) {
+      std::vector<double> x, y;
+      for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
+      std::printf("  wall time per step, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second, key.second > 1 ? "s" : "",
+                  log_log_slope(x, y));
+    }
+    std::vector<double> x, y;
+    for (const auto& [n, m] : memory) x.push_back(n), y.push_back(m);
+    std::printf("  peak memory above the process's start: a = %.3f\n", log_log_slope(x, y));
+  }
+  return 0;
+}
 
 int run_bench(const BenchOptions& opt) {
   const std::string src = BAGDEM_SOURCE_DIR;
@@ -58,19 +167,10 @@ int run_bench(const BenchOptions& opt) {
   std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (int N : opt.sizes) {
-    std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
-    if (!fs::exists(data) && fs::exists(data + ".gz")) {
-      const std::string tmp = (fs::temp_directory_path() / ("bagdem_N" + std::to_string(N) + ".vib1.data")).string();
-      if (!fs::exists(tmp) && std::system(("gunzip -c '" + data + ".gz' > '" + tmp + "'").c_str()) != 0) {
-        std::fprintf(stderr, "cannot unpack %s.gz\n", data.c_str());
-        return 1;
-      }
-      data = tmp;
-    }
-    if (!fs::exists(data)) {
-      std::fprintf(stderr, "note: %s not found; generating and settling the bed (0.05 s, not timed)\n", data.c_str());
-      data.clear();
-    }
+    const std::string data = peers_bed(peers, N);
+    if (data.empty())
+      std::fprintf(stderr, "note: %s/runs/N%d.vib1.data not found; generating and settling the bed (0.05 s, not timed)\n",
+                   peers.c_str(), N);
     // From the peers' state: cases/pdbox-peers; otherwise cases/pdbox generates and settles the bed.
     const Scene scene = load_case(data.empty() ? case_dir : src + "/cases/pdbox-peers", pdbox_overrides(N, data));
     const long long base = N <= 100 ? 1000000 : N <= 1000 ? 300000 : 40000;

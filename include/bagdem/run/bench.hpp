@@ -21,9 +21,18 @@ struct BenchOptions {
   // splits between the balls and the film.
   bool bag = false;
   std::vector<int> film_triangles{200, 800, 3200};
+  // Growth instead: the peers' settled N = 1000 bed tiled k x k across the floor (N = 1000 k^2,
+  // the box widened to match), the same number of steps at every N; wall time per step and peak
+  // memory against N, and the fitted exponents (bench.cpp). `tiles` gives the k.
+  bool growth = false;
+  std::vector<int> tiles{1, 2, 4, 7, 10};
 };
 
 int run_bench(const BenchOptions& options);
 int run_bag_bench(const BenchOptions& options);
+int run_growth_bench(const BenchOptions& options);
+
+// Least-squares slope of log y against log x (the exponent a of y ~ x^a).
+double log_log_slope(const std::vector<double>& x, const std::vector<double>& y);
 
 }  // namespace bagdem

@@ -48,6 +48,22 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   return s;
 }
 
+// `repeats` timed runs of a scene: ns per particle-step, median and range, and the neighbour-list
+// builds of the last run.
+struct Timing {
+  double median = 0, lo = 0, hi = 0;
+  std::uint64_t builds = 0;
+};
+Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats) {
+  Timing t;
+  std::vector<double> ns;
+  for (int r = 0; r < repeats; ++r)
+    ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
+  std::sort(ns.begin(), ns.end());
+  t.median = ns[ns.size() / 2], t.lo = ns.front(), t.hi = ns.back();
+  return t;
+}
+
 // The peers' bed of N particles (runs/N*.vib1.data), unpacked if gzipped; "" if absent.
 std::string peers_bed(const std::string& peers, int N) {
   std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
@@ -128,16 +144,11 @@ int run_growth_bench(const BenchOptions& opt) {
       sc.broad_phase = method;
       sc.models.energy = opt.energy;
       for (int th : opt.threads) {
-        std::vector<double> ns;
-        std::uint64_t builds = 0;
-        for (int r = 0; r < opt.repeats; ++r) ns.push_back(1e9 * timed_run(sc, steps, th, &builds) / (static_cast<double>(steps) * N));
+        const Timing t = time_repeats(sc, steps, th, opt.repeats);
         peak = std::max(peak, peak_memory());
-        std::vector<double> sorted = ns;
-        std::sort(sorted.begin(), sorted.end());
-        const double median = sorted[sorted.size() / 2];
-        fits[{method, th}].emplace_back(N, median * 1e-9 * N);
-        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.1f | %.0f |\n", N, k, method.c_str(), th, median, sorted.front(),
-                    sorted.back(), static_cast<unsigned long long>(builds), peak / 1048576, (peak - base_memory) / N);
+        fits[{method, th}].emplace_back(N, t.median * 1e-9 * N);
+        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.1f | %.0f |\n", N, k, method.c_str(), th, t.median, t.lo, t.hi,
+                    static_cast<unsigned long long>(t.builds), peak / 1048576, (peak - base_memory) / N);
         std::fflush(stdout);
       }
     }
@@ -180,14 +191,9 @@ int run_bench(const BenchOptions& opt) {
       sc.broad_phase = method;
       sc.models.energy = opt.energy;
       for (int th : opt.threads) {
-        std::vector<double> ns;
-        std::uint64_t builds = 0;
-        for (int r = 0; r < opt.repeats; ++r)
-          ns.push_back(1e9 * timed_run(sc, steps, th, &builds) / (static_cast<double>(steps) * sc.particles.size()));
-        std::vector<double> sorted = ns;
-        std::sort(sorted.begin(), sorted.end());
-        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu |\n", sc.particles.size(), steps, method.c_str(), th,
-                    sorted[sorted.size() / 2], sorted.front(), sorted.back(), static_cast<unsigned long long>(builds));
+        const Timing t = time_repeats(sc, steps, th, opt.repeats);
+        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu |\n", sc.particles.size(), steps, method.c_str(), th, t.median,
+                    t.lo, t.hi, static_cast<unsigned long long>(t.builds));
         std::fflush(stdout);
       }
     }

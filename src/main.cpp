@@ -113,6 +113,7 @@ int main(int argc, char** argv) {
                   "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
                   "cost per particle-step and peak memory against N, and their fitted exponents");
   bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
+  bench->add_option("--peers", bench_opt.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
 
   // sweep: parameter studies over a case (src/study; MPI starts there, and only there).

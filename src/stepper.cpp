@@ -40,6 +40,9 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   set_up_structure();
   set_up_film();
   set_up_meshes();
+  // The contents' mass, balls then film nodes (the order contents_relative_velocity sums them in).
+  for (std::size_t i = 0; i < n; ++i) contents_mass_ += p_.mass[i];
+  for (std::size_t k = 0; k < film_.size(); ++k) contents_mass_ += film_.mass[k];
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation

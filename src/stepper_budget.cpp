@@ -125,10 +125,9 @@ void Simulation::add_contents_velocity(const Vec3& dv) {
 
 Vec3 Simulation::contents_relative_velocity() const {
   Vec3 momentum = Vec3::Zero();
-  double mass = 0;
-  for (std::size_t i = 0; i < p_.size(); ++i) momentum += p_.mass[i] * p_.v[i], mass += p_.mass[i];
-  for (std::size_t k = 0; k < film_.size(); ++k) momentum += film_.mass[k] * film_.v[k], mass += film_.mass[k];
-  return mass > 0 ? Vec3(momentum / mass - cavity_.velocity) : Vec3::Zero();
+  for (std::size_t i = 0; i < p_.size(); ++i) momentum += p_.mass[i] * p_.v[i];
+  for (std::size_t k = 0; k < film_.size(); ++k) momentum += film_.mass[k] * film_.v[k];
+  return contents_mass_ > 0 ? Vec3(momentum / contents_mass_ - cavity_.velocity) : Vec3::Zero();
 }
 
 std::size_t Simulation::contact_count() const {

@@ -146,8 +146,9 @@ void Simulation::structure_drift() {
 CavityState Simulation::structure_cavity() const {
   const Primary& P = *scene_.primary;
   const StructureState& S = structure_;
-  // Displacement from where the structure was held while the contents settled.
-  const Eigen::VectorXd dq = ConstVecMap(S.q.data(), S.q.size()) - q_hold_;
+  // Displacement from where the structure was held while the contents settled (an expression:
+  // no temporary vector, this runs every step).
+  const auto dq = ConstVecMap(S.q.data(), S.q.size()) - q_hold_;
   ConstVecMap v(S.v_pred.data(), S.v_pred.size());
   CavityState c{P.at_cavity.dot(dq) * P.direction, P.at_cavity.dot(v) * P.direction};
   if (P.follow_slope) {

@@ -87,9 +87,17 @@ TEST(Reduce, RigidMassGluedToTheCavityHasItsMassAndNoDamping) {
   const std::vector<ReducedRow> back = read_reduced_csv(d.path / "out" / "reduced.csv");
   ASSERT_EQ(back.size(), 1u);
   EXPECT_NEAR(back.front().M_eff, row.M_eff, 1e-12 * m);
+  const std::string written = bagdem::testing::slurp(d.path / "out" / "reduced.csv");
   const auto cli = bagdem::testing::run_bagdem({"reduce", d.str()}, d.path);
   EXPECT_EQ(cli.code, 0) << cli.err;
   EXPECT_NE(cli.out.find("M_eff/M_bag"), std::string::npos) << cli.out;
+  EXPECT_EQ(bagdem::testing::slurp(d.path / "out" / "reduced.csv"), written);
+  // Without the energy tallies (they do not change the motion) the run reduces the same.
+  RunOptions quiet = quiet_in(d);
+  quiet.out_dir = (d.path / "out-no-energy").string();
+  const RunReport r2 = run_scene(load_case(d.str(), {"output.energy=false"}), quiet);
+  ASSERT_EQ(r2.reduced.size(), 1u) << r2.reduce_message;
+  EXPECT_EQ(r2.reduced.front().M_eff, row.M_eff);
 }
 
 // The squeezed ball in the cavity of an SDOF primary: a mass m on the structure. The sweep's

@@ -1,5 +1,6 @@
-# Shared by tools/demo, tools/test and tools/validate (sourced, not run): installs the Debian
-# packages bagdem needs if any is missing, then configures and builds build/ (Release).
+# Shared by tools/demo, tools/test, tools/validate, tools/extremes and tools/bench-peers (sourced,
+# not run): installs the Debian packages bagdem needs if any is missing, then configures and builds
+# build/ (Release).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BAGDEM_BUILD_DIR:-$ROOT/build}"
@@ -12,7 +13,9 @@ install_missing() {
   for p in "${PACKAGES[@]}"; do
     dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
   done
-  [ ${#missing[@]} -eq 0 ] && return 0
+  # Matplotlib builds its font cache on first import and says so on stderr: do it here, once,
+  # rather than inside the first plot (tools/plot, the plot tests).
+  [ ${#missing[@]} -eq 0 ] && { warm_matplotlib; return 0; }
   echo "bagdem: installing ${missing[*]}"
   local cmd=(apt-get install -y --no-install-recommends "${missing[@]}")
   if [ "$(id -u)" -eq 0 ]; then
@@ -26,6 +29,11 @@ install_missing() {
     echo "  apt-get update && ${cmd[*]}" >&2
     exit 1
   fi
+  warm_matplotlib
+}
+
+warm_matplotlib() {
+  MPLBACKEND=Agg /usr/bin/python3 -c 'import matplotlib.pyplot' >/dev/null 2>&1 || true
 }
 
 build() {

@@ -363,6 +363,7 @@ class Simulation {
 
   double potential0_ = 0;                     // gravity potential energy at t = 0 (unit: J)
   double kinetic_elastic0_ = 0;               // kinetic + elastic energy at t = 0 (unit: J)
+  double contents_mass_ = 0;                  // balls and film nodes (unit: kg)
   bool profile_ = false;
   StageTimes times_;
   bool scatter_ = true;                       // pair forces scattered (one thread) or gathered

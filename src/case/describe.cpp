@@ -44,8 +44,7 @@ std::string describe_scene(const Scene& s) {
   if (s.bag) {
     const Bag& b = *s.bag;
     const double V = enclosed_volume(b.rest, b.rest.vertices);
-    const double area = surface_area(b.rest, b.rest.vertices);
-    const double film_mass = area * b.film.thickness * b.film.density;
+    const double film_mass = b.film_mass();
     o << "bag         " << b.shape << ", " << b.balls << " balls (" << b.source << "), outer " << 1e3 * b.size.x()
       << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z() << " mm at rest, volume " << V * 1e6
       << " cm^3, fill fraction " << b.fill_fraction << "\n";

@@ -53,10 +53,11 @@ DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem
   bool touched = false;
   std::uint64_t off = 0, first = 0, last = 0;
   double v_before = speed;
-  for (std::uint64_t n = 0; n < max_steps; ++n) {
-    const double v_prev = sim.contents_relative_velocity().dot(u);
+  double v_prev = sim.contents_relative_velocity().dot(u);
+  for (std::uint64_t n = 0; n < max_steps; ++n, v_prev = v.back()) {
     sim.step();
-    const double f = sim.take_cavity_sample().force.dot(u), vn = sim.contents_relative_velocity().dot(u);
+    const Simulation::CavitySample c = sim.take_cavity_sample();  // one step: this step's force, the velocity after it
+    const double f = c.force.dot(u), vn = c.contents_velocity.dot(u);
     t.push_back(sim.time()), F.push_back(f), v.push_back(vn);
     if (f > threshold) {
       if (!touched) v_before = v_prev, first = n;

@@ -116,11 +116,7 @@ ReductionContext reduction_context(const Scene& scene, const Simulation* sim, co
   }
   c.balls = balls;
   c.ball_diameter = balls > 0 ? diameters / balls : 0;
-  if (sim && scene.bag) {
-    double film = 0;
-    for (double m : sim->film().mass) film += m;
-    mass += film / scene.bag->mass_scaling;
-  }
+  if (scene.bag) mass += scene.bag->film_mass();
   c.bag_mass = mass;
   c.primary_mass = scene.primary ? scene.primary->structure_mass : 0;
   c.clearance = sim ? contents_clearance(scene, *sim, c.direction) : kNaN;
@@ -317,12 +313,14 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
   }
   ReductionContext ctx = reduction_context(scene, nullptr, e);
   ctx.clearance = clearance;
-  if (scene.bag) {  // the film's real mass needs its nodes: a simulation's initial state has them
-    const Simulation sim(scene);
-    ctx.bag_mass = reduction_context(scene, &sim, e).bag_mass;
-  }
   const double t_skip = scene.settle + scene.motion->ramp_time() + scene.output.skip_cycles / f;
-  const std::vector<ReducedRow> rows{reduce_series(s, f, t_skip, ctx)};
+  std::vector<ReducedRow> rows;
+  try {
+    rows.push_back(reduce_series(s, f, t_skip, ctx));
+  } catch (const std::invalid_argument& e) {  // too few whole cycles after settling, the ramp and skip_cycles
+    throw InputError(h5.string(), "/cavity/time", std::to_string(s.t.back()) + " s",
+                     std::string("cannot be reduced: ") + e.what() + "; run longer (simulation.duration)");
+  }
   write_reduced_csv(out / "reduced.csv", rows);
   return rows;
 }

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/stepper.hpp"
 
 namespace bagdem {
@@ -69,8 +70,12 @@ std::string peers_bed(const std::string& peers, int N) {
   std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
   if (!fs::exists(data) && fs::exists(data + ".gz")) {
     const std::string tmp = (fs::temp_directory_path() / ("bagdem_N" + std::to_string(N) + ".vib1.data")).string();
-    if (!fs::exists(tmp) && std::system(("gunzip -c '" + data + ".gz' > '" + tmp + "'").c_str()) != 0)
-      throw std::runtime_error("cannot unpack " + data + ".gz");
+    // Unpacked to a temporary name and renamed: an interrupted unpack leaves no truncated bed.
+    if (!fs::exists(tmp)) {
+      if (std::system(("gunzip -c '" + data + ".gz' > '" + tmp + ".part'").c_str()) != 0)
+        throw std::runtime_error("cannot unpack " + data + ".gz");
+      fs::rename(tmp + ".part", tmp);
+    }
     data = tmp;
   }
   return fs::exists(data) ? data : "";
@@ -107,7 +112,7 @@ int run_growth_bench(const BenchOptions& opt) {
   if (data.empty()) {
     std::fprintf(stderr, "error: %s/runs/N1000.vib1.data not found: the growth benchmark tiles the peers' settled bed\n",
                  peers.c_str());
-    return 2;
+    return kExitInputError;
   }
   const long long steps = std::max(100LL, static_cast<long long>(10000 * opt.step_scale));
   std::printf("Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "

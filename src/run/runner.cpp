@@ -315,9 +315,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   rep.wall_seconds = wall;
   const double psteps = static_cast<double>(sim.particles().size()) * static_cast<double>(total - first_step);
   rep.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
+  const double cycles = f_drive > 0 && total > measure_step ? static_cast<double>(total - measure_step) * scene.dt * f_drive : 0.0;
   if (energy) {
     rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
-    const double cycles = f_drive > 0 && total > measure_step ? static_cast<double>(total - measure_step) * scene.dt * f_drive : 0.0;
     if (cycles >= 1) {  // less than a cycle measured gives no per-cycle figure
       rep.cycles = cycles;
       rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_measure) / rep.cycles;
@@ -379,7 +379,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
   write_atomically(summary, j.str());
   // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
-  if (!scene.primary && f_drive > 0 && rep.cycles >= 2) {
+  if (!scene.primary && f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
     try {
       rep.reduced = reduce_run(scene, out.string());
     } catch (const InputError& e) {

@@ -268,6 +268,12 @@ StudySpec read_spec(const SweepArgs& a) {
   return s;
 }
 
+std::string point_name(std::size_t index, std::size_t count) {
+  const std::size_t width = std::max<std::size_t>(3, std::to_string(count - 1).size());
+  const std::string num = std::to_string(index);
+  return "point-" + std::string(width - num.size(), '0') + num;
+}
+
 std::string Plan::point_dir(const Point& p) const { return (fs::path(spec.out_dir) / p.name).string(); }
 
 Plan make_plan(const StudySpec& spec) {
@@ -310,7 +316,6 @@ Plan make_plan(const StudySpec& spec) {
   if (combos * seeds > kMaxPoints)
     throw InputError(src, "vary", "", "gives more than " + std::to_string(kMaxPoints) + " points; split the study");
   const std::size_t n = combos * seeds;
-  const std::size_t width = std::max<std::size_t>(3, std::to_string(n - 1).size());
 
   for (std::size_t c = 0; c < combos; ++c) {
     std::vector<std::size_t> choice(spec.vary.size());
@@ -331,8 +336,7 @@ Plan make_plan(const StudySpec& spec) {
         p.seed = static_cast<int>(s);
         p.sets.push_back("simulation.seed=" + std::to_string(s));
       }
-      std::string num = std::to_string(p.index);
-      p.name = "point-" + std::string(width - num.size(), '0') + num;
+      p.name = point_name(p.index, n);
       plan.points.push_back(p);
     }
   }

@@ -59,19 +59,17 @@ CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>
   f.rolling = s.models.rolling;
   f.cavity_interval = s.output.cavity_interval;
   if (s.primary && s.primary->sweep) f.steady_tolerance = s.primary->sweep->tolerance;
-  // The safety factor and the interaction tables as written (with the --set overrides applied the
-  // way load_case applies them is not needed: a --set of these keys is rare and then wins anyway,
-  // as the knob's override comes after it).
-  const std::string file = (fs::path(case_dir) / "case.toml").string();
+  // The safety factor, the steps per contact and the interaction tables as resolved (the case file
+  // with the user's --set applied: a knob scales the user's value, not the file's).
   try {
-    const toml::table t = toml::parse_file(file);
-    f.safety = t["simulation"]["timestep_safety"].value_or(0.2);
+    const toml::table t = toml::parse(s.resolved);
+    f.safety = t["simulation"]["timestep_safety"].value_or(0.2);         // timestep.cpp's defaults
     f.steps_per_contact = t["simulation"]["steps_per_contact"].value_or(40.0);
     if (const toml::table* in = t["interactions"].as_table())
       for (const auto& [name, node] : *in)
         if (node.is_table()) f.interactions.emplace_back(name.str());
   } catch (const toml::parse_error& e) {
-    throw InputError(file, "", "", std::string("cannot be read: ") + std::string(e.description()));
+    throw InputError(s.case_file, "", "", std::string("the resolved case cannot be read back: ") + std::string(e.description()));
   }
   return f;
 }
@@ -228,11 +226,6 @@ const std::vector<Knob>& knobs() {
   return table;
 }
 
-std::vector<std::string> knob_sets(const std::string& case_dir, const std::vector<std::string>& sets,
-                                   const std::string& knob, double factor) {
-  return knob_overrides(case_facts(case_dir, sets), knob, factor);
-}
-
 std::vector<std::string> fidelity_sets(const std::string& case_dir, const std::vector<std::string>& sets,
                                        const std::string& preset) {
   if (preset == "balanced") return {};
@@ -324,17 +317,15 @@ int trade_command(const TradeArgs& args) {
     Varied rung{"rung", {}};
     for (const Rung& r : ladder) rung.values.push_back({"\"" + r.name + "\"", r.name});
     spec.vary.push_back(rung);
-    const std::size_t width = std::max<std::size_t>(3, std::to_string(ladder.size() - 1).size());
     for (std::size_t k = 0; k < ladder.size(); ++k) {
       Point p;
       p.index = p.combination = k;
       p.choice = {k};
       p.sets = ladder[k].sets;
-      const std::string num = std::to_string(k);
-      p.name = "point-" + std::string(width - num.size(), '0') + num;
+      p.name = point_name(k, ladder.size());
       plan.points.push_back(p);
     }
-    budget = resolve_budget(spec, spec.cores > 0 ? spec.cores : machine_cores(), "the cores of this machine");
+    budget = resolve_budget(spec, machine_cores(), "the cores of this machine");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     done = done_points(plan);
   } catch (const InputError& e) {
@@ -433,10 +424,7 @@ int trade_command(const TradeArgs& args) {
     std::printf("trade %s: %zu runs, %.1f s wall -> %s/trade.csv\n", failed ? "finished with failed runs" : "complete",
                 ladder.size(), wall, plan.spec.out_dir.c_str());
     return failed ? kExitRunError : 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // after the runs started: not "bad input, nothing run"
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }

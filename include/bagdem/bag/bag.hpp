@@ -42,6 +42,10 @@ struct Bag {
   double fill_fraction = 0;     // ball volume / bag volume at rest
   std::string source;           // "filled on an FCC lattice (seed 1)" or "from <file>"
 
+  // The film's physical mass: its area at rest x thickness x density (the node masses add up to
+  // it, before mass_scaling) (unit: kg).
+  double film_mass() const { return surface_area(rest, rest.vertices) * film.thickness * film.density; }
+
   std::size_t ball_first = 0;   // the bag's balls are Scene::particles[ball_first, ball_first + balls)
   std::size_t balls = 0;
   std::vector<BagString> strings;

@@ -104,7 +104,10 @@ struct Plan {
   std::string point_dir(const Point& p) const;  // OUT/point-NNN
 };
 
-// The points of a spec. Throws InputError: nothing varied and one seed, a zip of unequal lengths,
+// "point-NNN": index zero-padded to the digits of count - 1 (at least 3).
+std::string point_name(std::size_t index, std::size_t count);
+
+// The points of a spec. Throws InputError: a zip of unequal lengths,
 // a key both varied and set, simulation.seed varied with seeds > 1, an empty value list.
 Plan make_plan(const StudySpec& spec);
 

@@ -47,12 +47,6 @@ struct Knob {
 // The knobs, a plain table (the order of the ladder).
 const std::vector<Knob>& knobs();
 
-// The overrides that put `knob` at `factor` on the case loaded from case_dir with `sets`; empty
-// when the case does not use the knob (no bag for "film", ...). Throws InputError for an unknown
-// knob.
-std::vector<std::string> knob_sets(const std::string& case_dir, const std::vector<std::string>& sets,
-                                   const std::string& knob, double factor);
-
 // The overrides of a preset ("reference", "balanced", "fast") for the case; throws InputError for
 // another name.
 std::vector<std::string> fidelity_sets(const std::string& case_dir, const std::vector<std::string>& sets,

@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3031ULL;  // "bagdem01"
+constexpr std::uint64_t kMagic = 0x6261676465'6d3032ULL;  // "bagdem02": format 2 (cavity at the build)
 
 struct Writer {
   std::vector<char> out;
@@ -98,6 +98,7 @@ std::vector<char> Simulation::save_state() const {
                              self.wall_tan_, self.wall_roll_, self.wall_damping_prev_, self.wall_touch_, self.cavity_, self.cavity_prev_);
   self.bag_state_fields(w);
   structure_fields(w, self.structure_, self.cavity_load_, self.film_load_moments_);
+  w.pod(cavity_pos_at_build_), w.pod(cavity_shear_at_build_);
   return std::move(w.out);
 }
 
@@ -114,9 +115,11 @@ void Simulation::load_state(const std::vector<char>& image) {
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
   bag_state_fields(r);
   structure_fields(r, structure_, cavity_load_, film_load_moments_);
-  // What is derived from the pair list (first, gather CSR, per-pair buffers), without a new
-  // broad-phase search.
+  r.pod(cavity_pos_at_build_), r.pod(cavity_shear_at_build_);
+  // What is derived from the pair list (first, gather CSR, per-pair buffers, the walls near each
+  // ball), without a new broad-phase search.
   derive_pair_buffers();
+  find_near_walls();
   if (!surfaces_.empty()) build_mesh_candidates(x_at_build_, film_at_build_, cavity_at_build_);
 }
 

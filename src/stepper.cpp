@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "bagdem/particles.hpp"
+#include "stepper_detail.hpp"
 
 namespace bagdem {
 
@@ -36,6 +37,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   if (scene.models.rolling) wall_roll_.assign(n * nw, {});
   if (scene.models.energy) wall_damping_prev_.assign(n * nw, 0.0);
   wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
+  wall_near_.assign(n, 0);
   cavity_ = cavity_prev_ = cavity_at(0.0);
   set_up_structure();
   set_up_film();
@@ -120,23 +122,37 @@ void Simulation::step() {
 void Simulation::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
   const std::size_t n = p_.size();
-  const bool rot = scene_.models.rotation;
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
   bool moved = false;
-#pragma omp parallel for schedule(static) reduction(|| : moved) if (n > kParallelMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 dv = h * p_.inv_mass[i] * p_.f[i];
-    p_.v[i] += dv;
-    p_.x[i] += dt * p_.v[i];
-    p_.v_pred[i] = p_.v[i] + dv;
-    if (rot) {
-      const Vec3 dw = h * p_.inv_inertia[i] * p_.t[i];
-      p_.w[i] += dw;
-      p_.w_pred[i] = p_.w[i] + dw;
-    }
-    moved = moved || (p_.x[i] - x_at_build_[i]).squaredNorm() > limit2;
-    start_sums(i);
-  }
+  with_flags(
+      [&]<bool Rotation, bool Gravity, bool Energy>() {
+        const Vec3 g = scene_.gravity;
+        auto one = [this, dt, h, limit2, g](std::size_t i, bool& moved) BAGDEM_INLINE_LAMBDA {
+          const Vec3 dv = h * p_.inv_mass[i] * p_.f[i];
+          const Vec3 v = p_.v[i] + dv;
+          p_.v[i] = v;
+          const Vec3 x = p_.x[i] + dt * v;
+          p_.x[i] = x;
+          p_.v_pred[i] = v + dv;
+          if constexpr (Rotation) {
+            const Vec3 dw = h * p_.inv_inertia[i] * p_.t[i];
+            p_.w[i] += dw;
+            p_.w_pred[i] = p_.w[i] + dw;
+          }
+          moved = moved || (x - x_at_build_[i]).squaredNorm() > limit2;
+          // The sums of the new step (start_sums, inlined here with its switches resolved).
+          p_.f[i] = Gravity ? Vec3(p_.mass[i] * g) : Vec3::Zero();
+          p_.t[i].setZero();
+          if constexpr (Energy) tally_.step_dissipation[i].setZero();
+        };
+        if (n > kParallelMin && omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(static) reduction(|| : moved) firstprivate(one)
+          for (std::size_t i = 0; i < n; ++i) one(i, moved);
+        } else {
+          for (std::size_t i = 0; i < n; ++i) one(i, moved);
+        }
+      },
+      scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
   needs_rebuild_ = moved;
   const std::size_t nn = film_.size();
 #pragma omp parallel for schedule(static) if (nn > kParallelMin)
@@ -159,6 +175,11 @@ void Simulation::move_cavity() {
   cavity_sums_.time += t;
   cavity_sums_.position += cavity_.position;
   cavity_sums_.velocity += cavity_.velocity;
+  // The walls' candidates (wall_near_) hold while the cavity moved at most skin/2 since the last
+  // build; a slope moves a point at most |d shear| l further (l: half the cavity's axial extent).
+  const double moved = (cavity_.position - cavity_pos_at_build_).norm() +
+                       (tilt_ ? (cavity_.shear - cavity_shear_at_build_).norm() * tilt_extent_ : 0.0);
+  if (moved > 0.5 * scene_.skin) needs_rebuild_ = true;
 }
 
 // ---- 3. neighbours ------------------------------------------------------------------------------
@@ -200,7 +221,33 @@ void Simulation::update_neighbours(bool force_rebuild) {
   std::swap(ps_.rolling, spare_.rolling);
   std::swap(ps_.damping_prev, spare_.damping_prev);
   derive_pair_buffers();
+  cavity_pos_at_build_ = cavity_.position;
+  cavity_shear_at_build_ = cavity_.shear;
+  find_near_walls();
   if (!surfaces_.empty()) build_mesh_candidates(p_.x, film_.x, cavity_.position);
+}
+
+// The walls within skin of each ball's surface at the build (x_at_build_, the cavity where it was
+// then). Until the next build neither moves more than skin/2, so no other wall can be touched.
+// A ball with no wall near has no wall contact to carry over (it touched none at the last step,
+// or its wall would be near): its cavity load starts from zero.
+void Simulation::find_near_walls() {
+  const std::size_t n = p_.size(), nw = scene_.walls.size();
+  CavityState at_build = cavity_;
+  at_build.position = cavity_pos_at_build_;
+  at_build.shear = cavity_shear_at_build_;
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 x = x_at_build_[p];
+    const double s = tilt_ ? (x - at_build.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
+    const Vec3 x_local = x - at_build.position - s * at_build.shear;
+    std::uint32_t near = 0;
+    for (std::size_t w = 0; w < nw; ++w) {
+      Vec3 normal;
+      if (wall_distance(scene_.walls[w], x_local, normal) - p_.radius[p] < scene_.skin) near |= 1u << w;
+    }
+    wall_near_[p] = near;
+  }
 }
 
 // From the installed pair list and its histories: the per-pair buffers and the gather CSR.
@@ -241,14 +288,23 @@ void Simulation::derive_pair_buffers() {
 void Simulation::kick() {
   const double h = 0.5 * scene_.dt;
   const std::size_t n = p_.size();
-  const bool rot = scene_.models.rotation;
   bool finite = true;
-#pragma omp parallel for schedule(static) reduction(&& : finite) if (n > kParallelMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    p_.v[i] += h * p_.inv_mass[i] * p_.f[i];
-    if (rot) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
-    finite = finite && std::isfinite(p_.v[i].squaredNorm());
-  }
+  with_flags(
+      [&]<bool Rotation>() {
+        auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
+          const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * p_.f[i];
+          p_.v[i] = v;
+          if constexpr (Rotation) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
+          finite = finite && std::isfinite(v.squaredNorm());
+        };
+        if (n > kParallelMin && omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(static) reduction(&& : finite) firstprivate(one)
+          for (std::size_t i = 0; i < n; ++i) one(i, finite);
+        } else {
+          for (std::size_t i = 0; i < n; ++i) one(i, finite);
+        }
+      },
+      scene_.models.rotation);
   const std::size_t nn = film_.size();
 #pragma omp parallel for schedule(static) reduction(&& : finite) if (nn > kParallelMin)
   for (std::size_t k = 0; k < nn; ++k) {

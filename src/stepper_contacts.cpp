@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "bagdem/contact/hertz.hpp"
@@ -33,7 +34,16 @@ void Simulation::pair_contacts() {
 // history. Rare, so kept out of line: the pair loop stays small.
 template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
 [[gnu::noinline]] void Simulation::open_pair(std::size_t k, std::uint32_t i, std::uint32_t j) {
-  ps_.touching[k] = 0;
+  // Gathering, the pair's record holds this step's closing tally (forces zero): state 2 until the
+  // next step. Scattering, it is done with.
+  ps_.touching[k] = Scatter ? 0 : 2;
+  if constexpr (!Scatter) {
+    PairState::Output& out = ps_.out[k];
+    out.force.setZero();
+    out.torque_i.setZero();
+    out.torque_j.setZero();
+    out.dissipated.setZero();
+  }
   if constexpr (Energy) {
     const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
     const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
@@ -59,23 +69,21 @@ void Simulation::pair_contacts_impl() {
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
   double excess = -1e300;
-#pragma omp parallel for schedule(static) reduction(max : excess) if (!Scatter)
-  for (std::size_t k = 0; k < np; ++k) {
+  // One pair; scattered on one thread, outside any parallel region (OpenMP's outlining of the
+  // loop body would otherwise cost the serial path too).
+  // Captures by value: each thread works on its own copy (firstprivate), whose fields the compiler
+  // keeps in registers.
+  auto one_pair = [this, dt, frac, &laws](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     PairState::Output& out = ps_.out[k];
     ContactGeometry g;
     if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) {
-      if constexpr (!Scatter) {
-        out.force.setZero();
-        if constexpr (Tangential || Rolling) {
-          out.torque_i.setZero();
-          out.torque_j.setZero();
-        }
-        if constexpr (Energy) out.dissipated.setZero();
-      }
-      // A contact that just opened (untouched pairs cost no history access).
-      if (ps_.touching[k]) open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
-      continue;
+      // A contact that just opened (untouched pairs cost no history access, and leave no record
+      // for the gather).
+      const std::uint8_t was = ps_.touching[k];
+      if (was == 1) open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
+      else if (was == 2) ps_.touching[k] = 0;
+      return;
     }
     ps_.touching[k] = 1;
     excess = std::max(excess, g.overlap - frac * std::min(p_.radius[i], p_.radius[j]));
@@ -98,7 +106,7 @@ void Simulation::pair_contacts_impl() {
       if constexpr (Tangential) {
         const TangentialResult tr = mindlin_tangential(g, law, nr, dt, ps_.tangential[k]);
         F += tr.force;
-        const Vec3 nxF = g.n.cross(tr.force);
+        const Vec3 nxF = cross(g.n, tr.force);
         Ti = -g.arm_i * nxF;
         Tj = -g.arm_j * nxF;
         if constexpr (Energy) diss.y() = tr.dissipated;
@@ -128,6 +136,12 @@ void Simulation::pair_contacts_impl() {
       out.force = F;
       if constexpr (Energy) out.dissipated = diss;
     }
+  };
+  if constexpr (Scatter) {
+    for (std::size_t k = 0; k < np; ++k) one_pair(k, excess);
+  } else {
+#pragma omp parallel for schedule(static) reduction(max : excess) firstprivate(one_pair)
+    for (std::size_t k = 0; k < np; ++k) one_pair(k, excess);
   }
   overlap_excess_ = excess;
 }
@@ -149,8 +163,7 @@ void Simulation::gather_walls_impl() {
   const double frac = scene_.max_overlap_fraction;
   double excess = overlap_excess_;
   double min_dist = 1e300;
-#pragma omp parallel for schedule(static) reduction(max : excess) reduction(min : min_dist) if (n > kParallelMin)
-  for (std::size_t p = 0; p < n; ++p) {
+  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, double& excess, double& min_dist) BAGDEM_INLINE_LAMBDA {
     // Starts from gravity (kick_drift), plus the pairs when they were scattered.
     Vec3 F = p_.f[p];
     Vec3 T = p_.t[p];
@@ -158,6 +171,7 @@ void Simulation::gather_walls_impl() {
     if constexpr (Energy) diss = tally_.step_dissipation[p];
     for (std::uint32_t e = Gather ? ps_.gather_begin[p] : 0; e < (Gather ? ps_.gather_begin[p + 1] : 0); ++e) {
       const std::uint32_t entry = ps_.gather[e];
+      if (ps_.touching[entry >> 1] == 0) continue;  // no record: the pair is apart
       const PairState::Output& out = ps_.out[entry >> 1];
       if (entry & 1u) {
         F -= out.force;
@@ -177,11 +191,29 @@ void Simulation::gather_walls_impl() {
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
+    const std::uint32_t near = wall_near_[p];
+    if (near == 0) {
+      // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
+      // to its tallies this step is zero and is skipped (its last wall force was zero too).
+      if constexpr (Gather) {
+        p_.f[p] = F;
+        p_.t[p] = T;
+      }
+      if (couple_) cavity_load_[p].setZero();
+      if constexpr (Energy) {
+        tally_.diss_normal[p] += diss.x();
+        tally_.diss_tangential[p] += diss.y();
+        tally_.diss_rolling[p] += diss.z();
+      }
+      min_dist = std::min(min_dist, d_bounds);
+      return;
+    }
     double d_min = 1e300;  // nearest wall
     Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     const std::uint32_t touched_before = wall_touch_[p];
     std::uint32_t touched = 0;
-    for (std::size_t w = 0; w < nw; ++w) {
+    for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
+      const auto w = static_cast<std::size_t>(std::countr_zero(bits));
       const Wall& wall = scene_.walls[w];
       ContactGeometry g;
       const double d = wall_distance(wall, x_local, g.n);
@@ -226,7 +258,7 @@ void Simulation::gather_walls_impl() {
       F += Fc;
       F_wall += Fc;
       // Torque on the cavity about its reference point, from the contact point on the wall.
-      T_cavity -= (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
+      T_cavity -= cross(Vec3(x_local - d * g.n - scene_.cavity_reference), Fc);
       if (couple_) load += load_moments(x_local - d * g.n, -Fc);
     }
     if (couple_) cavity_load_[p] = load;
@@ -247,6 +279,12 @@ void Simulation::gather_walls_impl() {
       tally_.diss_tangential[p] += diss.y();
       tally_.diss_rolling[p] += diss.z();
     }
+  };
+  if (n > kParallelMin && omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(static) reduction(max : excess) reduction(min : min_dist) firstprivate(one_ball)
+    for (std::size_t p = 0; p < n; ++p) one_ball(p, excess, min_dist);
+  } else {
+    for (std::size_t p = 0; p < n; ++p) one_ball(p, excess, min_dist);
   }
   overlap_excess_ = excess;
   min_boundary_distance_ = min_dist;

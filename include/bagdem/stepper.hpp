@@ -49,7 +49,9 @@ struct PairState {
   std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
-  std::vector<std::uint8_t> touching;        // per pair: in contact at the last step (its history may be set)
+  // Per pair: 1 in contact at the last step (its history may be set), 0 apart; gathering, 2 = opened
+  // this step (its record holds the closing tally only). Pairs at 0 have no record this step.
+  std::vector<std::uint8_t> touching;
   // What one pair contact produced this step, in one record so the gather reads it in one go.
   struct Output {
     Vec3 force;       // force on i (on j: the opposite) (unit: N)
@@ -57,7 +59,7 @@ struct PairState {
     Vec3 torque_j;    // torque on j (unit: N m)
     Vec3 dissipated;  // this step's (normal, tangential, rolling) dissipation (unit: J)
   };
-  std::vector<Output> out;                   // per pair; filled only when gathering (several threads)
+  std::vector<Output> out;                   // per pair; filled only when gathering (several threads), for pairs touching != 0
   // Gather CSR: for particle p, entries gather[gather_begin[p] .. gather_begin[p+1]) are
   // 2*pair + (p is the pair's j), sorted by partner index.
   std::vector<std::uint32_t> gather_begin, gather;
@@ -190,6 +192,7 @@ class Simulation {
   void move_cavity();
   void update_neighbours(bool force_rebuild);
   void derive_pair_buffers();
+  void find_near_walls();
   void pair_contacts();
   void gather_walls();
   void triangle_contacts();
@@ -292,6 +295,12 @@ class Simulation {
   std::vector<RollingHistory> wall_roll_;
   std::vector<double> wall_damping_prev_;     // per particle per wall (energy tally)
   std::vector<std::uint32_t> wall_touch_;     // per particle: bit w set = touched wall w at the last step
+  // Per particle: bit w set = wall w was within skin of the ball's surface at the last neighbour
+  // build. The list holds while no ball and not the cavity moved more than skin/2 since
+  // (kick_drift, move_cavity), so the walls not in it cannot be touched: gather_walls skips them.
+  std::vector<std::uint32_t> wall_near_;
+  Vec3 cavity_pos_at_build_ = Vec3::Zero();   // cavity position and shear at the last build
+  Vec3 cavity_shear_at_build_ = Vec3::Zero();
   CavityState cavity_, cavity_prev_;
   double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
   std::uint64_t step_ = 0;

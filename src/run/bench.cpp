@@ -36,7 +36,13 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   return o;
 }
 
-double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t* builds) {
+// What the step loop works on at the end of a run, per particle: candidate pairs and closed
+// contacts (pairs and walls), and which fraction of the balls has a wall near (gather_walls).
+struct Workload {
+  double pairs = 0, contacts = 0;
+};
+
+double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t* builds, Workload* load = nullptr) {
   omp_set_num_threads(threads);
   Simulation sim(scene);
   // Settling (if any) is not timed.
@@ -46,6 +52,11 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   for (long long k = 0; k < steps; ++k) sim.step();
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   *builds = sim.neighbour_builds();
+  if (load) {
+    const auto n = static_cast<double>(sim.particles().size());
+    load->pairs = static_cast<double>(sim.pair_state().pairs.size()) / n;
+    load->contacts = static_cast<double>(sim.contact_count()) / n;
+  }
   return s;
 }
 
@@ -54,12 +65,13 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
 struct Timing {
   double median = 0, lo = 0, hi = 0;
   std::uint64_t builds = 0;
+  Workload load;
 };
 Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats) {
   Timing t;
   std::vector<double> ns;
   for (int r = 0; r < repeats; ++r)
-    ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
+    ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds, &t.load) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
   std::sort(ns.begin(), ns.end());
   t.median = ns[ns.size() / 2], t.lo = ns.front(), t.hi = ns.back();
   return t;
@@ -180,8 +192,8 @@ int run_bench(const BenchOptions& opt) {
   const std::string case_dir = opt.case_dir.empty() ? src + "/cases/pdbox" : opt.case_dir;
   std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
               opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
+  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds | pairs/particle | contacts/particle |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (int N : opt.sizes) {
     const std::string data = peers_bed(peers, N);
     if (data.empty())
@@ -197,8 +209,8 @@ int run_bench(const BenchOptions& opt) {
       sc.models.energy = opt.energy;
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats);
-        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu |\n", sc.particles.size(), steps, method.c_str(), th, t.median,
-                    t.lo, t.hi, static_cast<unsigned long long>(t.builds));
+        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f |\n", sc.particles.size(), steps, method.c_str(), th,
+                    t.median, t.lo, t.hi, static_cast<unsigned long long>(t.builds), t.load.pairs, t.load.contacts);
         std::fflush(stdout);
       }
     }
@@ -218,6 +230,7 @@ int run_bag_bench(const BenchOptions& opt) {
               opt.energy ? "on" : "off", opt.repeats);
   std::printf("| film triangles | nodes | balls | dt (s) | steps | threads | us/step (median) | balls %% | ball-film contacts %% | film %% | neighbour builds |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::map<int, std::vector<std::pair<double, double>>> fits;  // threads -> (film nodes, film us/step)
   for (int tri : opt.film_triangles) {
     const Scene scene = load_case(case_dir, {"bag.triangles=" + std::to_string(tri)});
     const long long steps = std::max(100LL, static_cast<long long>(20000 * opt.step_scale));
@@ -249,7 +262,17 @@ int run_bag_bench(const BenchOptions& opt) {
                   100 * (t.integrate + t.neighbours + t.pairs + t.walls + t.guards) / total, 100 * t.triangles / total,
                   100 * t.film / total, static_cast<unsigned long long>(builds));
       std::fflush(stdout);
+      // The film's own cost per step (ball-film contacts and film stages), against its node count.
+      fits[th].emplace_back(static_cast<double>(sc.bag->rest.vertices.size()),
+                            sorted[sorted.size() / 2] * (t.triangles + t.film) / total);
     }
+  }
+  for (const auto& [th, pts] : fits) {
+    if (pts.size() < 2) continue;
+    std::vector<double> x, y;
+    for (const auto& [n, us] : pts) x.push_back(n), y.push_back(us);
+    std::printf("%d thread(s): the film's cost per step (ball-film contacts + film) grows as nodes^a, a = %.3f\n", th,
+                log_log_slope(x, y));
   }
   std::printf("\nShares are of the timed stages of the last run (integration of balls and film nodes and the neighbour\n"
               "lists are counted with the balls).\n");

@@ -21,7 +21,7 @@ BAGDEM_INLINE Vec3 surface_contact(const ContactGeometry& g, const PairLaw& law,
   if constexpr (Tangential) {
     const TangentialResult tr = mindlin_tangential(g, law, nr, dt, *th);
     F += tr.force;
-    torque -= g.arm_i * g.n.cross(tr.force);
+    torque -= g.arm_i * cross(g.n, tr.force);
     if constexpr (Energy) diss.y() += tr.dissipated;
   }
   if constexpr (Rolling) {

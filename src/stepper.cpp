@@ -145,12 +145,7 @@ void Simulation::kick_drift() {
           p_.t[i].setZero();
           if constexpr (Energy) tally_.step_dissipation[i].setZero();
         };
-        if (n > kParallelMin && omp_get_max_threads() > 1) {
-#pragma omp parallel for schedule(static) reduction(|| : moved) firstprivate(one)
-          for (std::size_t i = 0; i < n; ++i) one(i, moved);
-        } else {
-          for (std::size_t i = 0; i < n; ++i) one(i, moved);
-        }
+        for_items(n, n > kParallelMin && omp_get_max_threads() > 1, moved, one, [](bool& a, bool b) { a = a || b; });
       },
       scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
   needs_rebuild_ = moved;
@@ -297,12 +292,7 @@ void Simulation::kick() {
           if constexpr (Rotation) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
           finite = finite && std::isfinite(v.squaredNorm());
         };
-        if (n > kParallelMin && omp_get_max_threads() > 1) {
-#pragma omp parallel for schedule(static) reduction(&& : finite) firstprivate(one)
-          for (std::size_t i = 0; i < n; ++i) one(i, finite);
-        } else {
-          for (std::size_t i = 0; i < n; ++i) one(i, finite);
-        }
+        for_items(n, n > kParallelMin && omp_get_max_threads() > 1, finite, one, [](bool& a, bool b) { a = a && b; });
       },
       scene_.models.rotation);
   const std::size_t nn = film_.size();

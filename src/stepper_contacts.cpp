@@ -69,10 +69,7 @@ void Simulation::pair_contacts_impl() {
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
   double excess = -1e300;
-  // One pair; scattered on one thread, outside any parallel region (OpenMP's outlining of the
-  // loop body would otherwise cost the serial path too).
-  // Captures by value: each thread works on its own copy (firstprivate), whose fields the compiler
-  // keeps in registers.
+  // One pair (scattering: on one thread, outside any parallel region).
   auto one_pair = [this, dt, frac, &laws](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     PairState::Output& out = ps_.out[k];
@@ -137,12 +134,7 @@ void Simulation::pair_contacts_impl() {
       if constexpr (Energy) out.dissipated = diss;
     }
   };
-  if constexpr (Scatter) {
-    for (std::size_t k = 0; k < np; ++k) one_pair(k, excess);
-  } else {
-#pragma omp parallel for schedule(static) reduction(max : excess) firstprivate(one_pair)
-    for (std::size_t k = 0; k < np; ++k) one_pair(k, excess);
-  }
+  for_items(np, !Scatter, excess, one_pair, [](double& a, double b) { a = std::max(a, b); });
   overlap_excess_ = excess;
 }
 
@@ -161,9 +153,12 @@ void Simulation::gather_walls_impl() {
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
-  double excess = overlap_excess_;
-  double min_dist = 1e300;
-  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, double& excess, double& min_dist) BAGDEM_INLINE_LAMBDA {
+  struct Extremes {
+    double excess, min_dist;
+  } ext{overlap_excess_, 1e300};
+  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, Extremes& ext) BAGDEM_INLINE_LAMBDA {
+    double& excess = ext.excess;
+    double& min_dist = ext.min_dist;
     // Starts from gravity (kick_drift), plus the pairs when they were scattered.
     Vec3 F = p_.f[p];
     Vec3 T = p_.t[p];
@@ -280,14 +275,12 @@ void Simulation::gather_walls_impl() {
       tally_.diss_rolling[p] += diss.z();
     }
   };
-  if (n > kParallelMin && omp_get_max_threads() > 1) {
-#pragma omp parallel for schedule(static) reduction(max : excess) reduction(min : min_dist) firstprivate(one_ball)
-    for (std::size_t p = 0; p < n; ++p) one_ball(p, excess, min_dist);
-  } else {
-    for (std::size_t p = 0; p < n; ++p) one_ball(p, excess, min_dist);
-  }
-  overlap_excess_ = excess;
-  min_boundary_distance_ = min_dist;
+  for_items(n, n > kParallelMin && omp_get_max_threads() > 1, ext, one_ball, [](Extremes& a, const Extremes& b) {
+    a.excess = std::max(a.excess, b.excess);
+    a.min_dist = std::min(a.min_dist, b.min_dist);
+  });
+  overlap_excess_ = ext.excess;
+  min_boundary_distance_ = ext.min_dist;
 }
 
 }  // namespace bagdem

@@ -1,5 +1,8 @@
 // Pieces the stepper's source files share (private to src/).
 #pragma once
+#include <algorithm>
+#include <cstddef>
+
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
 #include "bagdem/vec3.hpp"
@@ -16,6 +19,37 @@ template <bool... Done, class Fn, class... Rest>
 void with_flags(Fn&& fn, bool first, Rest... rest) {
   if (first) with_flags<Done..., true>(fn, rest...);
   else with_flags<Done..., false>(fn, rest...);
+}
+
+// body(i, acc) for i in [begin, end): one function with everything it calls inlined (GCC otherwise
+// leaves Eigen's small operators out of line inside large loop bodies). body arrives by value, so
+// its captures are this function's own and stay in registers.
+template <class Body, class Acc>
+[[gnu::flatten]] void run_items(Body body, std::size_t begin, std::size_t end, Acc& acc) {
+  for (std::size_t i = begin; i < end; ++i) body(i, acc);
+}
+
+// The loops of the step over particles or pairs: body(i, acc) for i in [0, n), on one thread or
+// in chunks the threads take as they come (near-wall balls and touching pairs cost more, and they
+// are not spread evenly over the index range). Each thread folds its own acc; merge(acc, mine)
+// combines them. Every item writes only its own slots, and the folds (max, min, and, or) do not
+// depend on the order, so results are the same for any thread count.
+template <class Acc, class Body, class Merge>
+void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge merge) {
+  if (!parallel) {
+    run_items(body, 0, n, acc);
+    return;
+  }
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+#pragma omp parallel
+  {
+    Acc mine = acc;
+#pragma omp for schedule(dynamic, 1) nowait
+    for (std::size_t c = 0; c < chunks; ++c) run_items(body, c * kChunk, std::min(n, (c + 1) * kChunk), mine);
+#pragma omp critical(bagdem_for_items)
+    merge(acc, mine);
+  }
 }
 
 // What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last

@@ -218,7 +218,11 @@ TEST(StructureCoupled, EnergyBalanceOverSteadyCycles) {
                 std::abs(pt.response));
     EXPECT_LT(std::abs(pt.balance), 0.01);
     EXPECT_GT(pt.dissipated_contents, 0.05 * pt.work_external);  // the contents do dissipate
-    EXPECT_NEAR(pt.work_external, pt.dissipated_structure + pt.dissipated_contents, 0.01 * pt.work_external);
+    // Steady state: work in = dissipation, up to the energy the contents store at the window's ends.
+    // The 12 balls move chaotically, so that difference depends on the trajectory: runs perturbed in
+    // the last bit of one operation gave 0.07-2.0% (the closure above, which counts the stored
+    // energy, stays below 1e-5 in all of them). Tolerance 3%.
+    EXPECT_NEAR(pt.work_external, pt.dissipated_structure + pt.dissipated_contents, 0.03 * pt.work_external);
   }
 }
 

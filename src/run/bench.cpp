@@ -94,6 +94,24 @@ std::string peers_bed(const std::string& peers, int N) {
 }
 
 // Peak resident memory of this process so far (VmHWM) (unit: bytes).
+// Median wall time of one neighbour-list build of the scene's balls by a broad phase (threads as
+// set) (unit: s).
+double time_broad_phase(const Scene& sc, const std::string& method, int repeats) {
+  std::vector<Vec3> x;
+  std::vector<double> r;
+  for (const ParticleInit& p : sc.particles) x.push_back(p.x), r.push_back(p.radius);
+  const std::unique_ptr<BroadPhase> bp = make_broad_phase(method);
+  CandidatePairs pairs;
+  std::vector<double> s;
+  for (int k = 0; k < std::max(3, repeats); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    bp->find(x, r, sc.skin, pairs);
+    s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(s.begin(), s.end());
+  return s[s.size() / 2];
+}
+
 double peak_memory() {
   std::ifstream in("/proc/self/status");
   std::string line;
@@ -130,11 +148,12 @@ int run_growth_bench(const BenchOptions& opt) {
   std::printf("Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "
               "tallies %s; median of %d runs; wall clock\n",
               steps, opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | peak memory (MB) | bytes/particle |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | one build (ms) | peak memory (MB) | bytes/particle |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   const Scene one = load_case(src + "/cases/pdbox-peers", pdbox_overrides(1000, data));
   const Vec3 L = one.cavity_hi - one.cavity_lo;
   std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
+  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> builds;  // (method, threads) -> (N, ms/build)
   std::vector<std::pair<double, double>> memory;
   const double base_memory = peak_memory();
   std::vector<int> tiles = opt.tiles;
@@ -164,8 +183,10 @@ int run_growth_bench(const BenchOptions& opt) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats);
         peak = std::max(peak, peak_memory());
         fits[{method, th}].emplace_back(N, t.median * 1e-9 * N);
-        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.1f | %.0f |\n", N, k, method.c_str(), th, t.median, t.lo, t.hi,
-                    static_cast<unsigned long long>(t.builds), peak / 1048576, (peak - base_memory) / N);
+        const double build_ms = 1e3 * time_broad_phase(sc, method, opt.repeats);
+        builds[{method, th}].emplace_back(N, build_ms);
+        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.0f |\n", N, k, method.c_str(), th, t.median, t.lo,
+                    t.hi, static_cast<unsigned long long>(t.builds), build_ms, peak / 1048576, (peak - base_memory) / N);
         std::fflush(stdout);
       }
     }
@@ -177,6 +198,12 @@ int run_growth_bench(const BenchOptions& opt) {
       std::vector<double> x, y;
       for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
       std::printf("  wall time per step, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second, key.second > 1 ? "s" : "",
+                  log_log_slope(x, y));
+    }
+    for (const auto& [key, pts] : builds) {
+      std::vector<double> x, y;
+      for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
+      std::printf("  one neighbour build, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second, key.second > 1 ? "s" : "",
                   log_log_slope(x, y));
     }
     std::vector<double> x, y;

@@ -107,11 +107,11 @@ int main(int argc, char** argv) {
   bench->add_option("--repeats", bench_opt.repeats, "Runs per point; the median is reported (default 3)");
   bench->add_option("--steps", bench_opt.step_scale, "Scale of the timed step counts (default 1)");
   bench->add_option("--energy", bench_opt.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
-  bench->add_flag("--bag", bench_opt.bag, "The bagged scene (cases/box-beanbag) instead: cost per step and its split between balls and film");
+  bench->add_flag("--bag", bench_opt.bag, "The bagged scene (cases/box-beanbag) instead: cost per step, its split between balls and film, and the film's cost against its node count");
   bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
   bench->add_flag("--growth", bench_opt.growth,
                   "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
-                  "cost per particle-step and peak memory against N, and their fitted exponents");
+                  "cost per particle-step, one neighbour build of each broad phase and peak memory against N, and their fitted exponents");
   bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
   bench->add_option("--peers", bench_opt.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
@@ -171,8 +171,12 @@ int main(int argc, char** argv) {
       }
       if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
       if (!r.reduce_message.empty()) std::fprintf(stderr, "reduction skipped: %s\n", r.reduce_message.c_str());
-      std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n",
-                  r.wall_seconds, r.ns_per_particle_step, r.energy_balance_error);
+      if (s.models.energy)
+        std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n", r.wall_seconds,
+                    r.ns_per_particle_step, r.energy_balance_error);
+      else
+        std::printf("run complete: %.2f s wall, %.1f ns per particle-step (energy budget off: output.energy = false)\n",
+                    r.wall_seconds, r.ns_per_particle_step);
       if (r.cycles > 0)
         std::printf("energy dissipated per cycle: %.4e J (over %.1f measured cycles)\n", r.dissipated_per_cycle, r.cycles);
       if (r.structure) {

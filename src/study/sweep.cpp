@@ -28,7 +28,7 @@ int machine_cores() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-Budget resolve_budget(const StudySpec& spec, int available, const std::string& available_from) {
+Budget resolve_budget(const StudySpec& spec, int available, const std::string& available_from, const std::string& command) {
   Budget b;
   b.threads = spec.threads > 0 ? spec.threads : 1;
   b.cores = spec.cores > 0 ? spec.cores : std::max(1, available);
@@ -37,7 +37,7 @@ Budget resolve_budget(const StudySpec& spec, int available, const std::string& a
   if (b.jobs < 1 || b.jobs * b.threads > b.cores) {
     const int fit = std::max(1, b.cores / b.threads);
     const int jobs = std::max(1, b.jobs);
-    throw InputError("bagdem sweep", "", "",
+    throw InputError(command, "", "",
                      "--jobs " + std::to_string(jobs) + " x --threads " + std::to_string(b.threads) + " = " + std::to_string(jobs * b.threads) +
                          " threads exceed the " + std::to_string(b.cores) + " cores available (" + b.cores_from +
                          "): the runs would compete for cores and each be slower. " +
@@ -101,7 +101,7 @@ int sweep_command(const SweepArgs& args) {
   std::string message;
   try {
     plan = make_plan(read_spec(args));
-    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from());
+    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), "bagdem sweep");
     warnings = validate_plan(plan);
     done = done_points(plan);
   } catch (const InputError& e) {

@@ -325,7 +325,7 @@ int trade_command(const TradeArgs& args) {
       p.name = point_name(k, ladder.size());
       plan.points.push_back(p);
     }
-    budget = resolve_budget(spec, machine_cores(), "the cores of this machine");
+    budget = resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     done = done_points(plan);
   } catch (const InputError& e) {

@@ -138,8 +138,9 @@ struct Budget {
 // The cores of this process's CPU affinity mask (what nproc prints).
 int machine_cores();
 // Defaults: T = 1, C = `available` (Ranks::cores(), `available_from` says where it came from),
-// J = C / T. Throws InputError when J x T > C, saying what to change.
-Budget resolve_budget(const StudySpec& spec, int available, const std::string& available_from);
+// J = C / T. Throws InputError (from `command`, e.g. "bagdem sweep") when J x T > C, saying what to
+// change.
+Budget resolve_budget(const StudySpec& spec, int available, const std::string& available_from, const std::string& command);
 
 // ---- pool.cpp: the points as child processes ----------------------------------------------------
 

@@ -145,7 +145,7 @@ void Simulation::kick_drift() {
           p_.t[i].setZero();
           if constexpr (Energy) tally_.step_dissipation[i].setZero();
         };
-        for_items(n, n > kParallelMin && omp_get_max_threads() > 1, moved, one, [](bool& a, bool b) { a = a || b; });
+        for_items(n, threaded(n), moved, one, [](bool& a, bool b) { a = a || b; });
       },
       scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
   needs_rebuild_ = moved;
@@ -224,8 +224,8 @@ void Simulation::update_neighbours(bool force_rebuild) {
 
 // The walls within skin of each ball's surface at the build (x_at_build_, the cavity where it was
 // then). Until the next build neither moves more than skin/2, so no other wall can be touched.
-// A ball with no wall near has no wall contact to carry over (it touched none at the last step,
-// or its wall would be near): its cavity load starts from zero.
+// A ball with no wall near touched none at the last step either (that wall would be near): it has
+// no wall history to close (gather_walls).
 void Simulation::find_near_walls() {
   const std::size_t n = p_.size(), nw = scene_.walls.size();
   CavityState at_build = cavity_;
@@ -292,7 +292,7 @@ void Simulation::kick() {
           if constexpr (Rotation) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
           finite = finite && std::isfinite(v.squaredNorm());
         };
-        for_items(n, n > kParallelMin && omp_get_max_threads() > 1, finite, one, [](bool& a, bool b) { a = a && b; });
+        for_items(n, threaded(n), finite, one, [](bool& a, bool b) { a = a && b; });
       },
       scene_.models.rotation);
   const std::size_t nn = film_.size();

@@ -153,10 +153,10 @@ void Simulation::gather_walls_impl() {
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
-  struct Extremes {
+  struct GuardValues {
     double excess, min_dist;
   } ext{overlap_excess_, 1e300};
-  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, Extremes& ext) BAGDEM_INLINE_LAMBDA {
+  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
     double& excess = ext.excess;
     double& min_dist = ext.min_dist;
     // Starts from gravity (kick_drift), plus the pairs when they were scattered.
@@ -275,7 +275,7 @@ void Simulation::gather_walls_impl() {
       tally_.diss_rolling[p] += diss.z();
     }
   };
-  for_items(n, n > kParallelMin && omp_get_max_threads() > 1, ext, one_ball, [](Extremes& a, const Extremes& b) {
+  for_items(n, threaded(n), ext, one_ball, [](GuardValues& a, const GuardValues& b) {
     a.excess = std::max(a.excess, b.excess);
     a.min_dist = std::min(a.min_dist, b.min_dist);
   });

@@ -1,10 +1,13 @@
 // Pieces the stepper's source files share (private to src/).
 #pragma once
+#include <omp.h>
+
 #include <algorithm>
 #include <cstddef>
 
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
+#include "bagdem/stepper.hpp"
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
@@ -20,6 +23,10 @@ void with_flags(Fn&& fn, bool first, Rest... rest) {
   if (first) with_flags<Done..., true>(fn, rest...);
   else with_flags<Done..., false>(fn, rest...);
 }
+
+// Loops over n items run on all threads only when there are several and enough items (below
+// kParallelMin, fork and join cost more than the work).
+inline bool threaded(std::size_t n) { return n > kParallelMin && omp_get_max_threads() > 1; }
 
 // body(i, acc) for i in [begin, end): one function with everything it calls inlined (GCC otherwise
 // leaves Eigen's small operators out of line inside large loop bodies). body arrives by value, so

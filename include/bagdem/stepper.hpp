@@ -3,8 +3,9 @@
 //   1. kick_drift      v += dt/2 F/m, x += dt v, w += dt/2 T/I        velocity Verlet, first half
 //                      (balls and film nodes)
 //   2. move_cavity     cavity position and velocity at t + dt (prescribed, or from the structure)
-//   3. neighbours      rebuild the Verlet pair list and the sphere-triangle candidate lists when a
-//                      ball or film node moved more than skin/2
+//   3. neighbours      rebuild the Verlet pair list, the walls near each ball and the
+//                      sphere-triangle candidate lists when a ball, a film node or the cavity
+//                      moved more than skin/2
 //   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
 //   5. gather_walls    each ball: sum its pair forces (partner order), then its wall contacts
 //   6. triangles       each ball: its contacts with triangulated surfaces, the bag's film and STL

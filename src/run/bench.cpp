@@ -60,6 +60,14 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   return s;
 }
 
+// The scene with this broad phase and the energy tallies on or off.
+Scene with_method(const Scene& scene, const std::string& method, bool energy) {
+  Scene sc = scene;
+  sc.broad_phase = method;
+  sc.models.energy = energy;
+  return sc;
+}
+
 // `repeats` timed runs of a scene: ns per particle-step, median and range, and the neighbour-list
 // builds of the last run.
 struct Timing {
@@ -176,9 +184,7 @@ int run_growth_bench(const BenchOptions& opt) {
     const double N = static_cast<double>(scene.particles.size());
     double peak = 0;
     for (const std::string& method : opt.methods) {
-      Scene sc = scene;
-      sc.broad_phase = method;
-      sc.models.energy = opt.energy;
+      const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats);
         peak = std::max(peak, peak_memory());
@@ -231,9 +237,7 @@ int run_bench(const BenchOptions& opt) {
     const long long base = N <= 100 ? 1000000 : N <= 1000 ? 300000 : 40000;
     const long long steps = std::max(100LL, static_cast<long long>(base * opt.step_scale));
     for (const std::string& method : opt.methods) {
-      Scene sc = scene;
-      sc.broad_phase = method;
-      sc.models.energy = opt.energy;
+      const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats);
         std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f |\n", sc.particles.size(), steps, method.c_str(), th,

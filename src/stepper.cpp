@@ -31,6 +31,10 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   }
   p_.v_pred = p_.v;
   p_.w_pred = p_.w;
+  // Balls all alike (one radius, one material): the pair kernel takes R*, m* and the law as constants.
+  uniform_ = n > 0 && std::all_of(scene.particles.begin(), scene.particles.end(), [&](const ParticleInit& q) {
+               return q.radius == scene.particles[0].radius && q.material == scene.particles[0].material;
+             });
   tally_.resize(n);
   const std::size_t nw = scene.walls.size();
   if (scene.models.tangential) wall_tan_.assign(n * nw, {});
@@ -284,7 +288,8 @@ void Simulation::kick() {
   const double h = 0.5 * scene_.dt;
   const std::size_t n = p_.size();
   bool finite = true;
-  with_flags(
+  if (kick_balls_here()) finite = balls_finite_;  // the balls were kicked in gather_walls
+  else with_flags(
       [&]<bool Rotation>() {
         auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
           const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * p_.f[i];

@@ -26,8 +26,8 @@ namespace bagdem {
 void Simulation::pair_contacts() {
   scatter_ = omp_get_max_threads() == 1 || ps_.pairs.size() <= kParallelMin;
   // The contact-law configuration is chosen once here, never inside the loop.
-  with_flags([this]<bool T, bool R, bool E, bool S>() { pair_contacts_impl<T, R, E, S>(); },
-             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_);
+  with_flags([this]<bool T, bool R, bool E, bool S, bool U>() { pair_contacts_impl<T, R, E, S, U>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_, uniform_);
 }
 
 // A pair contact opened this step: tally what it still held (closing_tally) and clear its
@@ -62,19 +62,25 @@ template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
   if constexpr (Rolling) ps_.rolling[k] = {};
 }
 
-template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
+// Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
+// values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
+template <bool Tangential, bool Rolling, bool Energy, bool Scatter, bool Uniform>
 void Simulation::pair_contacts_impl() {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
   double excess = -1e300;
+  const double r0 = np > 0 ? p_.radius[0] : 0.0, im0 = np > 0 ? p_.inv_mass[0] : 0.0;
+  const PairLaw* law0 = np > 0 ? &laws(p_.material[0], p_.material[0]) : nullptr;
+  auto radius = [this, r0](std::uint32_t i) BAGDEM_INLINE_LAMBDA { return Uniform ? r0 : p_.radius[i]; };
   // One pair (scattering: on one thread, outside any parallel region).
-  auto one_pair = [this, dt, frac, &laws](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
+  auto one_pair = [this, dt, frac, &laws, radius, im0, law0](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     PairState::Output& out = ps_.out[k];
     ContactGeometry g;
-    if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) {
+    const double ri = radius(i), rj = radius(j);
+    if (!sphere_sphere(p_.x[i], p_.x[j], ri, rj, g)) {
       // A contact that just opened (untouched pairs cost no history access, and leave no record
       // for the gather).
       const std::uint8_t was = ps_.touching[k];
@@ -83,8 +89,8 @@ void Simulation::pair_contacts_impl() {
       return;
     }
     ps_.touching[k] = 1;
-    excess = std::max(excess, g.overlap - frac * std::min(p_.radius[i], p_.radius[j]));
-    g.m_eff = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
+    excess = std::max(excess, g.overlap - frac * std::min(ri, rj));
+    g.m_eff = Uniform ? 1.0 / (im0 + im0) : 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
     if constexpr (Tangential || Rolling) {
       g.v_rel = contact_velocity(p_.v_pred[i], p_.v_pred[j], p_.w_pred[i], p_.w_pred[j], g);
       g.v_half = contact_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
@@ -93,7 +99,7 @@ void Simulation::pair_contacts_impl() {
       g.v_rel = p_.v_pred[i] - p_.v_pred[j];
       g.v_half = p_.v[i] - p_.v[j];
     }
-    const PairLaw& law = laws(p_.material[i], p_.material[j]);
+    const PairLaw& law = Uniform ? *law0 : laws(p_.material[i], p_.material[j]);
     const NormalResult nr = hertz_normal(g, law);
     Vec3 F = nr.force * g.n;
     [[maybe_unused]] Vec3 diss(0, 0, 0);
@@ -134,7 +140,27 @@ void Simulation::pair_contacts_impl() {
       if constexpr (Energy) out.dissipated = diss;
     }
   };
-  for_items(np, !Scatter, excess, one_pair, [](double& a, double b) { a = std::max(a, b); });
+  // The pairs in blocks: first a branch-free scan of the block for the pairs that touch now or
+  // did at the last step (most candidate pairs do neither), then those pairs in pair order. The
+  // scan's test is sphere_sphere's, so the pairs it skips are those one_pair would leave alone.
+  constexpr std::size_t kBlock = 128;
+  auto one_block = [this, np, &one_pair, radius](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
+    const std::size_t k0 = b * kBlock, k1 = std::min(np, k0 + kBlock);
+    std::uint32_t active[kBlock];
+    std::size_t na = 0;
+    const std::uint32_t* first = ps_.first.data();
+    const std::uint32_t* partner = ps_.pairs.partner.data();
+    const std::uint8_t* touching = ps_.touching.data();
+    const Vec3* x = p_.x.data();
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::uint32_t i = first[k], j = partner[k];
+      const double rsum = radius(i) + radius(j);
+      active[na] = static_cast<std::uint32_t>(k);
+      na += !((x[i] - x[j]).squaredNorm() >= rsum * rsum) | (touching[k] != 0);
+    }
+    for (std::size_t a = 0; a < na; ++a) one_pair(active[a], excess);
+  };
+  for_items<4>((np + kBlock - 1) / kBlock, !Scatter, excess, one_block, [](double& a, double b) { a = std::max(a, b); });
   overlap_excess_ = excess;
 }
 
@@ -155,8 +181,21 @@ void Simulation::gather_walls_impl() {
   const double frac = scene_.max_overlap_fraction;
   struct GuardValues {
     double excess, min_dist;
-  } ext{overlap_excess_, 1e300};
-  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac](std::size_t p, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
+    bool finite;
+  } ext{overlap_excess_, 1e300, true};
+  // Stage 9's kick of the balls, done here while the ball's force and torque are at hand when no
+  // later stage adds to them (kick_balls_here; the same operations as kick()).
+  const bool kick = kick_balls_here(), rotation = scene_.models.rotation;
+  const double h = 0.5 * dt;
+  auto finish = [this, kick, rotation, h](std::size_t p, const Vec3& F, const Vec3& T, GuardValues& ext)
+                    BAGDEM_INLINE_LAMBDA {
+    if (!kick) return;
+    const Vec3 v = p_.v[p] + h * p_.inv_mass[p] * F;
+    p_.v[p] = v;
+    if (rotation) p_.w[p] += h * p_.inv_inertia[p] * T;
+    ext.finite = ext.finite && std::isfinite(v.squaredNorm());
+  };
+  auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac, finish](std::size_t p, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
     double& excess = ext.excess;
     double& min_dist = ext.min_dist;
     // Starts from gravity (kick_drift), plus the pairs when they were scattered.
@@ -201,6 +240,7 @@ void Simulation::gather_walls_impl() {
         tally_.diss_rolling[p] += diss.z();
       }
       min_dist = std::min(min_dist, d_bounds);
+      finish(p, F, T, ext);
       return;
     }
     double d_min = 1e300;  // nearest wall
@@ -262,6 +302,7 @@ void Simulation::gather_walls_impl() {
     wall_touch_[p] = touched;
     min_dist = std::min({min_dist, d_min, d_bounds});
     excess = std::max(excess, r - d_min - frac * r);  // the deepest wall contact
+    finish(p, F, T, ext);
 
     // Tallies: the load on the cavity (always) and the energy budget (when asked).
     tally_.wall_impulse[p] -= dt * F_wall;
@@ -278,9 +319,11 @@ void Simulation::gather_walls_impl() {
   for_items(n, threaded(n), ext, one_ball, [](GuardValues& a, const GuardValues& b) {
     a.excess = std::max(a.excess, b.excess);
     a.min_dist = std::min(a.min_dist, b.min_dist);
+    a.finite = a.finite && b.finite;
   });
   overlap_excess_ = ext.excess;
   min_boundary_distance_ = ext.min_dist;
+  balls_finite_ = ext.finite;
 }
 
 }  // namespace bagdem

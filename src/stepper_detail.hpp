@@ -41,13 +41,14 @@ template <class Body, class Acc>
 // are not spread evenly over the index range). Each thread folds its own acc; merge(acc, mine)
 // combines them. Every item writes only its own slots, and the folds (max, min, and, or) do not
 // depend on the order, so results are the same for any thread count.
-template <class Acc, class Body, class Merge>
+// Chunk: items per chunk a thread takes.
+template <std::size_t Chunk = 256, class Acc, class Body, class Merge>
 void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge merge) {
   if (!parallel) {
     run_items(body, 0, n, acc);
     return;
   }
-  constexpr std::size_t kChunk = 256;
+  constexpr std::size_t kChunk = Chunk;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
 #pragma omp parallel
   {

@@ -15,6 +15,7 @@
 //   8. structure       the primary structure carrying the cavity: the contents' load on it, its
 //                      external force, its acceleration (stepper_structure.cpp)
 //   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
+//                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface)
 //  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
@@ -239,7 +240,7 @@ class Simulation {
     const double s = (local - scene_.cavity_reference).dot(load_axis_), f = force_on_cavity.dot(load_dir_);
     return {f, f * s, f * s * s};
   }
-  template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
+  template <bool Tangential, bool Rolling, bool Energy, bool Scatter, bool Uniform>
   void pair_contacts_impl();
   template <bool Tangential, bool Rolling, bool Energy, bool Gather>
   void gather_walls_impl();
@@ -377,6 +378,11 @@ class Simulation {
   bool profile_ = false;
   StageTimes times_;
   bool scatter_ = true;                       // pair forces scattered (one thread) or gathered
+  bool uniform_ = false;                      // all balls of one radius and one material
+  // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
+  // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).
+  bool kick_balls_here() const { return surfaces_.empty() && dt_step_ > 0; }
+  bool balls_finite_ = true;                  // every ball's velocity finite after that kick
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
   bool all_finite_ = true;                    // every velocity finite (kick)
   // Guard results of the last step, kept free of divisions (the ratios go into messages only).

@@ -20,3 +20,19 @@ BAGDEM_INLINE Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
 }
 }  // namespace bagdem
+
+namespace bagdem {
+// v, with its value hidden from the optimizer. For factors that are exactly 1 in one case of a
+// data-dependent choice (std::min(1.0, r)): GCC otherwise turns x * factor into a branch around the
+// multiplication, and a branch that goes either way at random stalls the contact loop.
+BAGDEM_INLINE double opaque(double v) {
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__aarch64__))
+#if defined(__x86_64__)
+  asm("" : "+v"(v));
+#else
+  asm("" : "+w"(v));
+#endif
+#endif
+  return v;
+}
+}  // namespace bagdem

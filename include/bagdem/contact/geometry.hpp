@@ -1,6 +1,7 @@
 // Contact geometry: what the neighbour search and the wall functions hand to the contact law.
 // Layer 2 of 3 (neighbour search -> contact geometry -> contact law).
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "bagdem/vec3.hpp"
@@ -48,14 +49,15 @@ BAGDEM_INLINE Vec3 contact_velocity(const Vec3& vi, const Vec3& vj, const Vec3& 
 // k_new/k_old when the spring's stiffness fell (unloading), kept when it rose (Thornton, Cummins &
 // Cleary 2013, sec. 2.2). Both rules leave the stored energy |v|^2/(2k) non-increasing.
 BAGDEM_INLINE Vec3 carry_spring(Vec3 v, const Vec3& n, double k_old, double k_new) {
+  // Written without branches (whether the spring unloads is a coin toss from step to step, and a
+  // mispredicted branch stalls the contact loop). Each factor is exactly 1 where it does not apply:
+  // k_new / k_old >= 1 when the stiffness rose (inf or NaN for a new contact, whose v is zero, and
+  // std::min keeps its first argument then); rot2 = 0 only when v is zero.
   const double mag2 = v.squaredNorm();
-  if (mag2 > 0) {
-    v -= v.dot(n) * n;
-    const double rot2 = v.squaredNorm();
-    if (rot2 > 0) v *= std::sqrt(mag2 / rot2);
-  }
-  if (k_old > k_new) v *= k_new / k_old;
+  v -= v.dot(n) * n;
+  const double rot2 = v.squaredNorm();
+  v *= std::sqrt(mag2 / (rot2 > 0 ? rot2 : 1.0));
+  v *= opaque(std::min(1.0, k_new / k_old));
   return v;
 }
-
 }  // namespace bagdem

@@ -56,10 +56,12 @@ BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, cons
   Vec3 Ft = Fe - gamma_t * v_t_end;
   const double cap = law.friction * F_n;
   const double Ft2 = Ft.squaredNorm();
-  if (Ft2 > cap * cap) {
-    Ft *= cap / std::sqrt(Ft2);
-    Fe = Ft;
-  }
+  // Without branches (sliding or sticking changes unpredictably): the factor is exactly 1 when it
+  // sticks (then sqrt(Ft2) <= cap; for Ft2 = 0, cap / 0 is inf or NaN and std::min keeps 1).
+  const bool slides = Ft2 > cap * cap;
+  Ft *= opaque(std::min(1.0, cap / std::sqrt(Ft2)));
+  const double keep = opaque(slides ? 0.0 : 1.0);
+  Fe = keep * Fe + (1.0 - keep) * Ft;
   // Work of F_t on the relative motion over the step: in velocity Verlet a force's discrete work is
   // the trapezoid of the forces of two steps times the half-step displacement. What the spring did
   // not store was dissipated (by the dashpot, by sliding, or lost in the stiffness rules).

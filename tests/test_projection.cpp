@@ -421,6 +421,7 @@ TEST(Projection, ImpactRestitution) {
   EXPECT_NEAR(e.mean, 0.57, 1e-12);
   EXPECT_NEAR(e.sd, std::sqrt(0.0395), 1e-12);
   EXPECT_NEAR(e.standard_error, std::sqrt(0.0395 / 5), 1e-12);
+  EXPECT_EQ(e.body, e.mean);
   // No impacts: nothing to average; one: no spread.
   const auto none = bagdem::impact_restitution({}, t, v);
   EXPECT_TRUE(none.values.empty());
@@ -428,6 +429,19 @@ TEST(Projection, ImpactRestitution) {
   const auto one = bagdem::impact_restitution({impacts[0]}, t, v);
   EXPECT_NEAR(one.mean, 0.6, 1e-12);
   EXPECT_TRUE(std::isnan(one.sd));
+  // Contents that keep moving towards the wall after each pulse (v leaves at +0.4 v_before: "e" =
+  // -0.4, a bed shearing against the wall rather than rebounding): no restitution of a body.
+  std::vector<double> v_on(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    std::size_t i = 0;
+    while (i + 1 < kTrain.size() && t[k] >= 0.5 * (kTrain[i].centre + kTrain[i + 1].centre)) ++i;
+    const double u = kTrain[i].side * std::abs(kTrain[i].impulse()) / (mass * (1 - 0.4));
+    v_on[k] = u - kTrain[i].integral(t[k] - 1, t[k]) / mass;
+  }
+  const auto on = bagdem::impact_restitution(impacts, t, v_on);
+  ASSERT_EQ(on.values.size(), kTrain.size());
+  EXPECT_NEAR(on.mean, -0.4, 1e-12);
+  EXPECT_TRUE(std::isnan(on.body));
 }
 
 }  // namespace

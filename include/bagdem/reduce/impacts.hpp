@@ -69,6 +69,10 @@ struct RestitutionStats {
   std::vector<double> values;   // e of each counted impact, in time order
   // Mean, sample sd (n - 1) and sd / sqrt(n); NaN when undefined (no values; fewer than 2 for sd and error).
   double mean = 0, sd = 0, standard_error = 0;
+  // The contents' restitution as one body: the mean, or NaN when the mean is negative. A negative
+  // mean says the contents' centre of mass keeps moving towards the wall after the pulses (a bed
+  // that fills its box and shears rather than rebounds): no restitution of a body to report.
+  double body = 0;
 };
 
 // Restitution of each impact from the relative velocity v (contents' centre of mass minus cavity,

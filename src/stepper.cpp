@@ -253,7 +253,6 @@ void Simulation::find_near_walls() {
 void Simulation::derive_pair_buffers() {
   const std::size_t n = p_.size();
   const std::size_t np = ps_.pairs.size();
-  ps_.out.assign(np, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
   ps_.touching.assign(np, 0);
   for (std::size_t k = 0; k < np; ++k) {
@@ -267,7 +266,7 @@ void Simulation::derive_pair_buffers() {
     for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
       ps_.first[k] = static_cast<std::uint32_t>(i);
 
-  // Gather CSR, each particle's entries sorted by partner: first the pairs where it is j (partner
+  // Gather entries, each particle's sorted by partner: first the pairs where it is j (partner
   // i < p, visited in ascending i), then those where it is i (partner j > p, ascending).
   ps_.gather_begin.assign(n + 1, 0);
   for (std::size_t k = 0; k < np; ++k) {
@@ -275,11 +274,13 @@ void Simulation::derive_pair_buffers() {
     ++ps_.gather_begin[ps_.pairs.partner[k] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) ps_.gather_begin[i + 1] += ps_.gather_begin[i];
-  ps_.gather.resize(2 * np);
   std::vector<std::uint32_t>& fill = spare_.fill;
   fill.assign(ps_.gather_begin.begin(), ps_.gather_begin.end() - 1);
-  for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.pairs.partner[k]]++] = static_cast<std::uint32_t>(2 * k + 1);
-  for (std::size_t k = 0; k < np; ++k) ps_.gather[fill[ps_.first[k]]++] = static_cast<std::uint32_t>(2 * k);
+  ps_.slot.resize(2 * np);
+  for (std::size_t k = 0; k < np; ++k) ps_.slot[2 * k + 1] = fill[ps_.pairs.partner[k]]++;
+  for (std::size_t k = 0; k < np; ++k) ps_.slot[2 * k] = fill[ps_.first[k]]++;
+  ps_.rec.assign(2 * np, {Vec3::Zero(), Vec3::Zero()});
+  ps_.rec_diss.assign(scene_.models.energy ? 2 * np : 0, Vec3::Zero());
 }
 
 // ---- 6. kick ------------------------------------------------------------------------------------

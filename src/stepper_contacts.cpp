@@ -38,11 +38,10 @@ template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
   // next step. Scattering, it is done with.
   ps_.touching[k] = Scatter ? 0 : 2;
   if constexpr (!Scatter) {
-    PairState::Output& out = ps_.out[k];
-    out.force.setZero();
-    out.torque_i.setZero();
-    out.torque_j.setZero();
-    out.dissipated.setZero();
+    for (const std::uint32_t e : {ps_.slot[2 * k], ps_.slot[2 * k + 1]}) {
+      ps_.rec[e] = {Vec3::Zero(), Vec3::Zero()};
+      if constexpr (Energy) ps_.rec_diss[e].setZero();
+    }
   }
   if constexpr (Energy) {
     const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
@@ -54,7 +53,8 @@ template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
       tally_.step_dissipation[i] += 0.5 * d;
       tally_.step_dissipation[j] += 0.5 * d;
     } else {
-      ps_.out[k].dissipated = d;
+      ps_.rec_diss[ps_.slot[2 * k]] = d;
+      ps_.rec_diss[ps_.slot[2 * k + 1]] = d;
     }
     ps_.damping_prev[k] = 0.0;
   }
@@ -77,15 +77,18 @@ void Simulation::pair_contacts_impl() {
   // One pair (scattering: on one thread, outside any parallel region).
   auto one_pair = [this, dt, frac, &laws, radius, im0, law0](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
-    PairState::Output& out = ps_.out[k];
     ContactGeometry g;
     const double ri = radius(i), rj = radius(j);
     if (!sphere_sphere(p_.x[i], p_.x[j], ri, rj, g)) {
       // A contact that just opened (untouched pairs cost no history access, and leave no record
       // for the gather).
       const std::uint8_t was = ps_.touching[k];
-      if (was == 1) open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
-      else if (was == 2) ps_.touching[k] = 0;
+      if (was == 1) {
+        open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
+      } else if (was == 2) {
+        ps_.touching[k] = 0;
+        if constexpr (Energy && !Scatter) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = Vec3::Zero();
+      }
       return;
     }
     ps_.touching[k] = 1;
@@ -124,8 +127,8 @@ void Simulation::pair_contacts_impl() {
         p_.t[i] += Ti;
         p_.t[j] += Tj;
       } else {
-        out.torque_i = Ti;
-        out.torque_j = Tj;
+        ps_.rec[ps_.slot[2 * k]].torque = Ti;
+        ps_.rec[ps_.slot[2 * k + 1]].torque = Tj;
       }
     }
     if constexpr (Scatter) {
@@ -136,8 +139,12 @@ void Simulation::pair_contacts_impl() {
         tally_.step_dissipation[j] += 0.5 * diss;
       }
     } else {
-      out.force = F;
-      if constexpr (Energy) out.dissipated = diss;
+      ps_.rec[ps_.slot[2 * k]].force = F;
+      ps_.rec[ps_.slot[2 * k + 1]].force = -F;  // F - x and F + (-x) are the same bits
+      if constexpr (Energy) {
+        ps_.rec_diss[ps_.slot[2 * k]] = diss;
+        ps_.rec_diss[ps_.slot[2 * k + 1]] = diss;
+      }
     }
   };
   // The pairs in blocks: first a branch-free scan of the block for the pairs that touch now or
@@ -204,17 +211,9 @@ void Simulation::gather_walls_impl() {
     [[maybe_unused]] Vec3 diss(0, 0, 0);
     if constexpr (Energy) diss = tally_.step_dissipation[p];
     for (std::uint32_t e = Gather ? ps_.gather_begin[p] : 0; e < (Gather ? ps_.gather_begin[p + 1] : 0); ++e) {
-      const std::uint32_t entry = ps_.gather[e];
-      if (ps_.touching[entry >> 1] == 0) continue;  // no record: the pair is apart
-      const PairState::Output& out = ps_.out[entry >> 1];
-      if (entry & 1u) {
-        F -= out.force;
-        if constexpr (Tangential || Rolling) T += out.torque_j;
-      } else {
-        F += out.force;
-        if constexpr (Tangential || Rolling) T += out.torque_i;
-      }
-      if constexpr (Energy) diss += 0.5 * out.dissipated;
+      F += ps_.rec[e].force;
+      if constexpr (Tangential || Rolling) T += ps_.rec[e].torque;
+      if constexpr (Energy) diss += 0.5 * ps_.rec_diss[e];
     }
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.

@@ -52,19 +52,21 @@ struct PairState {
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
   // Per pair: 1 in contact at the last step (its history may be set), 0 apart; gathering, 2 = opened
-  // this step (its record holds the closing tally only). Pairs at 0 have no record this step.
+  // this step (its records hold the closing tally only, cleared at the next step).
   std::vector<std::uint8_t> touching;
-  // What one pair contact produced this step, in one record so the gather reads it in one go.
-  struct Output {
-    Vec3 force;       // force on i (on j: the opposite) (unit: N)
-    Vec3 torque_i;    // torque on i (unit: N m)
-    Vec3 torque_j;    // torque on j (unit: N m)
-    Vec3 dissipated;  // this step's (normal, tangential, rolling) dissipation (unit: J)
+  // Gathering (several threads): what each pair contact produced this step for each of its two
+  // particles, stored at that particle's entry. Particle p's entries are
+  // gather_begin[p] .. gather_begin[p+1], sorted by partner index, so p sums its records in a row
+  // and in partner order. A pair that is apart has zero records (set when it opens), so the sum
+  // runs over every entry without a test: adding +0 to sums that start at +0 changes no bit.
+  struct Record {
+    Vec3 force;   // force on the entry's particle: +F on i, -F on j (unit: N)
+    Vec3 torque;  // torque on the entry's particle (unit: N m)
   };
-  std::vector<Output> out;                   // per pair; filled only when gathering (several threads), for pairs touching != 0
-  // Gather CSR: for particle p, entries gather[gather_begin[p] .. gather_begin[p+1]) are
-  // 2*pair + (p is the pair's j), sorted by partner index.
-  std::vector<std::uint32_t> gather_begin, gather;
+  std::vector<std::uint32_t> gather_begin;   // per particle + 1
+  std::vector<std::uint32_t> slot;           // per pair: entries of i (2k) and of j (2k + 1)
+  std::vector<Record> rec;                   // per entry
+  std::vector<Vec3> rec_diss;                // per entry (energy tally): the pair's (normal, tangential, rolling) dissipation this step (unit: J)
 };
 
 // The bag's film nodes: point masses (no rotation), integrated like the balls.

@@ -289,18 +289,18 @@ void Simulation::kick() {
   const double h = 0.5 * scene_.dt;
   const std::size_t n = p_.size();
   bool finite = true;
-  if (kick_balls_here()) finite = balls_finite_;  // the balls were kicked in gather_walls
-  else with_flags(
-      [&]<bool Rotation>() {
-        auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
-          const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * p_.f[i];
-          p_.v[i] = v;
-          if constexpr (Rotation) p_.w[i] += h * p_.inv_inertia[i] * p_.t[i];
-          finite = finite && std::isfinite(v.squaredNorm());
-        };
-        for_items(n, threaded(n), finite, one, [](bool& a, bool b) { a = a && b; });
-      },
-      scene_.models.rotation);
+  if (kick_balls_here()) {
+    finite = balls_finite_;  // the balls were kicked in gather_walls
+  } else {
+    with_flags(
+        [&]<bool Rotation>() {
+          auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
+            finite = kick_ball(i, p_.f[i], p_.t[i], h, Rotation) && finite;
+          };
+          for_items(n, threaded(n), finite, one, [](bool& a, bool b) { a = a && b; });
+        },
+        scene_.models.rotation);
+  }
   const std::size_t nn = film_.size();
 #pragma omp parallel for schedule(static) reduction(&& : finite) if (nn > kParallelMin)
   for (std::size_t k = 0; k < nn; ++k) {

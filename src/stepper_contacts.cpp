@@ -196,11 +196,7 @@ void Simulation::gather_walls_impl() {
   const double h = 0.5 * dt;
   auto finish = [this, kick, rotation, h](std::size_t p, const Vec3& F, const Vec3& T, GuardValues& ext)
                     BAGDEM_INLINE_LAMBDA {
-    if (!kick) return;
-    const Vec3 v = p_.v[p] + h * p_.inv_mass[p] * F;
-    p_.v[p] = v;
-    if (rotation) p_.w[p] += h * p_.inv_inertia[p] * T;
-    ext.finite = ext.finite && std::isfinite(v.squaredNorm());
+    if (kick) ext.finite = kick_ball(p, F, T, h, rotation) && ext.finite;
   };
   auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac, finish](std::size_t p, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
     double& excess = ext.excess;

@@ -25,6 +25,7 @@
 // wall order), and totals are summed over particles in index order, so results are bitwise equal
 // for any thread count.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -139,7 +140,7 @@ class Simulation {
     double integrate = 0;   // kick_drift + move_cavity + kick (balls and film nodes) (unit: s)
     double neighbours = 0;  // pair list and triangle candidate lists
     double pairs = 0;       // ball-ball contacts
-    double walls = 0;       // gathering pair forces, ball-wall contacts
+    double walls = 0;       // gathering pair forces, ball-wall contacts (and the balls' kick, kick_balls_here)
     double triangles = 0;   // ball-film and ball-STL contacts
     double film = 0;        // membrane, strings, film-wall contacts, loads on the film
     double guards = 0;
@@ -266,6 +267,14 @@ class Simulation {
   template <bool Tangential, bool Energy>
   void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
+  // Stage 9 for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
+  // whether the new velocity is finite.
+  BAGDEM_INLINE bool kick_ball(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {
+    const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * F;
+    p_.v[i] = v;
+    if (rotation) p_.w[i] += h * p_.inv_inertia[i] * T;
+    return std::isfinite(v.squaredNorm());
+  }
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
     p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();

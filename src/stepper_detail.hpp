@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
+#include <vector>
 
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
@@ -37,24 +39,39 @@ template <class Body, class Acc>
 }
 
 // The loops of the step over particles or pairs: body(i, acc) for i in [0, n), on one thread or
-// in chunks the threads take as they come (near-wall balls and touching pairs cost more, and they
-// are not spread evenly over the index range). Each thread folds its own acc; merge(acc, mine)
-// combines them. Every item writes only its own slots, and the folds (max, min, and, or) do not
-// depend on the order, so results are the same for any thread count.
-// Chunk: items per chunk a thread takes.
+// in chunks of Chunk items. With T threads, thread t starts on the t-th contiguous share of the
+// chunks, so the balls and pairs a thread handles in one stage are mostly those it handled in the
+// last (they stay in its core's cache), then it helps the others with what they have left
+// (near-wall balls and touching pairs cost more, and they are not spread evenly over the index
+// range). Each thread folds its own acc; merge(acc, mine) combines them. Every item writes only
+// its own slots, and the folds (max, min, and, or) do not depend on the order, so results are the
+// same for any thread count.
 template <std::size_t Chunk = 256, class Acc, class Body, class Merge>
 void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge merge) {
   if (!parallel) {
     run_items(body, 0, n, acc);
     return;
   }
-  constexpr std::size_t kChunk = Chunk;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t chunks = (n + Chunk - 1) / Chunk;
+  const auto shares = static_cast<std::size_t>(omp_get_max_threads());
+  struct alignas(64) Share {
+    std::atomic<std::size_t> next;
+    std::size_t end;
+  };
+  std::vector<Share> share(shares);
+  for (std::size_t t = 0; t < shares; ++t) {
+    share[t].next.store(t * chunks / shares, std::memory_order_relaxed);
+    share[t].end = (t + 1) * chunks / shares;
+  }
 #pragma omp parallel
   {
     Acc mine = acc;
-#pragma omp for schedule(dynamic, 1) nowait
-    for (std::size_t c = 0; c < chunks; ++c) run_items(body, c * kChunk, std::min(n, (c + 1) * kChunk), mine);
+    const auto me = static_cast<std::size_t>(omp_get_thread_num());
+    for (std::size_t k = 0; k < shares; ++k) {
+      Share& sh = share[(me + k) % shares];
+      for (std::size_t c; (c = sh.next.fetch_add(1, std::memory_order_relaxed)) < sh.end;)
+        run_items(body, c * Chunk, std::min(n, (c + 1) * Chunk), mine);
+    }
 #pragma omp critical(bagdem_for_items)
     merge(acc, mine);
   }

@@ -24,7 +24,13 @@ namespace bagdem {
 //  gather (several threads): each pair writes its record, then each particle sums its records in
 //    partner order (gather_walls). Same operands, same order, same result.
 void Simulation::pair_contacts() {
+  const bool scattered = scatter_;
   scatter_ = omp_get_max_threads() == 1 || ps_.pairs.size() <= kParallelMin;
+  // Scattering keeps no records: back to gathering (the thread count changed), they restart at zero.
+  if (scattered && !scatter_) {
+    std::fill(ps_.rec.begin(), ps_.rec.end(), PairState::Record{Vec3::Zero(), Vec3::Zero()});
+    std::fill(ps_.rec_diss.begin(), ps_.rec_diss.end(), Vec3::Zero());
+  }
   // The contact-law configuration is chosen once here, never inside the loop.
   with_flags([this]<bool T, bool R, bool E, bool S, bool U>() { pair_contacts_impl<T, R, E, S, U>(); },
              scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_, uniform_);
@@ -80,8 +86,8 @@ void Simulation::pair_contacts_impl() {
     ContactGeometry g;
     const double ri = radius(i), rj = radius(j);
     if (!sphere_sphere(p_.x[i], p_.x[j], ri, rj, g)) {
-      // A contact that just opened (untouched pairs cost no history access, and leave no record
-      // for the gather).
+      // A contact that just opened (pairs that stay apart cost no history access, and their
+      // records stay zero).
       const std::uint8_t was = ps_.touching[k];
       if (was == 1) {
         open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);

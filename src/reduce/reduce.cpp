@@ -53,15 +53,41 @@ double axial_mean(const std::vector<double>& angles) {
   return m;
 }
 
-const std::vector<TableColumn> kColumns = {
-    {"frequency", "Hz"}, {"cavity_amplitude", "m"}, {"gamma", "1"}, {"clearance_ratio", "1"},
-    {"bag_mass", "kg"}, {"mass_ratio", "1"}, {"balls", "1"}, {"ball_diameter", "m"},
-    {"M_eff", "kg"}, {"M_eff_se", "kg"}, {"C_eff", "N s/m"}, {"C_eff_se", "N s/m"},
-    {"M_eff_ratio", "1"}, {"Cb_over_Mbw", "1"}, {"Cb_over_Mbw_se", "1"}, {"loss_factor", "1"},
-    {"energy_per_cycle", "J"}, {"energy_per_cycle_se", "J"}, {"impact_phase", "rad"}, {"impacts_per_cycle", "1"},
-    {"e_impact", "1"}, {"e_impact_sd", "1"}, {"e_impact_count", "1"}, {"e_eq19a", "1"},
-    {"peak_impact_force", "N"}, {"max_impact_force", "N"}, {"impact_duration", "s"}, {"response_amplitude", "m"},
-    {"cycles", "1"}, {"e_drop", "1"}, {"displacement_re", "m"}, {"displacement_im", "m"}, {"force_re", "N"}, {"force_im", "N"}};
+// reduced.csv's columns: the row's real fields in order, then X_hat and F_hat as (re, im). Each
+// field is named once here; the writer, the reader and reduced_columns() all follow this table.
+struct RealField {
+  const char* name;
+  const char* unit;
+  double ReducedRow::*member;
+};
+constexpr RealField kRealFields[] = {
+    {"frequency", "Hz", &ReducedRow::frequency}, {"cavity_amplitude", "m", &ReducedRow::cavity_amplitude},
+    {"gamma", "1", &ReducedRow::gamma}, {"clearance_ratio", "1", &ReducedRow::clearance_ratio},
+    {"bag_mass", "kg", &ReducedRow::bag_mass}, {"mass_ratio", "1", &ReducedRow::mass_ratio},
+    {"balls", "1", &ReducedRow::balls}, {"ball_diameter", "m", &ReducedRow::ball_diameter},
+    {"M_eff", "kg", &ReducedRow::M_eff}, {"M_eff_se", "kg", &ReducedRow::M_eff_se},
+    {"C_eff", "N s/m", &ReducedRow::C_eff}, {"C_eff_se", "N s/m", &ReducedRow::C_eff_se},
+    {"M_eff_ratio", "1", &ReducedRow::M_eff_ratio}, {"Cb_over_Mbw", "1", &ReducedRow::Cb_over_Mbw},
+    {"Cb_over_Mbw_se", "1", &ReducedRow::Cb_over_Mbw_se}, {"loss_factor", "1", &ReducedRow::loss_factor},
+    {"energy_per_cycle", "J", &ReducedRow::energy_per_cycle},
+    {"energy_per_cycle_se", "J", &ReducedRow::energy_per_cycle_se},
+    {"impact_phase", "rad", &ReducedRow::impact_phase}, {"impacts_per_cycle", "1", &ReducedRow::impacts_per_cycle},
+    {"e_impact", "1", &ReducedRow::e_impact}, {"e_impact_sd", "1", &ReducedRow::e_impact_sd},
+    {"e_impact_count", "1", &ReducedRow::e_impact_count}, {"e_eq19a", "1", &ReducedRow::e_eq19a},
+    {"peak_impact_force", "N", &ReducedRow::peak_impact_force},
+    {"max_impact_force", "N", &ReducedRow::max_impact_force}, {"impact_duration", "s", &ReducedRow::impact_duration},
+    {"response_amplitude", "m", &ReducedRow::response_amplitude}, {"cycles", "1", &ReducedRow::cycles},
+    {"e_drop", "1", &ReducedRow::e_drop}};
+constexpr std::size_t kReal = std::size(kRealFields);
+
+const std::vector<TableColumn> kColumns = [] {
+  std::vector<TableColumn> c;
+  for (const RealField& f : kRealFields) c.push_back({f.name, f.unit});
+  for (const TableColumn& z : {TableColumn{"displacement_re", "m"}, TableColumn{"displacement_im", "m"},
+                               TableColumn{"force_re", "N"}, TableColumn{"force_im", "N"}})
+    c.push_back(z);
+  return c;
+}();
 
 }  // namespace
 
@@ -179,12 +205,10 @@ ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const R
 const std::vector<TableColumn>& reduced_columns() { return kColumns; }
 
 std::vector<double> reduced_values(const ReducedRow& r) {
-  return {r.frequency, r.cavity_amplitude, r.gamma, r.clearance_ratio, r.bag_mass, r.mass_ratio, r.balls,
-          r.ball_diameter, r.M_eff, r.M_eff_se, r.C_eff, r.C_eff_se, r.M_eff_ratio, r.Cb_over_Mbw,
-          r.Cb_over_Mbw_se, r.loss_factor, r.energy_per_cycle, r.energy_per_cycle_se, r.impact_phase,
-          r.impacts_per_cycle, r.e_impact, r.e_impact_sd, r.e_impact_count, r.e_eq19a, r.peak_impact_force,
-          r.max_impact_force, r.impact_duration, r.response_amplitude, r.cycles, r.e_drop, r.displacement.real(),
-          r.displacement.imag(), r.force.real(), r.force.imag()};
+  std::vector<double> v;
+  for (const RealField& f : kRealFields) v.push_back(r.*f.member);
+  for (double x : {r.displacement.real(), r.displacement.imag(), r.force.real(), r.force.imag()}) v.push_back(x);
+  return v;
 }
 
 void write_reduced_csv(const fs::path& path, const std::vector<ReducedRow>& rows) {
@@ -198,16 +222,9 @@ std::vector<ReducedRow> read_reduced_csv(const fs::path& path) {
   std::vector<ReducedRow> rows;
   for (const std::vector<double>& v : values) {
     ReducedRow r;
-    double* fields[] = {&r.frequency, &r.cavity_amplitude, &r.gamma, &r.clearance_ratio, &r.bag_mass, &r.mass_ratio,
-                        &r.balls, &r.ball_diameter, &r.M_eff, &r.M_eff_se, &r.C_eff, &r.C_eff_se, &r.M_eff_ratio,
-                        &r.Cb_over_Mbw, &r.Cb_over_Mbw_se, &r.loss_factor, &r.energy_per_cycle, &r.energy_per_cycle_se,
-                        &r.impact_phase, &r.impacts_per_cycle, &r.e_impact, &r.e_impact_sd, &r.e_impact_count,
-                        &r.e_eq19a, &r.peak_impact_force, &r.max_impact_force, &r.impact_duration,
-                        &r.response_amplitude, &r.cycles, &r.e_drop};
-    static_assert(std::size(fields) + 4 == 34);
-    for (std::size_t k = 0; k < std::size(fields); ++k) *fields[k] = v[k];
-    r.displacement = {v[30], v[31]};
-    r.force = {v[32], v[33]};
+    for (std::size_t k = 0; k < kReal; ++k) r.*kRealFields[k].member = v[k];
+    r.displacement = {v[kReal], v[kReal + 1]};
+    r.force = {v[kReal + 2], v[kReal + 3]};
     rows.push_back(r);
   }
   return rows;

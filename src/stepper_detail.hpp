@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
-#include <vector>
+#include <memory>
 
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
@@ -58,7 +58,10 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
     std::atomic<std::size_t> next;
     std::size_t end;
   };
-  std::vector<Share> share(shares);
+  // No allocation in the step up to 16 threads.
+  Share local[16];
+  std::unique_ptr<Share[]> more(shares > 16 ? new Share[shares] : nullptr);
+  Share* share = shares > 16 ? more.get() : local;
   for (std::size_t t = 0; t < shares; ++t) {
     share[t].next.store(t * chunks / shares, std::memory_order_relaxed);
     share[t].end = (t + 1) * chunks / shares;

@@ -105,6 +105,9 @@ TEST(Trade, LadderChangesOneKnobAtATimeFromTheReference) {
   EXPECT_TRUE(ladder[8].sets.empty()) << "balanced is the case as written";
   // --knobs restricts the ladder; an unknown knob is refused.
   EXPECT_EQ(study::trade_ladder(dir, {}, {"stiffness"}).size(), 6u);
+  const auto presets_only = study::trade_ladder(dir, {}, {"none"});  // reference, seed+1, balanced, fast
+  ASSERT_EQ(presets_only.size(), 4u);
+  EXPECT_EQ(presets_only[2].name, "preset balanced");
   EXPECT_THROW(study::trade_ladder(dir, {}, {"mesh"}), InputError);
   EXPECT_THROW(study::fidelity_sets(dir, {}, "fastest"), InputError);
 }

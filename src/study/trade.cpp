@@ -100,7 +100,7 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
   } else {
     std::string names;
     for (const Knob& k : knobs()) names += (names.empty() ? "" : ", ") + k.name;
-    throw InputError("bagdem trade", "--knobs", knob, "is not a knob (allowed: " + names + ")");
+    throw InputError("bagdem trade", "--knobs", knob, "is not a knob (allowed: " + names + ", none)");
   }
   return o;
 }
@@ -237,7 +237,9 @@ std::vector<std::string> fidelity_sets(const std::string& case_dir, const std::v
 std::vector<Rung> trade_ladder(const std::string& case_dir, const std::vector<std::string>& sets,
                                const std::vector<std::string>& only) {
   const CaseFacts f = case_facts(case_dir, sets);
-  for (const std::string& k : only) knob_overrides(f, k, 1);  // an unknown knob throws
+  // "none": only the reference, its reseeded twin and the presets.
+  for (const std::string& k : only)
+    if (k != "none") knob_overrides(f, k, 1);  // an unknown knob throws
   auto chosen = [&](const std::string& k) { return only.empty() || std::find(only.begin(), only.end(), k) != only.end(); };
   // The reference: every knob that applies at its reference setting.
   std::map<std::string, std::vector<std::string>> ref;
@@ -288,7 +290,7 @@ CLI::App* add_trade_command(CLI::App& app, TradeArgs& a) {
       "duration and the error of the peak reduction (dB), C_b/(M_b w), M_eff/M_bag, e, energy per cycle and loss factor "
       "against the reference; OUT/trade.csv (tools/plot draws trade.png). Knobs:" + names);
   t->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();
-  t->add_option("--knobs", a.only, "Only these knobs (default: every knob the case uses)");
+  t->add_option("--knobs", a.only, "Only these knobs; `none`: only the reference, its seed+1 twin and the presets (default: every knob the case uses)");
   t->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
   t->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
   t->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));

@@ -182,6 +182,11 @@ TEST(Reduce, ExportRoundTripAndRefusals) {
     EXPECT_EQ(m.values, (std::vector<double>{0.0123456789012, 0.02}));
     const auto fr = bagdem::testing::read_doubles(f, "/export/frequency");
     EXPECT_EQ(fr.values, (std::vector<double>{20, 25}));
+    EXPECT_EQ(bagdem::testing::unit_of(f, "/export/M_eff"), "kg");
+    const hid_t ds = H5Dopen2(f, "/export/M_eff", H5P_DEFAULT);
+    ASSERT_GE(ds, 0);
+    EXPECT_NE(bagdem::testing::read_string_attribute(ds, "description").find("effective mass"), std::string::npos);
+    H5Dclose(ds);
     H5Fclose(f);
   }
   // JSON: Python reads it back to the same numbers (NaN as null).

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "bagdem/error.hpp"
-#include "h5_handle.hpp"
+#include "h5.hpp"
 
 namespace bagdem {
 
@@ -28,64 +28,20 @@ constexpr const char* kHowToMakeOne =
 
 struct Writer {
   std::string path;  // the file being written (the .part name), for messages
+  h5::Check ok = h5::Check::with_prefix("bag file " + path + ": ");
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("bag file " + path + ": " + what);
-  }
-  template <class T>
-  T ok(T r, const std::string& what) const {
-    if (r < 0) fail(what);
-    return r;
-  }
-
-  void attribute(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* value) {
-    const std::string what = "cannot write attribute " + name;
-    H5 attr(ok(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), what),
-            H5Aclose);
-    ok(H5Awrite(attr, type, value), what);
-  }
-  void attribute(hid_t obj, const std::string& name, double value) {
-    H5 space(ok(H5Screate(H5S_SCALAR), "cannot make a dataspace"), H5Sclose);
-    attribute(obj, name, H5T_NATIVE_DOUBLE, space, &value);
-  }
+  void attribute(hid_t obj, const std::string& name, double value) { h5::write_attribute(obj, name, value, ok); }
   void attribute(hid_t obj, const std::string& name, const Vec3& value) {
-    const hsize_t three = 3;
-    H5 space(ok(H5Screate_simple(1, &three, nullptr), "cannot make a dataspace"), H5Sclose);
-    const double v[3] = {value[0], value[1], value[2]};
-    attribute(obj, name, H5T_NATIVE_DOUBLE, space, v);
+    h5::write_attribute(obj, name, value.data(), 3, ok);
   }
-  // Variable-length UTF-8, as in results.h5.
   void attribute(hid_t obj, const std::string& name, const std::string& value) {
-    H5 type(ok(H5Tcopy(H5T_C_S1), "cannot copy a type"), H5Tclose);
-    ok(H5Tset_size(type, H5T_VARIABLE), "cannot make a string type");
-    ok(H5Tset_cset(type, H5T_CSET_UTF8), "cannot make a string type");
-    H5 space(ok(H5Screate(H5S_SCALAR), "cannot make a dataspace"), H5Sclose);
-    const char* text = value.c_str();
-    attribute(obj, name, type, space, &text);
-  }
-
-  // A dataset of the given shape written whole, with its "unit" attribute.
-  void dataset(hid_t group, const char* name, std::vector<hsize_t> dims, hid_t file_type,
-               hid_t mem_type, const void* data, const char* unit) {
-    const std::string what = std::string("cannot write dataset ") + name;
-    H5 space(ok(H5Screate_simple(int(dims.size()), dims.data(), nullptr), what), H5Sclose);
-    H5 ds(ok(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-             what),
-          H5Dclose);
-    if (dims[0] > 0) ok(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
-    attribute(ds, "unit", unit);
+    h5::write_attribute(obj, name, value, ok);
   }
   void points(hid_t group, const char* name, const std::vector<Vec3>& x) {
     std::vector<double> flat(3 * x.size());
     for (std::size_t i = 0; i < x.size(); ++i)
       for (int c = 0; c < 3; ++c) flat[3 * i + c] = x[i][c];
-    dataset(group, name, {x.size(), 3}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, flat.data(), "m");
-  }
-
-  H5 group(hid_t file, const char* name) {
-    return H5(ok(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 std::string("cannot create group ") + name),
-              H5Gclose);
+    h5::write_dataset(group, name, {x.size(), 3}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, flat.data(), "m", ok);
   }
 };
 
@@ -94,19 +50,19 @@ void write_file(Writer& w, const SavedBag& bag) {
                "cannot create file"),
           H5Fclose);
   {
-    H5 film = w.group(file, "film");
+    H5 film = h5::create_group(file, "film", w.ok);
     w.points(film, "rest", bag.rest.vertices);
     w.points(film, "position", bag.film_position);
     std::vector<std::int32_t> flat(3 * bag.rest.triangles.size());
     for (std::size_t t = 0; t < bag.rest.triangles.size(); ++t)
       for (int c = 0; c < 3; ++c) flat[3 * t + c] = std::int32_t(bag.rest.triangles[t][c]);
-    w.dataset(film, "triangles", {bag.rest.triangles.size(), 3}, H5T_STD_I32LE, H5T_NATIVE_INT32,
-              flat.data(), "1");
+    h5::write_dataset(film, "triangles", {bag.rest.triangles.size(), 3}, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                      flat.data(), "1", w.ok);
 
-    H5 balls = w.group(file, "balls");
+    H5 balls = h5::create_group(file, "balls", w.ok);
     w.points(balls, "position", bag.ball_position);
-    w.dataset(balls, "radius", {bag.ball_radius.size()}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-              bag.ball_radius.data(), "m");
+    h5::write_dataset(balls, "radius", {bag.ball_radius.size()}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                      bag.ball_radius.data(), "m", w.ok);
 
     w.attribute(file, "shape", bag.shape);
     w.attribute(file, "axis", bag.axis);
@@ -129,9 +85,10 @@ struct Reader {
   [[noreturn]] void bad(const std::string& what) const {
     throw InputError(path, "", "", what + "; " + kHowToMakeOne);
   }
+  [[noreturn]] void damaged(const std::string& what) const { bad("cannot read " + what + " (a damaged file?)"); }
   template <class T>
   T ok(T r, const std::string& what) const {
-    if (r < 0) bad("cannot read " + what + " (a damaged file?)");
+    if (r < 0) damaged(what);
     return r;
   }
 
@@ -242,21 +199,11 @@ struct Reader {
   // A scalar string attribute, variable- or fixed-length.
   std::string text(const std::string& name) const {
     H5 attr = attribute(name);
-    H5 type(ok(H5Aget_type(attr), "attribute " + name), H5Tclose);  // read as stored
+    H5 type(ok(H5Aget_type(attr), "attribute " + name), H5Tclose);
     if (H5Tget_class(type) != H5T_STRING) bad("attribute " + name + " is not a string");
-    std::string out;
-    if (H5Tis_variable_str(type) > 0) {
-      char* s = nullptr;
-      ok(H5Aread(attr, type, &s), "attribute " + name);
-      if (s) out = s;
-      H5free_memory(s);
-    } else {
-      std::vector<char> buf(H5Tget_size(type) + 1, '\0');
-      ok(H5Aread(attr, type, buf.data()), "attribute " + name);
-      out = buf.data();  // up to the first NUL (null-terminated or padded)
-    }
-    return out;
+    return h5::read_string(attr, name, h5::Check([this](const std::string& what) { damaged(what); }));
   }
+
 };
 
 }  // namespace

@@ -14,7 +14,7 @@
 #include <string_view>
 #include <utility>
 
-#include "h5_handle.hpp"
+#include "h5.hpp"
 
 namespace bagdem {
 
@@ -76,58 +76,15 @@ struct ResultsFile::Impl {
   std::map<std::string, Table> tables;
   hsize_t film_rows = 0, film_nodes = 0, film_triangles = 0;
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("results file " + path + ": " + what);
-  }
-  // HDF5 reports failure as a negative hid_t / herr_t.
-  template <class T>
-  T ok(T r, const std::string& what) const {
-    if (r < 0) fail(what);
-    return r;
-  }
+  h5::Check ok;  // failures throw "results file PATH: what"
+
+  explicit Impl(const std::string& p) : path(p), ok(h5::Check::with_prefix("results file " + p + ": ")) {}
 
   void flush() { ok(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush"); }
 
-  // Scalar attribute, replacing any of that name (the type may change).
-  void attribute(hid_t obj, const std::string& name, hid_t type, const void* value) {
-    const std::string what = "cannot write attribute " + name;
-    if (ok(H5Aexists(obj, name.c_str()), what) > 0) ok(H5Adelete(obj, name.c_str()), what);
-    H5 space(ok(H5Screate(H5S_SCALAR), what), H5Sclose);
-    H5 attr(ok(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), what),
-            H5Aclose);
-    ok(H5Awrite(attr, type, value), what);
-  }
-  void attribute(hid_t obj, const std::string& name, double value) {
-    attribute(obj, name, H5T_NATIVE_DOUBLE, &value);
-  }
-  // Strings are variable-length UTF-8: the text lives in the global heap, so a long
-  // resolved_config is not bound by the 64 KiB object-header limit of fixed-length attributes.
-  void attribute(hid_t obj, const std::string& name, const std::string& value) {
-    H5 type(ok(H5Tcopy(H5T_C_S1), "cannot copy a type"), H5Tclose);
-    ok(H5Tset_size(type, H5T_VARIABLE), "cannot make a string type");
-    ok(H5Tset_cset(type, H5T_CSET_UTF8), "cannot make a string type");
-    const char* text = value.c_str();
-    attribute(obj, name, type, &text);
-  }
-
-  H5 group(const char* name) {
-    return H5(ok(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 std::string("cannot create group ") + name),
-              H5Gclose);
-  }
-
-  // 1-D per-particle constant of n elements, written once.
-  H5 constant(hid_t group, const char* name, hid_t file_type, hid_t mem_type, const void* data,
-              const char* unit) {
-    const std::string what = std::string("cannot write dataset ") + name;
-    H5 space(ok(H5Screate_simple(1, &n, nullptr), what), H5Sclose);
-    H5 ds(
-        ok(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), what),
-        H5Dclose);
-    ok(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
-    attribute(ds, "unit", unit);
-    return ds;
-  }
+  void attribute(hid_t obj, const std::string& name, double value) { h5::write_attribute(obj, name, value, ok); }
+  void attribute(hid_t obj, const std::string& name, const std::string& value) { h5::write_attribute(obj, name, value, ok); }
+  H5 group(const char* name, bool ordered = false) { return h5::create_group(file, name, ok, ordered); }
 
   // Empty double series, extendible along rows shaped `row` ({} for scalars, {3}, {N, 3}).
   H5 series(hid_t group, const char* name, std::vector<hsize_t> row, hsize_t chunk_rows,
@@ -146,19 +103,14 @@ struct ResultsFile::Impl {
     return ds;
   }
 
-  std::vector<hsize_t> dims(hid_t ds) const {
-    H5 space(ok(H5Dget_space(ds), "cannot get a dataspace"), H5Sclose);
-    std::vector<hsize_t> d(ok(H5Sget_simple_extent_ndims(space), "bad dataspace"));
-    ok(H5Sget_simple_extent_dims(space, d.data(), nullptr), "bad dataspace");
-    return d;
-  }
+  std::vector<hsize_t> dims(hid_t ds) const { return h5::dims(ds, ok); }
 
   // Opens `name` and cuts it to `rows` rows; growing it would invent data, so that is an error.
   H5 open_truncated(const std::string& name, hsize_t rows) {
     H5 ds(ok(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open dataset " + name), H5Dclose);
     std::vector<hsize_t> d = dims(ds);
     if (d.empty() || d[0] < rows)
-      fail(name + " has fewer than the " + std::to_string(rows) + " rows to resume from");
+      ok.fail(name + " has fewer than the " + std::to_string(rows) + " rows to resume from");
     d[0] = rows;
     ok(H5Dset_extent(ds, d.data()), "cannot truncate " + name);
     return ds;
@@ -191,8 +143,7 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
     throw std::invalid_argument("results file " + path +
                                 ": need one radius and one material per particle, at least one");
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
-  auto p = std::make_unique<Impl>();
-  p->path = path;
+  auto p = std::make_unique<Impl>(path);
   p->n = radius.size();
   p->file = H5(
       p->ok(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create file"),
@@ -200,8 +151,8 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
   p->attribute(p->file, "program_version", std::string(BAGDEM_VERSION));
 
   H5 particles = p->group("particles");
-  p->constant(particles, "radius", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, radius.data(), "m");
-  H5 mat = p->constant(particles, "material", H5T_STD_I32LE, H5T_NATIVE_INT, material.data(), "1");
+  h5::write_dataset(particles, "radius", {p->n}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, radius.data(), "m", p->ok);
+  H5 mat = h5::write_dataset(particles, "material", {p->n}, H5T_STD_I32LE, H5T_NATIVE_INT, material.data(), "1", p->ok);
   std::string names;
   for (const std::string& m : materials) names += (names.empty() ? "" : ",") + m;
   p->attribute(mat, "materials", names);
@@ -228,8 +179,7 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
 
 ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& lengths) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  auto p = std::make_unique<Impl>();
-  p->path = path;
+  auto p = std::make_unique<Impl>(path);
   p->file =
       H5(p->ok(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open file"), H5Fclose);
   p->len = lengths;
@@ -340,7 +290,6 @@ void ResultsFile::write_film(const std::vector<std::array<std::uint32_t, 3>>& tr
                                     std::to_string(nodes) + " nodes");
       flat[3 * t + c] = std::int32_t(triangles[t][c]);
     }
-  const hsize_t dims[2] = {triangles.size(), 3};
 
   if (p.film) {  // reopened (or a second call): it must be the film already in the file
     std::vector<std::int32_t> stored;
@@ -363,15 +312,8 @@ void ResultsFile::write_film(const std::vector<std::array<std::uint32_t, 3>>& tr
   if (p.len.frames > 0)
     throw std::logic_error(where + "write_film must come before the first frame");
 
-  const std::string what = "cannot write dataset /film/triangles";
   H5 group = p.group("film");
-  H5 space(p.ok(H5Screate_simple(2, dims, nullptr), what), H5Sclose);
-  H5 ds(p.ok(H5Dcreate2(group, "triangles", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT,
-                        H5P_DEFAULT),
-             what),
-        H5Dclose);
-  p.ok(H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), what);
-  p.attribute(ds, "unit", "1");
+  h5::write_dataset(group, "triangles", {triangles.size(), 3}, H5T_STD_I32LE, H5T_NATIVE_INT32, flat.data(), "1", p.ok);
   p.film_position = p.series(group, "position", {hsize_t(nodes), 3}, 1, "m");  // a frame a chunk
   p.film_nodes = nodes;
   p.film_triangles = triangles.size();
@@ -425,9 +367,7 @@ void ResultsFile::append_table_row(const std::string& group, const std::vector<T
   Impl::Table& t = p.tables[group];
   if (t.columns.empty()) {
     // Creation order is kept, so that a reopened file lists the columns in the same order.
-    H5 gcpl(p.ok(H5Pcreate(H5P_GROUP_CREATE), "cannot create /" + group), H5Pclose);
-    p.ok(H5Pset_link_creation_order(gcpl, H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), "cannot create /" + group);
-    H5 g(p.ok(H5Gcreate2(p.file, group.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT), "cannot create group /" + group), H5Gclose);
+    H5 g = p.group(group.c_str(), true);
     for (const TableColumn& c : columns) t.columns.push_back(p.series(g, c.name, {}, kRowsPerChunk, c.unit));
   }
   if (t.columns.size() != columns.size())
@@ -440,11 +380,7 @@ void ResultsFile::append_table_row(const std::string& group, const std::vector<T
 std::vector<double> ResultsFile::read_series(const std::string& dataset) const {
   Impl& p = open_or_throw(impl_);
   H5 ds(p.ok(H5Dopen2(p.file, dataset.c_str(), H5P_DEFAULT), "cannot open dataset " + dataset), H5Dclose);
-  std::size_t n = 1;
-  for (hsize_t d : p.dims(ds)) n *= d;
-  std::vector<double> v(n);
-  if (n > 0) p.ok(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "cannot read " + dataset);
-  return v;
+  return h5::read_doubles(ds, dataset, p.ok);
 }
 
 SeriesLengths ResultsFile::lengths() const { return impl_ ? impl_->len : SeriesLengths{}; }

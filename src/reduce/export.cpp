@@ -11,6 +11,7 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "../io/h5.hpp"
 #include "../run/output_files.hpp"
 
 namespace bagdem {
@@ -69,48 +70,31 @@ bool numeric_column(const TextTable& t, std::size_t k) {
   return true;
 }
 
-void h5_attribute(hid_t obj, const char* name, const std::string& value) {
-  const hid_t type = H5Tcopy(H5T_C_S1);
-  H5Tset_size(type, value.size() + 1);
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(a, type, value.c_str());
-  H5Aclose(a);
-  H5Sclose(space);
-  H5Tclose(type);
-}
-
+// export.h5: group /export, a 1-D dataset per column (numbers float64, text as strings), each
+// with its "unit" and "description".
 void write_h5(const fs::path& path, const TextTable& t, const std::vector<std::size_t>& cols, const std::vector<std::string>& descriptions) {
   const fs::path tmp = path.string() + ".part";
-  const hid_t file = H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file < 0) throw std::runtime_error("cannot create " + tmp.string());
-  const hid_t g = H5Gcreate2(file, "export", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  const hsize_t n = t.rows.size();
-  for (std::size_t j = 0; j < cols.size(); ++j) {
-    const std::size_t k = cols[j];
-    const hid_t space = H5Screate_simple(1, &n, nullptr);
-    hid_t ds;
-    if (numeric_column(t, k)) {
-      std::vector<double> v;
-      for (const auto& r : t.rows) v.push_back(std::strtod(r[k].c_str(), nullptr));
-      ds = H5Dcreate2(g, t.names[k].c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      if (n) H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    } else {
-      const hid_t type = H5Tcopy(H5T_C_S1);
-      H5Tset_size(type, H5T_VARIABLE);
-      std::vector<const char*> v;
-      for (const auto& r : t.rows) v.push_back(r[k].c_str());
-      ds = H5Dcreate2(g, t.names[k].c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      if (n) H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-      H5Tclose(type);
+  const h5::Check ok = h5::Check::with_prefix("export file " + tmp.string() + ": ");
+  {
+    h5::H5 file(ok(H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create it"), H5Fclose);
+    h5::H5 g = h5::create_group(file, "export", ok, true);
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      const std::size_t k = cols[j];
+      std::vector<std::string> cells;
+      for (const auto& r : t.rows) cells.push_back(r[k]);
+      h5::H5 ds;
+      if (numeric_column(t, k)) {
+        std::vector<double> v;
+        for (const auto& c : cells) v.push_back(std::strtod(c.c_str(), nullptr));
+        ds = h5::write_dataset(g, t.names[k], {v.size()}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), t.units[k], ok);
+      } else {
+        ds = h5::write_strings(g, t.names[k], cells, ok);
+        h5::write_attribute(ds, "unit", t.units[k], ok);
+      }
+      h5::write_attribute(ds, "description", descriptions[j], ok);
     }
-    h5_attribute(ds, "unit", t.units[k]);
-    h5_attribute(ds, "description", descriptions[j]);
-    H5Dclose(ds);
-    H5Sclose(space);
+    ok(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush");
   }
-  H5Gclose(g);
-  if (H5Fclose(file) < 0) throw std::runtime_error("cannot write " + tmp.string());
   fs::rename(tmp, path);
 }
 

@@ -18,6 +18,7 @@
 #include "bagdem/particles.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "../io/h5.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -232,54 +233,33 @@ std::vector<ReducedRow> read_reduced_csv(const fs::path& path) {
 
 namespace {
 
-// A dataset of a closed results file, flattened.
-std::vector<double> read_dataset(hid_t file, const std::string& name, const std::string& path) {
-  const hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  if (ds < 0) throw InputError(path, name, "", "is missing: the run wrote no such series");
-  const hid_t space = H5Dget_space(ds);
-  const int nd = H5Sget_simple_extent_ndims(space);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(nd, 0)));
-  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-  std::size_t n = 1;
-  for (hsize_t d : dims) n *= d;
-  std::vector<double> v(n);
-  const herr_t ok = n ? H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) : 0;
-  H5Sclose(space);
-  H5Dclose(ds);
-  if (ok < 0) throw InputError(path, name, "", "cannot be read");
-  return v;
-}
+// Reading a closed results file: what is missing or unreadable is an InputError naming it.
+struct ResultsReader {
+  std::string path;
+  h5::H5 file;
+  h5::Check ok{[this](const std::string& what) { throw InputError(path, what, "", "cannot be read"); }};
 
-std::string string_attribute(hid_t file, const char* name) {
-  if (H5Aexists(file, name) <= 0) return "";
-  const hid_t a = H5Aopen(file, name, H5P_DEFAULT);
-  const hid_t type = H5Aget_type(a);
-  std::string s;
-  if (H5Tis_variable_str(type) > 0) {
-    char* p = nullptr;
-    const hid_t mem = H5Tcopy(H5T_C_S1);
-    H5Tset_size(mem, H5T_VARIABLE);
-    H5Tset_cset(mem, H5Tget_cset(type));
-    if (H5Aread(a, mem, &p) >= 0 && p) s = p, H5free_memory(p);
-    H5Tclose(mem);
-  } else {
-    s.resize(H5Tget_size(type));
-    H5Aread(a, type, s.data());
-    if (const std::size_t nul = s.find('\0'); nul != std::string::npos) s.resize(nul);
+  std::vector<double> series(const std::string& name) const {
+    if (H5Lexists(file, name.substr(0, name.find('/', 1)).c_str(), H5P_DEFAULT) <= 0 ||
+        H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0)
+      throw InputError(path, name, "", "is missing: the run wrote no such series");
+    h5::H5 ds(ok(H5Dopen2(file, name.c_str(), H5P_DEFAULT), name), H5Dclose);
+    return h5::read_doubles(ds, name, ok);
   }
-  H5Tclose(type);
-  H5Aclose(a);
-  return s;
-}
-
-double double_attribute(hid_t file, const char* name) {
-  if (H5Aexists(file, name) <= 0) return kNaN;
-  double v = kNaN;
-  const hid_t a = H5Aopen(file, name, H5P_DEFAULT);
-  H5Aread(a, H5T_NATIVE_DOUBLE, &v);
-  H5Aclose(a);
-  return v;
-}
+  // A root attribute ("" or NaN when absent).
+  std::string text(const char* name) const {
+    if (H5Aexists(file, name) <= 0) return "";
+    h5::H5 a(ok(H5Aopen(file, name, H5P_DEFAULT), name), H5Aclose);
+    return h5::read_string(a, name, ok);
+  }
+  double number(const char* name) const {
+    if (H5Aexists(file, name) <= 0) return kNaN;
+    double v = kNaN;
+    h5::H5 a(ok(H5Aopen(file, name, H5P_DEFAULT), name), H5Aclose);
+    ok(H5Aread(a, H5T_NATIVE_DOUBLE, &v), name);
+    return v;
+  }
+};
 
 }  // namespace
 
@@ -295,25 +275,14 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
     throw InputError(scene.case_file, "cavity.motion.kind", "", "reduction needs harmonic cavity motion ([cavity.motion] kind = \"harmonic\") or a stepped-sine sweep of a primary structure");
   const fs::path h5 = out / "results.h5";
   if (!fs::exists(h5)) throw InputError(h5.string(), "", "", "is missing: run the case first (bagdem run)");
-  const H5E_auto2_t none = nullptr;
-  H5Eset_auto2(H5E_DEFAULT, none, nullptr);
-  const hid_t file = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
-  std::vector<double> t, pos, force, vrel;
-  double clearance = kNaN;
-  try {
-    const std::string status = string_attribute(file, "status");
-    if (status != "complete") throw InputError(h5.string(), "status", status, "must be \"complete\": reduce a finished run");
-    t = read_dataset(file, "/cavity/time", h5.string());
-    pos = read_dataset(file, "/cavity/position", h5.string());
-    force = read_dataset(file, "/cavity/force", h5.string());
-    vrel = read_dataset(file, "/cavity/contents_velocity", h5.string());
-    clearance = double_attribute(file, "clearance");
-  } catch (...) {
-    H5Fclose(file);
-    throw;
-  }
-  H5Fclose(file);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
+  const ResultsReader in{h5.string(), h5::H5(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)};
+  if (in.file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
+  const std::string status = in.text("status");
+  if (status != "complete") throw InputError(h5.string(), "status", status, "must be \"complete\": reduce a finished run");
+  const std::vector<double> t = in.series("/cavity/time"), pos = in.series("/cavity/position"),
+                            force = in.series("/cavity/force"), vrel = in.series("/cavity/contents_velocity");
+  const double clearance = in.number("clearance");
   if (t.size() < 4) throw InputError(h5.string(), "/cavity/time", std::to_string(t.size()), "too few samples to reduce");
   const Vec3 e = excitation_direction(scene);
   if (e.norm() == 0) throw InputError(scene.case_file, "cavity.motion", "", "the cavity does not move: nothing to reduce");

@@ -184,7 +184,7 @@ std::string Dimension::si_unit() const {
   return (numerator.empty() ? "1" : numerator) + denominator;
 }
 
-std::optional<double> parse_quantity(std::string_view text, Dimension expected, std::string* why) {
+std::optional<Quantity> parse_any_quantity(std::string_view text, std::string* why) {
   const std::string s(trim(text));
   if (s.empty()) return fail(why, "empty quantity");
   char* end = nullptr;
@@ -193,15 +193,21 @@ std::optional<double> parse_quantity(std::string_view text, Dimension expected, 
   if (!std::isfinite(value)) return fail(why, "not a finite number in '" + s + "'");
 
   const std::string_view expr = trim(std::string_view(s).substr(static_cast<size_t>(end - s.c_str())));
-  if (expr.empty()) return value;  // plain numbers are SI, whatever the dimension
+  if (expr.empty()) return Quantity{value, dim::none, false};
 
   const std::optional<Scaled> unit = parse_units(expr, why);
   if (!unit) return std::nullopt;
-  if (unit->dim != expected)
-    return fail(why, "has dimension " + unit->dim.si_unit() + ", expected " + expected.si_unit());
   const double si = value * unit->factor;
   if (!std::isfinite(si)) return fail(why, "'" + s + "' is out of range as a double in SI");
-  return si;
+  return Quantity{si, unit->dim, true};
+}
+
+std::optional<double> parse_quantity(std::string_view text, Dimension expected, std::string* why) {
+  const std::optional<Quantity> q = parse_any_quantity(text, why);
+  if (!q) return std::nullopt;
+  if (q->has_unit && q->dim != expected)  // plain numbers are SI, whatever the dimension
+    return fail(why, "has dimension " + q->dim.si_unit() + ", expected " + expected.si_unit());
+  return q->si;
 }
 
 }  // namespace bagdem

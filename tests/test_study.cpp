@@ -171,6 +171,8 @@ TEST(Study, ValuesGridOrderAndSiNumbers) {
   EXPECT_EQ(study::si_number("0.05", &unit), 0.05);
   EXPECT_EQ(unit, "");
   EXPECT_TRUE(std::isnan(study::si_number("hash", &unit)));
+  EXPECT_EQ(study::si_number("2 m^5", &unit), 2.0);  // any dimension its unit has
+  EXPECT_EQ(unit, "m^5");
 
   study::StudySpec spec;
   spec.case_dir = "/nowhere", spec.out_dir = "/nowhere/out", spec.source = "test";

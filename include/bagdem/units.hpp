@@ -46,4 +46,12 @@ inline constexpr Dimension impulse{1, 1, -1, 0};    // N s
 std::optional<double> parse_quantity(std::string_view text, Dimension expected,
                                      std::string* why = nullptr);
 
+// The same, for a quantity of whatever dimension its unit has (a plain number: has_unit false).
+struct Quantity {
+  double si;
+  Dimension dim;
+  bool has_unit;
+};
+std::optional<Quantity> parse_any_quantity(std::string_view text, std::string* why = nullptr);
+
 }  // namespace bagdem

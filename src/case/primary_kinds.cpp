@@ -258,6 +258,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       } else {
         const double span = in.quantity("excitation.span", dim::none, 0.1);
         if (!(span > 0 && span < 1)) in.fail("excitation.span", "must be in (0, 1): the band is f_mode (1 -/+ span)");
+        const std::vector<double> bare = p.bare_frequencies();
         std::vector<std::size_t> elastic;
         for (std::size_t k = 0; k < p.size(); ++k)
           if (!p.rigid_body[k]) elastic.push_back(k);
@@ -270,7 +271,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
           sw->modes.push_back(dof);
           // Around the bare mode's frequency with the cavity mass (the DOFs are in frequency order,
           // and a cavity mass keeps that order).
-          const double fm = p.bare_frequencies()[dof];
+          const double fm = bare[dof];
           for (long long k = 0; k < pts; ++k)
             f.push_back(fm * (1 - span + 2 * span * (pts == 1 ? 0.5 : static_cast<double>(k) / static_cast<double>(pts - 1))));
         }

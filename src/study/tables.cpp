@@ -101,19 +101,10 @@ std::string csv_text(const Table& t) {
 double si_number(const std::string& given, std::string* unit) {
   if (unit) unit->clear();
   if (const auto plain = cell_number(given)) return std::isfinite(*plain) ? *plain : kNaN;
-  // A unit expression has one dimension; find it among the exponents a case file can meet
-  // (parse_quantity accepts a unit only with the dimension it is asked for).
-  for (int t = -4; t <= 4; ++t)
-    for (int l = -4; l <= 4; ++l)
-      for (int m = -2; m <= 2; ++m)
-        for (int a = -2; a <= 2; ++a) {
-          const Dimension d{l, m, t, a};
-          if (const auto x = parse_quantity(given, d)) {
-            if (unit) *unit = d.si_unit();
-            return *x;
-          }
-        }
-  return kNaN;
+  const std::optional<Quantity> q = parse_any_quantity(given);
+  if (!q) return kNaN;
+  if (unit && q->has_unit) *unit = q->dim.si_unit();
+  return q->si;
 }
 
 std::optional<Table> merge_table(const Plan& plan, const std::vector<bool>& done, const std::string& name) {
@@ -128,7 +119,7 @@ std::optional<Table> merge_table(const Plan& plan, const std::vector<bool>& done
 
   Table m;
   m.columns = {"point", "status", "seed"};
-  // Each varied value as an SI number, once (si_number searches the dimension of its unit).
+  // Each varied value as an SI number, once.
   std::vector<std::vector<std::string>> si(plan.spec.vary.size());
   for (std::size_t k = 0; k < plan.spec.vary.size(); ++k) {
     const Varied& v = plan.spec.vary[k];

@@ -365,7 +365,7 @@ TEST(Study, ResumesAfterAKillAndKeepsNoHalfPoint) {
 
   r = sweep(d, with(plan, {"--jobs", "2", "--out", cut}));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("resuming: 1 of 3 points done by an earlier sweep, skipped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("resuming: 1 of 3 points done by an earlier run, skipped"), std::string::npos) << r.err;
   std::size_t same = 0;
   for (const auto& e : fs::directory_iterator(point_dir(cut, 0))) {
     const auto it = before.find(e.path().string());

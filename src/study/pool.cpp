@@ -263,4 +263,30 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   return outcomes;
 }
 
+void run_share(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,
+               int rank, int ranks, const std::string& prefix) {
+  PoolOptions pool;
+  pool.executable = executable;
+  pool.jobs = budget.jobs;
+  pool.threads = budget.threads;
+  pool.rank = rank;
+  pool.ranks = ranks;
+  std::vector<std::size_t> todo;
+  for (const Point& p : plan.points) {
+    if (static_cast<int>(p.index % static_cast<std::size_t>(ranks)) != rank) continue;
+    ++pool.total;
+    if (done[p.index]) ++pool.done_before;
+    else todo.push_back(p.index);
+  }
+  if (pool.done_before > 0)
+    std::fprintf(stderr, "%sresuming: %zu of %zu points done by an earlier run, skipped\n", prefix.c_str(), pool.done_before, pool.total);
+  run_points(plan, todo, pool);
+}
+
+std::vector<bool> finished_points(const Plan& plan) {
+  std::vector<bool> finished(plan.points.size());
+  for (const Point& p : plan.points) finished[p.index] = fs::exists(fs::path(plan.point_dir(p)) / "point.done");
+  return finished;
+}
+
 }  // namespace bagdem::study

@@ -143,33 +143,16 @@ int sweep_command(const SweepArgs& args) {
       }
     }
     if (args.check) return 0;
-    PoolOptions pool;
-    pool.executable = args.executable;
-    pool.jobs = budget.jobs;
-    pool.threads = budget.threads;
-    pool.rank = ranks->rank();
-    pool.ranks = ranks->size();
-    std::vector<std::size_t> todo;
-    for (const Point& p : plan.points) {
-      if (static_cast<int>(p.index % static_cast<std::size_t>(ranks->size())) != ranks->rank()) continue;
-      ++pool.total;
-      if (done[p.index]) ++pool.done_before;
-      else todo.push_back(p.index);
-    }
-    if (pool.done_before > 0)
-      std::fprintf(stderr, "%sresuming: %zu of %zu points done by an earlier sweep, skipped\n", prefix.c_str(), pool.done_before, pool.total);
-    run_points(plan, todo, pool);
+    run_share(plan, done, budget, args.executable, ranks->rank(), ranks->size(), prefix);
 
     // 3. Merge.
     ranks->barrier();
     int code = 0;
     if (lead) {
-      std::vector<bool> finished(plan.points.size());
+      const std::vector<bool> finished = finished_points(plan);
       std::vector<std::string> failed;
-      for (const Point& p : plan.points) {
-        finished[p.index] = fs::exists(fs::path(plan.point_dir(p)) / "point.done");
+      for (const Point& p : plan.points)
         if (!finished[p.index]) failed.push_back(p.name);
-      }
       const std::vector<std::string> written = merge_tables(plan, finished);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (failed.empty()) {

@@ -347,20 +347,8 @@ int trade_command(const TradeArgs& args) {
     }
     fs::create_directories(plan.spec.out_dir);
     remove_merged_tables(plan);
-    PoolOptions pool;
-    pool.executable = args.executable;
-    pool.jobs = budget.jobs;
-    pool.threads = budget.threads;
-    std::vector<std::size_t> todo;
-    for (const Point& p : plan.points) {
-      ++pool.total;
-      if (done[p.index]) ++pool.done_before;
-      else todo.push_back(p.index);
-    }
-    run_points(plan, todo, pool);
-    std::vector<bool> finished(plan.points.size());
-    for (const Point& p : plan.points) finished[p.index] = fs::exists(fs::path(plan.point_dir(p)) / "point.done");
-    merge_tables(plan, finished);
+    run_share(plan, done, budget, args.executable);
+    merge_tables(plan, finished_points(plan));
 
     // The table: each rung against the reference.
     std::vector<RungResult> res;

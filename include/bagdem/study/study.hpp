@@ -166,6 +166,14 @@ struct PointOutcome {
 // PR_SET_PDEATHSIG: they die with the sweep.
 std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::size_t>& todo, const PoolOptions& opt);
 
+// This rank's share of the plan (the points whose index mod `ranks` is `rank`): the points of it
+// not `done` run through run_points, budget.jobs at once with budget.threads threads each; a
+// resumed share says so on stderr (`prefix` first).
+void run_share(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,
+               int rank = 0, int ranks = 1, const std::string& prefix = "");
+// Which points of the plan have finished: their point.done exists.
+std::vector<bool> finished_points(const Plan& plan);
+
 // ---- tables.cpp: merging the points' tables -----------------------------------------------------
 
 // A CSV table as text cells (the points' own cells are copied, never re-printed).

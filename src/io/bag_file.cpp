@@ -203,7 +203,6 @@ struct Reader {
     if (H5Tget_class(type) != H5T_STRING) bad("attribute " + name + " is not a string");
     return h5::read_string(attr, name, h5::Check([this](const std::string& what) { damaged(what); }));
   }
-
 };
 
 }  // namespace

@@ -237,7 +237,7 @@ namespace {
 struct ResultsReader {
   std::string path;
   h5::H5 file;
-  h5::Check ok{[this](const std::string& what) { throw InputError(path, what, "", "cannot be read"); }};
+  h5::Check ok{[this](const std::string& what) { throw InputError(path, "", "", what + " (a damaged file?)"); }};
 
   std::vector<double> series(const std::string& name) const {
     if (H5Lexists(file, name.substr(0, name.find('/', 1)).c_str(), H5P_DEFAULT) <= 0 ||

@@ -25,7 +25,7 @@ PairLawTable make_pair_laws(const std::vector<Material>& materials,
   PairLawTable t;
   t.n = static_cast<int>(materials.size());
   t.laws.resize(materials.size() * materials.size());
-  std::map<double, double> beta_of;  // clamped_beta(e) costs ~0.1 s: once per distinct e
+  std::map<double, double> beta_of;  // clamped_beta(e) costs 25-75 ms: once per distinct e
   for (int a = 0; a < t.n; ++a) {
     for (int b = 0; b < t.n; ++b) {
       const Interaction& in = interactions[static_cast<size_t>(a * t.n + b)];

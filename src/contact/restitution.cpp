@@ -57,11 +57,28 @@ double restitution_of_damping(double a, bool clamped) {
 double clamped_beta(double e) {
   if (!(e > 0 && e <= 1)) throw std::invalid_argument("clamped_beta: e must be in (0, 1]");
   if (e == 1.0) return 0.0;
-  // e(a) falls monotonically from 1 (a = 0) to 0 (a -> infinity): bisect in log a.
+  // e(a) falls monotonically from 1 (a = 0) to 0 (a -> infinity). The root of e(exp(s)) - e in
+  // s = log a, by regula falsi with the Illinois modification (the end kept twice has its value
+  // halved), which keeps the bracket and converges superlinearly: about 15 solutions of the
+  // impact instead of bisection's 48, to a bracket of 1e-12 in log a.
+  auto g = [e](double s) { return restitution_of_damping(std::exp(s), true) - e; };
   double lo = std::log(1e-8), hi = std::log(1e3);
-  for (int it = 0; it < 48; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if (restitution_of_damping(std::exp(mid), true) > e) lo = mid; else hi = mid;
+  double g_lo = g(lo), g_hi = g(hi);  // > 0, < 0
+  int kept = 0;                       // +1: lo kept last time, -1: hi kept
+  for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
+    double s = lo - g_lo * (hi - lo) / (g_hi - g_lo);
+    if (!(s > lo && s < hi)) s = 0.5 * (lo + hi);
+    const double gs = g(s);
+    if (gs == 0) return std::exp(s) / std::sqrt(5.0);
+    if (gs > 0) {
+      lo = s, g_lo = gs;
+      if (kept == -1) g_hi *= 0.5;
+      kept = -1;
+    } else {
+      hi = s, g_hi = gs;
+      if (kept == +1) g_lo *= 0.5;
+      kept = +1;
+    }
   }
   return std::exp(0.5 * (lo + hi)) / std::sqrt(5.0);
 }

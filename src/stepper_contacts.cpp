@@ -155,7 +155,8 @@ void Simulation::pair_contacts_impl() {
   };
   // The pairs in blocks: first a branch-free scan of the block for the pairs that touch now or
   // did at the last step (most candidate pairs do neither), then those pairs in pair order. The
-  // scan's test is sphere_sphere's, so the pairs it skips are those one_pair would leave alone.
+  // scan's test is sphere_sphere's (spheres_apart), so the pairs it skips are those one_pair would
+  // leave alone.
   constexpr std::size_t kBlock = 128;
   auto one_block = [this, np, &one_pair, radius](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::size_t k0 = b * kBlock, k1 = std::min(np, k0 + kBlock);
@@ -167,9 +168,8 @@ void Simulation::pair_contacts_impl() {
     const Vec3* x = p_.x.data();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::uint32_t i = first[k], j = partner[k];
-      const double rsum = radius(i) + radius(j);
       active[na] = static_cast<std::uint32_t>(k);
-      na += !((x[i] - x[j]).squaredNorm() >= rsum * rsum) | (touching[k] != 0);
+      na += !spheres_apart(x[i], x[j], radius(i) + radius(j)) | (touching[k] != 0);
     }
     for (std::size_t a = 0; a < na; ++a) one_pair(active[a], excess);
   };

@@ -421,7 +421,7 @@ TEST(Projection, ImpactRestitution) {
   EXPECT_NEAR(e.mean, 0.57, 1e-12);
   EXPECT_NEAR(e.sd, std::sqrt(0.0395), 1e-12);
   EXPECT_NEAR(e.standard_error, std::sqrt(0.0395 / 5), 1e-12);
-  EXPECT_EQ(e.body, e.mean);
+  EXPECT_EQ(e.body(), e.mean);
   // No impacts: nothing to average; one: no spread.
   const auto none = bagdem::impact_restitution({}, t, v);
   EXPECT_TRUE(none.values.empty());
@@ -441,7 +441,7 @@ TEST(Projection, ImpactRestitution) {
   const auto on = bagdem::impact_restitution(impacts, t, v_on);
   ASSERT_EQ(on.values.size(), kTrain.size());
   EXPECT_NEAR(on.mean, -0.4, 1e-12);
-  EXPECT_TRUE(std::isnan(on.body));
+  EXPECT_TRUE(std::isnan(on.body()));
 }
 
 }  // namespace

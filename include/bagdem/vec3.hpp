@@ -19,9 +19,7 @@ namespace bagdem {
 BAGDEM_INLINE Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
 }
-}  // namespace bagdem
 
-namespace bagdem {
 // v, with its value hidden from the optimizer. For factors that are exactly 1 in one case of a
 // data-dependent choice (std::min(1.0, r)): GCC otherwise turns x * factor into a branch around the
 // multiplication, and a branch that goes either way at random stalls the contact loop.

@@ -134,12 +134,11 @@ RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const st
   }
   const std::size_t n = stats.values.size();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  stats.mean = stats.sd = stats.standard_error = stats.body = kNaN;
+  stats.mean = stats.sd = stats.standard_error = kNaN;
   if (n == 0) return stats;
   double sum = 0;
   for (double e : stats.values) sum += e;
   stats.mean = sum / static_cast<double>(n);
-  if (stats.mean >= 0) stats.body = stats.mean;
   if (n < 2) return stats;
   double ss = 0;
   for (double e : stats.values) ss += (e - stats.mean) * (e - stats.mean);

@@ -194,7 +194,7 @@ ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const R
     r.peak_impact_force = peak / n, r.max_impact_force = peak_max, r.impact_duration = duration / n;
     const RestitutionStats e = impact_restitution(impacts, t, v);
     r.e_impact_count = static_cast<double>(e.values.size());
-    r.e_impact = e.body;
+    r.e_impact = e.body();
     r.e_impact_sd = e.values.size() > 1 ? e.sd : kNaN;
     r.e_eq19a = continuum::restitution_from_damping(r.Cb_over_Mbw, r.impact_phase).value_or(kNaN);
   } else {

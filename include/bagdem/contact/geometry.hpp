@@ -22,12 +22,18 @@ struct ContactGeometry {
   Vec3 w_half;      // relative angular velocity at the half step, for rolling (unit: rad/s)
 };
 
-// Sphere-sphere geometry. x, v, w of i and j; r radii; im inverse masses.
+// Whether two spheres with centres xi, xj and radii summing to rsum do not overlap: the one test
+// of contact (sphere_sphere, and the pair stage's scan, which must skip exactly the same pairs).
+BAGDEM_INLINE bool spheres_apart(const Vec3& xi, const Vec3& xj, double rsum) {
+  return (xi - xj).squaredNorm() >= rsum * rsum;
+}
+
+// Sphere-sphere geometry: false when apart, else g's geometry (x centres, r radii).
 BAGDEM_INLINE bool sphere_sphere(const Vec3& xi, const Vec3& xj, double ri, double rj, ContactGeometry& g) {
   const Vec3 d = xi - xj;
-  const double dist2 = d.squaredNorm();
   const double rsum = ri + rj;
-  if (dist2 >= rsum * rsum) return false;
+  if (spheres_apart(xi, xj, rsum)) return false;
+  const double dist2 = d.squaredNorm();
   const double dist = std::sqrt(dist2);
   g.n = d / dist;
   g.overlap = rsum - dist;

@@ -45,6 +45,7 @@
 // (contents moving in +x hit the +x wall, side +1). Others (the bag pushed by a wall it is leaving,
 // or pulled by its strings) are skipped.
 #pragma once
+#include <limits>
 #include <vector>
 
 namespace bagdem {
@@ -72,7 +73,7 @@ struct RestitutionStats {
   // The contents' restitution as one body: the mean, or NaN when the mean is negative. A negative
   // mean says the contents' centre of mass keeps moving towards the wall after the pulses (a bed
   // that fills its box and shears rather than rebounds): no restitution of a body to report.
-  double body = 0;
+  double body() const { return mean >= 0 ? mean : std::numeric_limits<double>::quiet_NaN(); }
 };
 
 // Restitution of each impact from the relative velocity v (contents' centre of mass minus cavity,

@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 
@@ -80,98 +81,148 @@ void Simulation::pair_contacts_impl() {
   const double r0 = np > 0 ? p_.radius[0] : 0.0, im0 = np > 0 ? p_.inv_mass[0] : 0.0;
   const PairLaw* law0 = np > 0 ? &laws(p_.material[0], p_.material[0]) : nullptr;
   auto radius = [this, r0](std::uint32_t i) BAGDEM_INLINE_LAMBDA { return Uniform ? r0 : p_.radius[i]; };
-  // One pair (scattering: on one thread, outside any parallel region).
-  auto one_pair = [this, dt, frac, &laws, radius, im0, law0](std::size_t k, double& excess) BAGDEM_INLINE_LAMBDA {
-    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
-    ContactGeometry g;
-    const double ri = radius(i), rj = radius(j);
-    if (!sphere_sphere(p_.x[i], p_.x[j], ri, rj, g)) {
-      // A contact that just opened (pairs that stay apart cost no history access, and their
-      // records stay zero).
-      const std::uint8_t was = ps_.touching[k];
-      if (was == 1) {
-        open_pair<Tangential, Rolling, Energy, Scatter>(k, i, j);
-      } else if (was == 2) {
-        ps_.touching[k] = 0;
-        if constexpr (Energy && !Scatter) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = Vec3::Zero();
-      }
-      return;
+  // The contact law on kLanes pairs side by side (surface_contact_lanes): lane l is the pair ks[l]
+  // for l < n; the lanes past n repeat the last pair (its histories are written again with the same
+  // values, its results go to out[n..kLanes), unused). Each pair's force, torques and dissipation go
+  // to out[l] as rows of 4 doubles (x, y, z, unused), its histories are updated. No accumulation here.
+  struct alignas(32) Out {
+    double F[4], Ti[4], Tj[4], diss[4];
+  };
+  auto pair_lanes = [this, dt, frac, &laws, r0, im0, law0](const std::uint32_t* ks, int n, Out* out, double& excess)
+                        BAGDEM_INLINE_LAMBDA {
+    std::uint32_t K[kLanes], I[kLanes], J[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      K[l] = ks[std::min(l, n - 1)];
+      I[l] = ps_.first[K[l]];
+      J[l] = ps_.pairs.partner[K[l]];
     }
-    ps_.touching[k] = 1;
-    excess = std::max(excess, g.overlap - frac * std::min(ri, rj));
-    g.m_eff = Uniform ? 1.0 / (im0 + im0) : 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
+    auto gather = [](const auto& a, const std::uint32_t* at) BAGDEM_INLINE_LAMBDA {
+      Lanes r;
+      for (int l = 0; l < kLanes; ++l) r[l] = a[at[l]];
+      return r;
+    };
+    ContactGeometryT<Lanes> g;
+    const Lanes ri = Uniform ? splat<Lanes>(r0) : gather(p_.radius, I), rj = Uniform ? splat<Lanes>(r0) : gather(p_.radius, J);
+    sphere_sphere_geometry<Lanes>(gather3(p_.x.data(), I), gather3(p_.x.data(), J), ri, rj, g);
+    const Lanes deep = g.overlap - frac * min_of(ri, rj);
+    for (int l = 0; l < n; ++l) excess = std::max(excess, deep[l]);
+    g.m_eff = Uniform ? splat<Lanes>(1.0 / (im0 + im0)) : 1.0 / (gather(p_.inv_mass, I) + gather(p_.inv_mass, J));
     if constexpr (Tangential || Rolling) {
-      g.v_rel = contact_velocity(p_.v_pred[i], p_.v_pred[j], p_.w_pred[i], p_.w_pred[j], g);
-      g.v_half = contact_velocity(p_.v[i], p_.v[j], p_.w[i], p_.w[j], g);
-      g.w_half = p_.w[i] - p_.w[j];
+      const Lanes3 wi = gather3(p_.w.data(), I), wj = gather3(p_.w.data(), J);
+      g.v_rel = contact_velocity<Lanes>(gather3(p_.v_pred.data(), I), gather3(p_.v_pred.data(), J), gather3(p_.w_pred.data(), I), gather3(p_.w_pred.data(), J), g);
+      g.v_half = contact_velocity<Lanes>(gather3(p_.v.data(), I), gather3(p_.v.data(), J), wi, wj, g);
+      g.w_half = wi - wj;
     } else {
-      g.v_rel = p_.v_pred[i] - p_.v_pred[j];
-      g.v_half = p_.v[i] - p_.v[j];
+      g.v_rel = gather3(p_.v_pred.data(), I) - gather3(p_.v_pred.data(), J);
+      g.v_half = gather3(p_.v.data(), I) - gather3(p_.v.data(), J);
     }
-    const PairLaw& law = Uniform ? *law0 : laws(p_.material[i], p_.material[j]);
-    const NormalResult nr = hertz_normal(g, law);
-    Vec3 F = nr.force * g.n;
-    [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss.x() = normal_dissipation(nr, g.v_half.dot(g.n), dt, ps_.damping_prev[k]);
-    if constexpr (Tangential || Rolling) {
-      Vec3 Ti(0, 0, 0), Tj(0, 0, 0);
-      if constexpr (Tangential) {
-        const TangentialResult tr = mindlin_tangential(g, law, nr, dt, ps_.tangential[k]);
-        F += tr.force;
-        const Vec3 nxF = cross(g.n, tr.force);
-        Ti = -g.arm_i * nxF;
-        Tj = -g.arm_j * nxF;
-        if constexpr (Energy) diss.y() = tr.dissipated;
-      }
-      if constexpr (Rolling) {
-        const RollingResult rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, ps_.rolling[k]);
-        Ti += rr.torque;
-        Tj -= rr.torque;
-        if constexpr (Energy) diss.z() = rr.dissipated;
-      }
-      if constexpr (Scatter) {
-        p_.t[i] += Ti;
-        p_.t[j] += Tj;
-      } else {
-        ps_.rec[ps_.slot[2 * k]].torque = Ti;
-        ps_.rec[ps_.slot[2 * k + 1]].torque = Tj;
-      }
+    double* damping[kLanes];
+    TangentialHistory* th[kLanes];
+    RollingHistory* rh[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      damping[l] = Energy ? &ps_.damping_prev[K[l]] : nullptr;
+      th[l] = Tangential ? &ps_.tangential[K[l]] : nullptr;
+      rh[l] = Rolling ? &ps_.rolling[K[l]] : nullptr;
     }
-    if constexpr (Scatter) {
-      p_.f[i] += F;
-      p_.f[j] -= F;
-      if constexpr (Energy) {
-        tally_.step_dissipation[i] += 0.5 * diss;
-        tally_.step_dissipation[j] += 0.5 * diss;
+    auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
+      const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
+      using Row = double[4];
+      auto rows = [out](Row Out::*m) BAGDEM_INLINE_LAMBDA {
+        return std::array<double*, kLanes>{out[0].*m, out[1].*m, out[2].*m, out[3].*m};
+      };
+      to_rows(c.F, splat<Lanes>(0), rows(&Out::F).data());
+      if constexpr (Tangential || Rolling) {
+        // As surface_contact's torque: -arm x (n x F_t), then the rolling torque (on j: its opposite).
+        to_rows(-(g.arm_i * c.nxFt) + c.roll, splat<Lanes>(0), rows(&Out::Ti).data());
+        to_rows(-(g.arm_j * c.nxFt) - c.roll, splat<Lanes>(0), rows(&Out::Tj).data());
       }
+      if constexpr (Energy) to_rows(c.diss, splat<Lanes>(0), rows(&Out::diss).data());
+    };
+    if constexpr (Uniform) {
+      with_law(*law0);
     } else {
-      ps_.rec[ps_.slot[2 * k]].force = F;
-      ps_.rec[ps_.slot[2 * k + 1]].force = -F;  // F - x and F + (-x) are the same bits
-      if constexpr (Energy) {
-        ps_.rec_diss[ps_.slot[2 * k]] = diss;
-        ps_.rec_diss[ps_.slot[2 * k + 1]] = diss;
-      }
+      const PairLaw* e[kLanes];
+      for (int l = 0; l < kLanes; ++l) e[l] = &laws(p_.material[I[l]], p_.material[J[l]]);
+      with_law(law_lanes(e));
     }
   };
-  // The pairs in blocks: first a branch-free scan of the block for the pairs that touch now or
-  // did at the last step (most candidate pairs do neither), then those pairs in pair order. The
-  // scan's test is sphere_sphere's (spheres_apart), so the pairs it skips are those one_pair would
-  // leave alone.
+  // The pair's force and torques onto its particles (scattering: on one thread, outside any
+  // parallel region) or into its records (gathering).
+  auto apply = [this](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
+    ps_.touching[k] = 1;
+    struct {
+      Vec3 F, Ti, Tj, diss;
+    } out{Vec3(o.F[0], o.F[1], o.F[2]), Vec3(o.Ti[0], o.Ti[1], o.Ti[2]), Vec3(o.Tj[0], o.Tj[1], o.Tj[2]),
+          Vec3(o.diss[0], o.diss[1], o.diss[2])};
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    if constexpr (Scatter) {
+      p_.f[i] += out.F;
+      p_.f[j] -= out.F;
+      if constexpr (Tangential || Rolling) {
+        p_.t[i] += out.Ti;
+        p_.t[j] += out.Tj;
+      }
+      if constexpr (Energy) {
+        tally_.step_dissipation[i] += 0.5 * out.diss;
+        tally_.step_dissipation[j] += 0.5 * out.diss;
+      }
+    } else {
+      PairState::Record& ri = ps_.rec[ps_.slot[2 * k]];
+      PairState::Record& rj = ps_.rec[ps_.slot[2 * k + 1]];
+      ri.force = out.F;
+      rj.force = -out.F;  // F - x and F + (-x) are the same bits
+      if constexpr (Tangential || Rolling) {
+        ri.torque = out.Ti;
+        rj.torque = out.Tj;
+      }
+      if constexpr (Energy) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = out.diss;
+    }
+  };
+  // A pair that touched at the last step and is apart now: the contact opened (pairs that stay
+  // apart cost no history access, and their records stay zero).
+  auto apart = [this](std::size_t k) BAGDEM_INLINE_LAMBDA {
+    if (ps_.touching[k] == 1) {
+      open_pair<Tangential, Rolling, Energy, Scatter>(k, ps_.first[k], ps_.pairs.partner[k]);
+    } else {
+      ps_.touching[k] = 0;
+      if constexpr (Energy && !Scatter) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = Vec3::Zero();
+    }
+  };
+  // The pairs in blocks of kBlock, in three passes:
+  //  1. a branch-free scan for the pairs that touch now (`closed`) and those that touched at the
+  //     last step and are apart now (`opened`); most candidate pairs are neither. The test is
+  //     sphere_sphere's (spheres_apart).
+  //  2. the contact law on the closed pairs, kLanes at a time (pair_lanes);
+  //  3. in pair order, each closed pair's results applied (so each particle's sums are in partner
+  //     order, as the gather's), or the opened pair closed.
+  // A block's lanes hold the same pairs whatever the thread count, so the results do not depend on it.
   constexpr std::size_t kBlock = 128;
-  auto one_block = [this, np, &one_pair, radius](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
+  auto one_block = [this, np, &pair_lanes, &apply, &apart, radius](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
     const std::size_t k0 = b * kBlock, k1 = std::min(np, k0 + kBlock);
-    std::uint32_t active[kBlock];
-    std::size_t na = 0;
+    std::uint32_t closed[kBlock], opened[kBlock];
+    std::size_t nc = 0, no = 0;
     const std::uint32_t* first = ps_.first.data();
     const std::uint32_t* partner = ps_.pairs.partner.data();
     const std::uint8_t* touching = ps_.touching.data();
     const Vec3* x = p_.x.data();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::uint32_t i = first[k], j = partner[k];
-      active[na] = static_cast<std::uint32_t>(k);
-      na += !spheres_apart(x[i], x[j], radius(i) + radius(j)) | (touching[k] != 0);
+      const bool touches = !spheres_apart(x[i], x[j], radius(i) + radius(j));
+      closed[nc] = opened[no] = static_cast<std::uint32_t>(k);
+      nc += touches;
+      no += !touches & (touching[k] != 0);
     }
-    for (std::size_t a = 0; a < na; ++a) one_pair(active[a], excess);
+    Out out[kBlock + kLanes];  // the last lanes of a block may run past nc
+    for (std::size_t a = 0; a < nc; a += kLanes)
+      pair_lanes(closed + a, static_cast<int>(std::min<std::size_t>(kLanes, nc - a)), out + a, excess);
+    for (std::size_t a = 0, o = 0; a < nc || o < no;) {
+      if (o == no || (a < nc && closed[a] < opened[o])) {
+        apply(closed[a], out[a]);
+        ++a;
+      } else {
+        apart(opened[o++]);
+      }
+    }
   };
   for_items<4>((np + kBlock - 1) / kBlock, !Scatter, excess, one_block, [](double& a, double b) { a = std::max(a, b); });
   overlap_excess_ = excess;

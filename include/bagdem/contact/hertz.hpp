@@ -14,28 +14,33 @@
 
 namespace bagdem {
 
-struct NormalResult {
-  double force;       // F_n >= 0 along n, on i (unit: N)
-  double stiffness;   // S_n (unit: N/m)
-  double elastic;     // F_el (unit: N)
-  double gamma_n;     // normal damping coefficient (unit: N s/m); the tangential role derives gamma_t from it
+// T: double for one contact, Lanes for several (lanes.hpp); Law: PairLaw, or PairLawLanes.
+template <class T>
+struct NormalResultT {
+  T force;       // F_n >= 0 along n, on i (unit: N)
+  T stiffness;   // S_n (unit: N/m)
+  T elastic;     // F_el (unit: N)
+  T gamma_n;     // normal damping coefficient (unit: N s/m); the tangential role derives gamma_t from it
 };
+using NormalResult = NormalResultT<double>;
 
-BAGDEM_INLINE NormalResult hertz_normal(const ContactGeometry& g, const PairLaw& law) {
-  const double sqrt_rd = std::sqrt(g.R_eff * g.overlap);
-  const double S_n = 2.0 * law.E_star * sqrt_rd;
-  const double F_el = (2.0 / 3.0) * S_n * g.overlap;  // = 4/3 E* sqrt(R*) delta^(3/2)
-  const double gamma_n = law.damping * std::sqrt(S_n * g.m_eff);
-  const double delta_dot = -g.v_rel.dot(g.n);
-  return {std::max(0.0, F_el + gamma_n * delta_dot), S_n, F_el, gamma_n};
+template <class T, class Law>
+BAGDEM_INLINE NormalResultT<T> hertz_normal(const ContactGeometryT<T>& g, const Law& law) {
+  const T sqrt_rd = sqrt_of(g.R_eff * g.overlap);
+  const T S_n = 2.0 * law.E_star * sqrt_rd;
+  const T F_el = (2.0 / 3.0) * S_n * g.overlap;  // = 4/3 E* sqrt(R*) delta^(3/2)
+  const T gamma_n = law.damping * sqrt_of(S_n * g.m_eff);
+  const T delta_dot = -dot(g.v_rel, g.n);
+  return {max_of(splat<T>(0.0), F_el + gamma_n * delta_dot), S_n, F_el, gamma_n};
 }
 
 // Energy dissipated by the normal damping over a step: the trapezoid of this and the previous
 // step's damping force F_d = F_n - F_el times the normal displacement v_n dt over the step (v_n from
 // g.v_half; velocity Verlet's discrete work of a force). `damping_prev` is updated.
-BAGDEM_INLINE double normal_dissipation(const NormalResult& r, double v_n, double dt, double& damping_prev) {
-  const double Fd = r.force - r.elastic;
-  const double d = -0.5 * (Fd + damping_prev) * v_n * dt;
+template <class T>
+BAGDEM_INLINE T normal_dissipation(const NormalResultT<T>& r, T v_n, double dt, T& damping_prev) {
+  const T Fd = r.force - r.elastic;
+  const T d = -0.5 * (Fd + damping_prev) * v_n * dt;
   damping_prev = Fd;
   return d;
 }

@@ -19,54 +19,62 @@
 
 namespace bagdem {
 
-// History of one contact's tangential spring (zero when the contact opens).
-struct TangentialHistory {
-  Vec3 force = Vec3::Zero();  // elastic tangential force F_e on i (unit: N)
-  double stiffness = 0;       // S_t at the previous step (unit: N/m); 0 = new contact
-  Vec3 total = Vec3::Zero();  // F_t of the previous step, for the energy tally (unit: N)
+// History of one contact's tangential spring (zero when the contact opens); T as in hertz.hpp.
+template <class T>
+struct TangentialHistoryT {
+  V3<T> force = zero3<T>();  // elastic tangential force F_e on i (unit: N)
+  T stiffness = splat<T>(0);  // S_t at the previous step (unit: N/m); 0 = new contact
+  V3<T> total = zero3<T>();  // F_t of the previous step, for the energy tally (unit: N)
 };
+using TangentialHistory = TangentialHistoryT<double>;
 
-struct TangentialResult {
-  Vec3 force;          // F_t on i (unit: N)
-  double dissipated;   // energy dissipated in this step by damping and sliding (unit: J)
+template <class T>
+struct TangentialResultT {
+  V3<T> force;     // F_t on i (unit: N)
+  T dissipated;    // energy dissipated in this step by damping and sliding (unit: J)
 };
+using TangentialResult = TangentialResultT<double>;
 
 // `normal` is the normal role's result: S_t = S_n 4G*/E*, gamma_t = gamma_n sqrt(4G*/E*) (no sqrt here).
-BAGDEM_INLINE TangentialResult mindlin_tangential(const ContactGeometry& g, const PairLaw& law,
-                                           const NormalResult& normal, double dt, TangentialHistory& h) {
-  const double F_n = normal.force;
-  const Vec3 v_t = g.v_half - g.v_half.dot(g.n) * g.n;  // tangential displacement rate over the step
-  const Vec3 v_t_end = g.v_rel - g.v_rel.dot(g.n) * g.n; // tangential velocity the dashpot sees
-  const double S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
-  const double gamma_t = normal.gamma_n * law.tangential_ratio;
+template <class T, class Law>
+BAGDEM_INLINE TangentialResultT<T> mindlin_tangential(const ContactGeometryT<T>& g, const Law& law,
+                                                      const NormalResultT<T>& normal, double dt, TangentialHistoryT<T>& h) {
+  const T F_n = normal.force;
+  const V3<T> v_t = g.v_half - dot(g.v_half, g.n) * g.n;  // tangential displacement rate over the step
+  const V3<T> v_t_end = g.v_rel - dot(g.v_rel, g.n) * g.n; // tangential velocity the dashpot sees
+  const T S_t = normal.stiffness * law.tangential_ratio * law.tangential_ratio;
+  const T gamma_t = normal.gamma_n * law.tangential_ratio;
 
-  const double energy_before = h.stiffness > 0 ? h.force.squaredNorm() / (2.0 * h.stiffness) : 0.0;
-  Vec3 Fe = carry_spring(h.force, g.n, h.stiffness, S_t);
+  const T energy_before = select(h.stiffness > 0, dot(h.force, h.force) / (2.0 * h.stiffness), splat<T>(0.0));
+  V3<T> Fe = carry_spring<T>(h.force, g.n, h.stiffness, S_t);
   // Spring increment over the step with the step's mean stiffness (second order in dt): the mean of
   // the two ends, or for a contact that opened during the step, 2/3 of the end value (S_t grows as
   // sqrt(delta) from zero) over the part of the step since first touch, delta / (d delta/dt).
-  if (h.stiffness > 0) {
-    Fe -= 0.5 * (h.stiffness + S_t) * dt * v_t;
-  } else {
-    const double approach = -g.v_half.dot(g.n) * dt;  // overlap gained over a full step (unit: m)
-    const double part = approach > g.overlap ? g.overlap / approach : 1.0;
-    Fe -= (2.0 / 3.0) * S_t * part * dt * v_t;
-  }
+  // One contact takes the branch; lanes compute both and select.
+  auto opened_rate = [&] {
+    const T approach = -dot(g.v_half, g.n) * dt;  // overlap gained over a full step (unit: m)
+    const T part = select(approach > g.overlap, g.overlap / approach, splat<T>(1.0));
+    return (2.0 / 3.0) * S_t * part;
+  };
+  T rate;
+  if constexpr (std::is_same_v<T, double>) rate = h.stiffness > 0 ? 0.5 * (h.stiffness + S_t) : opened_rate();
+  else rate = select(h.stiffness > 0, 0.5 * (h.stiffness + S_t), opened_rate());
+  Fe -= rate * dt * v_t;
 
-  Vec3 Ft = Fe - gamma_t * v_t_end;
-  const double cap = law.friction * F_n;
-  const double Ft2 = Ft.squaredNorm();
+  V3<T> Ft = Fe - gamma_t * v_t_end;
+  const T cap = law.friction * F_n;
+  const T Ft2 = dot(Ft, Ft);
   // Without branches (sliding or sticking changes unpredictably): the factor is exactly 1 when it
   // sticks (then sqrt(Ft2) <= cap; for Ft2 = 0, cap / 0 is inf or NaN and std::min keeps 1).
-  const bool slides = Ft2 > cap * cap;
-  Ft *= opaque(std::min(1.0, cap / std::sqrt(Ft2)));
-  const double keep = opaque(slides ? 0.0 : 1.0);
+  const auto slides = Ft2 > cap * cap;
+  Ft *= opaque(min_of(splat<T>(1.0), cap / sqrt_of(Ft2)));
+  const T keep = opaque(select(slides, splat<T>(0.0), splat<T>(1.0)));
   Fe = keep * Fe + (1.0 - keep) * Ft;
   // Work of F_t on the relative motion over the step: in velocity Verlet a force's discrete work is
   // the trapezoid of the forces of two steps times the half-step displacement. What the spring did
   // not store was dissipated (by the dashpot, by sliding, or lost in the stiffness rules).
-  const double energy_after = Fe.squaredNorm() / (2.0 * S_t);
-  const double work = 0.5 * (Ft + h.total).dot(v_t) * dt;
+  const T energy_after = dot(Fe, Fe) / (2.0 * S_t);
+  const T work = 0.5 * dot(Ft + h.total, v_t) * dt;
   h.force = Fe;
   h.stiffness = S_t;
   h.total = Ft;

@@ -12,32 +12,42 @@
 
 namespace bagdem {
 
-struct RollingHistory {
-  Vec3 torque = Vec3::Zero();  // elastic rolling torque on i (unit: N m)
-  double stiffness = 0;        // k_r at the previous step (unit: N m/rad)
+// T as in hertz.hpp.
+template <class T>
+struct RollingHistoryT {
+  V3<T> torque = zero3<T>();  // elastic rolling torque on i (unit: N m)
+  T stiffness = splat<T>(0);  // k_r at the previous step (unit: N m/rad)
 };
+using RollingHistory = RollingHistoryT<double>;
 
-struct RollingResult {
-  Vec3 torque;        // rolling torque on i (on j: the opposite) (unit: N m)
-  double dissipated;  // energy dissipated in this step (unit: J)
+template <class T>
+struct RollingResultT {
+  V3<T> torque;   // rolling torque on i (on j: the opposite) (unit: N m)
+  T dissipated;   // energy dissipated in this step (unit: J)
 };
+using RollingResult = RollingResultT<double>;
 
-BAGDEM_INLINE RollingResult epsd_rolling(const ContactGeometry& g, const PairLaw& law, double S_n,
-                                  double F_n, double dt, RollingHistory& h) {
-  const Vec3 w_roll = g.w_half - g.w_half.dot(g.n) * g.n;
-  const double k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
-  const Vec3 M_prev = h.torque;
-  const double energy_before = h.stiffness > 0 ? M_prev.squaredNorm() / (2.0 * h.stiffness) : 0.0;
-  Vec3 M = carry_spring(h.torque, g.n, h.stiffness, k_r);
+template <class T, class Law>
+BAGDEM_INLINE RollingResultT<T> epsd_rolling(const ContactGeometryT<T>& g, const Law& law, T S_n, T F_n, double dt,
+                                             RollingHistoryT<T>& h) {
+  const V3<T> w_roll = g.w_half - dot(g.w_half, g.n) * g.n;
+  const T k_r = 2.25 * S_n * law.rolling * law.rolling * g.R_eff * g.R_eff;
+  const V3<T> M_prev = h.torque;
+  const T energy_before = select(h.stiffness > 0, dot(M_prev, M_prev) / (2.0 * h.stiffness), splat<T>(0.0));
+  V3<T> M = carry_spring<T>(h.torque, g.n, h.stiffness, k_r);
   M -= k_r * dt * w_roll;
-  const double cap = law.rolling * g.R_eff * F_n;
-  const double M2 = M.squaredNorm();
-  if (M2 > cap * cap) M *= cap / std::sqrt(M2);
+  const T cap = law.rolling * g.R_eff * F_n;
+  const T M2 = dot(M, M);
+  if constexpr (std::is_same_v<T, double>) {
+    if (M2 > cap * cap) M *= cap / std::sqrt(M2);
+  } else {
+    M *= select(M2 > cap * cap, cap / sqrt_of(M2), splat<T>(1.0));  // x 1 is exact
+  }
   h.torque = M;
   h.stiffness = k_r;
-  const double energy_after = k_r > 0 ? M.squaredNorm() / (2.0 * k_r) : 0.0;
+  const T energy_after = select(k_r > 0, dot(M, M) / (2.0 * k_r), splat<T>(0.0));
   // Trapezoidal work, as in mindlin.hpp.
-  return {M, -0.5 * (M + M_prev).dot(w_roll) * dt - (energy_after - energy_before)};
+  return {M, -0.5 * dot(M + M_prev, w_roll) * dt - (energy_after - energy_before)};
 }
 
 BAGDEM_INLINE double rolling_energy(const RollingHistory& h) {

@@ -36,10 +36,11 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   return o;
 }
 
-// What the step loop works on at the end of a run, per particle: candidate pairs and closed
-// contacts (pairs and walls), and which fraction of the balls has a wall near (gather_walls).
+// What the step loop works on at the end of a run, per particle: candidate pairs, closed pair
+// contacts and closed wall contacts; and where the time of the run went (the stages' shares).
 struct Workload {
-  double pairs = 0, contacts = 0;
+  double pairs = 0, pair_contacts = 0, wall_contacts = 0;
+  double integrate = 0, neighbours = 0, pair_stage = 0, wall_stage = 0;  // shares of the step (unit: 1)
 };
 
 double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t* builds, Workload* load = nullptr) {
@@ -48,14 +49,24 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   // Settling (if any) is not timed.
   const auto settle_steps = static_cast<long long>(std::llround(scene.settle / scene.dt));
   for (long long k = 0; k < settle_steps; ++k) sim.step();
+  // With `load`, the stages are clocked too (a read of the clock per stage and step: 4% of a step at
+  // N = 100), so that run is not one of the timed ones.
+  sim.set_profiling(load != nullptr);
   const auto t0 = std::chrono::steady_clock::now();
   for (long long k = 0; k < steps; ++k) sim.step();
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   *builds = sim.neighbour_builds();
   if (load) {
     const auto n = static_cast<double>(sim.particles().size());
+    const std::vector<std::uint8_t>& touching = sim.pair_state().touching;
+    const auto pair_contacts = static_cast<double>(std::count(touching.begin(), touching.end(), std::uint8_t{1}));
     load->pairs = static_cast<double>(sim.pair_state().pairs.size()) / n;
-    load->contacts = static_cast<double>(sim.contact_count()) / n;
+    load->pair_contacts = pair_contacts / n;
+    load->wall_contacts = (static_cast<double>(sim.contact_count()) - pair_contacts) / n;
+    const Simulation::StageTimes& t = sim.stage_times();
+    const double total = t.integrate + t.neighbours + t.pairs + t.walls + t.triangles + t.film + t.guards;
+    load->integrate = t.integrate / total, load->neighbours = t.neighbours / total;
+    load->pair_stage = t.pairs / total, load->wall_stage = t.walls / total;
   }
   return s;
 }
@@ -79,7 +90,9 @@ Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats) 
   Timing t;
   std::vector<double> ns;
   for (int r = 0; r < repeats; ++r)
-    ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds, &t.load) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
+    ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
+  std::uint64_t builds = 0;
+  timed_run(sc, std::max(100LL, steps / 4), threads, &builds, &t.load);  // the workload and the stages' shares
   std::sort(ns.begin(), ns.end());
   t.median = ns[ns.size() / 2], t.lo = ns.front(), t.hi = ns.back();
   return t;
@@ -225,8 +238,9 @@ int run_bench(const BenchOptions& opt) {
   const std::string case_dir = opt.case_dir.empty() ? src + "/cases/pdbox" : opt.case_dir;
   std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
               opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds | pairs/particle | contacts/particle |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds | pairs/particle | "
+              "pair contacts/particle | wall contacts/particle | integration %% | neighbours %% | pairs %% | walls + kick %% |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int N : opt.sizes) {
     const std::string data = peers_bed(peers, N);
     if (data.empty())
@@ -240,8 +254,10 @@ int run_bench(const BenchOptions& opt) {
       const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats);
-        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f |\n", sc.particles.size(), steps, method.c_str(), th,
-                    t.median, t.lo, t.hi, static_cast<unsigned long long>(t.builds), t.load.pairs, t.load.contacts);
+        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
+                    sc.particles.size(), steps, method.c_str(), th, t.median, t.lo, t.hi,
+                    static_cast<unsigned long long>(t.builds), t.load.pairs, t.load.pair_contacts, t.load.wall_contacts,
+                    100 * t.load.integrate, 100 * t.load.neighbours, 100 * t.load.pair_stage, 100 * t.load.wall_stage);
         std::fflush(stdout);
       }
     }

@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   exporter->add_option("--to", export_to, "Path of the exported files without extension (default DIR/export)");
 
   BenchOptions bench_opt;
-  auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers).");
+  auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers), the contacts per ball and the stages' shares of the step.");
   bench->add_option("--sizes", bench_opt.sizes, "Particle counts (default 100 1000 10000)");
   bench->add_option("--threads", bench_opt.threads, "Thread counts (default 1 2)");
   bench->add_option("--methods", bench_opt.methods, "Broad phases (default hash kdtree)");

@@ -1,9 +1,10 @@
 // The contact law in lanes (lanes.hpp, surface_contact_lanes) against the same law on one contact
 // (surface_contact): for random contacts, 4 side by side, every output and every history must be
-// the same bits (both round each operation as written). The draws cover new contacts (zero history),
-// sticking and sliding ones (history force 0.01 to 100 mu F_n), stiffness rising and falling,
-// normal forces clamped to zero (with a zero friction cap and trial force: 0/0 in the cap's factor), lanes of different materials, and each configuration of the roles
-// (tangential, rolling, energy). Also the lane loads and stores (gather3, gather4, to_rows) against
+// the same bits (both round each operation as written). The draws cover new contacts (zero
+// history), sticking and sliding ones (history force 0.01 to 100 mu F_n), stiffness rising and
+// falling, normal forces clamped to zero (with a zero friction cap and trial force: 0/0 in the
+// cap's factor), lanes of different materials, and each configuration of the roles (tangential,
+// rolling, energy). Also the lane loads and stores (gather3, gather4, to_rows) against
 // element-wise copies.
 #include <gtest/gtest.h>
 

@@ -28,8 +28,11 @@ using ContactGeometry = ContactGeometryT<double>;
 
 // Whether two spheres with centres xi, xj and radii summing to rsum do not overlap: the one test
 // of contact (sphere_sphere, and the pair stage's scan, which must skip exactly the same pairs).
+// |d|^2 is summed as sphere_sphere_geometry sums it (dot), so a pair that passes has a distance
+// of at most rsum there: its overlap is never negative.
 BAGDEM_INLINE bool spheres_apart(const Vec3& xi, const Vec3& xj, double rsum) {
-  return (xi - xj).squaredNorm() >= rsum * rsum;
+  const Vec3 d = xi - xj;
+  return dot(d, d) >= rsum * rsum;
 }
 
 // Sphere-sphere geometry of two spheres known to overlap: centres x, radii r.

@@ -20,6 +20,7 @@
 namespace bagdem {
 
 // History of one contact's tangential spring (zero when the contact opens); T as in hertz.hpp.
+// force and stiffness stay adjacent: surface_contact_lanes moves them as one row of 4 doubles.
 template <class T>
 struct TangentialHistoryT {
   V3<T> force = zero3<T>();  // elastic tangential force F_e on i (unit: N)
@@ -27,6 +28,7 @@ struct TangentialHistoryT {
   V3<T> total = zero3<T>();  // F_t of the previous step, for the energy tally (unit: N)
 };
 using TangentialHistory = TangentialHistoryT<double>;
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "a row of a history is a Vec3 and one double");
 
 template <class T>
 struct TangentialResultT {

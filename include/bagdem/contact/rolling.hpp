@@ -12,7 +12,7 @@
 
 namespace bagdem {
 
-// T as in hertz.hpp.
+// T as in hertz.hpp. torque and stiffness stay adjacent: surface_contact_lanes moves them as one row.
 template <class T>
 struct RollingHistoryT {
   V3<T> torque = zero3<T>();  // elastic rolling torque on i (unit: N m)

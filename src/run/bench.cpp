@@ -49,8 +49,8 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   // Settling (if any) is not timed.
   const auto settle_steps = static_cast<long long>(std::llround(scene.settle / scene.dt));
   for (long long k = 0; k < settle_steps; ++k) sim.step();
-  // With `load`, the stages are clocked too (a read of the clock per stage and step: 4% of a step at
-  // N = 100), so that run is not one of the timed ones.
+  // With `load`, the stages are clocked too (a read of the clock per stage and step, not free when
+  // the step is short), so that run is not one of the timed ones.
   sim.set_profiling(load != nullptr);
   const auto t0 = std::chrono::steady_clock::now();
   for (long long k = 0; k < steps; ++k) sim.step();
@@ -86,13 +86,14 @@ struct Timing {
   std::uint64_t builds = 0;
   Workload load;
 };
-Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats) {
+// With `workload`, one more run of a quarter of the steps measures the workload and the stages' shares.
+Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats, bool workload = false) {
   Timing t;
   std::vector<double> ns;
   for (int r = 0; r < repeats; ++r)
     ns.push_back(1e9 * timed_run(sc, steps, threads, &t.builds) / (static_cast<double>(steps) * static_cast<double>(sc.particles.size())));
   std::uint64_t builds = 0;
-  timed_run(sc, std::max(100LL, steps / 4), threads, &builds, &t.load);  // the workload and the stages' shares
+  if (workload) timed_run(sc, std::max(100LL, steps / 4), threads, &builds, &t.load);
   std::sort(ns.begin(), ns.end());
   t.median = ns[ns.size() / 2], t.lo = ns.front(), t.hi = ns.back();
   return t;
@@ -253,7 +254,7 @@ int run_bench(const BenchOptions& opt) {
     for (const std::string& method : opt.methods) {
       const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
-        const Timing t = time_repeats(sc, steps, th, opt.repeats);
+        const Timing t = time_repeats(sc, steps, th, opt.repeats, true);
         std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
                     sc.particles.size(), steps, method.c_str(), th, t.median, t.lo, t.hi,
                     static_cast<unsigned long long>(t.builds), t.load.pairs, t.load.pair_contacts, t.load.wall_contacts,

@@ -132,7 +132,8 @@ void Simulation::pair_contacts_impl() {
       };
       to_rows(c.F, splat<Lanes>(0), rows(&Out::F).data());
       if constexpr (Tangential || Rolling) {
-        // As surface_contact's torque: -arm x (n x F_t), then the rolling torque (on j: its opposite).
+        // As surface_contact's torque: -arm_i (n x F_t), then the rolling torque (on j: -arm_j (n x F_t)
+        // and the opposite rolling torque).
         to_rows(-(g.arm_i * c.nxFt) + c.roll, splat<Lanes>(0), rows(&Out::Ti).data());
         to_rows(-(g.arm_j * c.nxFt) - c.roll, splat<Lanes>(0), rows(&Out::Tj).data());
       }

@@ -97,9 +97,7 @@ void Simulation::pair_contacts_impl() {
       J[l] = ps_.pairs.partner[K[l]];
     }
     auto gather = [](const auto& a, const std::uint32_t* at) BAGDEM_INLINE_LAMBDA {
-      Lanes r;
-      for (int l = 0; l < kLanes; ++l) r[l] = a[at[l]];
-      return r;
+      return Lanes{a[at[0]], a[at[1]], a[at[2]], a[at[3]]};  // built whole, not lane by lane (lanes.hpp)
     };
     ContactGeometryT<Lanes> g;
     const Lanes ri = Uniform ? splat<Lanes>(r0) : gather(p_.radius, I), rj = Uniform ? splat<Lanes>(r0) : gather(p_.radius, J);
@@ -151,10 +149,10 @@ void Simulation::pair_contacts_impl() {
   // parallel region) or into its records (gathering).
   auto apply = [this](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
     ps_.touching[k] = 1;
-    struct {
+    auto row = [](const double* r) BAGDEM_INLINE_LAMBDA { return Vec3(r[0], r[1], r[2]); };
+    const struct {
       Vec3 F, Ti, Tj, diss;
-    } out{Vec3(o.F[0], o.F[1], o.F[2]), Vec3(o.Ti[0], o.Ti[1], o.Ti[2]), Vec3(o.Tj[0], o.Tj[1], o.Tj[2]),
-          Vec3(o.diss[0], o.diss[1], o.diss[2])};
+    } out{row(o.F), row(o.Ti), row(o.Tj), row(o.diss)};
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     if constexpr (Scatter) {
       p_.f[i] += out.F;

@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3032ULL;  // "bagdem02": format 2 (cavity at the build)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3033ULL;  // "bagdem03": format 3 (the stepper's ball order)
 
 struct Writer {
   std::vector<char> out;
@@ -93,6 +93,7 @@ std::vector<char> Simulation::save_state() const {
   w.pod(kMagic);
   w.pod(static_cast<std::uint64_t>(p_.size()));
   auto& self = const_cast<Simulation&>(*this);  // fields() is shared with load; nothing is modified
+  w.vec(order_);
   fields<Writer, Simulation>(w, self.step_, self.builds_, self.cavity_sums_, self.potential0_,
                              self.kinetic_elastic0_, self.p_, self.tally_, self.ps_, self.x_at_build_,
                              self.wall_tan_, self.wall_roll_, self.wall_damping_prev_, self.wall_touch_, self.cavity_, self.cavity_prev_);
@@ -107,16 +108,21 @@ void Simulation::load_state(const std::vector<char>& image) {
   std::uint64_t magic = 0, n = 0;
   r.pod(magic);
   r.pod(n);
-  if (magic != kMagic) throw std::runtime_error("not a bagdem checkpoint (bad magic number)");
+  if (magic != kMagic)
+    throw std::runtime_error("not a checkpoint of this bagdem version (format 3); rerun from the start");
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));
+  // The per-ball arrays are in the stepper's order, which follows from the case's initial state.
+  std::vector<std::uint32_t> order;
+  r.vec(order);
+  if (order != order_) throw std::runtime_error("checkpoint holds the balls in another order than the case's initial state gives");
   fields<Reader, Simulation>(r, step_, builds_, cavity_sums_, potential0_, kinetic_elastic0_, p_,
                              tally_, ps_, x_at_build_, wall_tan_, wall_roll_, wall_damping_prev_, wall_touch_, cavity_, cavity_prev_);
   bag_state_fields(r);
   structure_fields(r, structure_, cavity_load_, film_load_moments_);
   r.pod(cavity_pos_at_build_), r.pod(cavity_shear_at_build_);
-  // What is derived from the pair list (first, gather CSR, per-pair buffers, the walls near each
+  // What is derived from the pair list (first, per-pair buffers, the walls near each
   // ball), without a new broad-phase search.
   derive_pair_buffers();
   find_near_walls();

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bagdem/neighbour/spatial_order.hpp"
 #include "bagdem/particles.hpp"
 #include "stepper_detail.hpp"
 
@@ -15,9 +16,10 @@ namespace bagdem {
 
 Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_phase(scene.broad_phase)) {
   const std::size_t n = scene.particles.size();
+  order_ = spatial_order(scene);
   p_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const ParticleInit& q = scene.particles[i];
+    const ParticleInit& q = scene.particles[order_[i]];
     const double rho = scene.materials[static_cast<std::size_t>(q.material)].density;
     const double m = sphere_mass(rho, q.radius);
     p_.x[i] = q.x;
@@ -53,7 +55,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), broad_(make_broad_ph
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
   dt_step_ = 0.0;  // set-up force evaluation: no history increment, no dissipation
   pair_contacts();
-  gather_walls();
+  wall_contacts();
   triangle_contacts();
   film_stage();
   if (couple_) {
@@ -80,7 +82,7 @@ void Simulation::step() {
     move_cavity();
     update_neighbours(false);
     pair_contacts();
-    gather_walls();
+    wall_contacts();
     triangle_contacts();
     film_stage();
     if (couple_) structure_forces();
@@ -103,7 +105,7 @@ void Simulation::step() {
   lap(times_.neighbours);
   pair_contacts();
   lap(times_.pairs);
-  gather_walls();
+  wall_contacts();
   lap(times_.walls);
   triangle_contacts();
   lap(times_.triangles);
@@ -149,7 +151,7 @@ void Simulation::kick_drift() {
           p_.t[i].setZero();
           if constexpr (Energy) tally_.step_dissipation[i].setZero();
         };
-        for_items(n, threaded(n), moved, one, [](bool& a, bool b) { a = a || b; });
+        for_ranges(ps_, n, moved, one, [](bool& a, bool b) { a = a || b; });
       },
       scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
   needs_rebuild_ = moved;
@@ -229,7 +231,7 @@ void Simulation::update_neighbours(bool force_rebuild) {
 // The walls within skin of each ball's surface at the build (x_at_build_, the cavity where it was
 // then). Until the next build neither moves more than skin/2, so no other wall can be touched.
 // A ball with no wall near touched none at the last step either (that wall would be near): it has
-// no wall history to close (gather_walls).
+// no wall history to close (wall_contacts).
 void Simulation::find_near_walls() {
   const std::size_t n = p_.size(), nw = scene_.walls.size();
   CavityState at_build = cavity_;
@@ -249,7 +251,7 @@ void Simulation::find_near_walls() {
   }
 }
 
-// From the installed pair list and its histories: the per-pair buffers and the gather CSR.
+// From the installed pair list and its histories: the per-pair buffers.
 void Simulation::derive_pair_buffers() {
   const std::size_t n = p_.size();
   const std::size_t np = ps_.pairs.size();
@@ -265,22 +267,40 @@ void Simulation::derive_pair_buffers() {
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
       ps_.first[k] = static_cast<std::uint32_t>(i);
+  ps_.ranges = 0;  // cut into ranges at the next pair stage, for its thread count (derive_ranges)
+}
 
-  // Gather entries, each particle's sorted by partner: first the pairs where it is j (partner
-  // i < p, visited in ascending i), then those where it is i (partner j > p, ascending).
-  ps_.gather_begin.assign(n + 1, 0);
-  for (std::size_t k = 0; k < np; ++k) {
-    ++ps_.gather_begin[ps_.first[k] + 1];
-    ++ps_.gather_begin[ps_.pairs.partner[k] + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) ps_.gather_begin[i + 1] += ps_.gather_begin[i];
-  std::vector<std::uint32_t>& fill = spare_.fill;
-  fill.assign(ps_.gather_begin.begin(), ps_.gather_begin.end() - 1);
-  ps_.slot.resize(2 * np);
-  for (std::size_t k = 0; k < np; ++k) ps_.slot[2 * k + 1] = fill[ps_.pairs.partner[k]]++;
-  for (std::size_t k = 0; k < np; ++k) ps_.slot[2 * k] = fill[ps_.first[k]]++;
-  ps_.rec.assign(2 * np, {Vec3::Zero(), Vec3::Zero()});
-  ps_.rec_diss.assign(scene_.models.energy ? 2 * np : 0, Vec3::Zero());
+// The particles cut into `ranges` ranges of about equal pair counts, the cross pairs and their
+// records (PairState). Redone after each neighbour build and when the thread count changes.
+void Simulation::derive_ranges(std::uint32_t ranges) {
+  const std::size_t n = p_.size(), np = ps_.pairs.size();
+  const CandidatePairs& pairs = ps_.pairs;
+  ps_.ranges = ranges;
+  ps_.range_first.assign(ranges + 1, static_cast<std::uint32_t>(n));
+  ps_.range_first[0] = 0;
+  for (std::uint32_t r = 1; r < ranges; ++r) ps_.range_first[r] = ps_.first[np * r / ranges];
+  ps_.cross.clear();
+  ps_.is_cross.assign(np, 0);
+  for (std::uint32_t r = 0; r < ranges; ++r)
+    for (std::uint32_t k = pairs.begin[ps_.range_first[r]]; k < pairs.begin[ps_.range_first[r + 1]]; ++k)
+      if (pairs.partner[k] >= ps_.range_first[r + 1]) {
+        ps_.cross.push_back(k);
+        ps_.is_cross[k] = 1;
+      }
+  ps_.j_side.clear();
+  for (std::size_t c = 0; c < ps_.cross.size(); ++c)
+    ps_.j_side.push_back({pairs.partner[ps_.cross[c]], static_cast<std::uint32_t>(c)});
+  // By j; for one j by i, as the cross list is.
+  std::stable_sort(ps_.j_side.begin(), ps_.j_side.end(),
+                   [](const PairState::JSide& a, const PairState::JSide& b) { return a.particle < b.particle; });
+  ps_.j_side_range.resize(ranges + 1);
+  for (std::uint32_t r = 0; r <= ranges; ++r)
+    ps_.j_side_range[r] = static_cast<std::uint32_t>(
+        std::lower_bound(ps_.j_side.begin(), ps_.j_side.end(), ps_.range_first[r],
+                         [](const PairState::JSide& e, std::uint32_t p) { return e.particle < p; }) -
+        ps_.j_side.begin());
+  ps_.rec.assign(2 * ps_.cross.size(), {Vec3::Zero(), Vec3::Zero()});
+  ps_.rec_diss.assign(scene_.models.energy ? ps_.cross.size() : 0, Vec3::Zero());
 }
 
 // ---- 6. kick ------------------------------------------------------------------------------------
@@ -290,14 +310,14 @@ void Simulation::kick() {
   const std::size_t n = p_.size();
   bool finite = true;
   if (kick_balls_here()) {
-    finite = balls_finite_;  // the balls were kicked in gather_walls
+    finite = balls_finite_;  // the balls were kicked in wall_contacts
   } else {
     with_flags(
         [&]<bool Rotation>() {
           auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
             finite = kick_ball(i, p_.f[i], p_.t[i], h, Rotation) && finite;
           };
-          for_items(n, threaded(n), finite, one, [](bool& a, bool b) { a = a && b; });
+          for_ranges(ps_, n, finite, one, [](bool& a, bool b) { a = a && b; });
         },
         scene_.models.rotation);
   }

@@ -1,4 +1,4 @@
-// Stages 4 and 5 of the step: pair contacts and walls, the contact kernel (layer 3 of neighbour
+// Stages 4 and 5 of the step: pair contacts and wall contacts, the contact kernel (layer 3 of neighbour
 // search -> contact geometry -> contact law). Each configuration of the model switches is compiled
 // as its own loop (with_flags), so no switch is tested per contact.
 #include "bagdem/stepper.hpp"
@@ -16,62 +16,45 @@
 
 namespace bagdem {
 
+// Pairs per block of the pair stage (one_block).
+constexpr std::size_t kBlock = 128;
 
 // ---- 4. pair_contacts ---------------------------------------------------------------------------
-// Two ways to sum pair forces onto particles, bitwise identical by construction:
-//  scatter (one thread, or few pairs): the pair loop adds each force to f[i] and f[j] at once.
-//    Pairs run in (i, j) order, so particle p receives its pairs (k, p), k < p ascending, then
-//    (p, j) ascending: partner order.
-//  gather (several threads): each pair writes its record, then each particle sums its records in
-//    partner order (gather_walls). Same operands, same order, same result.
+// The pairs run in (i, j) order and each adds its force to f[i] and f[j] at once, so particle p
+// receives its pairs (k, p), k < p ascending, then (p, j) ascending: partner order. On several
+// threads each thread does this for its own range of particles, and the pairs across ranges go
+// through records first (PairState): the same sums in the same order.
 void Simulation::pair_contacts() {
-  const bool scattered = scatter_;
-  scatter_ = omp_get_max_threads() == 1 || ps_.pairs.size() <= kParallelMin;
-  // Scattering keeps no records: back to gathering (the thread count changed), they restart at zero.
-  if (scattered && !scatter_) {
-    std::fill(ps_.rec.begin(), ps_.rec.end(), PairState::Record{Vec3::Zero(), Vec3::Zero()});
-    std::fill(ps_.rec_diss.begin(), ps_.rec_diss.end(), Vec3::Zero());
-  }
+  const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  const auto ranges = static_cast<std::uint32_t>(ps_.pairs.size() > kParallelMin ? threads : 1);
+  if (ps_.ranges != ranges) derive_ranges(ranges);
   // The contact-law configuration is chosen once here, never inside the loop.
-  with_flags([this]<bool T, bool R, bool E, bool S, bool U>() { pair_contacts_impl<T, R, E, S, U>(); },
-             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, scatter_, uniform_);
+  with_flags([this]<bool T, bool R, bool E, bool U>() { pair_contacts_impl<T, R, E, U>(); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, uniform_);
 }
 
-// A pair contact opened this step: tally what it still held (closing_tally) and clear its
-// history. Rare, so kept out of line: the pair loop stays small.
-template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
-[[gnu::noinline]] void Simulation::open_pair(std::size_t k, std::uint32_t i, std::uint32_t j) {
-  // Gathering, the pair's record holds this step's closing tally (forces zero): state 2 until the
-  // next step. Scattering, it is done with.
-  ps_.touching[k] = Scatter ? 0 : 2;
-  if constexpr (!Scatter) {
-    for (const std::uint32_t e : {ps_.slot[2 * k], ps_.slot[2 * k + 1]}) {
-      ps_.rec[e] = {Vec3::Zero(), Vec3::Zero()};
-      if constexpr (Energy) ps_.rec_diss[e].setZero();
-    }
-  }
+// A pair contact opened this step: clears its history and returns what it still held
+// (closing_tally, when Energy; else zero). Rare, so kept out of line: the pair loop stays small.
+template <bool Tangential, bool Rolling, bool Energy>
+[[gnu::noinline]] Vec3 Simulation::open_pair(std::size_t k) {
+  ps_.touching[k] = 0;
+  Vec3 d = Vec3::Zero();
   if constexpr (Energy) {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
     const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
-    const Vec3 d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt_step_, ps_.damping_prev[k],
-                                                      Tangential ? &ps_.tangential[k] : nullptr,
-                                                      Rolling ? &ps_.rolling[k] : nullptr);
-    if constexpr (Scatter) {
-      tally_.step_dissipation[i] += 0.5 * d;
-      tally_.step_dissipation[j] += 0.5 * d;
-    } else {
-      ps_.rec_diss[ps_.slot[2 * k]] = d;
-      ps_.rec_diss[ps_.slot[2 * k + 1]] = d;
-    }
+    d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt_step_, ps_.damping_prev[k],
+                                           Tangential ? &ps_.tangential[k] : nullptr, Rolling ? &ps_.rolling[k] : nullptr);
     ps_.damping_prev[k] = 0.0;
   }
   if constexpr (Tangential) ps_.tangential[k] = {};
   if constexpr (Rolling) ps_.rolling[k] = {};
+  return d;
 }
 
 // Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
 // values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
-template <bool Tangential, bool Rolling, bool Energy, bool Scatter, bool Uniform>
+template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
 void Simulation::pair_contacts_impl() {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
@@ -145,96 +128,160 @@ void Simulation::pair_contacts_impl() {
       with_law(law_lanes(e));
     }
   };
-  // The pair's force and torques onto its particles (scattering: on one thread, outside any
-  // parallel region) or into its records (gathering).
-  auto apply = [this](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
+  auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };
+  // A closed pair's force, torques and dissipation onto its particles.
+  auto apply = [this, vec](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
     ps_.touching[k] = 1;
-    auto row = [](const double* r) BAGDEM_INLINE_LAMBDA { return Vec3(r[0], r[1], r[2]); };
-    const struct {
-      Vec3 F, Ti, Tj, diss;
-    } out{row(o.F), row(o.Ti), row(o.Tj), row(o.diss)};
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
-    if constexpr (Scatter) {
-      p_.f[i] += out.F;
-      p_.f[j] -= out.F;
-      if constexpr (Tangential || Rolling) {
-        p_.t[i] += out.Ti;
-        p_.t[j] += out.Tj;
-      }
-      if constexpr (Energy) {
-        tally_.step_dissipation[i] += 0.5 * out.diss;
-        tally_.step_dissipation[j] += 0.5 * out.diss;
-      }
-    } else {
-      PairState::Record& ri = ps_.rec[ps_.slot[2 * k]];
-      PairState::Record& rj = ps_.rec[ps_.slot[2 * k + 1]];
-      ri.force = out.F;
-      rj.force = -out.F;  // F - x and F + (-x) are the same bits
-      if constexpr (Tangential || Rolling) {
-        ri.torque = out.Ti;
-        rj.torque = out.Tj;
-      }
-      if constexpr (Energy) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = out.diss;
+    const Vec3 F = vec(o.F);
+    p_.f[i] += F;
+    p_.f[j] -= F;
+    if constexpr (Tangential || Rolling) {
+      p_.t[i] += vec(o.Ti);
+      p_.t[j] += vec(o.Tj);
+    }
+    if constexpr (Energy) {
+      tally_.step_dissipation[i] += 0.5 * vec(o.diss);
+      tally_.step_dissipation[j] += 0.5 * vec(o.diss);
     }
   };
-  // A pair that touched at the last step and is apart now: the contact opened (pairs that stay
-  // apart cost no history access, and their records stay zero).
-  auto apart = [this](std::size_t k) BAGDEM_INLINE_LAMBDA {
-    if (ps_.touching[k] == 1) {
-      open_pair<Tangential, Rolling, Energy, Scatter>(k, ps_.first[k], ps_.pairs.partner[k]);
-    } else {
-      ps_.touching[k] = 0;
-      if constexpr (Energy && !Scatter) ps_.rec_diss[ps_.slot[2 * k]] = ps_.rec_diss[ps_.slot[2 * k + 1]] = Vec3::Zero();
-    }
+  // The same into cross pair c's records (-F on j: f - F and f + (-F) are the same bits).
+  auto record = [this, vec](std::size_t c, const Out& o) BAGDEM_INLINE_LAMBDA {
+    ps_.touching[ps_.cross[c]] = 1;
+    const Vec3 F = vec(o.F);
+    ps_.rec[2 * c] = {F, Tangential || Rolling ? vec(o.Ti) : Vec3::Zero()};
+    ps_.rec[2 * c + 1] = {-F, Tangential || Rolling ? vec(o.Tj) : Vec3::Zero()};
+    if constexpr (Energy) ps_.rec_diss[c] = vec(o.diss);
   };
-  // The pairs in blocks of kBlock, in three passes:
-  //  1. a branch-free scan for the pairs that touch now (`closed`) and those that touched at the
-  //     last step and are apart now (`opened`); most candidate pairs are neither. The test is
-  //     sphere_sphere's (spheres_apart).
+  // Record e (of cross pair e / 2) onto particle p.
+  auto add_record = [this](std::uint32_t p, std::size_t e) BAGDEM_INLINE_LAMBDA {
+    p_.f[p] += ps_.rec[e].force;
+    if constexpr (Tangential || Rolling) p_.t[p] += ps_.rec[e].torque;
+    if constexpr (Energy) tally_.step_dissipation[p] += 0.5 * ps_.rec_diss[e / 2];
+  };
+  // Whether pair k touches now: the one test of contact (sphere_sphere's, spheres_apart).
+  const Vec3* x = p_.x.data();
+  const std::uint32_t* first = ps_.first.data();
+  const std::uint32_t* partner = ps_.pairs.partner.data();
+  auto touches = [x, first, partner, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
+    const std::uint32_t i = first[k], j = partner[k];
+    return !spheres_apart(x[i], x[j], radius(i) + radius(j));
+  };
+  // Pairs [k0, k1) of one range, in three passes:
+  //  1. a branch-free scan for the pairs that touch now (`closed`), those that touched at the last
+  //     step and are apart now (`opened`) and, when the block holds any (Cross), the cross pairs
+  //     (computed already); most candidate pairs are none of these;
   //  2. the contact law on the closed pairs, kLanes at a time (pair_lanes);
-  //  3. in pair order, each closed pair's results applied (so each particle's sums are in partner
-  //     order, as the gather's), or the opened pair closed.
-  // A block's lanes hold the same pairs whatever the thread count, so the results do not depend on it.
-  constexpr std::size_t kBlock = 128;
-  auto one_block = [this, np, &pair_lanes, &apply, &apart, radius](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
-    const std::size_t k0 = b * kBlock, k1 = std::min(np, k0 + kBlock);
-    std::uint32_t closed[kBlock], opened[kBlock];
-    std::size_t nc = 0, no = 0;
-    const std::uint32_t* first = ps_.first.data();
-    const std::uint32_t* partner = ps_.pairs.partner.data();
+  //  3. in pair order: each closed pair applied, each opened pair closed, each cross pair's record
+  //     added to its i.
+  auto one_block = [&]<bool Cross>(std::size_t k0, std::size_t k1, std::size_t c0, double& excess) BAGDEM_INLINE_LAMBDA {
+    std::uint32_t closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
+    std::size_t nc = 0, no = 0, nx = 0;
     const std::uint8_t* touching = ps_.touching.data();
-    const Vec3* x = p_.x.data();
+    const std::uint8_t* is_cross = ps_.is_cross.data();
     for (std::size_t k = k0; k < k1; ++k) {
-      const std::uint32_t i = first[k], j = partner[k];
-      const bool touches = !spheres_apart(x[i], x[j], radius(i) + radius(j));
+      const bool now = touches(static_cast<std::uint32_t>(k));
       closed[nc] = opened[no] = static_cast<std::uint32_t>(k);
-      nc += touches;
-      no += !touches & (touching[k] != 0);
+      if constexpr (Cross) {
+        const bool cross = is_cross[k] != 0;
+        crossing[nx] = static_cast<std::uint32_t>(k);
+        nc += now & !cross;
+        no += !now & (touching[k] != 0) & !cross;
+        nx += cross;
+      } else {
+        nc += now;
+        no += !now & (touching[k] != 0);
+      }
     }
     Out out[kBlock + kLanes];  // the last lanes of a block may run past nc
     for (std::size_t a = 0; a < nc; a += kLanes)
       pair_lanes(closed + a, static_cast<int>(std::min<std::size_t>(kLanes, nc - a)), out + a, excess);
-    for (std::size_t a = 0, o = 0; a < nc || o < no;) {
-      if (o == no || (a < nc && closed[a] < opened[o])) {
-        apply(closed[a], out[a]);
-        ++a;
+    constexpr std::uint32_t kNone = ~0u;
+    for (std::size_t a = 0, o = 0, c = 0; a < nc || o < no || c < nx;) {
+      const std::uint32_t ka = a < nc ? closed[a] : kNone, ko = o < no ? opened[o] : kNone;
+      const std::uint32_t kc = Cross && c < nx ? crossing[c] : kNone;
+      if (ka < ko && ka < kc) {
+        apply(ka, out[a++]);
+      } else if (ko < kc) {
+        const Vec3 d = open_pair<Tangential, Rolling, Energy>(ko);
+        if constexpr (Energy) {
+          tally_.step_dissipation[ps_.first[ko]] += 0.5 * d;
+          tally_.step_dissipation[ps_.pairs.partner[ko]] += 0.5 * d;
+        }
+        ++o;
       } else {
-        apart(opened[o++]);
+        add_record(ps_.first[kc], 2 * (c0 + c));  // the block's cross pairs are c0, c0 + 1, ...
+        ++c;
       }
     }
   };
-  for_items<4>((np + kBlock - 1) / kBlock, !Scatter, excess, one_block, [](double& a, double b) { a = std::max(a, b); });
+  // Cross pairs [c0, c1) into their records (zero when apart, the closing tally when just opened).
+  auto cross_block = [&](std::size_t c0, std::size_t c1, double& excess) BAGDEM_INLINE_LAMBDA {
+    std::uint32_t closed[kBlock], at[kBlock];
+    std::size_t nc = 0;
+    for (std::size_t c = c0; c < c1; ++c) {
+      const std::uint32_t k = ps_.cross[c];
+      if (touches(k)) {
+        closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
+        continue;
+      }
+      const Vec3 d = ps_.touching[k] != 0 ? open_pair<Tangential, Rolling, Energy>(k) : Vec3::Zero();
+      ps_.rec[2 * c] = ps_.rec[2 * c + 1] = {Vec3::Zero(), Vec3::Zero()};
+      if constexpr (Energy) ps_.rec_diss[c] = d;
+    }
+    Out out[kBlock + kLanes];
+    for (std::size_t a = 0; a < nc; a += kLanes)
+      pair_lanes(closed + a, static_cast<int>(std::min<std::size_t>(kLanes, nc - a)), out + a, excess);
+    for (std::size_t a = 0; a < nc; ++a) record(at[a], out[a]);
+  };
+  // Range r: its particles' records from the ranges below, then its pairs.
+  auto one_range = [&](std::size_t r, double& excess) BAGDEM_INLINE_LAMBDA {
+    for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
+      add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
+    const std::size_t k0 = ps_.pairs.begin[ps_.range_first[r]], k1 = ps_.pairs.begin[ps_.range_first[r + 1]];
+    for (std::size_t k = k0; k < k1; k += kBlock) {
+      const std::size_t end = std::min(k1, k + kBlock);
+      // Most blocks hold no cross pair: they take the scan without the cross test.
+      const std::size_t c0 = static_cast<std::size_t>(std::lower_bound(ps_.cross.begin(), ps_.cross.end(), k) - ps_.cross.begin());
+      if (c0 < ps_.cross.size() && ps_.cross[c0] < end) {
+        one_block.template operator()<true>(k, end, c0, excess);
+      } else {
+        one_block.template operator()<false>(k, end, c0, excess);
+      }
+    }
+  };
+  const std::size_t ranges = ps_.ranges;
+  if (ranges == 1) {
+    run_items(one_range, 0, 1, excess);
+  } else {
+    const std::size_t nx = ps_.cross.size(), cross_blocks = (nx + kBlock - 1) / kBlock;
+    auto cross_item = [&](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
+      cross_block(b * kBlock, std::min(nx, (b + 1) * kBlock), excess);
+    };
+#pragma omp parallel
+    {
+      double mine = -1e300;
+      const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+      // The cross pairs first (any thread), then each range (one thread each; the loop covers them
+      // all for any team size).
+      run_items(cross_item, me * cross_blocks / team, (me + 1) * cross_blocks / team, mine);
+#pragma omp barrier
+      for (std::size_t r = me; r < ranges; r += team) run_items(one_range, r, r + 1, mine);
+#pragma omp critical(bagdem_pair_excess)
+      excess = std::max(excess, mine);
+    }
+  }
   overlap_excess_ = excess;
 }
 
-// ---- 5. gather_walls ----------------------------------------------------------------------------
-void Simulation::gather_walls() {
-  with_flags([this]<bool T, bool R, bool E, bool G>() { gather_walls_impl<T, R, E, G>(); },
-             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, !scatter_);
+// ---- 5. wall_contacts ---------------------------------------------------------------------------
+void Simulation::wall_contacts() {
+  with_flags([this]<bool T, bool R, bool E>() { wall_contacts_impl<T, R, E>(); }, scene_.models.tangential,
+             scene_.models.rolling, scene_.models.energy);
 }
 
-template <bool Tangential, bool Rolling, bool Energy, bool Gather>
-void Simulation::gather_walls_impl() {
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::wall_contacts_impl() {
   const std::size_t n = p_.size();
   const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
@@ -257,16 +304,11 @@ void Simulation::gather_walls_impl() {
   auto one_ball = [this, nw, dt, rigid, lo, hi, &laws, frac, finish](std::size_t p, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
     double& excess = ext.excess;
     double& min_dist = ext.min_dist;
-    // Starts from gravity (kick_drift), plus the pairs when they were scattered.
+    // Gravity (kick_drift) and the pairs (pair_contacts).
     Vec3 F = p_.f[p];
     Vec3 T = p_.t[p];
     [[maybe_unused]] Vec3 diss(0, 0, 0);
     if constexpr (Energy) diss = tally_.step_dissipation[p];
-    for (std::uint32_t e = Gather ? ps_.gather_begin[p] : 0; e < (Gather ? ps_.gather_begin[p + 1] : 0); ++e) {
-      F += ps_.rec[e].force;
-      if constexpr (Tangential || Rolling) T += ps_.rec[e].torque;
-      if constexpr (Energy) diss += 0.5 * ps_.rec_diss[e];
-    }
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
     const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
@@ -280,10 +322,6 @@ void Simulation::gather_walls_impl() {
     if (near == 0) {
       // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
       // to its tallies this step is zero and is skipped (its last wall force was zero too).
-      if constexpr (Gather) {
-        p_.f[p] = F;
-        p_.t[p] = T;
-      }
       if (couple_) cavity_load_[p].setZero();
       if constexpr (Energy) {
         tally_.diss_normal[p] += diss.x();
@@ -367,7 +405,7 @@ void Simulation::gather_walls_impl() {
       tally_.diss_rolling[p] += diss.z();
     }
   };
-  for_items(n, threaded(n), ext, one_ball, [](GuardValues& a, const GuardValues& b) {
+  for_ranges(ps_, n, ext, one_ball, [](GuardValues& a, const GuardValues& b) {
     a.excess = std::max(a.excess, b.excess);
     a.min_dist = std::min(a.min_dist, b.min_dist);
     a.finite = a.finite && b.finite;

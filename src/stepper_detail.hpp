@@ -80,6 +80,26 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
   }
 }
 
+// The same over the particles [0, n) when the pair stage has cut them into ranges (PairState): each
+// thread takes the ranges it takes there, so a thread's particles stay in its core's cache from
+// stage to stage. Falls back to for_items otherwise.
+template <class Acc, class Body, class Merge>
+void for_ranges(const PairState& ps, std::size_t n, Acc& acc, const Body& body, Merge merge) {
+  const std::size_t ranges = ps.ranges;
+  if (ranges <= 1 || ps.range_first.size() != ranges + 1 || ps.range_first[ranges] != n || !threaded(n)) {
+    for_items(n, threaded(n), acc, body, merge);
+    return;
+  }
+#pragma omp parallel
+  {
+    Acc mine = acc;
+    const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+    for (std::size_t r = me; r < ranges; r += team) run_items(body, ps.range_first[r], ps.range_first[r + 1], mine);
+#pragma omp critical(bagdem_for_ranges)
+    merge(acc, mine);
+  }
+}
+
 // What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last
 // half step of its forces' trapezoidal work (hertz.hpp, mindlin.hpp, rolling.hpp) and the energy
 // its springs still stored. Both vanish with the overlap as dt -> 0; tallying them keeps the

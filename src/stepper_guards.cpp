@@ -34,14 +34,14 @@ void Simulation::guards() {
   }
   if (crossed && !surfaces_[crossed_surface_].film) {
     const std::size_t i = crossed_;
-    m << "ball " << i << " left the cavity through the STL wall '" << scene_.mesh_walls[crossed_surface_ - (scene_.bag ? 1 : 0)].name
+    m << "ball " << order_[i] << " left the cavity through the STL wall '" << scene_.mesh_walls[crossed_surface_ - (scene_.bag ? 1 : 0)].name
       << "' (its centre is " << crossed_depth_ << " m beyond it). It went through within one step: reduce "
          "simulation.timestep, the cavity acceleration or the particle speeds, or raise the wall's Young's modulus.";
     throw RunError(m.str());
   }
   if (crossed) {
     const std::size_t i = crossed_;
-    m << "ball " << i << " crossed the bag's film (its centre is " << crossed_depth_
+    m << "ball " << order_[i] << " crossed the bag's film (its centre is " << crossed_depth_
       << " m beyond the film's mid-surface, at (" << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
       << ") m), or the film folded through itself (film-film contact is not modelled) and the ball faces its "
          "outer side. The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
@@ -50,7 +50,7 @@ void Simulation::guards() {
     throw RunError(m.str());
   }
   if (crowded) {
-    m << "ball " << mesh_overflow_ << " touches more than " << kMaxMeshContacts
+    m << "ball " << order_[mesh_overflow_] << " touches more than " << kMaxMeshContacts
       << " features of the film or an STL wall at once; the surface is folded around it finer than the "
          "ball. Coarsen the film (bag.triangles) or the STL mesh.";
     throw RunError(m.str());
@@ -75,7 +75,7 @@ void Simulation::guards() {
       if (where.empty() && ((xl - scene_.cavity_lo).minCoeff() < 0 || (scene_.cavity_hi - xl).minCoeff() < 0))
         where = "beyond the cavity bounds (cavity.min/max)";
       if (where.empty()) continue;
-      m << "particle " << i << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
+      m << "particle " << order_[i] << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
         << ", " << p_.x[i].z()
         << ") m. It went through the boundary within one step or flew out of an open cavity: reduce "
            "simulation.timestep, the cavity acceleration or the particle speeds, raise the wall's "

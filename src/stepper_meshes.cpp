@@ -430,7 +430,8 @@ std::vector<std::size_t> Simulation::balls_outside_bag() const {
   if (!scene_.bag) return out;
   const Bag& bag = *scene_.bag;
   for (std::size_t i = bag.ball_first; i < bag.ball_first + bag.balls; ++i)
-    if (winding_number(bag.rest, film_.x, p_.x[i]) < 0.5) out.push_back(i);
+    if (winding_number(bag.rest, film_.x, p_.x[i]) < 0.5) out.push_back(order_[i]);
+  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -7,7 +7,7 @@
 //                      sphere-triangle candidate lists when a ball, a film node or the cavity
 //                      moved more than skin/2
 //   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
-//   5. gather_walls    each ball: sum its pair forces (partner order), then its wall contacts
+//   5. wall_contacts   each ball: its wall contacts
 //   6. triangles       each ball: its contacts with triangulated surfaces, the bag's film and STL
 //                      walls (stepper_meshes.cpp)
 //   7. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
@@ -23,7 +23,9 @@
 // restitution when damping dominates).
 // Determinism: every per-particle sum runs in a fixed order (pairs by partner index, then walls in
 // wall order), and totals are summed over particles in index order, so results are bitwise equal
-// for any thread count.
+// for any thread count. The index order is the stepper's own: set-up sorts the balls spatially
+// (neighbour/spatial_order.hpp), so that each thread's contiguous range of balls is a compact piece
+// of the bed (PairState); outputs are written in the scene's order.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -46,28 +48,39 @@ namespace bagdem {
 inline constexpr std::size_t kParallelMin = 512;
 
 // Contact histories and per-pair results on the current candidate pair list.
+//
+// Pair contacts on several threads. The particles are cut into `ranges` contiguous ranges (one per
+// thread, of about equal pair counts), and each range's pairs are summed onto its particles in pair
+// order by one thread, as a single thread sums them all. The spatial order of the balls makes the
+// ranges slabs of the bed, so few pairs cross between them (1-4% in a packed bed). A pair whose particles lie in two ranges
+// (a cross pair: i's range is below j's) is computed first, by any thread, into two records. i adds
+// its record at the pair's place among its own pairs; j adds its records, in the order of their i,
+// before its own range reaches it: where a single thread adds them too (j's partners below its range
+// come first in partner order). The same operands in the same order: the same bits for any thread
+// count.
 struct PairState {
   CandidatePairs pairs;                      // i < j, canonical order
   std::vector<std::uint32_t> first;          // i of each pair
   std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
-  // Per pair: 1 in contact at the last step (its history may be set), 0 apart; gathering, 2 = opened
-  // this step (its records hold the closing tally only, cleared at the next step).
-  std::vector<std::uint8_t> touching;
-  // Gathering (several threads): what each pair contact produced this step for each of its two
-  // particles, stored at that particle's entry. Particle p's entries are
-  // gather_begin[p] .. gather_begin[p+1], sorted by partner index, so p sums its records in a row
-  // and in partner order. A pair that is apart has zero records (set when it opens), so the sum
-  // runs over every entry without a test: adding +0 to sums that start at +0 changes no bit.
-  struct Record {
-    Vec3 force;   // force on the entry's particle: +F on i, -F on j (unit: N)
-    Vec3 torque;  // torque on the entry's particle (unit: N m)
+  std::vector<std::uint8_t> touching;        // per pair: 1 in contact at the last step (its history may be set), 0 apart
+
+  std::uint32_t ranges = 0;                  // 0: not yet cut for this list (derive_ranges)
+  std::vector<std::uint32_t> range_first;    // ranges + 1: range r holds particles [range_first[r], range_first[r + 1])
+  std::vector<std::uint32_t> cross;          // the cross pairs, ascending
+  std::vector<std::uint8_t> is_cross;        // per pair
+  struct JSide {
+    std::uint32_t particle, cross;           // j of cross pair `cross`
   };
-  std::vector<std::uint32_t> gather_begin;   // per particle + 1
-  std::vector<std::uint32_t> slot;           // per pair: entries of i (2k) and of j (2k + 1)
-  std::vector<Record> rec;                   // per entry
-  std::vector<Vec3> rec_diss;                // per entry (energy tally): the pair's (normal, tangential, rolling) dissipation this step (unit: J)
+  std::vector<JSide> j_side;                 // by particle, then by i
+  std::vector<std::uint32_t> j_side_range;   // ranges + 1: range r's entries of j_side
+  struct Record {
+    Vec3 force;   // on the record's particle: +F on i, -F on j (unit: N)
+    Vec3 torque;  // on the record's particle (unit: N m)
+  };
+  std::vector<Record> rec;                   // per cross pair c: i's (2c) and j's (2c + 1); zero when apart
+  std::vector<Vec3> rec_diss;                // per cross pair (energy tally): its (normal, tangential, rolling) dissipation this step, half to each particle (unit: J)
 };
 
 // The bag's film nodes: point masses (no rotation), integrated like the balls.
@@ -105,8 +118,19 @@ class Simulation {
   const Scene& scene() const { return scene_; }
   double time() const { return static_cast<double>(step_) * scene_.dt; }
   std::uint64_t steps_done() const { return step_; }
+  // The balls in the stepper's order: ball i is the scene's ball input_index()[i]. Set-up sorts
+  // scenes of kSpatialOrderMin balls or more spatially (neighbour/spatial_order.hpp); smaller ones
+  // keep the scene's order. Recorders write per-ball data in the scene's order (in_scene_order).
   const Particles& particles() const { return p_; }
   Particles& particles() { return p_; }
+  const std::vector<std::uint32_t>& input_index() const { return order_; }
+  // A per-ball array of particles() (or of the same length) in the scene's order.
+  template <class T>
+  std::vector<T> in_scene_order(const std::vector<T>& a) const {
+    std::vector<T> out(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) out[order_[i]] = a[i];
+    return out;
+  }
   const CavityState& cavity() const { return cavity_; }
   std::uint64_t neighbour_builds() const { return builds_; }
   const PairState& pair_state() const { return ps_; }
@@ -114,8 +138,8 @@ class Simulation {
   const FilmNodes& film() const { return film_; }
   // Ball-triangle contacts (film and STL walls) now.
   std::size_t mesh_contact_count() const;
-  // Indices of the bag's balls whose centre lies outside the film now (generalized winding number;
-  // O(balls x triangles), for output-time checks and tests).
+  // Scene indices of the bag's balls whose centre lies outside the film now, ascending (generalized
+  // winding number; O(balls x triangles), for output-time checks and tests).
   std::vector<std::size_t> balls_outside_bag() const;
 
   // Kinetic + elastic energy at t = 0 (the reference of the energy balance) (unit: J).
@@ -140,7 +164,7 @@ class Simulation {
     double integrate = 0;   // kick_drift + move_cavity + kick (balls and film nodes) (unit: s)
     double neighbours = 0;  // pair list and triangle candidate lists
     double pairs = 0;       // ball-ball contacts
-    double walls = 0;       // gathering pair forces, ball-wall contacts (and the balls' kick, kick_balls_here)
+    double walls = 0;       // ball-wall contacts (and the balls' kick, kick_balls_here)
     double triangles = 0;   // ball-film and ball-STL contacts
     double film = 0;        // membrane, strings, film-wall contacts, loads on the film
     double guards = 0;
@@ -199,7 +223,7 @@ class Simulation {
   void derive_pair_buffers();
   void find_near_walls();
   void pair_contacts();
-  void gather_walls();
+  void wall_contacts();
   void triangle_contacts();
   template <bool Tangential, bool Rolling, bool Energy>
   void triangle_contacts_impl();
@@ -243,12 +267,13 @@ class Simulation {
     const double s = (local - scene_.cavity_reference).dot(load_axis_), f = force_on_cavity.dot(load_dir_);
     return {f, f * s, f * s * s};
   }
-  template <bool Tangential, bool Rolling, bool Energy, bool Scatter, bool Uniform>
+  template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
   void pair_contacts_impl();
-  template <bool Tangential, bool Rolling, bool Energy, bool Gather>
-  void gather_walls_impl();
-  template <bool Tangential, bool Rolling, bool Energy, bool Scatter>
-  void open_pair(std::size_t k, std::uint32_t i, std::uint32_t j);
+  void derive_ranges(std::uint32_t ranges);
+  template <bool Tangential, bool Rolling, bool Energy>
+  void wall_contacts_impl();
+  template <bool Tangential, bool Rolling, bool Energy>
+  Vec3 open_pair(std::size_t k);
   // Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
   // and the STL walls' share to F_cavity / T_cavity (force on the ball, torque on the cavity).
   template <bool Tangential, bool Rolling, bool Energy>
@@ -292,6 +317,7 @@ class Simulation {
 
   const Scene& scene_;
   Particles p_;
+  std::vector<std::uint32_t> order_;          // per ball: its index in scene_.particles (input_index)
   ParticleTallies tally_;
   PairState ps_;
   std::unique_ptr<BroadPhase> broad_;
@@ -302,7 +328,6 @@ class Simulation {
     std::vector<TangentialHistory> tangential;
     std::vector<RollingHistory> rolling;
     std::vector<double> damping_prev;
-    std::vector<std::uint32_t> fill;          // gather CSR fill pointers
   } spare_;
   std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
   std::vector<RollingHistory> wall_roll_;
@@ -310,7 +335,7 @@ class Simulation {
   std::vector<std::uint32_t> wall_touch_;     // per particle: bit w set = touched wall w at the last step
   // Per particle: bit w set = wall w was within skin of the ball's surface at the last neighbour
   // build. The list holds while no ball and not the cavity moved more than skin/2 since
-  // (kick_drift, move_cavity), so the walls not in it cannot be touched: gather_walls skips them.
+  // (kick_drift, move_cavity), so the walls not in it cannot be touched: wall_contacts skips them.
   std::vector<std::uint32_t> wall_near_;
   Vec3 cavity_pos_at_build_ = Vec3::Zero();   // cavity position and shear at the last build
   Vec3 cavity_shear_at_build_ = Vec3::Zero();
@@ -388,7 +413,6 @@ class Simulation {
   double contents_mass_ = 0;                  // balls and film nodes (unit: kg)
   bool profile_ = false;
   StageTimes times_;
-  bool scatter_ = true;                       // pair forces scattered (one thread) or gathered
   bool uniform_ = false;                      // all balls of one radius and one material
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).

@@ -37,10 +37,12 @@ SavedBag saved_bag(const Scene& scene, const Simulation& sim) {
   s.rest.triangles = bag.rest.triangles;
   for (const Vec3& v : bag.rest.vertices) s.rest.vertices.push_back(v - c);
   for (const Vec3& v : sim.film().x) s.film_position.push_back(v - c);
-  const Particles& p = sim.particles();
+  // In the scene's order (the stepper sorts the bag's balls among themselves).
+  const std::vector<Vec3> x = sim.in_scene_order(sim.particles().x);
+  const std::vector<double> radius = sim.in_scene_order(sim.particles().radius);
   for (std::size_t i = bag.ball_first; i < bag.ball_first + bag.balls; ++i) {
-    s.ball_position.push_back(p.x[i] - c);
-    s.ball_radius.push_back(p.radius[i]);
+    s.ball_position.push_back(x[i] - c);
+    s.ball_radius.push_back(radius[i]);
   }
   s.shape = bag.shape;
   s.axis = bag.axis;

@@ -1,12 +1,30 @@
 // Internal to src/run: writing the small result files (summary.json, sweep.csv) so that a reader
-// never sees half of one.
+// never sees half of one, and the balls' data in results.h5 in the scene's order.
 #pragma once
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/stepper.hpp"
 
 namespace bagdem {
+
+// results.h5 for `sim`'s balls (radius and material per ball), in the scene's order.
+inline ResultsFile open_results(const std::string& path, const Simulation& sim,
+                                const std::vector<std::string>& materials, double cavity_interval) {
+  return ResultsFile(path, sim.in_scene_order(sim.particles().radius), sim.in_scene_order(sim.particles().material),
+                     materials, cavity_interval);
+}
+
+// The balls' positions and velocities now as a frame at time t, in the scene's order (the stepper
+// keeps its own, Simulation::input_index).
+inline void append_ball_frame(ResultsFile& file, double t, const Simulation& sim) {
+  const Particles& p = sim.particles();
+  file.append_frame(t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w));
+}
 
 // Writes `text` to `path` atomically (temporary name, then rename).
 inline void write_atomically(const std::filesystem::path& path, const std::string& text) {

@@ -230,14 +230,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     fs::remove(final_h5);
     std::vector<std::string> mats;
     for (const auto& m : scene.materials) mats.push_back(m.name);
-    file.emplace(part.string(), sim.particles().radius, sim.particles().material, mats, n_cavity * scene.dt);
+    file.emplace(open_results(part.string(), sim, mats, n_cavity * scene.dt));
     file->set_attribute("case_file", scene.case_file);
     file->set_attribute("resolved_config", scene.resolved);
     file->set_attribute("settle_end", scene.settle);
     file->set_attribute("timestep", scene.dt);
     file->set_attribute("status", "running");
     if (scene.bag) file->write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
-    file->append_frame(0, sim.particles().x, sim.particles().v, sim.particles().w);
+    append_ball_frame(*file, 0, sim);
     film_frame(file);
     if (energy) file->append_energy(0, sim.energy());
     frame_times.push_back(0);
@@ -287,7 +287,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
                            ") are outside its film. The film let them through: raise the film material's "
                            "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
         }
-        file->append_frame(t, sim.particles().x, sim.particles().v, sim.particles().w);
+        append_ball_frame(*file, t, sim);
         film_frame(file);
         frame_times.push_back(t);
       }

@@ -221,7 +221,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   Simulation sim(scene);
   std::vector<std::string> mats;
   for (const auto& m : scene.materials) mats.push_back(m.name);
-  ResultsFile file(part.string(), sim.particles().radius, sim.particles().material, mats, scene.dt);
+  ResultsFile file = open_results(part.string(), sim, mats, scene.dt);
   file.set_attribute("case_file", scene.case_file);
   file.set_attribute("resolved_config", scene.resolved);
   file.set_attribute("settle_end", scene.settle);
@@ -230,7 +230,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
   std::vector<double> frame_times;
   auto frame = [&] {
-    file.append_frame(sim.time(), sim.particles().x, sim.particles().v, sim.particles().w);
+    append_ball_frame(file, sim.time(), sim);
     if (scene.bag) file.append_film_frame(sim.film().x);
     frame_times.push_back(sim.time());
   };

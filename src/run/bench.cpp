@@ -36,10 +36,12 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   return o;
 }
 
-// What the step loop works on at the end of a run, per particle: candidate pairs, closed pair
-// contacts and closed wall contacts; and where the time of the run went (the stages' shares).
+// What the step loop works on at the end of a run, per particle: candidate pairs (and the share of
+// them across the threads' ranges), closed pair contacts and closed wall contacts; and where the
+// time of the run went (the stages' shares).
 struct Workload {
   double pairs = 0, pair_contacts = 0, wall_contacts = 0;
+  double crossing = 0;  // the share of the candidate pairs across the threads' ranges (PairState) (unit: 1)
   double integrate = 0, neighbours = 0, pair_stage = 0, wall_stage = 0;  // shares of the step (unit: 1)
 };
 
@@ -61,6 +63,7 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
     const std::vector<std::uint8_t>& touching = sim.pair_state().touching;
     const auto pair_contacts = static_cast<double>(std::count(touching.begin(), touching.end(), std::uint8_t{1}));
     load->pairs = static_cast<double>(sim.pair_state().pairs.size()) / n;
+    load->crossing = static_cast<double>(sim.pair_state().cross.size()) / static_cast<double>(std::max<std::size_t>(1, sim.pair_state().pairs.size()));
     load->pair_contacts = pair_contacts / n;
     load->wall_contacts = (static_cast<double>(sim.contact_count()) - pair_contacts) / n;
     const Simulation::StageTimes& t = sim.stage_times();
@@ -242,8 +245,8 @@ int run_bench(const BenchOptions& opt) {
   std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
               opt.energy ? "on" : "off", opt.repeats);
   std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds | pairs/particle | "
-              "pair contacts/particle | wall contacts/particle | integration %% | neighbours %% | pairs %% | walls + kick %% |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "pairs across threads %% | pair contacts/particle | wall contacts/particle | integration %% | neighbours %% | pairs %% | walls + kick %% |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int N : opt.sizes) {
     const std::string data = peers_bed(peers, N);
     if (data.empty())
@@ -257,9 +260,10 @@ int run_bench(const BenchOptions& opt) {
       const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats, true);
-        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.2f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
+        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.2f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
                     sc.particles.size(), steps, method.c_str(), th, t.median, t.lo, t.hi,
-                    static_cast<unsigned long long>(t.builds), t.load.pairs, t.load.pair_contacts, t.load.wall_contacts,
+                    static_cast<unsigned long long>(t.builds), t.load.pairs, 100 * t.load.crossing, t.load.pair_contacts,
+                    t.load.wall_contacts,
                     100 * t.load.integrate, 100 * t.load.neighbours, 100 * t.load.pair_stage, 100 * t.load.wall_stage);
         std::fflush(stdout);
       }

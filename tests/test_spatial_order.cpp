@@ -220,3 +220,32 @@ TEST(SpatialOrder, ResultsAreInTheScenesOrderWhateverItIs) {
   H5Fclose(fa);
   H5Fclose(fb);
 }
+
+// A checkpoint holds the balls in the stepper's order, each with its index in the case. A run of
+// the same case takes it and goes on bit for bit; the same balls listed in another order, or placed
+// elsewhere (mirrored across the box), give another order, and the checkpoint is refused with a
+// message, not misread.
+TEST(SpatialOrder, CheckpointsFollowTheStepperOrder) {
+  TempDir tmp;
+  const Scene a = load(tmp);
+  Simulation sa(a);
+  for (int k = 0; k < 20; ++k) sa.step();
+  const std::vector<char> image = sa.save_state();
+
+  Simulation same(a);
+  ASSERT_NO_THROW(same.load_state(image));
+  EXPECT_EQ(same.save_state(), image);
+
+  std::vector<std::uint32_t> perm;
+  Scene mirrored = a;
+  for (ParticleInit& q : mirrored.particles) q.x.x() = a.cavity_hi.x() - q.x.x();
+  for (const Scene& other : {shuffled(a, perm, 9), mirrored}) {
+    Simulation s(other);
+    try {
+      s.load_state(image);
+      ADD_FAILURE() << "a checkpoint of another ball order was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("another order"), std::string::npos) << e.what();
+    }
+  }
+}

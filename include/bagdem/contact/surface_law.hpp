@@ -63,19 +63,17 @@ BAGDEM_INLINE SurfaceLanes surface_contact_lanes(const ContactGeometryT<Lanes>& 
     for (int l = 0; l < kLanes; ++l) *damping_prev[l] = prev[l];
   }
   if constexpr (Tangential) {
-    // The history's force and stiffness are 4 consecutive doubles: one row each way.
+    // The history's force and stiffness are 4 consecutive doubles: one row, loaded and stored.
     TangentialHistoryT<Lanes> h;
-    const double* from[kLanes];
-    for (int l = 0; l < kLanes; ++l) from[l] = th[l]->force.data();
-    gather4(from, h.force, h.stiffness);
+    double* row[kLanes];
+    for (int l = 0; l < kLanes; ++l) row[l] = th[l]->force.data();
+    gather4(row, h.force, h.stiffness);
     if constexpr (Energy) {
       const double* total[kLanes] = {th[0]->total.data(), th[1]->total.data(), th[2]->total.data(), th[3]->total.data()};
       h.total = gather3(total);
     }
     const TangentialResultT<Lanes> tr = mindlin_tangential(g, law, nr, dt, h);
-    double* to[kLanes];
-    for (int l = 0; l < kLanes; ++l) to[l] = th[l]->force.data();
-    to_rows(h.force, h.stiffness, to);
+    to_rows(h.force, h.stiffness, row);
     if constexpr (Energy)
       for (int l = 0; l < kLanes; ++l) th[l]->total = lane(h.total, l);
     out.F += tr.force;
@@ -84,13 +82,11 @@ BAGDEM_INLINE SurfaceLanes surface_contact_lanes(const ContactGeometryT<Lanes>& 
   }
   if constexpr (Rolling) {
     RollingHistoryT<Lanes> h;
-    const double* from[kLanes];
-    for (int l = 0; l < kLanes; ++l) from[l] = rh[l]->torque.data();
-    gather4(from, h.torque, h.stiffness);
+    double* row[kLanes];
+    for (int l = 0; l < kLanes; ++l) row[l] = rh[l]->torque.data();
+    gather4(row, h.torque, h.stiffness);
     const RollingResultT<Lanes> rr = epsd_rolling(g, law, nr.stiffness, nr.force, dt, h);
-    double* to[kLanes];
-    for (int l = 0; l < kLanes; ++l) to[l] = rh[l]->torque.data();
-    to_rows(h.torque, h.stiffness, to);
+    to_rows(h.torque, h.stiffness, row);
     out.roll = rr.torque;
     if constexpr (Energy) out.diss.z = rr.dissipated;
   }

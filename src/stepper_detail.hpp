@@ -38,18 +38,18 @@ template <class Body, class Acc>
   for (std::size_t i = begin; i < end; ++i) body(i, acc);
 }
 
-// The loops of the step over particles or pairs: body(i, acc) for i in [0, n), on one thread or
-// in chunks of Chunk items. With T threads, thread t starts on the t-th contiguous share of the
+// The loops of the step over particles or pairs: span(begin, end, acc) over [0, n), on one thread
+// or in chunks of Chunk items. With T threads, thread t starts on the t-th contiguous share of the
 // chunks, so the balls and pairs a thread handles in one stage are mostly those it handled in the
 // last (they stay in its core's cache), then it helps the others with what they have left
 // (near-wall balls and touching pairs cost more, and they are not spread evenly over the index
 // range). Each thread folds its own acc; merge(acc, mine) combines them. Every item writes only
 // its own slots, and the folds (max, min, and, or) do not depend on the order, so results are the
 // same for any thread count.
-template <std::size_t Chunk = 256, class Acc, class Body, class Merge>
-void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge merge) {
+template <std::size_t Chunk = 256, class Acc, class Span, class Merge>
+void for_spans(std::size_t n, bool parallel, Acc& acc, const Span& span, Merge merge) {
   if (!parallel) {
-    run_items(body, 0, n, acc);
+    span(0, n, acc);
     return;
   }
   const std::size_t chunks = (n + Chunk - 1) / Chunk;
@@ -73,31 +73,43 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
     for (std::size_t k = 0; k < shares; ++k) {
       Share& sh = share[(me + k) % shares];
       for (std::size_t c; (c = sh.next.fetch_add(1, std::memory_order_relaxed)) < sh.end;)
-        run_items(body, c * Chunk, std::min(n, (c + 1) * Chunk), mine);
+        span(c * Chunk, std::min(n, (c + 1) * Chunk), mine);
     }
 #pragma omp critical(bagdem_for_items)
     merge(acc, mine);
   }
 }
+// The same with body(i, acc) for each item.
+template <std::size_t Chunk = 256, class Acc, class Body, class Merge>
+void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge merge) {
+  for_spans<Chunk>(
+      n, parallel, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
+}
 
 // The same over the particles [0, n) when the pair stage has cut them into ranges (PairState): each
 // thread takes the ranges it takes there, so a thread's particles stay in its core's cache from
-// stage to stage. Falls back to for_items otherwise.
-template <class Acc, class Body, class Merge>
-void for_ranges(const PairState& ps, std::size_t n, Acc& acc, const Body& body, Merge merge) {
+// stage to stage. Falls back to for_spans otherwise.
+template <class Acc, class Span, class Merge>
+void for_range_spans(const PairState& ps, std::size_t n, Acc& acc, const Span& span, Merge merge) {
   const std::size_t ranges = ps.ranges;
   if (ranges <= 1 || ps.range_first.size() != ranges + 1 || ps.range_first[ranges] != n || !threaded(n)) {
-    for_items(n, threaded(n), acc, body, merge);
+    for_spans(n, threaded(n), acc, span, merge);
     return;
   }
 #pragma omp parallel
   {
     Acc mine = acc;
     const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
-    for (std::size_t r = me; r < ranges; r += team) run_items(body, ps.range_first[r], ps.range_first[r + 1], mine);
+    for (std::size_t r = me; r < ranges; r += team) span(ps.range_first[r], ps.range_first[r + 1], mine);
 #pragma omp critical(bagdem_for_ranges)
     merge(acc, mine);
   }
+}
+// The same with body(i, acc) for each particle.
+template <class Acc, class Body, class Merge>
+void for_ranges(const PairState& ps, std::size_t n, Acc& acc, const Body& body, Merge merge) {
+  for_range_spans(
+      ps, n, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
 }
 
 // What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last

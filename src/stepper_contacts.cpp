@@ -474,15 +474,7 @@ void Simulation::wall_contacts_impl() {
         g.arm_j = 0;
         // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
         // the mean over the step.
-        if constexpr (Tangential || Rolling) {
-          g.v_rel = contact_velocity(p_.v_pred[p], c_vel, p_.w_pred[p], Vec3::Zero(), g);
-          g.v_half = contact_velocity(p_.v[p], c_half, p_.w[p], Vec3::Zero(), g);
-          g.w_half = p_.w[p];
-        } else {
-          g.v_rel = p_.v_pred[p] - c_vel;
-          g.v_half = p_.v[p] - c_half;
-          g.w_half.setZero();
-        }
+        motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
         Contact& ct = list[nc++];
         auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
           ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;

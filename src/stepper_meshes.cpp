@@ -306,14 +306,7 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
     }
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
-    if constexpr (Tangential || Rolling) {
-      g.v_rel = contact_velocity(p_.v_pred[p], vs_end, p_.w_pred[p], Vec3::Zero(), g);
-      g.v_half = contact_velocity(p_.v[p], vs_half, p_.w[p], Vec3::Zero(), g);
-      g.w_half = p_.w[p];
-    } else {
-      g.v_rel = p_.v_pred[p] - vs_end;
-      g.v_half = p_.v[p] - vs_half;
-    }
+    motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
     const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(g, laws(p_.material[p], sf.material), dt, s.damping_prev,
                                                                  &s.tangential, &s.rolling, T, diss);
     F += Fc;

@@ -292,6 +292,21 @@ class Simulation {
   template <bool Tangential, bool Energy>
   void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
+  // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
+  // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
+  // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).
+  template <bool Spin>
+  BAGDEM_INLINE void motion_against_surface(std::size_t p, const Vec3& v_end, const Vec3& v_half, ContactGeometry& g) const {
+    if constexpr (Spin) {
+      g.v_rel = contact_velocity(p_.v_pred[p], v_end, p_.w_pred[p], Vec3::Zero(), g);
+      g.v_half = contact_velocity(p_.v[p], v_half, p_.w[p], Vec3::Zero(), g);
+      g.w_half = p_.w[p];
+    } else {
+      g.v_rel = p_.v_pred[p] - v_end;
+      g.v_half = p_.v[p] - v_half;
+      g.w_half.setZero();
+    }
+  }
   // Stage 9 for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
   // whether the new velocity is finite.
   BAGDEM_INLINE bool kick_ball(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {

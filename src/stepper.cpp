@@ -74,8 +74,13 @@ CavityState Simulation::cavity_at(double t) const {
   return scene_.motion->at(t - scene_.settle);
 }
 
-void Simulation::step() {
+void Simulation::advance(std::uint64_t steps) {
+  for (std::uint64_t k = 0; k < steps; ++k) step_once(k + 1 == steps);
+}
+
+void Simulation::step_once(bool last) {
   dt_step_ = scene_.dt;
+  defer_kick_ = !last && surfaces_.empty();
   if (couple_ && step_ == release_step_ && !structure_.scalars.released) release_structure();
   if (!profile_) {
     kick_drift();
@@ -129,32 +134,53 @@ void Simulation::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
   const std::size_t n = p_.size();
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
-  bool moved = false;
+  struct Moved {
+    bool far;        // a ball is more than skin/2 from where it was at the last build
+    double step2;    // the largest |x(n+1) - x(n)|^2 of a ball (unit: m^2)
+    bool finite;     // every velocity finite after the pending kick (Finish)
+  } moved{false, 0.0, true};
   with_flags(
-      [&]<bool Rotation, bool Gravity, bool Energy>() {
+      [&]<bool Finish, bool Rotation, bool Gravity, bool Energy>() {
         const Vec3 g = scene_.gravity;
-        auto one = [this, dt, h, limit2, g](std::size_t i, bool& moved) BAGDEM_INLINE_LAMBDA {
+        auto one = [this, dt, h, limit2, g](std::size_t i, Moved& moved) BAGDEM_INLINE_LAMBDA {
           const Vec3 dv = h * p_.inv_mass[i] * p_.f[i];
-          const Vec3 v = p_.v[i] + dv;
+          Vec3 v = p_.v[i];
+          if constexpr (Finish) {
+            v = v + dv;  // the last step's stage 9 (kick_ball's operations on the same force)
+            moved.finite = moved.finite && std::isfinite(v.squaredNorm());
+          }
+          v = v + dv;
           p_.v[i] = v;
-          const Vec3 x = p_.x[i] + dt * v;
+          const Vec3 x0 = p_.x[i];
+          const Vec3 x = x0 + dt * v;
           p_.x[i] = x;
           p_.v_pred[i] = v + dv;
           if constexpr (Rotation) {
             const Vec3 dw = h * p_.inv_inertia[i] * p_.t[i];
+            if constexpr (Finish) p_.w[i] += dw;
             p_.w[i] += dw;
             p_.w_pred[i] = p_.w[i] + dw;
           }
-          moved = moved || (x - x_at_build_[i]).squaredNorm() > limit2;
+          moved.far = moved.far || (x - x_at_build_[i]).squaredNorm() > limit2;
+          moved.step2 = std::max(moved.step2, (x - x0).squaredNorm());  // the step as taken, rounding included
           // The sums of the new step (start_sums, inlined here with its switches resolved).
           p_.f[i] = Gravity ? Vec3(p_.mass[i] * g) : Vec3::Zero();
           p_.t[i].setZero();
           if constexpr (Energy) tally_.step_dissipation[i].setZero();
         };
-        for_ranges(ps_, n, moved, one, [](bool& a, bool b) { a = a || b; });
+        for_ranges(ps_, n, moved, one, [](Moved& a, const Moved& b) {
+          a.far = a.far || b.far;
+          a.step2 = std::max(a.step2, b.step2);
+          a.finite = a.finite && b.finite;
+        });
       },
-      scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
-  needs_rebuild_ = moved;
+      kick_pending_, scene_.models.rotation, scene_.models.gravity, scene_.models.energy);
+  kick_pending_ = false;
+  finished_finite_ = moved.finite;
+  needs_rebuild_ = moved.far;
+  // Rounded up twice over (the square root and the sum): travel_ never falls short of the true
+  // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
+  travel_ = std::nextafter(travel_ + std::sqrt(moved.step2) * (1.0 + 1e-14), HUGE_VAL);
   const std::size_t nn = film_.size();
 #pragma omp parallel for schedule(static) if (nn > kParallelMin)
   for (std::size_t k = 0; k < nn; ++k) {
@@ -237,6 +263,9 @@ void Simulation::find_near_walls() {
   CavityState at_build = cavity_;
   at_build.position = cavity_pos_at_build_;
   at_build.shear = cavity_shear_at_build_;
+  // Near the bounds: the centre within skin of them (it moves less than skin relative to the cavity
+  // before the next build, so the others stay inside).
+  std::vector<std::uint8_t> in_reach(n);
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::size_t p = 0; p < n; ++p) {
     const Vec3 x = x_at_build_[p];
@@ -248,6 +277,13 @@ void Simulation::find_near_walls() {
       if (wall_distance(scene_.walls[w], x_local, normal) - p_.radius[p] < scene_.skin) near |= 1u << w;
     }
     wall_near_[p] = near;
+    const double d_bounds = std::min((x_local - scene_.cavity_lo).minCoeff(), (scene_.cavity_hi - x_local).minCoeff());
+    in_reach[p] = near != 0 || d_bounds < scene_.skin;
+  }
+  near_balls_.clear();
+  for (std::size_t p = 0; p < n; ++p) {
+    if (in_reach[p]) near_balls_.push_back(static_cast<std::uint32_t>(p));
+    else if (couple_ && surfaces_.empty()) cavity_load_[p].setZero();  // as the wall stage leaves a ball without a wall near
   }
 }
 
@@ -257,6 +293,8 @@ void Simulation::derive_pair_buffers() {
   const std::size_t np = ps_.pairs.size();
   // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
   ps_.touching.assign(np, 0);
+  ps_.wake.assign(np, 0.0);  // every pair looked at in the next pair stage (travel_ >= 0)
+  travel_ = 0.0;
   for (std::size_t k = 0; k < np; ++k) {
     const bool t = !ps_.tangential.empty() && ps_.tangential[k].stiffness != 0;
     const bool r = !ps_.rolling.empty() && ps_.rolling[k].stiffness != 0;
@@ -309,8 +347,10 @@ void Simulation::kick() {
   const double h = 0.5 * scene_.dt;
   const std::size_t n = p_.size();
   bool finite = true;
-  if (kick_balls_here()) {
-    finite = balls_finite_;  // the balls were kicked in wall_contacts
+  if (defer_kick_) {
+    finite = finished_finite_;  // the last step's kick, finished in kick_drift; this one's comes next step
+  } else if (kick_balls_here()) {
+    finite = balls_finite_ && finished_finite_;  // the balls were kicked in wall_contacts
   } else {
     with_flags(
         [&]<bool Rotation>() {
@@ -332,6 +372,7 @@ void Simulation::kick() {
     for (double v : structure_.v) finite = finite && std::isfinite(v);
   }
   all_finite_ = finite;
+  kick_pending_ = defer_kick_;
 }
 
 }  // namespace bagdem

@@ -159,39 +159,59 @@ void Simulation::pair_contacts_impl() {
     if constexpr (Tangential || Rolling) p_.t[p] += ps_.rec[e].torque;
     if constexpr (Energy) tally_.step_dissipation[p] += 0.5 * ps_.rec_diss[e / 2];
   };
-  // Whether pair k touches now: the one test of contact (sphere_sphere's, spheres_apart).
+  // Whether pair k touches now: the one test of contact (sphere_sphere's, spheres_apart), and when
+  // it may touch at the earliest (PairState::wake): at once when it touches now or touched at the
+  // last step (an opened pair's tallies and records are cleared at the next look), else once travel_
+  // has grown by half its gap, less 1e-9 of the radii's sum, which covers the rounding of the gap
+  // (about 1e-16 of it) many times over.
   const Vec3* x = p_.x.data();
   const std::uint32_t* first = ps_.first.data();
   const std::uint32_t* partner = ps_.pairs.partner.data();
-  auto touches = [x, first, partner, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
+  const std::uint8_t* touching = ps_.touching.data();
+  double* wake = ps_.wake.data();
+  const double travel = travel_;
+  auto look = [x, first, partner, touching, wake, travel, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = first[k], j = partner[k];
-    return !spheres_apart(x[i], x[j], radius(i) + radius(j));
+    const double rsum = radius(i) + radius(j);
+    const bool now = !spheres_apart(x[i], x[j], rsum);
+    const Vec3 d = x[i] - x[j];
+    const double gap = std::sqrt(dot(d, d)) - rsum;
+    wake[k] = now | (touching[k] != 0) ? travel : travel + 0.5 * gap - 1e-9 * rsum;
+    return now;
   };
-  // Pairs [k0, k1) of one range, in three passes:
-  //  1. a branch-free scan for the pairs that touch now (`closed`), those that touched at the last
-  //     step and are apart now (`opened`) and, when the block holds any (Cross), the cross pairs
-  //     (computed already); most candidate pairs are none of these;
+  // Pairs [k0, k1) of one range, in four passes:
+  //  0. the pairs that may touch (awake: PairState::wake), and in a block that holds any (Cross)
+  //     the cross pairs (computed already); in a shaken bed about one candidate in ten;
+  //  1. among those, a branch-free scan for the pairs that touch now (`closed`), those that touched
+  //     at the last step and are apart now (`opened`) and the cross pairs;
   //  2. the contact law on the closed pairs, kLanes at a time (pair_lanes);
   //  3. in pair order: each closed pair applied, each opened pair closed, each cross pair's record
   //     added to its i.
   auto one_block = [&]<bool Cross>(std::size_t k0, std::size_t k1, std::size_t c0, double& excess) BAGDEM_INLINE_LAMBDA {
-    std::uint32_t closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
-    std::size_t nc = 0, no = 0, nx = 0;
-    const std::uint8_t* touching = ps_.touching.data();
+    std::uint32_t awake[kBlock], closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
+    std::size_t na = 0, nc = 0, no = 0, nx = 0;
     const std::uint8_t* is_cross = ps_.is_cross.data();
     for (std::size_t k = k0; k < k1; ++k) {
-      const bool now = touches(static_cast<std::uint32_t>(k));
-      closed[nc] = opened[no] = static_cast<std::uint32_t>(k);
+      awake[na] = static_cast<std::uint32_t>(k);
       if constexpr (Cross) {
-        const bool cross = is_cross[k] != 0;
-        crossing[nx] = static_cast<std::uint32_t>(k);
-        nc += now & !cross;
-        no += !now & (touching[k] != 0) & !cross;
-        nx += cross;
+        na += (wake[k] <= travel) | (is_cross[k] != 0);
       } else {
-        nc += now;
-        no += !now & (touching[k] != 0);
+        na += wake[k] <= travel;
       }
+    }
+    for (std::size_t a = 0; a < na; ++a) {
+      const std::uint32_t k = awake[a];
+      closed[nc] = opened[no] = k;
+      if constexpr (Cross) {
+        // A cross pair was looked at by cross_block (its wake is that stage's).
+        const bool cross = is_cross[k] != 0;
+        crossing[nx] = k;
+        nx += cross;
+        if (cross) continue;
+      }
+      const bool now = look(k);
+      nc += now;
+      no += !now & (touching[k] != 0);
     }
     Out out[kBlock + kLanes];  // the last lanes of a block may run past nc
     for (std::size_t a = 0; a < nc; a += kLanes)
@@ -221,7 +241,8 @@ void Simulation::pair_contacts_impl() {
     std::size_t nc = 0;
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t k = ps_.cross[c];
-      if (touches(k)) {
+      if (wake[k] > travel) continue;  // apart since its last look, which left its records zero
+      if (look(k)) {
         closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
         continue;
       }
@@ -295,7 +316,10 @@ void Simulation::wall_contacts_impl() {
   } ext{overlap_excess_, 1e300, true};
   // Stage 9's kick of the balls, done here while the ball's force and torque are at hand when no
   // later stage adds to them (kick_balls_here; the same operations as kick()).
-  const bool kick = kick_balls_here(), rotation = scene_.models.rotation;
+  const bool kick = kick_balls_here() && !defer_kick_, rotation = scene_.models.rotation;
+  // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
+  // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
+  const bool near_only = defer_kick_ && !Energy;
   const double h = 0.5 * dt;
   // A ball whose wall contacts are closed waits in `held` while the law runs on the contacts of a
   // batch of balls, kLanes at a time (surface_contact_lanes); the others are done at once. Each
@@ -410,7 +434,7 @@ void Simulation::wall_contacts_impl() {
       }
       nh = nc = 0;
     };
-    for (std::size_t p = b0; p < b1; ++p) {
+    auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
       // Gravity (kick_drift) and the pairs (pair_contacts).
       Vec3 F = p_.f[p];
       Vec3 T = p_.t[p];
@@ -437,7 +461,7 @@ void Simulation::wall_contacts_impl() {
         }
         ext.min_dist = std::min(ext.min_dist, d_bounds);
         if (kick) ext.finite = kick_ball(p, F, T, h, rotation) && ext.finite;
-        continue;
+        return;
       }
       if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
       double d_min = 1e300;  // nearest wall
@@ -494,6 +518,12 @@ void Simulation::wall_contacts_impl() {
       } else {
         held[nh++] = b;
       }
+    };
+    if (near_only) {
+      const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
+      for (const auto* end = near_balls_.data() + near_balls_.size(); it != end && *it < b1; ++it) ball(*it);
+    } else {
+      for (std::size_t p = b0; p < b1; ++p) ball(p);
     }
     flush();
   };

@@ -65,6 +65,11 @@ struct PairState {
   std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
   std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
   std::vector<std::uint8_t> touching;        // per pair: 1 in contact at the last step (its history may be set), 0 apart
+  // Per pair: the value of Simulation's `travel` from which on the pair may touch (unit: m). A pair
+  // found apart by a gap g when travel was t0 cannot close while travel < t0 + g/2 (each of its
+  // balls moved at most travel - t0 since), so the pair stage does not look at it until then. In a
+  // shaken bed most candidate pairs sleep for hundreds of steps; they cost one comparison a step.
+  std::vector<double> wake;
 
   std::uint32_t ranges = 0;                  // 0: not yet cut for this list (derive_ranges)
   std::vector<std::uint32_t> range_first;    // ranges + 1: range r holds particles [range_first[r], range_first[r + 1])
@@ -114,7 +119,15 @@ class Simulation {
  public:
   explicit Simulation(const Scene& scene);
 
-  void step();                      // advance one time step
+  void step() { advance(1); }       // advance one time step
+  // Advances `steps` time steps, the same bits as step() that many times. Between two of them the
+  // balls' second half-kick (stage 9) is not a pass of its own: it is done in the next step's
+  // kick_drift, which applies the same force twice in the same order (v + h F/m, then + h F/m), and
+  // the wall stage visits only the balls near a wall or the cavity's bounds (near_balls_). One pass
+  // over the balls fewer a step. The state is complete when it returns (and only then: read
+  // particles(), energy(), checkpoints between calls). A non-finite velocity is then found one step
+  // later than by step().
+  void advance(std::uint64_t steps);
   const Scene& scene() const { return scene_; }
   double time() const { return static_cast<double>(step_) * scene_.dt; }
   std::uint64_t steps_done() const { return step_; }
@@ -217,6 +230,7 @@ class Simulation {
   void load_state(const std::vector<char>& image);
 
  private:
+  void step_once(bool last);
   void kick_drift();
   void move_cavity();
   void update_neighbours(bool force_rebuild);
@@ -352,6 +366,10 @@ class Simulation {
   // build. The list holds while no ball and not the cavity moved more than skin/2 since
   // (kick_drift, move_cavity), so the walls not in it cannot be touched: wall_contacts skips them.
   std::vector<std::uint32_t> wall_near_;
+  // The balls, ascending, that may touch a wall or leave the cavity's bounds before the next build:
+  // a wall near (wall_near_) or the centre within skin of the bounds at the build. The others are
+  // skipped by the wall stage when it has nothing else to do for them (advance).
+  std::vector<std::uint32_t> near_balls_;
   Vec3 cavity_pos_at_build_ = Vec3::Zero();   // cavity position and shear at the last build
   Vec3 cavity_shear_at_build_ = Vec3::Zero();
   CavityState cavity_, cavity_prev_;
@@ -432,8 +450,16 @@ class Simulation {
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).
   bool kick_balls_here() const { return surfaces_.empty() && dt_step_ > 0; }
+  // In advance: this step's kick of the balls is left to the next step's kick_drift (only when stage
+  // 5 would do it: no triangulated surface).
+  bool defer_kick_ = false;
+  bool kick_pending_ = false;                 // the last step's kick of the balls is still to be done
   bool balls_finite_ = true;                  // every ball's velocity finite after that kick
+  bool finished_finite_ = true;               // every ball's velocity finite after kick_drift finished a pending kick
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
+  // Since the pair list was installed (derive_pair_buffers): the sum over the steps of the largest
+  // distance any ball moved in the step, rounded up, so no ball moved farther (PairState::wake) (unit: m).
+  double travel_ = 0;
   bool all_finite_ = true;                    // every velocity finite (kick)
   // Guard results of the last step, kept free of divisions (the ratios go into messages only).
   double overlap_excess_ = 0;       // max over contacts of overlap - max_overlap x smaller radius (unit: m)

@@ -256,13 +256,24 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t first_step = sim.steps_done();
 
+  // The next step after s at which something is recorded or checked: the steps up to it run as one
+  // advance (Simulation::advance, the same bits as step by step, one pass over the balls fewer).
+  auto next_event = [&](std::uint64_t s) {
+    std::uint64_t e = total;
+    for (std::uint64_t every : {n_cavity, energy ? n_energy : 0, n_frame, n_ckpt, std::uint64_t{1024}})
+      if (every > 0) e = std::min(e, (s / every + 1) * every);
+    for (std::uint64_t at : {settle_step, energy ? measure_step : 0})
+      if (at > s) e = std::min(e, at);
+    if (opt.stop_after_steps >= 0) e = std::min(e, std::max(s + 1, first_step + static_cast<std::uint64_t>(opt.stop_after_steps)));
+    return e;
+  };
   try {
     while (sim.steps_done() < total) {
       if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps)) {
         file->flush();
         return rep;  // simulated kill: nothing finalised
       }
-      sim.step();
+      sim.advance(next_event(sim.steps_done()) - sim.steps_done());
       const std::uint64_t s = sim.steps_done();
       const double t = sim.time();
       if (s == settle_step) {

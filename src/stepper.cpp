@@ -182,13 +182,12 @@ void Simulation::kick_drift() {
   // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
   travel_ = std::nextafter(travel_ + std::sqrt(moved.step2) * (1.0 + 1e-14), HUGE_VAL);
   const std::size_t nn = film_.size();
-#pragma omp parallel for schedule(static) if (nn > kParallelMin)
-  for (std::size_t k = 0; k < nn; ++k) {
+  parallel_for(nn, [&](std::size_t k) {
     const Vec3 dv = h * film_.inv_mass[k] * film_.f[k];
     film_.v[k] += dv;
     film_.x[k] += dt * film_.v[k];
     film_.v_pred[k] = film_.v[k] + dv;
-  }
+  });
   if (couple_) structure_drift();
 }
 
@@ -229,8 +228,7 @@ void Simulation::update_neighbours(bool force_rebuild) {
   roll_new.assign(roll ? fresh.size() : 0, {});
   damp_new.assign(en ? fresh.size() : 0, 0.0);
   if ((tan || roll || en) && !ps_.pairs.partner.empty()) {
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
-    for (std::size_t i = 0; i < n; ++i) {
+    parallel_for(n, [&](std::size_t i) {
       std::uint32_t a = ps_.pairs.begin[i], b = fresh.begin[i];
       const std::uint32_t a_end = ps_.pairs.begin[i + 1], b_end = fresh.begin[i + 1];
       while (a < a_end && b < b_end) {
@@ -241,7 +239,7 @@ void Simulation::update_neighbours(bool force_rebuild) {
         if (en) damp_new[b] = ps_.damping_prev[a];
         ++a, ++b;
       }
-    }
+    });
   }
   std::swap(ps_.pairs, spare_.pairs);
   std::swap(ps_.tangential, spare_.tangential);
@@ -266,8 +264,7 @@ void Simulation::find_near_walls() {
   // Near the bounds: the centre within skin of them (it moves less than skin relative to the cavity
   // before the next build, so the others stay inside).
   std::vector<std::uint8_t> in_reach(n);
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
-  for (std::size_t p = 0; p < n; ++p) {
+  parallel_for(n, [&](std::size_t p) {
     const Vec3 x = x_at_build_[p];
     const double s = tilt_ ? (x - at_build.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
     const Vec3 x_local = x - at_build.position - s * at_build.shear;
@@ -279,7 +276,7 @@ void Simulation::find_near_walls() {
     wall_near_[p] = near;
     const double d_bounds = std::min((x_local - scene_.cavity_lo).minCoeff(), (scene_.cavity_hi - x_local).minCoeff());
     in_reach[p] = near != 0 || d_bounds < scene_.skin;
-  }
+  });
   near_balls_.clear();
   for (std::size_t p = 0; p < n; ++p) {
     if (in_reach[p]) near_balls_.push_back(static_cast<std::uint32_t>(p));
@@ -362,11 +359,10 @@ void Simulation::kick() {
         scene_.models.rotation);
   }
   const std::size_t nn = film_.size();
-#pragma omp parallel for schedule(static) reduction(&& : finite) if (nn > kParallelMin)
-  for (std::size_t k = 0; k < nn; ++k) {
+  finite = parallel_fold(nn, finite, [&](std::size_t k) {
     film_.v[k] += h * film_.inv_mass[k] * film_.f[k];
-    finite = finite && std::isfinite(film_.v[k].squaredNorm());
-  }
+    return std::isfinite(film_.v[k].squaredNorm());
+  }, [](bool a, bool b) { return a && b; });
   if (couple_) {
     structure_kick();
     for (double v : structure_.v) finite = finite && std::isfinite(v);

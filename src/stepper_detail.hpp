@@ -26,9 +26,6 @@ void with_flags(Fn&& fn, bool first, Rest... rest) {
   else with_flags<Done..., false>(fn, rest...);
 }
 
-// Loops over n items run on all threads only when there are several and enough items (below
-// kParallelMin, fork and join cost more than the work).
-inline bool threaded(std::size_t n) { return n > kParallelMin && omp_get_max_threads() > 1; }
 
 // body(i, acc) for i in [begin, end): one function with everything it calls inlined (GCC otherwise
 // leaves Eigen's small operators out of line inside large loop bodies). body arrives by value, so

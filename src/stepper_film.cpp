@@ -49,11 +49,10 @@ void Simulation::film_stage() {
   const Bag& bag = *scene_.bag;
   const std::size_t nn = film_.size();
   const bool gravity = scene_.models.gravity;
-#pragma omp parallel for schedule(static) if (nn > kParallelMin)
-  for (std::size_t k = 0; k < nn; ++k) {
+  parallel_for(nn, [&](std::size_t k) {
     film_.f[k] = gravity ? Vec3(film_.mass[k] * scene_.gravity) : Vec3::Zero();
     film_.f_damp[k].setZero();
-  }
+  });
   film_load_moments_.setZero();
   // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
   membrane_->add_forces(film_.x, film_.v_pred, film_.f, film_.f_damp);

@@ -143,9 +143,8 @@ void Simulation::triangle_contacts_impl() {
   const std::size_t n = p_.size();
   const double dt = dt_step_;
   const WallMotion rigid = rigid_motion();
-  double excess = overlap_excess_;
-#pragma omp parallel for schedule(static) reduction(max : excess) if (n > kParallelMin)
-  for (std::size_t p = 0; p < n; ++p) {
+  auto one = [&](std::size_t p) {
+    double excess = -HUGE_VAL;
     const Vec3 c_step = tilt_ ? motion_at(p_.x[p]).step : rigid.step;
     Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
@@ -161,8 +160,9 @@ void Simulation::triangle_contacts_impl() {
       tally_.diss_tangential[p] += diss.y();
       tally_.diss_rolling[p] += diss.z();
     }
-  }
-  overlap_excess_ = excess;
+    return excess;
+  };
+  overlap_excess_ = parallel_fold(n, overlap_excess_, one, [](double a, double b) { return std::max(a, b); });
 }
 
 // From the positions of a build (the current ones, or those stored in a checkpoint).

@@ -38,14 +38,12 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
+#include "bagdem/parallel.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
-
-// Parallel loops below this many items run on one thread (fork/join costs more than the work).
-inline constexpr std::size_t kParallelMin = 512;
 
 // Contact histories and per-pair results on the current candidate pair list.
 //

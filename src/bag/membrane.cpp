@@ -1,5 +1,6 @@
 // See include/bagdem/bag/membrane.hpp for the model and its sources.
 #include "bagdem/bag/membrane.hpp"
+#include "bagdem/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +11,6 @@
 namespace bagdem {
 
 namespace {
-
-// Element and node loops below this many items run on one thread (as the stepper's loops).
-constexpr std::size_t kParallelMin = 512;
 
 enum Regime : std::uint8_t { kSlack = 0, kWrinkled = 1, kTaut = 2 };
 
@@ -337,8 +335,7 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
   const double t = props_.thickness, beta = props_.damping_time;
   const bool damped = beta > 0;
 
-#pragma omp parallel for schedule(static) if (nt > kParallelMin)
-  for (std::size_t i = 0; i < nt; ++i) {
+  parallel_for(nt, [&](std::size_t i) {
     const auto& tr = tri_[i];
     const Gradient F = deformation_gradient(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], dm_inv_[i]);
     const Stress st = stress(law, green_strain(F));
@@ -349,20 +346,18 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       const Gradient dF = deformation_gradient(v[tr[1]] - v[tr[0]], v[tr[2]] - v[tr[0]], dm_inv_[i]);
       tri_damping_[i] = node_forces(F, viscous_stress(law, st, strain_rate(F, dF), beta), dm_inv_[i], tA0);
     }
-  }
+  });
 
-#pragma omp parallel for schedule(static) if (nh > kParallelMin)
-  for (std::size_t i = 0; i < nh; ++i) {
+  parallel_for(nh, [&](std::size_t i) {
     const Hinge& h = hinges_[i];
     const HingeEval he = hinge_eval(x[h.v0], x[h.v1], x[h.a], x[h.b]);
     const double d = angle_change(he.theta, h.theta0);
     const double c = -2.0 * h.k * d;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx
     hinge_energy_[i] = h.k * d * d;
     hinge_force_[i] = {c * he.grad[0], c * he.grad[1], c * he.grad[2], c * he.grad[3]};
-  }
+  });
 
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
-  for (std::size_t i = 0; i < n; ++i) {
+  parallel_for(n, [&](std::size_t i) {
     Vec3 fe = Vec3::Zero(), fd = Vec3::Zero();
     for (std::uint32_t k = tri_gather_begin_[i]; k < tri_gather_begin_[i + 1]; ++k) {
       const std::uint32_t r = tri_gather_[k] >> 2, s = tri_gather_[k] & 3;
@@ -373,7 +368,7 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
     f_elastic[i] += fe;
     if (damped) f_damping[i] += fd;
-  }
+  });
 
   // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.
   double energy = 0;

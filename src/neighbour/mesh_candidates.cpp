@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "bagdem/contact/sphere_triangle.hpp"
+#include "bagdem/parallel.hpp"
 
 namespace bagdem {
 namespace {
@@ -59,19 +60,17 @@ void find_mesh_candidates(const TriangleMesh& mesh, const std::vector<Vec3>& ver
       if (hit.distance2 < reach_i * reach_i) keep(it->second);
     }
   };
-#pragma omp parallel for schedule(static) if (ns > 512)
-  for (std::size_t i = 0; i < ns; ++i) {
+  parallel_for(ns, [&](std::size_t i) {
     std::uint32_t n = 0;
     visit(i, [&n](std::uint32_t) { ++n; });
     out.begin[i + 1] = n;
-  }
+  });
   for (std::size_t i = 0; i < ns; ++i) out.begin[i + 1] += out.begin[i];
   out.triangle.resize(out.begin[ns]);
-#pragma omp parallel for schedule(static) if (ns > 512)
-  for (std::size_t i = 0; i < ns; ++i) {
+  parallel_for(ns, [&](std::size_t i) {
     std::uint32_t at = out.begin[i];
     visit(i, [&](std::uint32_t t) { out.triangle[at++] = t; });
-  }
+  });
 }
 
 }  // namespace bagdem

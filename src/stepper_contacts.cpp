@@ -26,7 +26,8 @@ constexpr std::size_t kBlock = 128;
 // through records first (PairState): the same sums in the same order.
 void Simulation::pair_contacts() {
   const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
-  const auto ranges = static_cast<std::uint32_t>(ps_.pairs.size() > kParallelMin ? threads : 1);
+  const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
+  const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
   if (ps_.ranges != ranges) derive_ranges(ranges);
   // The contact-law configuration is chosen once here, never inside the loop.
   with_flags([this]<bool T, bool R, bool E, bool U>() { pair_contacts_impl<T, R, E, U>(); },

@@ -85,12 +85,13 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
 
 // The same over the particles [0, n) when the pair stage has cut them into ranges (PairState): each
 // thread takes the ranges it takes there, so a thread's particles stay in its core's cache from
-// stage to stage. Falls back to for_spans otherwise.
+// stage to stage. One range: on one thread, as the pair stage. Not cut yet (the step after a
+// checkpoint is loaded): for_spans.
 template <class Acc, class Span, class Merge>
 void for_range_spans(const PairState& ps, std::size_t n, Acc& acc, const Span& span, Merge merge) {
   const std::size_t ranges = ps.ranges;
   if (ranges <= 1 || ps.range_first.size() != ranges + 1 || ps.range_first[ranges] != n || !threaded(n)) {
-    for_spans(n, threaded(n), acc, span, merge);
+    for_spans(n, ranges == 0 && threaded(n), acc, span, merge);
     return;
   }
 #pragma omp parallel

@@ -397,6 +397,7 @@ Snapshot run_threads(const Scene& s, int threads, std::uint64_t steps) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(threads);
   Simulation sim(s);
+  sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
   for (std::uint64_t k = 0; k < steps; ++k) sim.step();
   omp_set_num_threads(before);
   return {sim.particles().x, sim.particles().v, sim.film().x, sim.film().v, sim.energy()};

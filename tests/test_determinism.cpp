@@ -1,7 +1,8 @@
 // Thread-count independence (stepper.hpp, "Determinism"): every per-particle sum runs in a fixed
 // order and totals are summed in index order, so a run must be bitwise identical for any number of
-// OpenMP threads. The parallel loops engage above 512 particles / pairs and the broad phase above
-// 2000 particles, so the scenes here are above those sizes.
+// OpenMP threads. The parallel loops engage above 512 items (the ball stages from kParallelBalls =
+// 2048 balls, lowered to 512 here with set_parallel_balls) and the broad phase above 2000 particles,
+// so the scenes here are above those sizes.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -70,6 +71,7 @@ RunResult run(const Scene& s, int threads) {
   RunResult r;
   {
     Simulation sim(s);
+    sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
     for (std::uint64_t k = 0; k < s.total_steps(); ++k) {
       sim.step();
       if (k % 25 == 0) r.max_contacts = std::max(r.max_contacts, sim.contact_count());
@@ -145,11 +147,13 @@ TEST(Determinism, RestoredCheckpointContinuesBitwise) {
   {
     omp_set_num_threads(1);
     Simulation a(s);
+    a.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
     for (std::uint64_t k = 0; k < s.total_steps() / 2; ++k) a.step();
     mid = a.save_state();
   }
   omp_set_num_threads(2);
   Simulation b(s);
+  b.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
   b.load_state(mid);
   EXPECT_EQ(b.steps_done(), s.total_steps() / 2);
   while (b.steps_done() < s.total_steps()) b.step();
@@ -170,6 +174,7 @@ TEST(Determinism, ThreadCountChangedMidRun) {
   EnergySample energy;
   {
     Simulation sim(s);
+    sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
     while (sim.steps_done() < s.total_steps()) {
       omp_set_num_threads(sim.steps_done() % 8 < 5 ? 2 : 1);
       sim.step();
@@ -194,6 +199,7 @@ TEST(Determinism, AdvanceEqualsStepByStep) {
       const int before = omp_get_max_threads();
       omp_set_num_threads(threads);
       Simulation sim(s);
+      sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
       const std::uint64_t chunks[] = {1, 37, 2, 60};
       for (std::size_t c = 0; sim.steps_done() < s.total_steps(); ++c)
         sim.advance(std::min(chunks[c % 4], s.total_steps() - sim.steps_done()));

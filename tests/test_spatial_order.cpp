@@ -150,6 +150,7 @@ TEST(SpatialOrder, TwoRangesShareFewPairs) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(2);
   Simulation sim(s);
+  sim.set_parallel_balls(kParallelMin);  // two ranges on this small scene
   sim.step();
   omp_set_num_threads(before);
   const PairState& ps = sim.pair_state();

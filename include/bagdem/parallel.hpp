@@ -12,6 +12,12 @@ namespace bagdem {
 // Parallel loops below this many items run on one thread (fork/join costs more than the work).
 inline constexpr std::size_t kParallelMin = 512;
 
+// Below this many balls the step's ball stages (drift, pairs, walls) run on one thread. Their three
+// parallel regions a step cost about 7 us of fork, join and imbalance on two threads, the work of
+// some 200 balls: on the PD-box bed two threads were 0.8x of one at 1000 balls and 1.15-1.5x at
+// 4000 (bagdem bench --growth --tiles 1 2 --threads 1 / 2, 2026-11-25).
+inline constexpr std::size_t kParallelBalls = 2048;
+
 // Whether a loop over n items runs on several threads.
 inline bool threaded(std::size_t n) { return n > kParallelMin && omp_get_max_threads() > 1; }
 

@@ -6,7 +6,8 @@
 //   3. neighbours      rebuild the Verlet pair list, the walls near each ball and the
 //                      sphere-triangle candidate lists when a ball, a film node or the cavity
 //                      moved more than skin/2
-//   4. pair_contacts   each candidate pair: geometry -> contact law -> per-pair force/torque
+//   4. pair_contacts   each candidate pair that may touch (PairState::wake): geometry -> contact
+//                      law -> per-pair force/torque
 //   5. wall_contacts   each ball: its wall contacts
 //   6. triangles       each ball: its contacts with triangulated surfaces, the bag's film and STL
 //                      walls (stepper_meshes.cpp)
@@ -15,7 +16,8 @@
 //   8. structure       the primary structure carrying the cavity: the contents' load on it, its
 //                      external force, its acceleration (stepper_structure.cpp)
 //   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
-//                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface)
+//                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface,
+//                      and between the steps of one advance() in the next step's stage 1)
 //  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
@@ -182,6 +184,9 @@ class Simulation {
     std::uint64_t steps = 0;
   };
   void set_profiling(bool on) { profile_ = on; }
+  // From how many balls the ball stages run on several threads (default kParallelBalls, parallel.hpp).
+  // Results are the same bits for any value; tests lower it to run the parallel paths on small scenes.
+  void set_parallel_balls(std::size_t n) { parallel_balls_ = n; }
   const StageTimes& stage_times() const { return times_; }
   // Maximum number of triangle features one ball touches at once.
   static constexpr std::size_t kMaxMeshContacts = 8;
@@ -444,6 +449,7 @@ class Simulation {
   double contents_mass_ = 0;                  // balls and film nodes (unit: kg)
   bool profile_ = false;
   StageTimes times_;
+  std::size_t parallel_balls_ = kParallelBalls;  // set_parallel_balls
   bool uniform_ = false;                      // all balls of one radius and one material
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).

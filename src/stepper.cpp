@@ -263,7 +263,8 @@ void Simulation::find_near_walls() {
   at_build.shear = cavity_shear_at_build_;
   // Near the bounds: the centre within skin of them (it moves less than skin relative to the cavity
   // before the next build, so the others stay inside).
-  std::vector<std::uint8_t> in_reach(n);
+  std::vector<std::uint8_t>& in_reach = near_scratch_;
+  in_reach.resize(n);
   parallel_for(n, [&](std::size_t p) {
     const Vec3 x = x_at_build_[p];
     const double s = tilt_ ? (x - at_build.position - scene_.cavity_reference).dot(load_axis_) : 0.0;

@@ -373,6 +373,7 @@ class Simulation {
   // a wall near (wall_near_) or the centre within skin of the bounds at the build. The others are
   // skipped by the wall stage when it has nothing else to do for them (advance).
   std::vector<std::uint32_t> near_balls_;
+  std::vector<std::uint8_t> near_scratch_;    // find_near_walls: per ball, 1 if in near_balls_ (kept: no allocation in a step)
   Vec3 cavity_pos_at_build_ = Vec3::Zero();   // cavity position and shear at the last build
   Vec3 cavity_shear_at_build_ = Vec3::Zero();
   CavityState cavity_, cavity_prev_;

@@ -26,7 +26,6 @@ void with_flags(Fn&& fn, bool first, Rest... rest) {
   else with_flags<Done..., false>(fn, rest...);
 }
 
-
 // body(i, acc) for i in [begin, end): one function with everything it calls inlined (GCC otherwise
 // leaves Eigen's small operators out of line inside large loop bodies). body arrives by value, so
 // its captures are this function's own and stay in registers.

@@ -94,6 +94,7 @@ void Simulation::step_once(bool last) {
     kick();
     ++step_;
     guards();
+    end_balance();
     return;
   }
   // The same stages, each timed.
@@ -122,7 +123,14 @@ void Simulation::step_once(bool last) {
   ++step_;
   ++times_.steps;
   guards();
+  end_balance();
   lap(times_.guards);
+}
+
+// The threads' spans are moved by the clock (SpanBalance); the pair stage's ranges are cut anew
+// where its cuts moved.
+void Simulation::end_balance() {
+  if (balance_.end_step()) ps_.ranges = 0;
 }
 
 // ---- 1. kick_drift ------------------------------------------------------------------------------
@@ -168,7 +176,7 @@ void Simulation::kick_drift() {
           p_.t[i].setZero();
           if constexpr (Energy) tally_.step_dissipation[i].setZero();
         };
-        for_ranges(ps_, n, moved, one, [](Moved& a, const Moved& b) {
+        for_ranges(balance_, n, moved, one, [](Moved& a, const Moved& b) {
           a.far = a.far || b.far;
           a.step2 = std::max(a.step2, b.step2);
           a.finite = a.finite && b.finite;
@@ -306,15 +314,20 @@ void Simulation::derive_pair_buffers() {
   ps_.ranges = 0;  // cut into ranges at the next pair stage, for its thread count (derive_ranges)
 }
 
-// The particles cut into `ranges` ranges of about equal pair counts, the cross pairs and their
-// records (PairState). Redone after each neighbour build and when the thread count changes.
+// The particles cut into `ranges` ranges, the cross pairs and their records (PairState). Redone
+// after each neighbour build, when the thread count changes and when the pair stage's balance moved
+// its cuts. The cuts are the balance's (SpanBalance), at first of about equal pair counts.
 void Simulation::derive_ranges(std::uint32_t ranges) {
   const std::size_t n = p_.size(), np = ps_.pairs.size();
   const CandidatePairs& pairs = ps_.pairs;
+  if (balance_.spans() != ranges || balance_.cuts().back() != n) {
+    std::vector<std::uint32_t> cuts(ranges + 1, static_cast<std::uint32_t>(n));
+    cuts[0] = 0;
+    for (std::uint32_t r = 1; r < ranges; ++r) cuts[r] = ps_.first[np * r / ranges];
+    balance_.reset(cuts);
+  }
   ps_.ranges = ranges;
-  ps_.range_first.assign(ranges + 1, static_cast<std::uint32_t>(n));
-  ps_.range_first[0] = 0;
-  for (std::uint32_t r = 1; r < ranges; ++r) ps_.range_first[r] = ps_.first[np * r / ranges];
+  ps_.range_first = balance_.cuts();
   ps_.cross.clear();
   ps_.is_cross.assign(np, 0);
   for (std::uint32_t r = 0; r < ranges; ++r)
@@ -355,7 +368,7 @@ void Simulation::kick() {
           auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
             finite = kick_ball(i, p_.f[i], p_.t[i], h, Rotation) && finite;
           };
-          for_ranges(ps_, n, finite, one, [](bool& a, bool b) { a = a && b; });
+          for_ranges(balance_, n, finite, one, [](bool& a, bool b) { a = a && b; });
         },
         scene_.models.rotation);
   }

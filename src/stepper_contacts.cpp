@@ -288,7 +288,11 @@ void Simulation::pair_contacts_impl() {
       // all for any team size).
       run_items(cross_item, me * cross_blocks / team, (me + 1) * cross_blocks / team, mine);
 #pragma omp barrier
-      for (std::size_t r = me; r < ranges; r += team) run_items(one_range, r, r + 1, mine);
+      for (std::size_t r = me; r < ranges; r += team) {
+        const double start = omp_get_wtime();
+        run_items(one_range, r, r + 1, mine);
+        balance_.add(r, omp_get_wtime() - start);
+      }
 #pragma omp critical(bagdem_pair_excess)
       excess = std::max(excess, mine);
     }
@@ -528,7 +532,7 @@ void Simulation::wall_contacts_impl() {
     }
     flush();
   };
-  for_range_spans(ps_, n, ext, span, [](GuardValues& a, const GuardValues& b) {
+  for_range_spans(balance_, n, ext, span, [](GuardValues& a, const GuardValues& b) {
     a.excess = std::max(a.excess, b.excess);
     a.min_dist = std::min(a.min_dist, b.min_dist);
     a.finite = a.finite && b.finite;

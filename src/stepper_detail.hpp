@@ -82,31 +82,40 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
       n, parallel, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
 }
 
-// The same over the particles [0, n) when the pair stage has cut them into ranges (PairState): each
-// thread takes the ranges it takes there, so a thread's particles stay in its core's cache from
-// stage to stage. One range: on one thread, as the pair stage. Not cut yet (the step after a
-// checkpoint is loaded): for_spans.
+// The same over the particles [0, n) cut into spans by `balance` (one per thread, SpanBalance): each
+// thread takes its span, times it, and the balance moves the cuts between steps so that the threads
+// finish together. The cuts start where the pair stage's ranges lie (PairState), so a thread's
+// particles stay in its core's cache from stage to stage. One span: on one thread. Not cut yet (the
+// step after a checkpoint is loaded): for_spans.
 template <class Acc, class Span, class Merge>
-void for_range_spans(const PairState& ps, std::size_t n, Acc& acc, const Span& span, Merge merge) {
-  const std::size_t ranges = ps.ranges;
-  if (ranges <= 1 || ps.range_first.size() != ranges + 1 || ps.range_first[ranges] != n || !threaded(n)) {
-    for_spans(n, ranges == 0 && threaded(n), acc, span, merge);
+void for_range_spans(SpanBalance& balance, std::size_t n, Acc& acc, const Span& span, Merge merge) {
+  const std::size_t spans = balance.spans();
+  if (spans <= 1 || balance.end(spans - 1) != n || !threaded(n)) {
+    if (spans >= 1 && balance.end(spans - 1) == n) {
+      span(0, n, acc);
+    } else {
+      for_spans(n, threaded(n), acc, span, merge);
+    }
     return;
   }
 #pragma omp parallel
   {
     Acc mine = acc;
     const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
-    for (std::size_t r = me; r < ranges; r += team) span(ps.range_first[r], ps.range_first[r + 1], mine);
+    for (std::size_t r = me; r < spans; r += team) {
+      const double start = omp_get_wtime();
+      span(balance.begin(r), balance.end(r), mine);
+      balance.add(r, omp_get_wtime() - start);
+    }
 #pragma omp critical(bagdem_for_ranges)
     merge(acc, mine);
   }
 }
 // The same with body(i, acc) for each particle.
 template <class Acc, class Body, class Merge>
-void for_ranges(const PairState& ps, std::size_t n, Acc& acc, const Body& body, Merge merge) {
+void for_ranges(SpanBalance& balance, std::size_t n, Acc& acc, const Body& body, Merge merge) {
   for_range_spans(
-      ps, n, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
+      balance, n, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
 }
 
 // What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last

@@ -63,6 +63,7 @@ struct RunResult {
   EnergySample energy;
   std::size_t pairs = 0, contacts = 0, max_contacts = 0;
   std::uint64_t builds = 0;
+  std::uint64_t moves = 0;  // times the threads' spans moved (SpanBalance)
 };
 
 RunResult run(const Scene& s, int threads) {
@@ -72,6 +73,7 @@ RunResult run(const Scene& s, int threads) {
   {
     Simulation sim(s);
     sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
+    sim.set_balance_window(1, 0.0);        // the threads' spans move at every step
     for (std::uint64_t k = 0; k < s.total_steps(); ++k) {
       sim.step();
       if (k % 25 == 0) r.max_contacts = std::max(r.max_contacts, sim.contact_count());
@@ -81,6 +83,7 @@ RunResult run(const Scene& s, int threads) {
     r.pairs = sim.pair_state().pairs.size();
     r.contacts = sim.contact_count();
     r.builds = sim.neighbour_builds();
+    r.moves = sim.balance().moves();
   }
   omp_set_num_threads(before);
   return r;
@@ -106,6 +109,7 @@ void compare_thread_counts(const Scene& s, const char* label) {
   EXPECT_GT(one.energy.dissipated_rolling, 0.0);
   for (int threads : {2, 3}) {
     const RunResult other = run(s, threads);
+    EXPECT_GT(other.moves, other.builds) << label << ": the threads' spans must move during the run";
     const std::uint64_t h1 = fnv1a64(one.state), hk = fnv1a64(other.state);
     std::printf("[determinism] %s: state hash %016llx (%d threads)\n", label,
                 static_cast<unsigned long long>(hk), threads);
@@ -121,7 +125,8 @@ void compare_thread_counts(const Scene& s, const char* label) {
 }  // namespace
 
 // Reference: the 1-thread run. Tolerance: bitwise equality (FNV-1a 64 of the checkpoint image, the
-// image itself, and the EnergySample bytes) with 2 and 3 threads (3: uneven static partitions).
+// image itself, and the EnergySample bytes) with 2 and 3 threads (3: uneven static partitions),
+// whose spans of balls move by the clock at every step (SpanBalance).
 // 8 x 8 x 12 = 768 particles, 150 steps (few steps: on a loaded 2-core machine every OpenMP
 // region can cost a scheduler time slice).
 TEST(Determinism, ShakenFrictionalBoxSameForAnyThreadCount) {
@@ -154,6 +159,7 @@ TEST(Determinism, RestoredCheckpointContinuesBitwise) {
   omp_set_num_threads(2);
   Simulation b(s);
   b.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
+  b.set_balance_window(1, 0.0);        // and the threads' spans moving at every step
   b.load_state(mid);
   EXPECT_EQ(b.steps_done(), s.total_steps() / 2);
   while (b.steps_done() < s.total_steps()) b.step();
@@ -175,6 +181,7 @@ TEST(Determinism, ThreadCountChangedMidRun) {
   {
     Simulation sim(s);
     sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
+    sim.set_balance_window(1, 0.0);        // and the threads' spans moving at every step
     while (sim.steps_done() < s.total_steps()) {
       omp_set_num_threads(sim.steps_done() % 8 < 5 ? 2 : 1);
       sim.step();

@@ -43,6 +43,7 @@
 #include "bagdem/parallel.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
+#include "bagdem/span_balance.hpp"
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
@@ -50,7 +51,7 @@ namespace bagdem {
 // Contact histories and per-pair results on the current candidate pair list.
 //
 // Pair contacts on several threads. The particles are cut into `ranges` contiguous ranges (one per
-// thread, of about equal pair counts), and each range's pairs are summed onto its particles in pair
+// thread; at first of about equal pair counts, then moved by the clock, SpanBalance), and each range's pairs are summed onto its particles in pair
 // order by one thread, as a single thread sums them all. The spatial order of the balls makes the
 // ranges slabs of the bed, so few pairs cross between them (1-4% in a packed bed). A pair whose particles lie in two ranges
 // (a cross pair: i's range is below j's) is computed first, by any thread, into two records. i adds
@@ -187,6 +188,11 @@ class Simulation {
   // From how many balls the ball stages run on several threads (default kParallelBalls, parallel.hpp).
   // Results are the same bits for any value; tests lower it to run the parallel paths on small scenes.
   void set_parallel_balls(std::size_t n) { parallel_balls_ = n; }
+  // How the threads' spans of the ball stages are balanced (SpanBalance): tests move them after every
+  // step (window 1, tolerance 0) to show that results do not depend on where they lie.
+  void set_balance_window(std::uint32_t steps, double tolerance) { balance_.set_window(steps, tolerance); }
+  // The spans' cuts now and how often they moved.
+  const SpanBalance& balance() const { return balance_; }
   const StageTimes& stage_times() const { return times_; }
   // Maximum number of triangle features one ball touches at once.
   static constexpr std::size_t kMaxMeshContacts = 8;
@@ -287,6 +293,7 @@ class Simulation {
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
   void pair_contacts_impl();
   void derive_ranges(std::uint32_t ranges);
+  void end_balance();
   template <bool Tangential, bool Rolling, bool Energy>
   void wall_contacts_impl();
   template <bool Tangential, bool Rolling, bool Energy>
@@ -451,6 +458,11 @@ class Simulation {
   bool profile_ = false;
   StageTimes times_;
   std::size_t parallel_balls_ = kParallelBalls;  // set_parallel_balls
+  // The threads' spans of the ball stages: the pair stage's ranges (PairState), kick_drift's (and
+  // kick's) and the wall stage's. One set of cuts for the three, so that a thread's balls stay in
+  // its core's cache from stage to stage (with a set per stage the cuts chased each other and two
+  // threads were slower than one); moved by the three stages' summed times (SpanBalance).
+  SpanBalance balance_;
   bool uniform_ = false;                      // all balls of one radius and one material
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).

@@ -49,8 +49,8 @@ class SpanBalance {
 
 // New cuts of [cuts.front(), cuts.back()) for spans that took seconds[r]: span r's share is
 // proportional to its speed, (its items) / seconds[r], and at most doubles or halves in one move
-// (a thread held up by the system once does not give its work away). Spans without items or time
-// keep their speed's mean.
+// (a thread held up by the system once does not give its work away). A span without items or
+// time is given the mean speed of the others.
 std::vector<std::uint32_t> balanced_cuts(const std::vector<std::uint32_t>& cuts, const std::vector<double>& seconds);
 
 }  // namespace bagdem

@@ -51,10 +51,11 @@ namespace bagdem {
 // Contact histories and per-pair results on the current candidate pair list.
 //
 // Pair contacts on several threads. The particles are cut into `ranges` contiguous ranges (one per
-// thread; at first of about equal pair counts, then moved by the clock, SpanBalance), and each range's pairs are summed onto its particles in pair
-// order by one thread, as a single thread sums them all. The spatial order of the balls makes the
-// ranges slabs of the bed, so few pairs cross between them (1-4% in a packed bed). A pair whose particles lie in two ranges
-// (a cross pair: i's range is below j's) is computed first, by any thread, into two records. i adds
+// thread; at first of about equal pair counts, then moved by the clock, SpanBalance), and each
+// range's pairs are summed onto its particles in pair order by one thread, as a single thread sums
+// them all. The spatial order of the balls makes the ranges slabs of the bed, so few pairs cross
+// between them (1-4% in a packed bed). A pair whose particles lie in two ranges (a cross pair: i's
+// range is below j's) is computed first, by any thread, into two records. i adds
 // its record at the pair's place among its own pairs; j adds its records, in the order of their i,
 // before its own range reaches it: where a single thread adds them too (j's partners below its range
 // come first in partner order). The same operands in the same order: the same bits for any thread

@@ -90,12 +90,12 @@ void for_items(std::size_t n, bool parallel, Acc& acc, const Body& body, Merge m
 template <class Acc, class Span, class Merge>
 void for_range_spans(SpanBalance& balance, std::size_t n, Acc& acc, const Span& span, Merge merge) {
   const std::size_t spans = balance.spans();
-  if (spans <= 1 || balance.end(spans - 1) != n || !threaded(n)) {
-    if (spans >= 1 && balance.end(spans - 1) == n) {
-      span(0, n, acc);
-    } else {
-      for_spans(n, threaded(n), acc, span, merge);
-    }
+  if (spans == 0) {
+    for_spans(n, threaded(n), acc, span, merge);
+    return;
+  }
+  if (spans == 1 || !threaded(n)) {
+    span(0, n, acc);
     return;
   }
 #pragma omp parallel

@@ -24,14 +24,33 @@ constexpr std::size_t kBlock = 128;
 // receives its pairs (k, p), k < p ascending, then (p, j) ascending: partner order. On several
 // threads each thread does this for its own range of particles, and the pairs across ranges go
 // through records first (PairState): the same sums in the same order.
-void Simulation::pair_contacts() {
+void Simulation::pair_contacts(BallSpan walls, BallSpan drift) {
   const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
   const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
   if (ps_.ranges != ranges) derive_ranges(ranges);
   // The contact-law configuration is chosen once here, never inside the loop.
-  with_flags([this]<bool T, bool R, bool E, bool U>() { pair_contacts_impl<T, R, E, U>(); },
+  with_flags([this, walls, drift]<bool T, bool R, bool E, bool U>() { pair_contacts_impl<T, R, E, U>(walls, drift); },
              scene_.models.tangential, scene_.models.rolling, scene_.models.energy, uniform_);
+}
+
+// Stages 4, 5 and the next step's stage 1 in one parallel region, in advance() when no later stage
+// adds to the balls' forces (no film, no STL wall; fusable): each thread does its range's pairs,
+// then its walls, then moves its balls on to the next step (their kick and drift). The staged step
+// takes three regions (a fork and a join each, and each thread waits at each join for the slowest);
+// here the threads meet once, and a thread's lead in one stage makes up for its lag in another.
+// Why this is sound: pairs run i < j, so once range r's pairs are done no pair of this step reads
+// its balls again (the cross pairs into range r were computed before, PairState): their forces are
+// complete, their walls can be done and they can move on. The same operations on every ball in the
+// same order as the staged step: the same bits (Determinism.FusedStepEqualsStaged).
+// Tried and not kept: the same over pieces of 256 or 1024 balls at a time, so that a piece's state
+// is still in cache from its pairs when it drifts. It was slower, not faster: 79-83 ns against
+// 74-76 ns per particle-step at 49 000 balls on one thread (the staged passes stream through
+// memory, which the prefetchers follow; the pieces break the streams).
+void Simulation::fused_contacts() {
+  pair_contacts(wall_stage(), drift_stage(true));  // the kick of this step is pending (advance)
+  drifted_ = true;
+  ++fused_steps_;
 }
 
 // A pair contact opened this step: clears its history and returns what it still held
@@ -56,15 +75,29 @@ template <bool Tangential, bool Rolling, bool Energy>
 // Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
 // values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
-void Simulation::pair_contacts_impl() {
+void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
-  double excess = -1e300;
   const double r0 = np > 0 ? p_.radius[0] : 0.0, im0 = np > 0 ? p_.inv_mass[0] : 0.0;
   const PairLaw* law0 = np > 0 ? &laws(p_.material[0], p_.material[0]) : nullptr;
-  auto radius = [this, r0](std::uint32_t i) BAGDEM_INLINE_LAMBDA { return Uniform ? r0 : p_.radius[i]; };
+  // The arrays in locals, not through `this`: a store may alias the members, and the compiler would
+  // load each array's address again after every store (the flag stores to `touching` alias anything).
+  const Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
+  const double *radii = p_.radius.data(), *inv_mass = p_.inv_mass.data();
+  const int* material = p_.material.data();
+  Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = tally_.step_dissipation.data();
+  const std::uint32_t* first = ps_.first.data();
+  const std::uint32_t* partner = ps_.pairs.partner.data();
+  std::uint8_t* touching = ps_.touching.data();
+  double* damping_prev = ps_.damping_prev.data();
+  TangentialHistory* tangential = ps_.tangential.data();
+  RollingHistory* rolling = ps_.rolling.data();
+  const std::uint32_t* cross = ps_.cross.data();
+  PairState::Record* rec = ps_.rec.data();
+  Vec3* rec_diss = ps_.rec_diss.data();
+  auto radius = [radii, r0](std::uint32_t i) BAGDEM_INLINE_LAMBDA { return Uniform ? r0 : radii[i]; };
   // The contact law on kLanes pairs side by side (surface_contact_lanes): lane l is the pair ks[l]
   // for l < n; the lanes past n repeat the last pair (its histories are written again with the same
   // values, its results go to out[n..kLanes), unused). Each pair's force, torques and dissipation go
@@ -72,39 +105,39 @@ void Simulation::pair_contacts_impl() {
   struct alignas(32) Out {
     double F[4], Ti[4], Tj[4], diss[4];
   };
-  auto pair_lanes = [this, dt, frac, &laws, r0, im0, law0](const std::uint32_t* ks, int n, Out* out, double& excess)
+  auto pair_lanes = [=, &laws](const std::uint32_t* ks, int n, Out* out, double& excess)
                         BAGDEM_INLINE_LAMBDA {
     std::uint32_t K[kLanes], I[kLanes], J[kLanes];
     for (int l = 0; l < kLanes; ++l) {
       K[l] = ks[std::min(l, n - 1)];
-      I[l] = ps_.first[K[l]];
-      J[l] = ps_.pairs.partner[K[l]];
+      I[l] = first[K[l]];
+      J[l] = partner[K[l]];
     }
     auto gather = [](const auto& a, const std::uint32_t* at) BAGDEM_INLINE_LAMBDA {
       return Lanes{a[at[0]], a[at[1]], a[at[2]], a[at[3]]};  // built whole, not lane by lane (lanes.hpp)
     };
     ContactGeometryT<Lanes> g;
-    const Lanes ri = Uniform ? splat<Lanes>(r0) : gather(p_.radius, I), rj = Uniform ? splat<Lanes>(r0) : gather(p_.radius, J);
-    sphere_sphere_geometry<Lanes>(gather3(p_.x.data(), I), gather3(p_.x.data(), J), ri, rj, g);
+    const Lanes ri = Uniform ? splat<Lanes>(r0) : gather(radii, I), rj = Uniform ? splat<Lanes>(r0) : gather(radii, J);
+    sphere_sphere_geometry<Lanes>(gather3(x, I), gather3(x, J), ri, rj, g);
     const Lanes deep = g.overlap - frac * min_of(ri, rj);
     for (int l = 0; l < n; ++l) excess = std::max(excess, deep[l]);
-    g.m_eff = Uniform ? splat<Lanes>(1.0 / (im0 + im0)) : 1.0 / (gather(p_.inv_mass, I) + gather(p_.inv_mass, J));
+    g.m_eff = Uniform ? splat<Lanes>(1.0 / (im0 + im0)) : 1.0 / (gather(inv_mass, I) + gather(inv_mass, J));
     if constexpr (Tangential || Rolling) {
-      const Lanes3 wi = gather3(p_.w.data(), I), wj = gather3(p_.w.data(), J);
-      g.v_rel = contact_velocity<Lanes>(gather3(p_.v_pred.data(), I), gather3(p_.v_pred.data(), J), gather3(p_.w_pred.data(), I), gather3(p_.w_pred.data(), J), g);
-      g.v_half = contact_velocity<Lanes>(gather3(p_.v.data(), I), gather3(p_.v.data(), J), wi, wj, g);
+      const Lanes3 wi = gather3(w, I), wj = gather3(w, J);
+      g.v_rel = contact_velocity<Lanes>(gather3(v_pred, I), gather3(v_pred, J), gather3(w_pred, I), gather3(w_pred, J), g);
+      g.v_half = contact_velocity<Lanes>(gather3(v, I), gather3(v, J), wi, wj, g);
       g.w_half = wi - wj;
     } else {
-      g.v_rel = gather3(p_.v_pred.data(), I) - gather3(p_.v_pred.data(), J);
-      g.v_half = gather3(p_.v.data(), I) - gather3(p_.v.data(), J);
+      g.v_rel = gather3(v_pred, I) - gather3(v_pred, J);
+      g.v_half = gather3(v, I) - gather3(v, J);
     }
     double* damping[kLanes];
     TangentialHistory* th[kLanes];
     RollingHistory* rh[kLanes];
     for (int l = 0; l < kLanes; ++l) {
-      damping[l] = Energy ? &ps_.damping_prev[K[l]] : nullptr;
-      th[l] = Tangential ? &ps_.tangential[K[l]] : nullptr;
-      rh[l] = Rolling ? &ps_.rolling[K[l]] : nullptr;
+      damping[l] = Energy ? &damping_prev[K[l]] : nullptr;
+      th[l] = Tangential ? &tangential[K[l]] : nullptr;
+      rh[l] = Rolling ? &rolling[K[l]] : nullptr;
     }
     auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
       const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
@@ -125,50 +158,46 @@ void Simulation::pair_contacts_impl() {
       with_law(*law0);
     } else {
       const PairLaw* e[kLanes];
-      for (int l = 0; l < kLanes; ++l) e[l] = &laws(p_.material[I[l]], p_.material[J[l]]);
+      for (int l = 0; l < kLanes; ++l) e[l] = &laws(material[I[l]], material[J[l]]);
       with_law(law_lanes(e));
     }
   };
   auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };
   // A closed pair's force, torques and dissipation onto its particles.
-  auto apply = [this, vec](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
-    ps_.touching[k] = 1;
-    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+  auto apply = [=](std::size_t k, const Out& o) BAGDEM_INLINE_LAMBDA {
+    touching[k] = 1;
+    const std::uint32_t i = first[k], j = partner[k];
     const Vec3 F = vec(o.F);
-    p_.f[i] += F;
-    p_.f[j] -= F;
+    f[i] += F;
+    f[j] -= F;
     if constexpr (Tangential || Rolling) {
-      p_.t[i] += vec(o.Ti);
-      p_.t[j] += vec(o.Tj);
+      t[i] += vec(o.Ti);
+      t[j] += vec(o.Tj);
     }
     if constexpr (Energy) {
-      tally_.step_dissipation[i] += 0.5 * vec(o.diss);
-      tally_.step_dissipation[j] += 0.5 * vec(o.diss);
+      diss[i] += 0.5 * vec(o.diss);
+      diss[j] += 0.5 * vec(o.diss);
     }
   };
   // The same into cross pair c's records (-F on j: f - F and f + (-F) are the same bits).
-  auto record = [this, vec](std::size_t c, const Out& o) BAGDEM_INLINE_LAMBDA {
-    ps_.touching[ps_.cross[c]] = 1;
+  auto record = [=](std::size_t c, const Out& o) BAGDEM_INLINE_LAMBDA {
+    touching[cross[c]] = 1;
     const Vec3 F = vec(o.F);
-    ps_.rec[2 * c] = {F, Tangential || Rolling ? vec(o.Ti) : Vec3::Zero()};
-    ps_.rec[2 * c + 1] = {-F, Tangential || Rolling ? vec(o.Tj) : Vec3::Zero()};
-    if constexpr (Energy) ps_.rec_diss[c] = vec(o.diss);
+    rec[2 * c] = {F, Tangential || Rolling ? vec(o.Ti) : Vec3::Zero()};
+    rec[2 * c + 1] = {-F, Tangential || Rolling ? vec(o.Tj) : Vec3::Zero()};
+    if constexpr (Energy) rec_diss[c] = vec(o.diss);
   };
   // Record e (of cross pair e / 2) onto particle p.
-  auto add_record = [this](std::uint32_t p, std::size_t e) BAGDEM_INLINE_LAMBDA {
-    p_.f[p] += ps_.rec[e].force;
-    if constexpr (Tangential || Rolling) p_.t[p] += ps_.rec[e].torque;
-    if constexpr (Energy) tally_.step_dissipation[p] += 0.5 * ps_.rec_diss[e / 2];
+  auto add_record = [=](std::uint32_t p, std::size_t e) BAGDEM_INLINE_LAMBDA {
+    f[p] += rec[e].force;
+    if constexpr (Tangential || Rolling) t[p] += rec[e].torque;
+    if constexpr (Energy) diss[p] += 0.5 * rec_diss[e / 2];
   };
   // Whether pair k touches now: the one test of contact (sphere_sphere's, spheres_apart), and when
   // it may touch at the earliest (PairState::wake): at once when it touches now or touched at the
   // last step (an opened pair's tallies and records are cleared at the next look), else once travel_
   // has grown by half its gap, less 1e-9 of the radii's sum, which covers the rounding of the gap
   // (about 1e-16 of it) many times over.
-  const Vec3* x = p_.x.data();
-  const std::uint32_t* first = ps_.first.data();
-  const std::uint32_t* partner = ps_.pairs.partner.data();
-  const std::uint8_t* touching = ps_.touching.data();
   double* wake = ps_.wake.data();
   const double travel = travel_;
   auto look = [x, first, partner, touching, wake, travel, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
@@ -226,12 +255,12 @@ void Simulation::pair_contacts_impl() {
       } else if (ko < kc) {
         const Vec3 d = open_pair<Tangential, Rolling, Energy>(ko);
         if constexpr (Energy) {
-          tally_.step_dissipation[ps_.first[ko]] += 0.5 * d;
-          tally_.step_dissipation[ps_.pairs.partner[ko]] += 0.5 * d;
+          diss[first[ko]] += 0.5 * d;
+          diss[partner[ko]] += 0.5 * d;
         }
         ++o;
       } else {
-        add_record(ps_.first[kc], 2 * (c0 + c));  // the block's cross pairs are c0, c0 + 1, ...
+        add_record(first[kc], 2 * (c0 + c));  // the block's cross pairs are c0, c0 + 1, ...
         ++c;
       }
     }
@@ -241,26 +270,23 @@ void Simulation::pair_contacts_impl() {
     std::uint32_t closed[kBlock], at[kBlock];
     std::size_t nc = 0;
     for (std::size_t c = c0; c < c1; ++c) {
-      const std::uint32_t k = ps_.cross[c];
+      const std::uint32_t k = cross[c];
       if (wake[k] > travel) continue;  // apart since its last look, which left its records zero
       if (look(k)) {
         closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
         continue;
       }
-      const Vec3 d = ps_.touching[k] != 0 ? open_pair<Tangential, Rolling, Energy>(k) : Vec3::Zero();
-      ps_.rec[2 * c] = ps_.rec[2 * c + 1] = {Vec3::Zero(), Vec3::Zero()};
-      if constexpr (Energy) ps_.rec_diss[c] = d;
+      const Vec3 d = touching[k] != 0 ? open_pair<Tangential, Rolling, Energy>(k) : Vec3::Zero();
+      rec[2 * c] = rec[2 * c + 1] = {Vec3::Zero(), Vec3::Zero()};
+      if constexpr (Energy) rec_diss[c] = d;
     }
     Out out[kBlock + kLanes];
     for (std::size_t a = 0; a < nc; a += kLanes)
       pair_lanes(closed + a, static_cast<int>(std::min<std::size_t>(kLanes, nc - a)), out + a, excess);
     for (std::size_t a = 0; a < nc; ++a) record(at[a], out[a]);
   };
-  // Range r: its particles' records from the ranges below, then its pairs.
-  auto one_range = [&](std::size_t r, double& excess) BAGDEM_INLINE_LAMBDA {
-    for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
-      add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
-    const std::size_t k0 = ps_.pairs.begin[ps_.range_first[r]], k1 = ps_.pairs.begin[ps_.range_first[r + 1]];
+  // Pairs [k0, k1) in blocks.
+  auto pair_span = [&](std::size_t k0, std::size_t k1, double& excess) BAGDEM_INLINE_LAMBDA {
     for (std::size_t k = k0; k < k1; k += kBlock) {
       const std::size_t end = std::min(k1, k + kBlock);
       // Most blocks hold no cross pair: they take the scan without the cross test.
@@ -272,9 +298,22 @@ void Simulation::pair_contacts_impl() {
       }
     }
   };
+  // Range r: its particles' records from the ranges below, then its pairs; fused (fused_contacts),
+  // then its walls and its drift.
+  auto one_range = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+    for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
+      add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
+    const std::uint32_t b0 = ps_.range_first[r], b1 = ps_.range_first[r + 1];
+    pair_span(ps_.pairs.begin[b0], ps_.pairs.begin[b1], fold.excess);
+    if (drift != nullptr) {
+      (this->*walls)(b0, b1, fold);
+      (this->*drift)(b0, b1, fold);
+    }
+  };
+  StageFold fold;
   const std::size_t ranges = ps_.ranges;
   if (ranges == 1) {
-    run_items(one_range, 0, 1, excess);
+    run_items(one_range, 0, 1, fold);
   } else {
     const std::size_t nx = ps_.cross.size(), cross_blocks = (nx + kBlock - 1) / kBlock;
     auto cross_item = [&](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
@@ -282,11 +321,11 @@ void Simulation::pair_contacts_impl() {
     };
 #pragma omp parallel
     {
-      double mine = -1e300;
+      StageFold mine;
       const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
       // The cross pairs first (any thread), then each range (one thread each; the loop covers them
       // all for any team size).
-      run_items(cross_item, me * cross_blocks / team, (me + 1) * cross_blocks / team, mine);
+      run_items(cross_item, me * cross_blocks / team, (me + 1) * cross_blocks / team, mine.excess);
 #pragma omp barrier
       for (std::size_t r = me; r < ranges; r += team) {
         const double start = omp_get_wtime();
@@ -294,31 +333,48 @@ void Simulation::pair_contacts_impl() {
         balance_.add(r, omp_get_wtime() - start);
       }
 #pragma omp critical(bagdem_pair_excess)
-      excess = std::max(excess, mine);
+      fold.merge(mine);
     }
   }
-  overlap_excess_ = excess;
+  overlap_excess_ = fold.excess;
+  if (drift != nullptr) {
+    end_walls(fold);
+    end_drift(fold);
+  }
 }
 
 // ---- 5. wall_contacts ---------------------------------------------------------------------------
 void Simulation::wall_contacts() {
-  with_flags([this]<bool T, bool R, bool E>() { wall_contacts_impl<T, R, E>(); }, scene_.models.tangential,
-             scene_.models.rolling, scene_.models.energy);
+  const BallSpan span = wall_stage();
+  StageFold fold;
+  fold.excess = overlap_excess_;  // the pair stage's
+  for_range_spans(balance_, p_.size(), fold, [this, span](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, f); },
+                  [](StageFold& a, const StageFold& b) { a.merge(b); });
+  end_walls(fold);
 }
 
+Simulation::BallSpan Simulation::wall_stage() const {
+  BallSpan span = nullptr;
+  with_flags([&span]<bool T, bool R, bool E>() { span = &Simulation::wall_span<T, R, E>; }, scene_.models.tangential,
+             scene_.models.rolling, scene_.models.energy);
+  return span;
+}
+
+void Simulation::end_walls(const StageFold& fold) {
+  overlap_excess_ = fold.excess;
+  min_boundary_distance_ = fold.min_dist;
+  balls_finite_ = fold.kicked_finite;
+}
+
+// Balls [b0, b1) against the walls.
 template <bool Tangential, bool Rolling, bool Energy>
-void Simulation::wall_contacts_impl() {
-  const std::size_t n = p_.size();
+void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
   const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
   const WallMotion rigid = rigid_motion();  // the walls' motion (per ball with a slope: motion_at)
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
-  struct GuardValues {
-    double excess, min_dist;
-    bool finite;
-  } ext{overlap_excess_, 1e300, true};
   // Stage 9's kick of the balls, done here while the ball's force and torque are at hand when no
   // later stage adds to them (kick_balls_here; the same operations as kick()).
   const bool kick = kick_balls_here() && !defer_kick_, rotation = scene_.models.rotation;
@@ -348,7 +404,7 @@ void Simulation::wall_contacts_impl() {
   // The rest of ball b's wall stage, once its wall contacts are in b.F, b.T and b.diss: F_wall and
   // T_cavity are their force on the ball and torque on the cavity, load their load_moments.
   auto complete = [this, dt, frac, kick, rotation, h](const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load,
-                                                       GuardValues& ext) BAGDEM_INLINE_LAMBDA {
+                                                       StageFold& ext) BAGDEM_INLINE_LAMBDA {
     const std::size_t p = b.p;
     const Vec3 &F = b.F, &T = b.T;
     if (couple_) cavity_load_[p] = load;
@@ -357,7 +413,7 @@ void Simulation::wall_contacts_impl() {
     wall_touch_[p] = b.touched;
     ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
     ext.excess = std::max(ext.excess, p_.radius[p] - b.d_min - frac * p_.radius[p]);  // the deepest wall contact
-    if (kick) ext.finite = kick_ball(p, F, T, h, rotation) && ext.finite;
+    if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
     // Tallies: the load on the cavity (always) and the energy budget (when asked).
     tally_.wall_impulse[p] -= dt * F_wall;
     tally_.wall_ang_impulse[p] += dt * T_cavity;
@@ -370,176 +426,166 @@ void Simulation::wall_contacts_impl() {
       tally_.diss_rolling[p] += b.diss.z();
     }
   };
-  auto span = [&](std::size_t b0, std::size_t b1, GuardValues& ext) BAGDEM_INLINE_LAMBDA {
-    Held held[kBatch];
-    Contact list[kBatch];
-    Out out[kBatch + kLanes];
-    std::size_t nh = 0, nc = 0;
-    // The law on the batch's contacts, then the held balls done.
-    auto flush = [&]() BAGDEM_INLINE_LAMBDA {
-      for (std::size_t a = 0; a < nc; a += kLanes) {
-        const Contact* e[kLanes];
-        for (std::size_t l = 0; l < kLanes; ++l) e[l] = &list[std::min(a + l, nc - 1)];
-        ContactGeometryT<Lanes> g;
-        const double* rows[kLanes];
-        auto load_row = [&](int r, Lanes3& v, Lanes& w) BAGDEM_INLINE_LAMBDA {
-          for (std::size_t l = 0; l < kLanes; ++l) rows[l] = e[l]->row[r];
-          gather4(rows, v, w);
+  Held held[kBatch];
+  Contact list[kBatch];
+  Out out[kBatch + kLanes];
+  std::size_t nh = 0, nc = 0;
+  // The law on the batch's contacts, then the held balls done.
+  auto flush = [&]() BAGDEM_INLINE_LAMBDA {
+    for (std::size_t a = 0; a < nc; a += kLanes) {
+      const Contact* e[kLanes];
+      for (std::size_t l = 0; l < kLanes; ++l) e[l] = &list[std::min(a + l, nc - 1)];
+      ContactGeometryT<Lanes> g;
+      const double* rows[kLanes];
+      auto load_row = [&](int r, Lanes3& v, Lanes& w) BAGDEM_INLINE_LAMBDA {
+        for (std::size_t l = 0; l < kLanes; ++l) rows[l] = e[l]->row[r];
+        gather4(rows, v, w);
+      };
+      load_row(0, g.n, g.overlap);
+      load_row(1, g.v_rel, g.R_eff);
+      load_row(2, g.v_half, g.m_eff);
+      load_row(3, g.w_half, g.arm_i);
+      g.arm_j = splat<Lanes>(0);
+      double* damping[kLanes];
+      TangentialHistory* th[kLanes];
+      RollingHistory* rh[kLanes];
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        damping[l] = Energy ? &wall_damping_prev_[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &wall_tan_[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &wall_roll_[e[l]->slot] : nullptr;
+      }
+      auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
+        const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
+        Out* o = out + a;
+        auto rows_of = [o](double (Out::*m)[4]) BAGDEM_INLINE_LAMBDA {
+          return std::array<double*, kLanes>{o[0].*m, o[1].*m, o[2].*m, o[3].*m};
         };
-        load_row(0, g.n, g.overlap);
-        load_row(1, g.v_rel, g.R_eff);
-        load_row(2, g.v_half, g.m_eff);
-        load_row(3, g.w_half, g.arm_i);
-        g.arm_j = splat<Lanes>(0);
-        double* damping[kLanes];
-        TangentialHistory* th[kLanes];
-        RollingHistory* rh[kLanes];
-        for (std::size_t l = 0; l < kLanes; ++l) {
-          damping[l] = Energy ? &wall_damping_prev_[e[l]->slot] : nullptr;
-          th[l] = Tangential ? &wall_tan_[e[l]->slot] : nullptr;
-          rh[l] = Rolling ? &wall_roll_[e[l]->slot] : nullptr;
-        }
-        auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
-          const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
-          Out* o = out + a;
-          auto rows_of = [o](double (Out::*m)[4]) BAGDEM_INLINE_LAMBDA {
-            return std::array<double*, kLanes>{o[0].*m, o[1].*m, o[2].*m, o[3].*m};
-          };
-          to_rows(c.F, splat<Lanes>(0), rows_of(&Out::F).data());
-          if constexpr (Tangential) to_rows(c.nxFt, splat<Lanes>(0), rows_of(&Out::nxFt).data());
-          if constexpr (Rolling) to_rows(c.roll, splat<Lanes>(0), rows_of(&Out::roll).data());
-          if constexpr (Energy) to_rows(c.diss, splat<Lanes>(0), rows_of(&Out::diss).data());
-        };
-        if (e[0]->law == e[1]->law && e[0]->law == e[2]->law && e[0]->law == e[3]->law) {
-          with_law(*e[0]->law);
-        } else {
-          const PairLaw* four[kLanes] = {e[0]->law, e[1]->law, e[2]->law, e[3]->law};
-          with_law(law_lanes(four));
-        }
-      }
-      auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };
-      for (std::size_t k = 0, c = 0; k < nh; ++k) {
-        Held& b = held[k];
-        Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
-        for (; c < b.end; ++c) {
-          // As surface_contact adds them: F, then -arm_i (n x F_t) and the rolling torque to T.
-          const Contact& ct = list[c];
-          const Vec3 Fc = vec(out[c].F);
-          if constexpr (Tangential) b.T -= ct.row[3][3] * vec(out[c].nxFt);
-          if constexpr (Rolling) b.T += vec(out[c].roll);
-          if constexpr (Energy) b.diss += vec(out[c].diss);
-          b.F += Fc;
-          F_wall += Fc;
-          // Torque on the cavity about its reference point, from the contact point on the wall.
-          const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
-          T_cavity -= cross(Vec3(at - scene_.cavity_reference), Fc);
-          if (couple_) load += load_moments(at, -Fc);
-        }
-        complete(b, F_wall, T_cavity, load, ext);
-      }
-      nh = nc = 0;
-    };
-    auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
-      // Gravity (kick_drift) and the pairs (pair_contacts).
-      Vec3 F = p_.f[p];
-      Vec3 T = p_.t[p];
-      [[maybe_unused]] Vec3 diss(0, 0, 0);
-      if constexpr (Energy) diss = tally_.step_dissipation[p];
-
-      // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
-      const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
-      const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
-      const Vec3 x_local = p_.x[p] - wm.pos;
-      const double r = p_.radius[p];
-      // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
-      // planes need not enclose anything).
-      const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
-      const std::uint32_t near = wall_near_[p];
-      if (near == 0) {
-        // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
-        // to its tallies this step is zero and is skipped (its last wall force was zero too).
-        if (couple_) cavity_load_[p].setZero();
-        if constexpr (Energy) {
-          tally_.diss_normal[p] += diss.x();
-          tally_.diss_tangential[p] += diss.y();
-          tally_.diss_rolling[p] += diss.z();
-        }
-        ext.min_dist = std::min(ext.min_dist, d_bounds);
-        if (kick) ext.finite = kick_ball(p, F, T, h, rotation) && ext.finite;
-        return;
-      }
-      if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
-      double d_min = 1e300;  // nearest wall
-      const std::uint32_t touched_before = wall_touch_[p];
-      std::uint32_t touched = 0;
-      const std::size_t first = nc;
-      for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
-        const auto w = static_cast<std::size_t>(std::countr_zero(bits));
-        const Wall& wall = scene_.walls[w];
-        ContactGeometry g;
-        const double d = wall_distance(wall, x_local, g.n);
-        d_min = std::min(d_min, d);
-        g.overlap = r - d;
-        if (g.overlap <= 0) {
-          // A contact that just opened: tally what it still held, clear its history (walls not
-          // touched cost no memory access).
-          if (touched_before & (1u << w)) {
-            if constexpr (Energy) {
-              const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
-              diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
-                                                         Tangential ? &wall_tan_[p * nw + w] : nullptr,
-                                                         Rolling ? &wall_roll_[p * nw + w] : nullptr);
-              wall_damping_prev_[p * nw + w] = 0.0;
-            }
-            if constexpr (Tangential) wall_tan_[p * nw + w] = {};
-            if constexpr (Rolling) wall_roll_[p * nw + w] = {};
-          }
-          continue;
-        }
-        touched |= 1u << w;
-        g.R_eff = wall_effective_radius(wall, r);
-        g.m_eff = p_.mass[p];
-        g.arm_i = r - 0.5 * g.overlap;
-        g.arm_j = 0;
-        // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
-        // the mean over the step.
-        motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
-        Contact& ct = list[nc++];
-        auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
-          ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;
-        };
-        put(0, g.n, g.overlap);
-        put(1, g.v_rel, g.R_eff);
-        put(2, g.v_half, g.m_eff);
-        put(3, g.w_half, g.arm_i);
-        ct.d = d;
-        ct.slot = p * nw + w;
-        ct.law = &laws(p_.material[p], wall.material);
-      }
-      const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
-      if (nc == first) {
-        const Vec3 zero(0, 0, 0);
-        complete(b, zero, zero, zero, ext);  // no wall contact closed
+        to_rows(c.F, splat<Lanes>(0), rows_of(&Out::F).data());
+        if constexpr (Tangential) to_rows(c.nxFt, splat<Lanes>(0), rows_of(&Out::nxFt).data());
+        if constexpr (Rolling) to_rows(c.roll, splat<Lanes>(0), rows_of(&Out::roll).data());
+        if constexpr (Energy) to_rows(c.diss, splat<Lanes>(0), rows_of(&Out::diss).data());
+      };
+      if (e[0]->law == e[1]->law && e[0]->law == e[2]->law && e[0]->law == e[3]->law) {
+        with_law(*e[0]->law);
       } else {
-        held[nh++] = b;
+        const PairLaw* four[kLanes] = {e[0]->law, e[1]->law, e[2]->law, e[3]->law};
+        with_law(law_lanes(four));
       }
-    };
-    if (near_only) {
-      const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
-      for (const auto* end = near_balls_.data() + near_balls_.size(); it != end && *it < b1; ++it) ball(*it);
-    } else {
-      for (std::size_t p = b0; p < b1; ++p) ball(p);
     }
-    flush();
+    auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };
+    for (std::size_t k = 0, c = 0; k < nh; ++k) {
+      Held& b = held[k];
+      Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
+      for (; c < b.end; ++c) {
+        // As surface_contact adds them: F, then -arm_i (n x F_t) and the rolling torque to T.
+        const Contact& ct = list[c];
+        const Vec3 Fc = vec(out[c].F);
+        if constexpr (Tangential) b.T -= ct.row[3][3] * vec(out[c].nxFt);
+        if constexpr (Rolling) b.T += vec(out[c].roll);
+        if constexpr (Energy) b.diss += vec(out[c].diss);
+        b.F += Fc;
+        F_wall += Fc;
+        // Torque on the cavity about its reference point, from the contact point on the wall.
+        const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
+        T_cavity -= cross(Vec3(at - scene_.cavity_reference), Fc);
+        if (couple_) load += load_moments(at, -Fc);
+      }
+      complete(b, F_wall, T_cavity, load, ext);
+    }
+    nh = nc = 0;
   };
-  for_range_spans(balance_, n, ext, span, [](GuardValues& a, const GuardValues& b) {
-    a.excess = std::max(a.excess, b.excess);
-    a.min_dist = std::min(a.min_dist, b.min_dist);
-    a.finite = a.finite && b.finite;
-  });
-  overlap_excess_ = ext.excess;
-  min_boundary_distance_ = ext.min_dist;
-  balls_finite_ = ext.finite;
+  auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
+    // Gravity (kick_drift) and the pairs (pair_contacts).
+    Vec3 F = p_.f[p];
+    Vec3 T = p_.t[p];
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    if constexpr (Energy) diss = tally_.step_dissipation[p];
+
+    // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
+    const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
+    const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
+    const Vec3 x_local = p_.x[p] - wm.pos;
+    const double r = p_.radius[p];
+    // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
+    // planes need not enclose anything).
+    const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
+    const std::uint32_t near = wall_near_[p];
+    if (near == 0) {
+      // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
+      // to its tallies this step is zero and is skipped (its last wall force was zero too).
+      if (couple_) cavity_load_[p].setZero();
+      if constexpr (Energy) {
+        tally_.diss_normal[p] += diss.x();
+        tally_.diss_tangential[p] += diss.y();
+        tally_.diss_rolling[p] += diss.z();
+      }
+      ext.min_dist = std::min(ext.min_dist, d_bounds);
+      if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
+      return;
+    }
+    if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
+    double d_min = 1e300;  // nearest wall
+    const std::uint32_t touched_before = wall_touch_[p];
+    std::uint32_t touched = 0;
+    const std::size_t first = nc;
+    for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
+      const auto w = static_cast<std::size_t>(std::countr_zero(bits));
+      const Wall& wall = scene_.walls[w];
+      ContactGeometry g;
+      const double d = wall_distance(wall, x_local, g.n);
+      d_min = std::min(d_min, d);
+      g.overlap = r - d;
+      if (g.overlap <= 0) {
+        // A contact that just opened: tally what it still held, clear its history (walls not
+        // touched cost no memory access).
+        if (touched_before & (1u << w)) {
+          if constexpr (Energy) {
+            const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
+            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
+                                                       Tangential ? &wall_tan_[p * nw + w] : nullptr,
+                                                       Rolling ? &wall_roll_[p * nw + w] : nullptr);
+            wall_damping_prev_[p * nw + w] = 0.0;
+          }
+          if constexpr (Tangential) wall_tan_[p * nw + w] = {};
+          if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+        }
+        continue;
+      }
+      touched |= 1u << w;
+      g.R_eff = wall_effective_radius(wall, r);
+      g.m_eff = p_.mass[p];
+      g.arm_i = r - 0.5 * g.overlap;
+      g.arm_j = 0;
+      // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
+      // the mean over the step.
+      motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
+      Contact& ct = list[nc++];
+      auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
+        ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;
+      };
+      put(0, g.n, g.overlap);
+      put(1, g.v_rel, g.R_eff);
+      put(2, g.v_half, g.m_eff);
+      put(3, g.w_half, g.arm_i);
+      ct.d = d;
+      ct.slot = p * nw + w;
+      ct.law = &laws(p_.material[p], wall.material);
+    }
+    const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
+    if (nc == first) {
+      const Vec3 zero(0, 0, 0);
+      complete(b, zero, zero, zero, ext);  // no wall contact closed
+    } else {
+      held[nh++] = b;
+    }
+  };
+  if (near_only) {
+    const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
+    for (const auto* end = near_balls_.data() + near_balls_.size(); it != end && *it < b1; ++it) ball(*it);
+  } else {
+    for (std::size_t p = b0; p < b1; ++p) ball(p);
+  }
+  flush();
 }
 
 }  // namespace bagdem

@@ -18,6 +18,8 @@
 //   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
 //                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface,
 //                      and between the steps of one advance() in the next step's stage 1)
+// Between the steps of one advance() with no film and no STL wall, stages 4, 5 and the balls' part
+// of the next step's stage 1 run in one parallel region (fused_contacts).
 //  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
@@ -186,6 +188,10 @@ class Simulation {
     std::uint64_t steps = 0;
   };
   void set_profiling(bool on) { profile_ = on; }
+  // Whether advance() may run stages 4, 5 and the next step's 1 over one piece of the bed at a time
+  // (fused_contacts; default on). Results are the same bits either way; tests compare the two.
+  void set_fusion(bool on) { fuse_ = on; }
+  std::uint64_t fused_steps() const { return fused_steps_; }
   // From how many balls the ball stages run on several threads (default kParallelBalls, parallel.hpp).
   // Results are the same bits for any value; tests lower it to run the parallel paths on small scenes.
   void set_parallel_balls(std::size_t n) { parallel_balls_ = n; }
@@ -246,7 +252,6 @@ class Simulation {
   void update_neighbours(bool force_rebuild);
   void derive_pair_buffers();
   void find_near_walls();
-  void pair_contacts();
   void wall_contacts();
   void triangle_contacts();
   template <bool Tangential, bool Rolling, bool Energy>
@@ -291,12 +296,39 @@ class Simulation {
     const double s = (local - scene_.cavity_reference).dot(load_axis_), f = force_on_cavity.dot(load_dir_);
     return {f, f * s, f * s * s};
   }
+  // What the ball stages fold over the balls (max, min, and, or: the same for any order and team):
+  // the guards' values and whether the neighbour list still holds.
+  struct StageFold {
+    double excess = -1e300;         // pairs and walls: max of overlap - max_overlap x smaller radius (unit: m)
+    double min_dist = 1e300;        // walls: min of the centres' distances inside the cavity (unit: m)
+    bool kicked_finite = true;      // walls: every velocity finite after the kick done there
+    bool far = false;               // drift: a ball is more than skin/2 from where it was at the last build
+    double step2 = 0;               // drift: the largest |x(n+1) - x(n)|^2 of a ball (unit: m^2)
+    bool finished_finite = true;    // drift: every velocity finite after the pending kick (Finish)
+    void merge(const StageFold& o);
+  };
+  // A stage over the balls [b0, b1) (drift_span, wall_span, as chosen for the scene's models).
+  using BallSpan = void (Simulation::*)(std::size_t b0, std::size_t b1, StageFold& fold);
+  // Stage 1 on balls [b0, b1): Finish: the last step's kick first (advance). end_drift: its results.
+  template <bool Finish, bool Rotation, bool Gravity, bool Energy>
+  void drift_span(std::size_t b0, std::size_t b1, StageFold& fold);
+  BallSpan drift_stage(bool finish) const;
+  void end_drift(const StageFold& fold);
+  // Stages 4, 5 and the next step's 1 over one piece of the bed at a time (fused_contacts).
+  void fused_contacts();
+  bool fusable() const { return fuse_ && !profile_ && defer_kick_ && film_.size() == 0; }
+  // Stage 4; with `walls` and `drift` (fused_contacts), each piece of balls whose pairs are done
+  // goes through them at once.
+  void pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr);
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
-  void pair_contacts_impl();
+  void pair_contacts_impl(BallSpan walls, BallSpan drift);
   void derive_ranges(std::uint32_t ranges);
   void end_balance();
   template <bool Tangential, bool Rolling, bool Energy>
-  void wall_contacts_impl();
+  void wall_span(std::size_t b0, std::size_t b1, StageFold& fold);
+  BallSpan wall_stage() const;
+  // The wall stage's results into the guards' values.
+  void end_walls(const StageFold& fold);
   template <bool Tangential, bool Rolling, bool Energy>
   Vec3 open_pair(std::size_t k);
   // Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
@@ -475,6 +507,10 @@ class Simulation {
   bool balls_finite_ = true;                  // every ball's velocity finite after that kick
   bool finished_finite_ = true;               // every ball's velocity finite after kick_drift finished a pending kick
   bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
+  bool fuse_ = true;                          // set_fusion
+  // The balls' stage 1 of the next step is done (fused_contacts): kick_drift skips it.
+  bool drifted_ = false;
+  std::uint64_t fused_steps_ = 0;
   // Since the pair list was installed (derive_pair_buffers): the sum over the steps of the largest
   // distance any ball moved in the step, rounded up, so no ball moved farther (PairState::wake) (unit: m).
   double travel_ = 0;

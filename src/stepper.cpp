@@ -148,8 +148,8 @@ void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
   const Vec3 g = scene_.gravity;
   // The arrays and the folds in locals, and every ball's values read before any is written: the
-  // compiler then keeps them in registers (through the members, each store would make it reload
-  // them, as a store may alias; the drift took twice as long).
+  // compiler then keeps them in registers (through the members, each store made it reload them, as
+  // a store may alias: the drift took 19-20% of the step at N = 10000, now 14-16%).
   Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
   Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = tally_.step_dissipation.data();
   const Vec3* at_build = x_at_build_.data();

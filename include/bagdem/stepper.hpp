@@ -18,9 +18,9 @@
 //   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
 //                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface,
 //                      and between the steps of one advance() in the next step's stage 1)
+//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Between the steps of one advance() with no film and no STL wall, stages 4, 5 and the balls' part
 // of the next step's stage 1 run in one parallel region (fused_contacts).
-//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
 // v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
@@ -188,7 +188,7 @@ class Simulation {
     std::uint64_t steps = 0;
   };
   void set_profiling(bool on) { profile_ = on; }
-  // Whether advance() may run stages 4, 5 and the next step's 1 over one piece of the bed at a time
+  // Whether advance() may run stages 4, 5 and the next step's 1 in one parallel region
   // (fused_contacts; default on). Results are the same bits either way; tests compare the two.
   void set_fusion(bool on) { fuse_ = on; }
   std::uint64_t fused_steps() const { return fused_steps_; }
@@ -314,11 +314,11 @@ class Simulation {
   void drift_span(std::size_t b0, std::size_t b1, StageFold& fold);
   BallSpan drift_stage(bool finish) const;
   void end_drift(const StageFold& fold);
-  // Stages 4, 5 and the next step's 1 over one piece of the bed at a time (fused_contacts).
+  // Stages 4, 5 and the next step's 1 in one parallel region (fused_contacts).
   void fused_contacts();
   bool fusable() const { return fuse_ && !profile_ && defer_kick_ && film_.size() == 0; }
-  // Stage 4; with `walls` and `drift` (fused_contacts), each piece of balls whose pairs are done
-  // goes through them at once.
+  // Stage 4; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
+  // them once its pairs are done.
   void pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr);
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
   void pair_contacts_impl(BallSpan walls, BallSpan drift);

@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   exporter->add_option("--to", export_to, "Path of the exported files without extension (default DIR/export)");
 
   BenchOptions bench_opt;
-  auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers), the candidate pairs per ball (and the share of them across the threads' ranges), the contacts per ball and the stages' shares of the step.");
+  auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers), the candidate pairs per ball (and the share of them across the threads' ranges), the contacts per ball and the stages' shares of the step (clocked on the staged step: a run with its stages clocked runs them one after the other, not in the one parallel region of an untimed step).");
   bench->add_option("--sizes", bench_opt.sizes, "Particle counts (default 100 1000 10000)");
   bench->add_option("--threads", bench_opt.threads, "Thread counts (default 1 2)");
   bench->add_option("--methods", bench_opt.methods, "Broad phases (default hash kdtree)");

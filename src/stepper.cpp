@@ -194,6 +194,11 @@ Simulation::BallSpan Simulation::drift_stage(bool finish) const {
   return span;
 }
 
+void Simulation::over_balls(BallSpan span, StageFold& fold) {
+  for_range_spans(balance_, p_.size(), fold, [this, span](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, f); },
+                  [](StageFold& a, const StageFold& b) { a.merge(b); });
+}
+
 void Simulation::StageFold::merge(const StageFold& o) {
   excess = std::max(excess, o.excess);
   min_dist = std::min(min_dist, o.min_dist);
@@ -213,12 +218,9 @@ void Simulation::end_drift(const StageFold& fold) {
 
 void Simulation::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
-  const std::size_t n = p_.size();
   if (!drifted_) {
-    const BallSpan span = drift_stage(kick_pending_);
     StageFold fold;
-    for_range_spans(balance_, n, fold, [this, span](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, f); },
-                    [](StageFold& a, const StageFold& b) { a.merge(b); });
+    over_balls(drift_stage(kick_pending_), fold);
     end_drift(fold);
   }
   drifted_ = false;

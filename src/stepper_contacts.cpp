@@ -345,11 +345,9 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
 
 // ---- 5. wall_contacts ---------------------------------------------------------------------------
 void Simulation::wall_contacts() {
-  const BallSpan span = wall_stage();
   StageFold fold;
   fold.excess = overlap_excess_;  // the pair stage's
-  for_range_spans(balance_, p_.size(), fold, [this, span](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, f); },
-                  [](StageFold& a, const StageFold& b) { a.merge(b); });
+  over_balls(wall_stage(), fold);
   end_walls(fold);
 }
 

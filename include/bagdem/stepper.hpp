@@ -313,10 +313,13 @@ class Simulation {
   template <bool Finish, bool Rotation, bool Gravity, bool Energy>
   void drift_span(std::size_t b0, std::size_t b1, StageFold& fold);
   BallSpan drift_stage(bool finish) const;
+  // span over all balls, on the threads' spans (SpanBalance), its folds merged into fold.
+  void over_balls(BallSpan span, StageFold& fold);
   void end_drift(const StageFold& fold);
   // Stages 4, 5 and the next step's 1 in one parallel region (fused_contacts).
   void fused_contacts();
-  bool fusable() const { return fuse_ && !profile_ && defer_kick_ && film_.size() == 0; }
+  // defer_kick_ also means no triangulated surface, so no film: no later stage adds to the balls.
+  bool fusable() const { return fuse_ && !profile_ && defer_kick_; }
   // Stage 4; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
   // them once its pairs are done.
   void pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr);

@@ -344,9 +344,12 @@ void Simulation::derive_pair_buffers() {
     ps_.touching[k] = t || r || d;
   }
   ps_.first.resize(np);
+  ps_.reach = 0;
   for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k)
+    for (std::uint32_t k = ps_.pairs.begin[i]; k < ps_.pairs.begin[i + 1]; ++k) {
       ps_.first[k] = static_cast<std::uint32_t>(i);
+      ps_.reach = std::max<std::size_t>(ps_.reach, ps_.pairs.partner[k] - i);
+    }
   ps_.ranges = 0;  // cut into ranges at the next pair stage, for its thread count (derive_ranges)
 }
 

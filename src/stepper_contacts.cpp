@@ -18,6 +18,10 @@ namespace bagdem {
 
 // Pairs per block of the pair stage (one_block).
 constexpr std::size_t kBlock = 128;
+// The pair stage fetches the balls' state ahead (fetch_balls) from this many balls on (below, it
+// stays in cache from step to step), when the pairs reach at most this far (a bed in the stepper's
+// order: spatial_order).
+constexpr std::size_t kFetchAheadMin = 16384, kFetchAheadMax = 4096;
 
 // ---- 4. pair_contacts ---------------------------------------------------------------------------
 // The pairs run in (i, j) order and each adds its force to f[i] and f[j] at once, so particle p
@@ -209,6 +213,14 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
     wake[k] = now | (touching[k] != 0) ? travel : travel + 0.5 * gap - 1e-9 * rsum;
     return now;
   };
+  // Pair k may touch: its histories are fetched now, while the block's other pairs are looked at,
+  // so that they are in cache when the law reads them (pass 2). Closed pairs are a few in a hundred
+  // candidates, so the hardware prefetchers do not follow their histories (the history loads were
+  // a quarter of the pair stage at 100 000 balls).
+  auto fetch_histories = [=](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
+    if constexpr (Tangential) prefetch_object(&tangential[k]);
+    if constexpr (Rolling) prefetch_object(&rolling[k]);
+  };
   // Pairs [k0, k1) of one range, in four passes:
   //  0. the pairs that may touch (awake: PairState::wake), and in a block that holds any (Cross)
   //     the cross pairs (computed already); in the shaken PD-box bed 18-26% of the candidates;
@@ -240,6 +252,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
         if (cross) continue;
       }
       const bool now = look(k);
+      fetch_histories(now ? k : static_cast<std::uint32_t>(k0));  // without a branch: the block's first is at hand
       nc += now;
       no += !now & (touching[k] != 0);
     }
@@ -273,6 +286,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       const std::uint32_t k = cross[c];
       if (wake[k] > travel) continue;  // apart since its last look, which left its records zero
       if (look(k)) {
+        fetch_histories(k);
         closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
         continue;
       }
@@ -285,10 +299,27 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       pair_lanes(closed + a, static_cast<int>(std::min<std::size_t>(kLanes, nc - a)), out + a, excess);
     for (std::size_t a = 0; a < nc; ++a) record(at[a], out[a]);
   };
+  // The balls' state ahead of the pairs: at ball i, the balls up to i + reach. In a bed sorted by
+  // slabs (spatial_order) ball j is first reached from the slab before its own, about a slab's
+  // worth of balls after its last use: far enough for the caches to have lost it, and reached
+  // in an order the hardware prefetchers do not follow. Every second ball: a Vec3 is 24 bytes, so
+  // each 64-byte line holds the start of one of them.
+  const std::size_t nballs = p_.size();
+  const bool fetch_ahead = nballs >= kFetchAheadMin && ps_.reach <= kFetchAheadMax;
+  auto fetch_balls = [=](std::size_t& ahead, std::size_t upto) BAGDEM_INLINE_LAMBDA {
+    upto = std::min(upto, nballs);
+    for (; ahead < upto; ahead += 2) {
+      prefetch_object(&x[ahead]), prefetch_object(&v[ahead]), prefetch_object(&v_pred[ahead]), prefetch_object(&f[ahead]);
+      if constexpr (Tangential || Rolling)
+        prefetch_object(&w[ahead]), prefetch_object(&w_pred[ahead]), prefetch_object(&t[ahead]);
+    }
+  };
   // Pairs [k0, k1) in blocks.
   auto pair_span = [&](std::size_t k0, std::size_t k1, double& excess) BAGDEM_INLINE_LAMBDA {
+    std::size_t ahead = k0 < k1 ? first[k0] + ps_.reach : 0;
     for (std::size_t k = k0; k < k1; k += kBlock) {
       const std::size_t end = std::min(k1, k + kBlock);
+      if (fetch_ahead) fetch_balls(ahead, first[end - 1] + ps_.reach + 1);
       // Most blocks hold no cross pair: they take the scan without the cross test.
       const std::size_t c0 = static_cast<std::size_t>(std::lower_bound(ps_.cross.begin(), ps_.cross.end(), k) - ps_.cross.begin());
       if (c0 < ps_.cross.size() && ps_.cross[c0] < end) {
@@ -412,9 +443,13 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
     ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
     ext.excess = std::max(ext.excess, p_.radius[p] - b.d_min - frac * p_.radius[p]);  // the deepest wall contact
     if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
-    // Tallies: the load on the cavity (always) and the energy budget (when asked).
-    tally_.wall_impulse[p] -= dt * F_wall;
-    tally_.wall_ang_impulse[p] += dt * T_cavity;
+    // Tallies: the load on the cavity (always) and the energy budget (when asked). A ball with no
+    // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
+    // changes no bit): skipped, as for the balls far from the walls.
+    if (b.touched != 0) {
+      tally_.wall_impulse[p] -= dt * F_wall;
+      tally_.wall_ang_impulse[p] += dt * T_cavity;
+    }
     if constexpr (Energy) {
       // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
       tally_.work_cavity[p] += 0.5 * (F_wall + tally_.wall_force_prev[p]).dot(b.c_step);
@@ -492,6 +527,10 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
     }
     nh = nc = 0;
   };
+  auto fetch_ball = [this](std::size_t p) BAGDEM_INLINE_LAMBDA {
+    for (const Vec3* a : {&p_.x[p], &p_.v[p], &p_.w[p], &p_.f[p], &p_.t[p]}) prefetch_object(a);
+    prefetch_object(&wall_near_[p]);
+  };
   auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
     // Gravity (kick_drift) and the pairs (pair_contacts).
     Vec3 F = p_.f[p];
@@ -567,6 +606,9 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
       put(3, g.w_half, g.arm_i);
       ct.d = d;
       ct.slot = p * nw + w;
+      // Its histories fetched now, to be in cache when the batch's law reads them (flush).
+      if constexpr (Tangential) prefetch_object(&wall_tan_[ct.slot]);
+      if constexpr (Rolling) prefetch_object(&wall_roll_[ct.slot]);
       ct.law = &laws(p_.material[p], wall.material);
     }
     const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
@@ -579,7 +621,14 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
   };
   if (near_only) {
     const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
-    for (const auto* end = near_balls_.data() + near_balls_.size(); it != end && *it < b1; ++it) ball(*it);
+    // The near balls are a sparse subset, whose state the hardware prefetchers do not follow:
+    // the state of the ball kAhead places on is fetched while this one is done.
+    constexpr std::ptrdiff_t kAhead = 8;
+    const auto* end = near_balls_.data() + near_balls_.size();
+    for (; it != end && *it < b1; ++it) {
+      if (end - it > kAhead) fetch_ball(it[kAhead]);
+      ball(*it);
+    }
   } else {
     for (std::size_t p = b0; p < b1; ++p) ball(p);
   }

@@ -74,6 +74,9 @@ struct PairState {
   // balls moved at most travel - t0 since), so the pair stage does not look at it until then. In a
   // shaken bed most candidate pairs sleep for hundreds of steps; they cost one comparison a step.
   std::vector<double> wake;
+  // The largest j - i of the pairs: the pair stage at ball i reaches balls up to i + reach, most of
+  // them for the first time in the step (their state is fetched ahead: pair_contacts_impl).
+  std::size_t reach = 0;
 
   std::uint32_t ranges = 0;                  // 0: not yet cut for this list (derive_ranges)
   std::vector<std::uint32_t> range_first;    // ranges + 1: range r holds particles [range_first[r], range_first[r + 1])

@@ -160,8 +160,11 @@ double log_log_slope(const std::vector<double>& x, const std::vector<double>& y)
 }
 
 // Growth: the N = 1000 bed tiled k x k. Every size runs the same steps, so that neighbour-list
-// rebuilds (driven by the motion, not by N) weigh alike; sizes run in ascending order, so the
-// process's peak memory after a size is that size's.
+// rebuilds (driven by the motion, not by N) weigh alike. The repeats run in rounds, each round every
+// size once in ascending order: a slow minute of the machine (its speed drifts by a third from
+// minute to minute) then weighs on every size alike instead of on one size's repeats, which would
+// tilt the fitted exponent. The peak memory is read in the first round, after each size's runs:
+// sizes ascend and each run frees its simulation, so it is that size's.
 int run_growth_bench(const BenchOptions& opt) {
   const std::string src = BAGDEM_SOURCE_DIR;
   const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
@@ -173,20 +176,12 @@ int run_growth_bench(const BenchOptions& opt) {
   }
   const long long steps = std::max(100LL, static_cast<long long>(10000 * opt.step_scale));
   std::printf("Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "
-              "tallies %s; median of %d runs; wall clock\n",
+              "tallies %s; median of %d runs, run in rounds over the sizes; wall clock\n",
               steps, opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | one build (ms) | peak memory (MB) | bytes/particle |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   const Scene one = load_case(src + "/cases/pdbox-peers", pdbox_overrides(1000, data));
   const Vec3 L = one.cavity_hi - one.cavity_lo;
-  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
-  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> builds;  // (method, threads) -> (N, ms/build)
-  std::vector<std::pair<double, double>> memory;
-  const double base_memory = peak_memory();
-  std::vector<int> tiles = opt.tiles;
-  std::sort(tiles.begin(), tiles.end());
-  for (int k : tiles) {
-    // The box widened k times in x and y (its walls are planes through cavity_lo and cavity_hi).
+  // The box widened k times in x and y (its walls are planes through cavity_lo and cavity_hi).
+  auto tiled = [&](int k) {
     std::ostringstream mx;
     mx << "cavity.max=[" << k * L.x() << ", " << k * L.y() << ", " << L.z() << "]";
     std::vector<std::string> o = pdbox_overrides(1000, data);
@@ -200,23 +195,56 @@ int run_growth_bench(const BenchOptions& opt) {
           p.x += Vec3(i * L.x(), j * L.y(), 0);
           scene.particles.push_back(p);
         }
-    const double N = static_cast<double>(scene.particles.size());
-    double peak = 0;
-    for (const std::string& method : opt.methods) {
-      const Scene sc = with_method(scene, method, opt.energy);
-      for (int th : opt.threads) {
-        const Timing t = time_repeats(sc, steps, th, opt.repeats);
-        peak = std::max(peak, peak_memory());
-        fits[{method, th}].emplace_back(N, t.median * 1e-9 * N);
-        const double build_ms = 1e3 * time_broad_phase(sc, method, opt.repeats);
-        builds[{method, th}].emplace_back(N, build_ms);
-        std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.0f |\n", N, k, method.c_str(), th, t.median, t.lo,
-                    t.hi, static_cast<unsigned long long>(t.builds), build_ms, peak / 1048576, (peak - base_memory) / N);
-        std::fflush(stdout);
+    return scene;
+  };
+  struct Point {
+    int k = 0, threads = 0;
+    std::string method;
+    double N = 0, build_ms = 0, peak = 0;
+    std::vector<double> ns;  // ns per particle-step, one per round
+    std::uint64_t builds = 0;
+  };
+  std::vector<Point> points;
+  std::vector<int> tiles = opt.tiles;
+  std::sort(tiles.begin(), tiles.end());
+  const double base_memory = peak_memory();
+  for (int round = 0; round < opt.repeats; ++round) {
+    std::size_t at = 0;
+    for (int k : tiles) {
+      const Scene scene = tiled(k);
+      const double N = static_cast<double>(scene.particles.size());
+      for (const std::string& method : opt.methods) {
+        const Scene sc = with_method(scene, method, opt.energy);
+        for (int th : opt.threads) {
+          if (round == 0) points.push_back({k, th, method, N, 0, 0, {}, 0});
+          Point& p = points[at++];
+          p.ns.push_back(1e9 * timed_run(sc, steps, th, &p.builds) / (static_cast<double>(steps) * N));
+          if (round == 0) {
+            p.peak = peak_memory();
+            p.build_ms = 1e3 * time_broad_phase(sc, method, opt.repeats);
+          }
+        }
       }
     }
-    memory.emplace_back(N, peak - base_memory);
+    std::fprintf(stderr, "growth: round %d of %d done\n", round + 1, opt.repeats);
   }
+  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | one build (ms) | peak memory (MB) | bytes/particle |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
+  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> builds;  // (method, threads) -> (N, ms/build)
+  std::map<double, double> size_peak;  // N -> the peak memory of its runs
+  for (const Point& p : points) size_peak[p.N] = std::max(size_peak[p.N], p.peak);
+  for (Point& p : points) {
+    std::sort(p.ns.begin(), p.ns.end());
+    const double median = p.ns[p.ns.size() / 2];
+    fits[{p.method, p.threads}].emplace_back(p.N, median * 1e-9 * p.N);
+    builds[{p.method, p.threads}].emplace_back(p.N, p.build_ms);
+    std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.0f |\n", p.N, p.k, p.method.c_str(), p.threads, median,
+                p.ns.front(), p.ns.back(), static_cast<unsigned long long>(p.builds), p.build_ms, size_peak[p.N] / 1048576,
+                (size_peak[p.N] - base_memory) / p.N);
+  }
+  std::vector<std::pair<double, double>> memory;
+  for (const auto& [n, peak] : size_peak) memory.emplace_back(n, peak - base_memory);
   if (tiles.size() >= 2) {
     std::printf("\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
     for (const auto& [key, pts] : fits) {

@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
                                       "each mode's peak reduction (dB, %) against the bare structure in summary.json.");
   run->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   run->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
-  run->add_option("--threads", threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; 1.3-1.85x from 1 to 2 threads at 10 000 balls on the PD-box bed of a shared 2-core machine)")->check(CLI::Range(1, 1024));
+  run->add_option("--threads", threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; 1.3-1.9x from 1 to 2 threads at 10 000 balls on the PD-box bed of a shared 2-core machine)")->check(CLI::Range(1, 1024));
   run->add_option("--set", sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
   add_fidelity(run);
   run->add_flag("--quiet", quiet, "No progress line");
@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
   bench->add_flag("--growth", bench_opt.growth,
                   "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
-                  "cost per particle-step, one neighbour build of each broad phase and peak memory against N, and their fitted exponents");
+                  "cost per particle-step, one neighbour build of each broad phase and peak memory against N, and their fitted exponents; "
+                  "the --repeats run in rounds over the sizes, so that the machine's drifting speed weighs on every size alike");
   bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
   bench->add_option("--peers", bench_opt.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");

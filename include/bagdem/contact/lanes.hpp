@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -142,14 +143,14 @@ BAGDEM_INLINE void to_rows(const Lanes3& v, Lanes w, double* const* to) {
 
 BAGDEM_INLINE Vec3 lane(const Lanes3& v, int l) { return {v.x[l], v.y[l], v.z[l]}; }
 
-// Asks for the cache lines of *p, for writing, ahead of its use: for data that a loop reaches in
-// an order the hardware prefetchers do not follow (a sparse subset of an array). A hint: no effect
-// on any result.
+// Asks for the cache lines of the first `bytes` bytes at p (default: all of *p), for writing, ahead
+// of their use: for data that a loop reaches in an order the hardware prefetchers do not follow (a
+// sparse subset of an array). A hint: no effect on any result.
 template <class T>
-BAGDEM_INLINE void prefetch_object(const T* p) {
+BAGDEM_INLINE void prefetch_object(const T* p, std::size_t bytes = sizeof(T)) {
   const char* c = reinterpret_cast<const char*>(p);
   __builtin_prefetch(c, 1);
-  __builtin_prefetch(c + sizeof(T) - 1, 1);  // it may straddle two lines
+  __builtin_prefetch(c + bytes - 1, 1);  // they may straddle two lines
 }
 
 }  // namespace bagdem

@@ -335,7 +335,7 @@ void Simulation::derive_pair_buffers() {
   const std::size_t np = ps_.pairs.size();
   // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
   ps_.touching.assign(np, 0);
-  ps_.wake.assign(np, 0.0);  // every pair looked at in the next pair stage (travel_ >= 0)
+  ps_.wake.assign(np, 0.0f);  // every pair looked at in the next pair stage (travel_ >= 0)
   travel_ = 0.0;
   for (std::size_t k = 0; k < np; ++k) {
     const bool t = !ps_.tangential.empty() && ps_.tangential[k].stiffness != 0;

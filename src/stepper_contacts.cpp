@@ -22,8 +22,8 @@ namespace bagdem {
 template <bool Energy>
 constexpr std::size_t kTangentialBytes = Energy ? sizeof(TangentialHistory) : 4 * sizeof(double);
 
-// Pairs per block of the pair stage (one_block).
-constexpr std::size_t kBlock = 128;
+// Pairs per block of the pair stage (one_block), and candidates per step of its scan for the awake.
+constexpr std::size_t kBlock = 128, kScanWidth = 16;
 // The pair stage fetches the balls' state ahead (fetch_balls) from this many balls on (below, it
 // stays in cache from step to step), when the pairs reach at most this far (a bed in the stepper's
 // order: spatial_order).
@@ -208,7 +208,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   // last step (an opened pair's tallies and records are cleared at the next look), else once travel_
   // has grown by half its gap, less 1e-9 of the radii's sum, which covers the rounding of the gap
   // (about 1e-16 of it) many times over.
-  double* wake = ps_.wake.data();
+  float* wake = ps_.wake.data();
   const double travel = travel_;
   auto look = [x, first, partner, touching, wake, travel, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = first[k], j = partner[k];
@@ -216,7 +216,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
     const bool now = !spheres_apart(x[i], x[j], rsum);
     const Vec3 d = x[i] - x[j];
     const double gap = std::sqrt(dot(d, d)) - rsum;
-    wake[k] = now | (touching[k] != 0) ? travel : travel + 0.5 * gap - 1e-9 * rsum;
+    wake[k] = round_down_to_float(now | (touching[k] != 0) ? travel : travel + 0.5 * gap - 1e-9 * rsum);
     return now;
   };
   // Pair k may touch: its histories are fetched now, while the block's other pairs are looked at,
@@ -236,10 +236,25 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   //  3. in pair order: each closed pair applied, each opened pair closed, each cross pair's record
   //     added to its i.
   auto one_block = [&]<bool Cross>(std::size_t k0, std::size_t k1, std::size_t c0, double& excess) BAGDEM_INLINE_LAMBDA {
-    std::uint32_t awake[kBlock], closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
+    std::uint32_t awake[kBlock + kScanWidth], closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
     std::size_t na = 0, nc = 0, no = 0, nx = 0;
     const std::uint8_t* is_cross = ps_.is_cross.data();
-    for (std::size_t k = k0; k < k1; ++k) {
+    std::size_t scan = k0;
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+    // kScanWidth candidates at a time: compare, compress the awake ones' indices, store all
+    // kScanWidth (those past na are overwritten or unused; awake has room for them).
+    // A float is at most travel exactly when it is at most the largest float not above travel.
+    const __m512 tv = _mm512_set1_ps(round_down_to_float(travel));
+    for (__m512i at = _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(k0)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+         scan + kScanWidth <= k1; scan += kScanWidth, at = _mm512_add_epi32(at, _mm512_set1_epi32(static_cast<int>(kScanWidth)))) {
+      __mmask16 m = _mm512_cmp_ps_mask(_mm512_loadu_ps(wake + scan), tv, _CMP_LE_OQ);  // wake <= travel (NaN: not)
+      if constexpr (Cross) m |= _mm_test_epi8_mask(_mm_loadu_si128(reinterpret_cast<const __m128i*>(is_cross + scan)),
+                                                   _mm_set1_epi8(-1));
+      _mm512_storeu_si512(awake + na, _mm512_maskz_compress_epi32(m, at));
+      na += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(m)));
+    }
+#endif
+    for (std::size_t k = scan; k < k1; ++k) {
       awake[na] = static_cast<std::uint32_t>(k);
       if constexpr (Cross) {
         na += (wake[k] <= travel) | (is_cross[k] != 0);
@@ -320,12 +335,26 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
         prefetch_object(&w[ahead]), prefetch_object(&w_pred[ahead]), prefetch_object(&t[ahead]);
     }
   };
+  // The histories of the pairs [from, to) that touched at the last step: most of them touch again
+  // (a contact lasts many steps), so they are fetched a block ahead of their law.
+  auto fetch_touching = [=](std::size_t from, std::size_t to) BAGDEM_INLINE_LAMBDA {
+    std::size_t k = from;
+#if defined(__AVX512BW__)
+    for (; k + 64 <= to; k += 64)
+      for (std::uint64_t m = _mm512_test_epi8_mask(_mm512_loadu_si512(touching + k), _mm512_set1_epi8(1)); m != 0; m &= m - 1)
+        fetch_histories(static_cast<std::uint32_t>(k + static_cast<std::size_t>(std::countr_zero(m))));
+#endif
+    for (; k < to; ++k)
+      if (touching[k] != 0) fetch_histories(static_cast<std::uint32_t>(k));
+  };
   // Pairs [k0, k1) in blocks.
   auto pair_span = [&](std::size_t k0, std::size_t k1, double& excess) BAGDEM_INLINE_LAMBDA {
     std::size_t ahead = k0 < k1 ? first[k0] + ps_.reach : 0;
+    if constexpr (Tangential || Rolling) fetch_touching(k0, std::min(k1, k0 + kBlock));
     for (std::size_t k = k0; k < k1; k += kBlock) {
       const std::size_t end = std::min(k1, k + kBlock);
       if (fetch_ahead) fetch_balls(ahead, first[end - 1] + ps_.reach + 1);
+      if constexpr (Tangential || Rolling) fetch_touching(end, std::min(k1, end + kBlock));
       // Most blocks hold no cross pair: they take the scan without the cross test.
       const std::size_t c0 = static_cast<std::size_t>(std::lower_bound(ps_.cross.begin(), ps_.cross.end(), k) - ps_.cross.begin());
       if (c0 < ps_.cross.size() && ps_.cross[c0] < end) {

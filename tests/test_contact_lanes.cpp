@@ -193,3 +193,24 @@ TEST(ContactLanes, LoadsAndStoresMoveEachValueToItsLane) {
     EXPECT_EQ(back[l][4], 0.0);  // a row is 4 doubles: nothing written after it
   }
 }
+
+// round_down_to_float (the pair stage's wake bounds): the largest float not above the double, for
+// doubles of every size the bounds take (1e-12 to 10 m), their negatives, zero, floats exactly,
+// and NaN. Against the definition: f <= v < the next float up.
+TEST(ContactLanes, RoundDownToFloatIsTheLargestFloatNotAbove) {
+  Rng rng(11);
+  std::vector<double> values = {0.0, 1.0, -1.0, 0.1, -0.1, 1e-4, 3.0 / 7.0, static_cast<double>(0.1f)};
+  for (int i = 0; i < 20000; ++i) {
+    const double v = std::pow(10.0, rng.uniform(-12, 1));
+    values.push_back(i % 4 == 3 ? -v : v);
+  }
+  int rounded = 0;
+  for (const double v : values) {
+    const float f = round_down_to_float(v);
+    ASSERT_LE(static_cast<double>(f), v) << v;
+    ASSERT_GT(static_cast<double>(std::nextafter(f, HUGE_VALF)), v) << v;
+    rounded += static_cast<double>(f) != v;
+  }
+  EXPECT_GT(rounded, 19000);  // nearly every draw needs rounding: the test sees both directions of it
+  EXPECT_TRUE(std::isnan(round_down_to_float(std::nan(""))));
+}

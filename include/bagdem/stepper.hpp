@@ -73,7 +73,8 @@ struct PairState {
   // found apart by a gap g when travel was t0 cannot close while travel < t0 + g/2 (each of its
   // balls moved at most travel - t0 since), so the pair stage does not look at it until then. In a
   // shaken bed most candidate pairs sleep for hundreds of steps; they cost one comparison a step.
-  std::vector<double> wake;
+  // Single precision rounded down (round_down_to_float): a pair may wake a little early, never late.
+  std::vector<float> wake;
   // The largest j - i of the pairs: the pair stage at ball i reaches balls up to i + reach, most of
   // them for the first time in the step (their state is fetched ahead: pair_contacts_impl).
   std::size_t reach = 0;

@@ -211,6 +211,7 @@ int run_growth_bench(const BenchOptions& opt) {
   for (int round = 0; round < opt.repeats; ++round) {
     std::size_t at = 0;
     for (int k : tiles) {
+      // Built anew each round, not kept: a kept 1e5-ball scene would weigh on every size's peak memory.
       const Scene scene = tiled(k);
       const double N = static_cast<double>(scene.particles.size());
       for (const std::string& method : opt.methods) {

@@ -60,8 +60,10 @@ BAGDEM_INLINE Lanes min_of(Lanes a, Lanes b) { return b < a ? b : a; }
 BAGDEM_INLINE Lanes max_of(Lanes a, Lanes b) { return a < b ? b : a; }
 BAGDEM_INLINE double select(bool m, double a, double b) { return m ? a : b; }
 BAGDEM_INLINE Lanes select(LanesMask m, Lanes a, Lanes b) { return m ? a : b; }
+// As opaque(double) (vec3.hpp). Four doubles fit one register only with AVX: without it (a
+// portable build, BAGDEM_NATIVE=OFF) there is no such register and the hint is left out.
 BAGDEM_INLINE Lanes opaque(Lanes v) {
-#if defined(__GNUC__) && defined(__x86_64__)
+#if defined(__GNUC__) && defined(__x86_64__) && defined(__AVX__)
   asm("" : "+x"(v));
 #endif
   return v;

@@ -102,7 +102,7 @@ TEST(SpatialOrder, SortsEachGroupInPlaceAlongItsLongestSide) {
   std::uniform_real_distribution<double> u(0, 1);
   // 300 balls in a slab long along y, then 700 (the bag's) long along z, then 200 long along x.
   auto add = [&](std::size_t n, const Vec3& size) {
-    for (std::size_t i = 0; i < n; ++i) s.particles.push_back({Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size), Vec3::Zero(), Vec3::Zero(), 1e-3, 0});
+    for (std::size_t i = 0; i < n; ++i) s.particles.push_back({draw_vec3([&] { return u(rng); }).cwiseProduct(size), Vec3::Zero(), Vec3::Zero(), 1e-3, 0});
   };
   add(300, Vec3(0.02, 0.1, 0.01));
   add(700, Vec3(0.02, 0.01, 0.1));

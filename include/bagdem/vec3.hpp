@@ -6,6 +6,16 @@
 
 namespace bagdem {
 using Vec3 = Eigen::Vector3d;
+
+// Three draws of `draw` as a vector, drawn z first, then y, then x. Not Vec3(draw(), draw(), draw()):
+// C++ leaves the order of a call's arguments unspecified (GCC evaluates them last first, clang first
+// first), so a seeded fill would depend on the compiler. z, y, x is the order GCC gave, which every
+// fill and result so far was made with.
+template <class Draw>
+Vec3 draw_vec3(Draw&& draw) {
+  const double z = draw(), y = draw(), x = draw();
+  return {x, y, z};
+}
 }  // namespace bagdem
 
 // For the small functions of the contact kernel: GCC otherwise declines to inline them into the

@@ -95,7 +95,7 @@ std::vector<Vec3> lattice_sites(const TriangleMesh& mesh, const Vec3& centre, do
   const double a = 2 * r * 1.001 * std::sqrt(2.0);  // cubic cell of FCC with neighbour distance 2r x 1.001
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0, a);
-  const Vec3 origin = lo + Vec3(u(rng), u(rng), u(rng));
+  const Vec3 origin = lo + draw_vec3([&] { return u(rng); });
   const Vec3 basis[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
   std::vector<Vec3> sites;
   const Vec3 n_cells = ((hi - lo) / a).array().ceil() + 1;

@@ -290,7 +290,7 @@ void generate(const CaseReader& in, const std::string& g, const Group& grp, Scen
                                     " particles fit on the lattice in the region; enlarge the region or lower the count");
         x = sites[site++];
         // Small jitter (1% of d) breaks the lattice symmetry reproducibly.
-        x += 0.005 * d * Vec3(2 * U(rng) - 1, 2 * U(rng) - 1, 2 * U(rng) - 1);
+        x += 0.005 * d * draw_vec3([&] { return 2 * U(rng) - 1; });
       } else {
         if (++attempts > max_attempts)
           in.fail(g + ".count", "could not place the particles without overlap after " +

@@ -25,7 +25,7 @@ struct Rng {
   }
   Vec3 unit() {  // uniform direction (rejection from the cube)
     for (;;) {
-      const Vec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+      const Vec3 d = draw_vec3([&] { return uniform(-1, 1); });
       const double n = d.norm();
       if (n > 0.1 && n <= 1) return d / n;
     }

@@ -41,7 +41,7 @@ Packing uniform_packing(std::uint64_t seed, int n, double r0, double density) {
   const Vec3 lo(-0.7 * side, -0.3 * side, -1.2 * side);
   for (int i = 0; i < n; ++i) {
     p.r.push_back(r0 * rng.uniform(1, 3));
-    p.x.push_back(lo + side * Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+    p.x.push_back(lo + side * draw_vec3([&] { return rng.uniform(); }));
   }
   return p;
 }
@@ -52,18 +52,18 @@ Packing clustered_packing(std::uint64_t seed, int n, double r0) {
   Rng rng(seed);
   Packing p{"clustered seed " + std::to_string(seed), {}, {}};
   std::vector<Vec3> centres;
-  for (int c = 0; c < 6; ++c) centres.push_back(Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 40 * r0);
+  for (int c = 0; c < 6; ++c) centres.push_back(draw_vec3([&] { return rng.uniform(-1, 1); }) * 40 * r0);
   for (int i = 0; i < n; ++i) {
     const double r = r0 * rng.uniform(1, 3);
     const double u = rng.uniform();
     Vec3 x;
     if (u < 0.8) {
       const Vec3& c = centres[static_cast<std::size_t>(rng.next() % centres.size())];
-      x = c + 2.5 * r0 * Vec3(rng.normal(), rng.normal(), rng.normal());
+      x = c + 2.5 * r0 * draw_vec3([&] { return rng.normal(); });
     } else if (u < 0.97) {
-      x = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 200 * r0;
+      x = draw_vec3([&] { return rng.uniform(-1, 1); }) * 200 * r0;
     } else {
-      x = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 1e3;
+      x = draw_vec3([&] { return rng.uniform(-1, 1); }) * 1e3;
     }
     p.r.push_back(r);
     p.x.push_back(x);
@@ -90,7 +90,7 @@ Packing touching_pairs(std::uint64_t seed, int n_pairs, double r0, double skin) 
             {}, {}};
   for (int k = 0; k < n_pairs; ++k) {
     const double ri = r0 * rng.uniform(1, 3), rj = r0 * rng.uniform(1, 3);
-    const Vec3 xi = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 30 * r0 * std::cbrt(n_pairs);
+    const Vec3 xi = draw_vec3([&] { return rng.uniform(-1, 1); }) * 30 * r0 * std::cbrt(n_pairs);
     const Vec3 xj = xi + (ri + rj + skin) * rng.unit();
     p.x.push_back(xi);
     p.r.push_back(ri);
@@ -271,8 +271,8 @@ Scene shaken_bed(const std::string& kind) {
       for (int k = 0; k < 8; ++k) {
         const double r = rng.uniform(0.001, 0.003);
         const Vec3 x = lo + Vec3(0.0035 + a * i, 0.0035 + a * j, 0.0035 + a * k) +
-                       Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 0.00004;
-        const Vec3 v(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+                       draw_vec3([&] { return rng.uniform(-1, 1); }) * 0.00004;
+        const Vec3 v = draw_vec3([&] { return rng.uniform(-1, 1); });
         b.particle(x, v, r);
       }
   return b.build();

@@ -50,9 +50,9 @@ Contact random_contact(Rng& rng) {
   g.arm_i = r - 0.5 * g.overlap;
   g.arm_j = rng.uniform() < 0.5 ? 0.0 : r - 0.5 * g.overlap;
   const double speed = std::pow(10.0, rng.uniform(-4, 0));
-  g.v_rel = speed * Vec3(rng.normal(), rng.normal(), rng.normal());
-  g.v_half = g.v_rel + 0.01 * speed * Vec3(rng.normal(), rng.normal(), rng.normal());
-  g.w_half = 100 * speed * Vec3(rng.normal(), rng.normal(), rng.normal());
+  g.v_rel = speed * draw_vec3([&] { return rng.normal(); });
+  g.v_half = g.v_rel + 0.01 * speed * draw_vec3([&] { return rng.normal(); });
+  g.w_half = 100 * speed * draw_vec3([&] { return rng.normal(); });
   if (rng.uniform() < 0.1) {
     // A new contact separating along its normal: F_n clamps to 0, so the friction cap is 0 and the
     // trial tangential force too (0/0 in the cap's factor, which must leave it at 1).
@@ -170,7 +170,7 @@ TEST(ContactLanes, LanesGiveTheScalarLawsBits) {
 TEST(ContactLanes, LoadsAndStoresMoveEachValueToItsLane) {
   Rng rng(7);
   std::vector<Vec3> v(9);
-  for (Vec3& x : v) x = Vec3(rng.normal(), rng.normal(), rng.normal());
+  for (Vec3& x : v) x = draw_vec3([&] { return rng.normal(); });
   const std::uint32_t at[kLanes] = {8, 0, 3, 3};  // the last element too (a load must not read past it)
   const Lanes3 g = gather3(v.data(), at);
   double rows[kLanes][5];

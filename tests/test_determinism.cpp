@@ -50,9 +50,9 @@ Scene shaken_box(int nx, int ny, int nz, double duration, bool energy = true) {
       for (int k = 0; k < nz; ++k) {
         const double r = rng.uniform(0.0015, 0.0025);
         const Vec3 x = Vec3(m + a * i, m + a * j, m + a * k) +
-                       Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) * 4e-5;
-        const Vec3 v(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
-        const Vec3 w(rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50));
+                       draw_vec3([&] { return rng.uniform(-1, 1); }) * 4e-5;
+        const Vec3 v = draw_vec3([&] { return rng.uniform(-1, 1); });
+        const Vec3 w = draw_vec3([&] { return rng.uniform(-50, 50); });
         b.particle(x, v, r, 0, w);
       }
   return b.build();

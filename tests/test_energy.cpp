@@ -39,14 +39,15 @@ void random_gas(SceneBuilder& b, Rng& rng, int n, double rmin, double rmax, cons
   while (static_cast<int>(xs.size()) < n) {
     if (++tries > 1'000'000) throw std::runtime_error("random_gas: box too full");
     const double r = rng.uniform(rmin, rmax);
-    const Vec3 x(rng.uniform(lo.x() + r + gap, hi.x() - r - gap), rng.uniform(lo.y() + r + gap, hi.y() - r - gap),
-                 rng.uniform(lo.z() + r + gap, hi.z() - r - gap));
+    const double z = rng.uniform(lo.z() + r + gap, hi.z() - r - gap), y = rng.uniform(lo.y() + r + gap, hi.y() - r - gap),
+                 x_ = rng.uniform(lo.x() + r + gap, hi.x() - r - gap);  // draw_vec3's order
+    const Vec3 x(x_, y, z);
     bool ok = true;
     for (std::size_t k = 0; k < xs.size() && ok; ++k) ok = (x - xs[k]).norm() > r + rs[k] + gap;
     if (!ok) continue;
     xs.push_back(x);
     rs.push_back(r);
-    const Vec3 v(rng.uniform(-vmax, vmax), rng.uniform(-vmax, vmax), rng.uniform(-vmax, vmax));
+    const Vec3 v = draw_vec3([&] { return rng.uniform(-vmax, vmax); });
     b.particle(x, v, r);
   }
 }

@@ -127,7 +127,10 @@ TEST(HertzClamp, MindlinForceNeverExceedsCoulombCap) {
       TangentialHistory h;
       if (k % 5 != 0) {  // an old contact (k % 5 == 0: a new one, empty history)
         const Vec3 old_n = (n + 0.2 * rng.unit()).normalized();
-        h.force = std::pow(10.0, rng.uniform(-2, 2)) * std::max(cap, 1e-9) * (rng.unit() - rng.unit().dot(old_n) * old_n).normalized();
+        // One draw at a time (the operands of an expression are evaluated in an unspecified order).
+        const double scale = std::pow(10.0, rng.uniform(-2, 2)) * std::max(cap, 1e-9);
+        const Vec3 u = rng.unit();
+        h.force = scale * (u - u.dot(old_n) * old_n).normalized();  // in old_n's tangent plane
         h.stiffness = nr.stiffness * law.tangential_ratio * law.tangential_ratio * rng.uniform(0.5, 1.5);
         h.total = h.force;
       }

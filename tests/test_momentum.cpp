@@ -57,7 +57,7 @@ Scene cluster(double mu, double mu_r, std::uint64_t seed) {
   std::vector<double> rs;
   while (xs.size() < 40) {
     const double r = rng.uniform(0.003, 0.005);
-    const Vec3 d(rng.uniform(-0.03, 0.03), rng.uniform(-0.03, 0.03), rng.uniform(-0.03, 0.03));
+    const Vec3 d = draw_vec3([&] { return rng.uniform(-0.03, 0.03); });
     if (d.norm() > 0.03) continue;
     const Vec3 x = c + d;
     bool ok = true;
@@ -65,8 +65,8 @@ Scene cluster(double mu, double mu_r, std::uint64_t seed) {
     if (!ok) continue;
     xs.push_back(x);
     rs.push_back(r);
-    const Vec3 noise(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1));
-    const Vec3 w(rng.uniform(-60, 60), rng.uniform(-60, 60), rng.uniform(-60, 60));
+    const Vec3 noise = draw_vec3([&] { return rng.uniform(-0.1, 0.1); });
+    const Vec3 w = draw_vec3([&] { return rng.uniform(-60, 60); });
     b.particle(x, V - 12.0 * d + noise, r, 0, w);
   }
   return b.build();

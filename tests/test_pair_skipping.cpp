@@ -32,7 +32,7 @@ Scene gas(int per_side, double r, double speed, std::uint64_t seed) {
   for (int i = 0; i < per_side; ++i)
     for (int j = 0; j < per_side; ++j)
       for (int k = 0; k < per_side; ++k, ++count) {
-        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * a + 0.1 * r * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * a + 0.1 * r * draw_vec3([&] { return rng.uniform(-1, 1); });
         b.particle(x, speed * rng.uniform(0.2, 1.0) * rng.unit(), count % 3 == 0 ? 1.5 * r : r);
       }
   return b.dt(1e-7).duration(1500 * 1e-7).build();

@@ -76,7 +76,7 @@ Ref reference(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
 std::array<Vec3, 3> random_triangle(Rng& rng) {
   for (;;) {
     std::array<Vec3, 3> t;
-    for (auto& v : t) v = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    for (auto& v : t) v = draw_vec3([&] { return rng.uniform(-1, 1); });
     if ((t[1] - t[0]).cross(t[2] - t[0]).norm() > 1e-3) return t;
   }
 }
@@ -185,7 +185,7 @@ TEST(SphereTriangle, ClosestPointMatchesReference) {
   int compared = 0;
   for (int i = 0; i < 20000; ++i) {
     const auto t = random_triangle(rng);
-    const Vec3 p(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2));
+    const Vec3 p = draw_vec3([&] { return rng.uniform(-2, 2); });
     const TriangleHit h = closest_point_on_triangle(p, t[0], t[1], t[2]);
     const Ref r = reference(p, t[0], t[1], t[2]);
     ASSERT_NEAR(h.distance2, r.d2, 1e-12 * (1 + p.squaredNorm())) << "point " << i;
@@ -210,7 +210,7 @@ TEST(SphereTriangle, ClosestPointNotBeatenBySampling) {
   const int N = 150;
   for (int i = 0; i < 150; ++i) {
     const auto t = random_triangle(rng);
-    const Vec3 p(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2));
+    const Vec3 p = draw_vec3([&] { return rng.uniform(-2, 2); });
     const TriangleHit h = closest_point_on_triangle(p, t[0], t[1], t[2]);
     double best = 1e300;
     for (int u = 0; u <= N; ++u)
@@ -228,7 +228,7 @@ TEST(SphereTriangle, WeightsAndFeatures) {
   Rng rng(13);
   for (int i = 0; i < 20000; ++i) {
     const auto t = random_triangle(rng);
-    const Vec3 p(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2));
+    const Vec3 p = draw_vec3([&] { return rng.uniform(-2, 2); });
     const TriangleHit h = closest_point_on_triangle(p, t[0], t[1], t[2]);
     const Vec3& w = h.weights;
     ASSERT_NEAR(w.sum(), 1.0, 1e-15);
@@ -261,7 +261,8 @@ TEST(SphereTriangle, DegenerateTriangleStaysFinite) {
   Rng rng(14);
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(2, 0, 0);
   for (int i = 0; i < 1000; ++i) {
-    const Vec3 p(rng.uniform(-1, 3), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const double pz = rng.uniform(-1, 1), py = rng.uniform(-1, 1), px = rng.uniform(-1, 3);  // draw_vec3's order
+    const Vec3 p(px, py, pz);
     for (const auto& tri : {std::array<Vec3, 3>{a, b, c}, std::array<Vec3, 3>{b, c, a}, std::array<Vec3, 3>{a, a, a}}) {
       const TriangleHit h = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
       ASSERT_TRUE(h.point.allFinite() && h.weights.allFinite() && std::isfinite(h.distance2));
@@ -281,7 +282,10 @@ TEST(SphereTriangle, FlatSheetHasOneContact) {
   const double R = 0.1;
   Rng rng(21);
   std::vector<Vec3> feet;  // foot points on the sheet
-  for (int i = 0; i < 3000; ++i) feet.push_back(c + Vec3(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 0));
+  for (int i = 0; i < 3000; ++i) {
+    const double y = rng.uniform(-0.3, 0.3), x = rng.uniform(-0.3, 0.3);  // draw_vec3's order
+    feet.push_back(c + Vec3(x, y, 0));
+  }
   // Exactly above interior vertices, edge midpoints (axis-parallel and diagonal) and random points
   // on edges.
   for (std::size_t e = 0; e < m.edge_vertices.size(); ++e) {
@@ -331,7 +335,7 @@ TEST(SphereTriangle, ConvexEdgeAndCornerOfABox) {
     EXPECT_NEAR(std::sqrt(kept[0].hit.distance2), gap, 1e-12);
     EXPECT_EQ(kept[0].hit.feature, i % 10 == 0 ? Feature::Vertex : Feature::Edge) << p.transpose();
     // Outside the corner (1, 1, 1), in its normal cone.
-    const Vec3 d = Vec3(rng.uniform(0.05, 1), rng.uniform(0.05, 1), rng.uniform(0.05, 1)).normalized();
+    const Vec3 d = draw_vec3([&] { return rng.uniform(0.05, 1); }).normalized();
     const auto corner = select(m, hits_within(m, Vec3(1, 1, 1) + gap * d, R));
     ASSERT_EQ(corner.size(), 1u);
     EXPECT_EQ(corner[0].hit.feature, Feature::Vertex);
@@ -344,7 +348,7 @@ TEST(SphereTriangle, ConcaveCornerKeepsTheFaceContacts) {
   Rng rng(23);
   for (int i = 0; i < 300; ++i) {
     // Inside near the corner at the origin: touches the three faces through it.
-    const Vec3 p(rng.uniform(0.02, 0.09), rng.uniform(0.02, 0.09), rng.uniform(0.02, 0.09));
+    const Vec3 p = draw_vec3([&] { return rng.uniform(0.02, 0.09); });
     const auto kept = select(m, hits_within(m, p, 0.1));
     ASSERT_EQ(kept.size(), 3u) << p.transpose();
     std::vector<double> d;
@@ -354,7 +358,8 @@ TEST(SphereTriangle, ConcaveCornerKeepsTheFaceContacts) {
     std::sort(expect.begin(), expect.end());
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(d[k], expect[k], 1e-12);
     // Inside along the edge x = y = 0: the two faces through it.
-    const Vec3 q(rng.uniform(0.02, 0.09), rng.uniform(0.02, 0.09), rng.uniform(0.2, 0.8));
+    const double qz = rng.uniform(0.2, 0.8), qy = rng.uniform(0.02, 0.09), qx = rng.uniform(0.02, 0.09);  // draw_vec3's order
+    const Vec3 q(qx, qy, qz);
     const auto two = select(m, hits_within(m, q, 0.1));
     ASSERT_EQ(two.size(), 2u) << q.transpose();
   }

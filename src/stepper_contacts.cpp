@@ -88,10 +88,10 @@ template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
 void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
-  const PairLawTable& laws = scene_.laws;
+  const PairLawTable* laws = &scene_.laws;  // a pointer: captured by value where used (pair_lanes)
   const double frac = scene_.max_overlap_fraction;
   const double r0 = np > 0 ? p_.radius[0] : 0.0, im0 = np > 0 ? p_.inv_mass[0] : 0.0;
-  const PairLaw* law0 = np > 0 ? &laws(p_.material[0], p_.material[0]) : nullptr;
+  const PairLaw* law0 = np > 0 ? &(*laws)(p_.material[0], p_.material[0]) : nullptr;
   // The arrays in locals, not through `this`: a store may alias the members, and the compiler would
   // load each array's address again after every store (the flag stores to `touching` alias anything).
   const Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
@@ -115,7 +115,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   struct alignas(32) Out {
     double F[4], Ti[4], Tj[4], diss[4];
   };
-  auto pair_lanes = [=, &laws](const std::uint32_t* ks, int n, Out* out, double& excess)
+  auto pair_lanes = [=](const std::uint32_t* ks, int n, Out* out, double& excess)
                         BAGDEM_INLINE_LAMBDA {
     std::uint32_t K[kLanes], I[kLanes], J[kLanes];
     for (int l = 0; l < kLanes; ++l) {
@@ -168,7 +168,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       with_law(*law0);
     } else {
       const PairLaw* e[kLanes];
-      for (int l = 0; l < kLanes; ++l) e[l] = &laws(material[I[l]], material[J[l]]);
+      for (int l = 0; l < kLanes; ++l) e[l] = &(*laws)(material[I[l]], material[J[l]]);
       with_law(law_lanes(e));
     }
   };
@@ -216,7 +216,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
     const bool now = !spheres_apart(x[i], x[j], rsum);
     const Vec3 d = x[i] - x[j];
     const double gap = std::sqrt(dot(d, d)) - rsum;
-    wake[k] = round_down_to_float(now | (touching[k] != 0) ? travel : travel + 0.5 * gap - 1e-9 * rsum);
+    wake[k] = round_down_to_float((now | (touching[k] != 0)) ? travel : travel + 0.5 * gap - 1e-9 * rsum);
     return now;
   };
   // Pair k may touch: its histories are fetched now, while the block's other pairs are looked at,

@@ -156,33 +156,44 @@ void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
   const double *mass = p_.mass.data(), *inv_mass = p_.inv_mass.data(), *inv_inertia = p_.inv_inertia.data();
   bool far = fold.far, finite = fold.finished_finite;
   double step2 = fold.step2;
-  for (std::size_t i = b0; i < b1; ++i) {
-    const Vec3 dv = h * inv_mass[i] * f[i];
-    const Vec3 x0 = x[i], xb = at_build[i];
-    Vec3 vi = v[i];
-    if constexpr (Finish) {
-      vi = vi + dv;  // the last step's stage 9 (kick_ball's operations on the same force)
-      finite = finite & std::isfinite(vi.squaredNorm());
+  // Balls all alike (uniform_): their mass and inertia are the first ball's (the same values, so
+  // the same results), and the loop reads three arrays fewer.
+  auto balls = [&](auto mass_of, auto inv_mass_of, auto inv_inertia_of) BAGDEM_INLINE_LAMBDA {
+    for (std::size_t i = b0; i < b1; ++i) {
+      const Vec3 dv = h * inv_mass_of(i) * f[i];
+      const Vec3 x0 = x[i], xb = at_build[i];
+      Vec3 vi = v[i];
+      if constexpr (Finish) {
+        vi = vi + dv;  // the last step's stage 9 (kick_ball's operations on the same force)
+        finite = finite & std::isfinite(vi.squaredNorm());
+      }
+      vi = vi + dv;
+      const Vec3 xi = x0 + dt * vi;
+      if constexpr (Rotation) {
+        const Vec3 dw = h * inv_inertia_of(i) * t[i];
+        Vec3 wi = w[i];
+        if constexpr (Finish) wi = wi + dw;
+        wi = wi + dw;
+        w[i] = wi;
+        w_pred[i] = wi + dw;
+      }
+      v[i] = vi;
+      x[i] = xi;
+      v_pred[i] = vi + dv;
+      far = far | ((xi - xb).squaredNorm() > limit2);
+      step2 = std::max(step2, (xi - x0).squaredNorm());  // the step as taken, rounding included
+      // The sums of the new step (start_sums, inlined here with its switches resolved).
+      f[i] = Gravity ? Vec3(mass_of(i) * g) : Vec3::Zero();
+      t[i].setZero();
+      if constexpr (Energy) diss[i].setZero();
     }
-    vi = vi + dv;
-    const Vec3 xi = x0 + dt * vi;
-    if constexpr (Rotation) {
-      const Vec3 dw = h * inv_inertia[i] * t[i];
-      Vec3 wi = w[i];
-      if constexpr (Finish) wi = wi + dw;
-      wi = wi + dw;
-      w[i] = wi;
-      w_pred[i] = wi + dw;
-    }
-    v[i] = vi;
-    x[i] = xi;
-    v_pred[i] = vi + dv;
-    far = far | ((xi - xb).squaredNorm() > limit2);
-    step2 = std::max(step2, (xi - x0).squaredNorm());  // the step as taken, rounding included
-    // The sums of the new step (start_sums, inlined here with its switches resolved).
-    f[i] = Gravity ? Vec3(mass[i] * g) : Vec3::Zero();
-    t[i].setZero();
-    if constexpr (Energy) diss[i].setZero();
+  };
+  if (uniform_) {
+    const double m = mass[0], im = inv_mass[0], ii = inv_inertia[0];
+    balls([m](std::size_t) { return m; }, [im](std::size_t) { return im; }, [ii](std::size_t) { return ii; });
+  } else {
+    balls([mass](std::size_t i) { return mass[i]; }, [inv_mass](std::size_t i) { return inv_mass[i]; },
+          [inv_inertia](std::size_t i) { return inv_inertia[i]; });
   }
   fold.far = far, fold.finished_finite = finite, fold.step2 = step2;
 }

@@ -398,6 +398,30 @@ void Simulation::derive_ranges(std::uint32_t ranges) {
         std::lower_bound(ps_.j_side.begin(), ps_.j_side.end(), ps_.range_first[r],
                          [](const PairState::JSide& e, std::uint32_t p) { return e.particle < p; }) -
         ps_.j_side.begin());
+  // The cross pairs by j's range (each range's thread computes those into it), and where each
+  // range's own pairs first need records (PairState).
+  auto range_of = [&](std::uint32_t p) {
+    return static_cast<std::uint32_t>(std::upper_bound(ps_.range_first.begin(), ps_.range_first.end(), p) - ps_.range_first.begin() - 1);
+  };
+  ps_.cross_into_range.assign(ranges + 1, 0);
+  ps_.records_upto.resize(ranges);
+  ps_.records_from.resize(ranges);
+  for (std::uint32_t r = 0; r < ranges; ++r) {
+    ps_.records_upto[r] = r;
+    ps_.records_from[r] = pairs.begin[ps_.range_first[r + 1]];
+  }
+  for (const std::uint32_t k : ps_.cross) {
+    const std::uint32_t i = ps_.first[k], ri = range_of(i), rj = range_of(pairs.partner[k]);
+    ++ps_.cross_into_range[rj + 1];
+    ps_.records_upto[ri] = std::max(ps_.records_upto[ri], rj);
+    ps_.records_from[ri] = std::min(ps_.records_from[ri], k);
+  }
+  for (std::uint32_t r = 0; r < ranges; ++r) ps_.cross_into_range[r + 1] += ps_.cross_into_range[r];
+  ps_.cross_into.resize(ps_.cross.size());
+  std::vector<std::uint32_t> fill(ps_.cross_into_range.begin(), ps_.cross_into_range.end() - 1);
+  for (std::size_t c = 0; c < ps_.cross.size(); ++c)
+    ps_.cross_into[fill[range_of(pairs.partner[ps_.cross[c]])]++] = static_cast<std::uint32_t>(c);
+  cross_done_ = std::vector<CrossStamp>(ranges);
   ps_.rec.assign(2 * ps_.cross.size(), {Vec3::Zero(), Vec3::Zero()});
   ps_.rec_diss.assign(scene_.models.energy ? ps_.cross.size() : 0, Vec3::Zero());
 }

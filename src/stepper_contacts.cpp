@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <thread>
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
@@ -50,8 +51,9 @@ void Simulation::pair_contacts(BallSpan walls, BallSpan drift) {
 // takes three regions (a fork and a join each, and each thread waits at each join for the slowest);
 // here the threads meet once, and a thread's lead in one stage makes up for its lag in another.
 // Why this is sound: pairs run i < j, so once range r's pairs are done no pair of this step reads
-// its balls again (the cross pairs into range r were computed before, PairState): their forces are
-// complete, their walls can be done and they can move on. The same operations on every ball in the
+// its balls again (the cross pairs into range r were computed before, and r waited for those out of
+// it before its last pairs, PairState): their forces are complete, their walls can be done and they
+// can move on. The same operations on every ball in the
 // same order as the staged step: the same bits (Determinism.FusedStepEqualsStaged).
 // Tried and not kept: the same over pieces of 256 or 1024 balls at a time, so that a piece's state
 // is still in cache from its pairs when it drifts. It was slower, not faster: 79-83 ns against
@@ -299,11 +301,13 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       }
     }
   };
-  // Cross pairs [c0, c1) into their records (zero when apart, the closing tally when just opened).
-  auto cross_block = [&](std::size_t c0, std::size_t c1, double& excess) BAGDEM_INLINE_LAMBDA {
+  // Cross pairs cs[0, n), n <= kBlock, into their records (zero when apart, the closing tally when
+  // just opened).
+  auto cross_block = [&](const std::uint32_t* cs, std::size_t n, double& excess) BAGDEM_INLINE_LAMBDA {
     std::uint32_t closed[kBlock], at[kBlock];
     std::size_t nc = 0;
-    for (std::size_t c = c0; c < c1; ++c) {
+    for (std::size_t m = 0; m < n; ++m) {
+      const std::size_t c = cs[m];
       const std::uint32_t k = cross[c];
       if (wake[k] > travel) continue;  // apart since its last look, which left its records zero
       if (look(k)) {
@@ -364,13 +368,17 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       }
     }
   };
-  // Range r: its particles' records from the ranges below, then its pairs; fused (fused_contacts),
-  // then its walls and its drift.
-  auto one_range = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+  // Range r in two parts: its particles' records from the ranges below and its pairs up to its
+  // first cross pair; then, with the records of its cross pairs at hand (PairState), its other pairs
+  // and, fused (fused_contacts), its walls and its drift. With one range the first part is all pairs.
+  auto range_head = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
     for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
       add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
+    pair_span(ps_.pairs.begin[ps_.range_first[r]], ps_.records_from[r], fold.excess);
+  };
+  auto range_tail = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t b0 = ps_.range_first[r], b1 = ps_.range_first[r + 1];
-    pair_span(ps_.pairs.begin[b0], ps_.pairs.begin[b1], fold.excess);
+    pair_span(ps_.records_from[r], ps_.pairs.begin[b1], fold.excess);
     if (drift != nullptr) {
       (this->*walls)(b0, b1, fold);
       (this->*drift)(b0, b1, fold);
@@ -379,24 +387,49 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   StageFold fold;
   const std::size_t ranges = ps_.ranges;
   if (ranges == 1) {
+    auto one_range = [&](std::size_t r, StageFold& f) BAGDEM_INLINE_LAMBDA {
+      range_head(r, f);
+      range_tail(r, f);
+    };
     run_items(one_range, 0, 1, fold);
   } else {
-    const std::size_t nx = ps_.cross.size(), cross_blocks = (nx + kBlock - 1) / kBlock;
-    auto cross_item = [&](std::size_t b, double& excess) BAGDEM_INLINE_LAMBDA {
-      cross_block(b * kBlock, std::min(nx, (b + 1) * kBlock), excess);
+    // The cross pairs into range r (their records; PairState), kBlock at a time.
+    auto cross_into = [&](std::size_t r, double& excess) BAGDEM_INLINE_LAMBDA {
+      const std::uint32_t *cs = ps_.cross_into.data() + ps_.cross_into_range[r], *end = ps_.cross_into.data() + ps_.cross_into_range[r + 1];
+      for (; cs < end; cs += kBlock) cross_block(cs, std::min<std::size_t>(kBlock, static_cast<std::size_t>(end - cs)), excess);
+    };
+    const std::uint64_t region = ++pair_regions_;
+    // Until the cross pairs into the ranges above r that r's cross pairs reach are computed.
+    auto await_records = [&](std::size_t r) {
+      for (std::size_t c = r + 1; c <= ps_.records_upto[r]; ++c)
+        for (int spins = 0; cross_done_[c].region.load(std::memory_order_acquire) != region; ++spins) {
+          if (spins < 4096) {
+            pause_cpu();
+          } else {
+            std::this_thread::yield();  // more threads than cores: let the one we wait for run
+          }
+        }
     };
 #pragma omp parallel
     {
       StageFold mine;
       const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
-      // The cross pairs first (any thread), then each range (one thread each; the loop covers them
-      // all for any team size).
-      run_items(cross_item, me * cross_blocks / team, (me + 1) * cross_blocks / team, mine.excess);
-#pragma omp barrier
+      // Each thread's ranges (one each; the loops cover them all for any team size): first the cross
+      // pairs into them, each stamped when done (no wait before: every stamp comes), then each range.
       for (std::size_t r = me; r < ranges; r += team) {
         const double start = omp_get_wtime();
-        run_items(one_range, r, r + 1, mine);
+        run_items(cross_into, r, r + 1, mine.excess);
+        cross_done_[r].region.store(region, std::memory_order_release);
         balance_.add(r, omp_get_wtime() - start);
+      }
+      for (std::size_t r = me; r < ranges; r += team) {
+        const double start = omp_get_wtime();
+        run_items(range_head, r, r + 1, mine);
+        const double paused = omp_get_wtime();
+        await_records(r);
+        const double resumed = omp_get_wtime();
+        run_items(range_tail, r, r + 1, mine);
+        balance_.add(r, (paused - start) + (omp_get_wtime() - resumed));  // its work, not its wait
       }
 #pragma omp critical(bagdem_pair_excess)
       fold.merge(mine);

@@ -31,6 +31,7 @@
 // (neighbour/spatial_order.hpp), so that each thread's contiguous range of balls is a compact piece
 // of the bed (PairState); outputs are written in the scene's order.
 #pragma once
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -57,11 +58,14 @@ namespace bagdem {
 // range's pairs are summed onto its particles in pair order by one thread, as a single thread sums
 // them all. The spatial order of the balls makes the ranges slabs of the bed, so few pairs cross
 // between them (1-4% in a packed bed). A pair whose particles lie in two ranges (a cross pair: i's
-// range is below j's) is computed first, by any thread, into two records. i adds
+// range is below j's) is computed first, by the thread of j's range, into two records. i adds
 // its record at the pair's place among its own pairs; j adds its records, in the order of their i,
 // before its own range reaches it: where a single thread adds them too (j's partners below its range
 // come first in partner order). The same operands in the same order: the same bits for any thread
-// count.
+// count. The threads do not meet between the cross pairs and the ranges: a range's thread waits
+// for the records of its cross pairs only when its pairs reach the first of them (the range's last
+// balls; by then the threads of the ranges above have long computed them), and a thread never
+// waits before it has computed the cross pairs into its own ranges, so every wait ends.
 struct PairState {
   CandidatePairs pairs;                      // i < j, canonical order
   std::vector<std::uint32_t> first;          // i of each pair
@@ -88,6 +92,10 @@ struct PairState {
   };
   std::vector<JSide> j_side;                 // by particle, then by i
   std::vector<std::uint32_t> j_side_range;   // ranges + 1: range r's entries of j_side
+  std::vector<std::uint32_t> cross_into;     // the cross pairs (indices into `cross`) by j's range, ascending within each
+  std::vector<std::uint32_t> cross_into_range;  // ranges + 1: range r's entries of cross_into
+  std::vector<std::uint32_t> records_from;   // per range: its first cross pair (its pairs' end when it has none)
+  std::vector<std::uint32_t> records_upto;   // per range: the highest range its cross pairs reach (itself when none)
   struct Record {
     Vec3 force;   // on the record's particle: +F on i, -F on j (unit: N)
     Vec3 torque;  // on the record's particle (unit: N m)
@@ -503,6 +511,13 @@ class Simulation {
   // its core's cache from stage to stage (with a set per stage the cuts chased each other and two
   // threads were slower than one); moved by the three stages' summed times (SpanBalance).
   SpanBalance balance_;
+  // Per range: the last parallel region of the pair stage in which the cross pairs into the range
+  // were computed (PairState; a thread waits on the stamps of the ranges above its own).
+  struct alignas(64) CrossStamp {
+    std::atomic<std::uint64_t> region{0};
+  };
+  std::vector<CrossStamp> cross_done_;
+  std::uint64_t pair_regions_ = 0;
   bool uniform_ = false;                      // all balls of one radius and one material
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).

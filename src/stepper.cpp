@@ -141,27 +141,25 @@ void Simulation::end_balance() {
 // Also predicts the end-of-step velocities the contact law uses, v(n+1/2) + dt/2 F(n)/m: with the
 // half-step velocity alone (as LAMMPS and LIGGGHTS do) the damping force lags by dt/2, a first-order
 // error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
-// second order. Also finds whether any particle moved more than skin/2 since the last build.
+// second order. Also finds the largest step a ball took (travel_; end_drift).
 template <bool Finish, bool Rotation, bool Gravity, bool Energy>
 void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
   const double dt = scene_.dt, h = 0.5 * dt;
-  const double limit2 = 0.25 * scene_.skin * scene_.skin;
   const Vec3 g = scene_.gravity;
   // The arrays and the folds in locals, and every ball's values read before any is written: the
   // compiler then keeps them in registers (through the members, each store made it reload them, as
   // a store may alias: the drift took 19-20% of the step at N = 10000, now 14-16%).
   Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
   Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = tally_.step_dissipation.data();
-  const Vec3* at_build = x_at_build_.data();
   const double *mass = p_.mass.data(), *inv_mass = p_.inv_mass.data(), *inv_inertia = p_.inv_inertia.data();
-  bool far = fold.far, finite = fold.finished_finite;
+  bool finite = fold.finished_finite;
   double step2 = fold.step2;
   // Balls all alike (uniform_): their mass and inertia are the first ball's (the same values, so
   // the same results), and the loop reads three arrays fewer.
   auto balls = [&](auto mass_of, auto inv_mass_of, auto inv_inertia_of) BAGDEM_INLINE_LAMBDA {
     for (std::size_t i = b0; i < b1; ++i) {
       const Vec3 dv = h * inv_mass_of(i) * f[i];
-      const Vec3 x0 = x[i], xb = at_build[i];
+      const Vec3 x0 = x[i];
       Vec3 vi = v[i];
       if constexpr (Finish) {
         vi = vi + dv;  // the last step's stage 9 (kick_ball's operations on the same force)
@@ -180,7 +178,6 @@ void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
       v[i] = vi;
       x[i] = xi;
       v_pred[i] = vi + dv;
-      far = far | ((xi - xb).squaredNorm() > limit2);
       step2 = std::max(step2, (xi - x0).squaredNorm());  // the step as taken, rounding included
       // The sums of the new step (start_sums, inlined here with its switches resolved).
       f[i] = Gravity ? Vec3(mass_of(i) * g) : Vec3::Zero();
@@ -195,7 +192,7 @@ void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
     balls([mass](std::size_t i) { return mass[i]; }, [inv_mass](std::size_t i) { return inv_mass[i]; },
           [inv_inertia](std::size_t i) { return inv_inertia[i]; });
   }
-  fold.far = far, fold.finished_finite = finite, fold.step2 = step2;
+  fold.finished_finite = finite, fold.step2 = step2;
 }
 
 Simulation::BallSpan Simulation::drift_stage(bool finish) const {
@@ -214,17 +211,32 @@ void Simulation::StageFold::merge(const StageFold& o) {
   excess = std::max(excess, o.excess);
   min_dist = std::min(min_dist, o.min_dist);
   kicked_finite = kicked_finite && o.kicked_finite;
-  far = far || o.far;
   step2 = std::max(step2, o.step2);
   finished_finite = finished_finite && o.finished_finite;
 }
 
 void Simulation::end_drift(const StageFold& fold) {
   finished_finite_ = fold.finished_finite;
-  needs_rebuild_ = fold.far;
   // Rounded up twice over (the square root and the sum): travel_ never falls short of the true
   // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
   travel_ = std::nextafter(travel_ + std::sqrt(fold.step2) * (1.0 + 1e-14), HUGE_VAL);
+  needs_rebuild_ = travel_ > far_check_at_ && moved_beyond_skin();
+}
+
+// Whether a ball is more than skin/2 from where it was at the last build, which the pair list
+// (found within skin) no longer covers. Asked only when it could be (end_drift): a ball moved at
+// most travel_ - t since travel_ was t, so after a check found them all within d of their place
+// at the build, none can be farther than skin/2 before travel_ has grown by skin/2 - d. The same
+// steps rebuild as with the test at every step, and the drift does not read x_at_build_. In a
+// shaken bed the check runs a few times per rebuild (the slack shrinks by a fraction each time).
+bool Simulation::moved_beyond_skin() {
+  const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
+  const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },
+                                  [](double a, double b) { return std::max(a, b); });
+  if (d2 > 0.25 * scene_.skin * scene_.skin) return true;
+  // Rounded down by far more than the rounding of these few operations (1e-16 of skin).
+  far_check_at_ = travel_ + (0.5 * scene_.skin - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
+  return false;
 }
 
 void Simulation::kick_drift() {
@@ -348,6 +360,7 @@ void Simulation::derive_pair_buffers() {
   ps_.touching.assign(np, 0);
   ps_.wake.assign(np, 0.0f);  // every pair looked at in the next pair stage (travel_ >= 0)
   travel_ = 0.0;
+  far_check_at_ = -1.0;       // the next drift checks the distances from x_at_build_ (moved_beyond_skin)
   for (std::size_t k = 0; k < np; ++k) {
     const bool t = !ps_.tangential.empty() && ps_.tangential[k].stiffness != 0;
     const bool r = !ps_.rolling.empty() && ps_.rolling[k].stiffness != 0;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -79,5 +80,36 @@ TEST(PairSkipping, NoContactMissedOnOneOrTwoThreads) {
     EXPECT_GT(t.contacts, 5000u) << "the gas must collide for the test to mean anything";
     EXPECT_EQ(t.missed, 0u) << threads << " threads: overlapping pairs the pair stage did not see";
     EXPECT_EQ(t.phantom, 0u) << threads << " threads";
+  }
+}
+
+// The neighbour list is rebuilt at a step exactly when a ball ended it more than skin/2 from where
+// it was at the last build. The stepper does not measure that distance at every step
+// (Simulation::moved_beyond_skin: only once travel could have taken a ball that far); this test
+// does, after every step, from the positions at the last build it saw. The gas at 3 m/s with a
+// skin of 20 um rebuilds every few dozen steps; tolerance: the same decision at every one of the
+// 1500 steps.
+TEST(PairSkipping, RebuildsExactlyWhenABallLeftHalfTheSkin) {
+  Scene s = gas(9, 1e-3, 3.0, 11);
+  s.skin = 2e-5;
+  for (int threads : {1, 2}) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    Simulation sim(s);
+    sim.set_parallel_balls(kParallelMin);
+    std::vector<Vec3> at_build = sim.particles().x;
+    std::uint64_t builds = sim.neighbour_builds(), rebuilds = 0, wrong = 0;
+    while (sim.steps_done() < s.total_steps()) {
+      sim.step();
+      const std::vector<Vec3>& x = sim.particles().x;
+      double d2 = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
+      const bool expected = d2 > 0.25 * s.skin * s.skin, rebuilt = sim.neighbour_builds() != builds;
+      wrong += expected != rebuilt;
+      if (rebuilt) at_build = x, builds = sim.neighbour_builds(), ++rebuilds;
+    }
+    omp_set_num_threads(before);
+    EXPECT_GT(rebuilds, 10u) << "the gas must outrun the skin often for the test to mean anything";
+    EXPECT_EQ(wrong, 0u) << threads << " threads: steps whose rebuild decision differs from the distance test";
   }
 }

@@ -309,12 +309,11 @@ class Simulation {
     return {f, f * s, f * s * s};
   }
   // What the ball stages fold over the balls (max, min, and, or: the same for any order and team):
-  // the guards' values and whether the neighbour list still holds.
+  // the guards' values and the largest step.
   struct StageFold {
     double excess = -1e300;         // pairs and walls: max of overlap - max_overlap x smaller radius (unit: m)
     double min_dist = 1e300;        // walls: min of the centres' distances inside the cavity (unit: m)
     bool kicked_finite = true;      // walls: every velocity finite after the kick done there
-    bool far = false;               // drift: a ball is more than skin/2 from where it was at the last build
     double step2 = 0;               // drift: the largest |x(n+1) - x(n)|^2 of a ball (unit: m^2)
     bool finished_finite = true;    // drift: every velocity finite after the pending kick (Finish)
     void merge(const StageFold& o);
@@ -328,6 +327,7 @@ class Simulation {
   // span over all balls, on the threads' spans (SpanBalance), its folds merged into fold.
   void over_balls(BallSpan span, StageFold& fold);
   void end_drift(const StageFold& fold);
+  bool moved_beyond_skin();
   // Stages 4, 5 and the next step's 1 in one parallel region (fused_contacts).
   void fused_contacts();
   // defer_kick_ also means no triangulated surface, so no film: no later stage adds to the balls.
@@ -528,7 +528,9 @@ class Simulation {
   bool kick_pending_ = false;                 // the last step's kick of the balls is still to be done
   bool balls_finite_ = true;                  // every ball's velocity finite after that kick
   bool finished_finite_ = true;               // every ball's velocity finite after kick_drift finished a pending kick
-  bool needs_rebuild_ = false;                // a particle moved more than skin/2 (kick_drift)
+  bool needs_rebuild_ = false;                // a particle moved more than skin/2 (end_drift), or the cavity did (move_cavity)
+  // travel_ up to which no ball can be more than skin/2 from its place at the build (moved_beyond_skin) (unit: m).
+  double far_check_at_ = -1.0;
   bool fuse_ = true;                          // set_fusion
   // The balls' stage 1 of the next step is done (fused_contacts): kick_drift skips it.
   bool drifted_ = false;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <vector>
 
 #include "bagdem/contact/geometry.hpp"
@@ -109,6 +110,8 @@ TEST(PairSkipping, RebuildsExactlyWhenABallLeftHalfTheSkin) {
       if (rebuilt) at_build = x, builds = sim.neighbour_builds(), ++rebuilds;
     }
     omp_set_num_threads(before);
+    std::printf("[rebuilds] %d threads: %llu rebuilds in %llu steps\n", threads, static_cast<unsigned long long>(rebuilds),
+                static_cast<unsigned long long>(s.total_steps()));
     EXPECT_GT(rebuilds, 10u) << "the gas must outrun the skin often for the test to mean anything";
     EXPECT_EQ(wrong, 0u) << threads << " threads: steps whose rebuild decision differs from the distance test";
   }

@@ -246,7 +246,7 @@ class Ranks {
   int rank_ = 0, size_ = 1, local_size_ = 1;
   int cores_ = 1;
   std::string cores_from_;
-  bool initialised_ = false;
+  [[maybe_unused]] bool initialised_ = false;  // used only with BAGDEM_MPI (mpi.cpp)
 };
 
 // True when this process was started by an MPI launcher (environment of mpirun, srun, hydra).

@@ -227,8 +227,10 @@ void Simulation::end_drift(const StageFold& fold) {
 // (found within skin) no longer covers. Asked only when it could be (end_drift): a ball moved at
 // most travel_ - t since travel_ was t, so after a check found them all within d of their place
 // at the build, none can be farther than skin/2 before travel_ has grown by skin/2 - d. The same
-// steps rebuild as with the test at every step, and the drift does not read x_at_build_. In a
-// shaken bed the check runs a few times per rebuild (the slack shrinks by a fraction each time).
+// steps rebuild as with the test at every step, and the drift does not read x_at_build_. In the
+// shaken PD-box bed the check runs a few times per rebuild (the slack shrinks by a fraction each
+// time): 223 times in the 400 000-odd steps of `bagdem bench --sizes 1000 10000 --threads 1
+// --steps 1`, whose timed runs alone rebuild 38 times.
 bool Simulation::moved_beyond_skin() {
   const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
   const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },

@@ -1,6 +1,7 @@
 // The stepper: the stage list of stepper.hpp. This file: set-up, the step, and the stages that move
 // particles and the cavity (kick-drift, move cavity, neighbours, kick). The contact stages are in
-// stepper_contacts.cpp, the guards in stepper_guards.cpp, energy and loads in stepper_budget.cpp.
+// stepper_contacts.cpp (pairs) and stepper_walls.cpp, the guards in stepper_guards.cpp, energy and
+// loads in stepper_budget.cpp.
 #include "bagdem/stepper.hpp"
 
 #include <omp.h>

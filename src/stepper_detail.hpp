@@ -34,6 +34,12 @@ template <class Body, class Acc>
   for (std::size_t i = begin; i < end; ++i) body(i, acc);
 }
 
+// The bytes of a tangential history that the law reads and writes: without the energy tally its
+// force and stiffness, the first row (surface_contact_lanes). 7 in 8 histories straddle two cache
+// lines, 3 in 8 of the first rows.
+template <bool Energy>
+constexpr std::size_t kTangentialBytes = Energy ? sizeof(TangentialHistory) : 4 * sizeof(double);
+
 // One turn of a spin wait: tells the core it is waiting (x86 `pause`), so it yields resources and
 // leaves the loop without a memory-order flush when the value comes.
 inline void pause_cpu() {

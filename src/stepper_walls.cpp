@@ -1,0 +1,278 @@
+// Stage 5 of the step: the balls against the cavity's walls (planes, cylinders), in batches of
+// contacts through the same lane-wise law as the pairs (stepper_contacts.cpp), with the balls' kick
+// where no later stage adds to their forces. Each configuration of the model switches is compiled
+// as its own loop (with_flags).
+#include "bagdem/stepper.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+
+#include "bagdem/contact/surface_law.hpp"
+#include "stepper_detail.hpp"
+
+namespace bagdem {
+
+// ---- 5. wall_contacts ---------------------------------------------------------------------------
+void Simulation::wall_contacts() {
+  StageFold fold;
+  fold.excess = overlap_excess_;  // the pair stage's
+  over_balls(wall_stage(), fold);
+  end_walls(fold);
+}
+
+Simulation::BallSpan Simulation::wall_stage() const {
+  BallSpan span = nullptr;
+  with_flags([&span]<bool T, bool R, bool E>() { span = &Simulation::wall_span<T, R, E>; }, scene_.models.tangential,
+             scene_.models.rolling, scene_.models.energy);
+  return span;
+}
+
+void Simulation::end_walls(const StageFold& fold) {
+  overlap_excess_ = fold.excess;
+  min_boundary_distance_ = fold.min_dist;
+  balls_finite_ = fold.kicked_finite;
+}
+
+// Balls [b0, b1) against the walls.
+template <bool Tangential, bool Rolling, bool Energy>
+void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
+  const std::size_t nw = scene_.walls.size();
+  const double dt = dt_step_;
+  const WallMotion rigid = rigid_motion();  // the walls' motion (per ball with a slope: motion_at)
+  const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
+  const PairLawTable& laws = scene_.laws;
+  const double frac = scene_.max_overlap_fraction;
+  // Stage 9's kick of the balls, done here while the ball's force and torque are at hand when no
+  // later stage adds to them (kick_balls_here; the same operations as kick()).
+  const bool kick = kick_balls_here() && !defer_kick_, rotation = scene_.models.rotation;
+  // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
+  // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
+  const bool near_only = defer_kick_ && !Energy;
+  const double h = 0.5 * dt;
+  // A ball whose wall contacts are closed waits in `held` while the law runs on the contacts of a
+  // batch of balls, kLanes at a time (surface_contact_lanes); the others are done at once. Each
+  // ball's sums are then added in wall order, as one contact at a time adds them, so the results
+  // are the same bits (a lane gives the scalar law's bits, ContactLanes).
+  constexpr std::size_t kBatch = 64;  // wall contacts per batch
+  struct Held {
+    Vec3 F, T, diss, x_local, c_step;
+    double d_min, d_bounds;
+    std::uint32_t p, touched, end;  // end: one past its last contact in the batch
+  };
+  struct alignas(32) Contact {
+    double row[4][4];  // (n, overlap), (v_rel, R*), (v_half, m*), (w_half, arm_i): the law's geometry
+    double d;          // the centre's distance from the wall
+    std::size_t slot;  // p * nw + w: its histories
+    const PairLaw* law;
+  };
+  struct alignas(32) Out {
+    double F[4], nxFt[4], roll[4], diss[4];
+  };
+  // The rest of ball b's wall stage, once its wall contacts are in b.F, b.T and b.diss: F_wall and
+  // T_cavity are their force on the ball and torque on the cavity, load their load_moments.
+  auto complete = [this, dt, frac, kick, rotation, h](const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load,
+                                                       StageFold& ext) BAGDEM_INLINE_LAMBDA {
+    const std::size_t p = b.p;
+    const Vec3 &F = b.F, &T = b.T;
+    if (couple_) cavity_load_[p] = load;
+    p_.f[p] = F;
+    p_.t[p] = T;
+    wall_touch_[p] = b.touched;
+    ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
+    ext.excess = std::max(ext.excess, p_.radius[p] - b.d_min - frac * p_.radius[p]);  // the deepest wall contact
+    if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
+    // Tallies: the load on the cavity (always) and the energy budget (when asked). A ball with no
+    // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
+    // changes no bit): skipped, as for the balls far from the walls.
+    if (b.touched != 0) {
+      tally_.wall_impulse[p] -= dt * F_wall;
+      tally_.wall_ang_impulse[p] += dt * T_cavity;
+    }
+    if constexpr (Energy) {
+      // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
+      tally_.work_cavity[p] += 0.5 * (F_wall + tally_.wall_force_prev[p]).dot(b.c_step);
+      tally_.wall_force_prev[p] = F_wall;
+      tally_.diss_normal[p] += b.diss.x();
+      tally_.diss_tangential[p] += b.diss.y();
+      tally_.diss_rolling[p] += b.diss.z();
+    }
+  };
+  Held held[kBatch];
+  Contact list[kBatch];
+  Out out[kBatch + kLanes];
+  std::size_t nh = 0, nc = 0;
+  // The law on the batch's contacts, then the held balls done.
+  auto flush = [&]() BAGDEM_INLINE_LAMBDA {
+    for (std::size_t a = 0; a < nc; a += kLanes) {
+      const Contact* e[kLanes];
+      for (std::size_t l = 0; l < kLanes; ++l) e[l] = &list[std::min(a + l, nc - 1)];
+      ContactGeometryT<Lanes> g;
+      const double* rows[kLanes];
+      auto load_row = [&](int r, Lanes3& v, Lanes& w) BAGDEM_INLINE_LAMBDA {
+        for (std::size_t l = 0; l < kLanes; ++l) rows[l] = e[l]->row[r];
+        gather4(rows, v, w);
+      };
+      load_row(0, g.n, g.overlap);
+      load_row(1, g.v_rel, g.R_eff);
+      load_row(2, g.v_half, g.m_eff);
+      load_row(3, g.w_half, g.arm_i);
+      g.arm_j = splat<Lanes>(0);
+      double* damping[kLanes];
+      TangentialHistory* th[kLanes];
+      RollingHistory* rh[kLanes];
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        damping[l] = Energy ? &wall_damping_prev_[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &wall_tan_[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &wall_roll_[e[l]->slot] : nullptr;
+      }
+      auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
+        const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
+        Out* o = out + a;
+        auto rows_of = [o](double (Out::*m)[4]) BAGDEM_INLINE_LAMBDA {
+          return std::array<double*, kLanes>{o[0].*m, o[1].*m, o[2].*m, o[3].*m};
+        };
+        to_rows(c.F, splat<Lanes>(0), rows_of(&Out::F).data());
+        if constexpr (Tangential) to_rows(c.nxFt, splat<Lanes>(0), rows_of(&Out::nxFt).data());
+        if constexpr (Rolling) to_rows(c.roll, splat<Lanes>(0), rows_of(&Out::roll).data());
+        if constexpr (Energy) to_rows(c.diss, splat<Lanes>(0), rows_of(&Out::diss).data());
+      };
+      if (e[0]->law == e[1]->law && e[0]->law == e[2]->law && e[0]->law == e[3]->law) {
+        with_law(*e[0]->law);
+      } else {
+        const PairLaw* four[kLanes] = {e[0]->law, e[1]->law, e[2]->law, e[3]->law};
+        with_law(law_lanes(four));
+      }
+    }
+    auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };
+    for (std::size_t k = 0, c = 0; k < nh; ++k) {
+      Held& b = held[k];
+      Vec3 F_wall(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
+      for (; c < b.end; ++c) {
+        // As surface_contact adds them: F, then -arm_i (n x F_t) and the rolling torque to T.
+        const Contact& ct = list[c];
+        const Vec3 Fc = vec(out[c].F);
+        if constexpr (Tangential) b.T -= ct.row[3][3] * vec(out[c].nxFt);
+        if constexpr (Rolling) b.T += vec(out[c].roll);
+        if constexpr (Energy) b.diss += vec(out[c].diss);
+        b.F += Fc;
+        F_wall += Fc;
+        // Torque on the cavity about its reference point, from the contact point on the wall.
+        const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
+        T_cavity -= cross(Vec3(at - scene_.cavity_reference), Fc);
+        if (couple_) load += load_moments(at, -Fc);
+      }
+      complete(b, F_wall, T_cavity, load, ext);
+    }
+    nh = nc = 0;
+  };
+  auto fetch_ball = [this](std::size_t p) BAGDEM_INLINE_LAMBDA {
+    for (const Vec3* a : {&p_.x[p], &p_.v[p], &p_.w[p], &p_.f[p], &p_.t[p]}) prefetch_object(a);
+    prefetch_object(&wall_near_[p]);
+  };
+  auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
+    // Gravity (kick_drift) and the pairs (pair_contacts).
+    Vec3 F = p_.f[p];
+    Vec3 T = p_.t[p];
+    [[maybe_unused]] Vec3 diss(0, 0, 0);
+    if constexpr (Energy) diss = tally_.step_dissipation[p];
+
+    // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
+    const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
+    const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
+    const Vec3 x_local = p_.x[p] - wm.pos;
+    const double r = p_.radius[p];
+    // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
+    // planes need not enclose anything).
+    const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
+    const std::uint32_t near = wall_near_[p];
+    if (near == 0) {
+      // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
+      // to its tallies this step is zero and is skipped (its last wall force was zero too).
+      if (couple_) cavity_load_[p].setZero();
+      if constexpr (Energy) {
+        tally_.diss_normal[p] += diss.x();
+        tally_.diss_tangential[p] += diss.y();
+        tally_.diss_rolling[p] += diss.z();
+      }
+      ext.min_dist = std::min(ext.min_dist, d_bounds);
+      if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
+      return;
+    }
+    if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
+    double d_min = 1e300;  // nearest wall
+    const std::uint32_t touched_before = wall_touch_[p];
+    std::uint32_t touched = 0;
+    const std::size_t first = nc;
+    for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
+      const auto w = static_cast<std::size_t>(std::countr_zero(bits));
+      const Wall& wall = scene_.walls[w];
+      ContactGeometry g;
+      const double d = wall_distance(wall, x_local, g.n);
+      d_min = std::min(d_min, d);
+      g.overlap = r - d;
+      if (g.overlap <= 0) {
+        // A contact that just opened: tally what it still held, clear its history (walls not
+        // touched cost no memory access).
+        if (touched_before & (1u << w)) {
+          if constexpr (Energy) {
+            const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
+            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
+                                                       Tangential ? &wall_tan_[p * nw + w] : nullptr,
+                                                       Rolling ? &wall_roll_[p * nw + w] : nullptr);
+            wall_damping_prev_[p * nw + w] = 0.0;
+          }
+          if constexpr (Tangential) wall_tan_[p * nw + w] = {};
+          if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+        }
+        continue;
+      }
+      touched |= 1u << w;
+      g.R_eff = wall_effective_radius(wall, r);
+      g.m_eff = p_.mass[p];
+      g.arm_i = r - 0.5 * g.overlap;
+      g.arm_j = 0;
+      // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
+      // the mean over the step.
+      motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
+      Contact& ct = list[nc++];
+      auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
+        ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;
+      };
+      put(0, g.n, g.overlap);
+      put(1, g.v_rel, g.R_eff);
+      put(2, g.v_half, g.m_eff);
+      put(3, g.w_half, g.arm_i);
+      ct.d = d;
+      ct.slot = p * nw + w;
+      // Its histories fetched now, to be in cache when the batch's law reads them (flush).
+      if constexpr (Tangential) prefetch_object(&wall_tan_[ct.slot], kTangentialBytes<Energy>);
+      if constexpr (Rolling) prefetch_object(&wall_roll_[ct.slot]);
+      ct.law = &laws(p_.material[p], wall.material);
+    }
+    const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
+    if (nc == first) {
+      const Vec3 zero(0, 0, 0);
+      complete(b, zero, zero, zero, ext);  // no wall contact closed
+    } else {
+      held[nh++] = b;
+    }
+  };
+  if (near_only) {
+    const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
+    // The near balls are a sparse subset, whose state the hardware prefetchers do not follow:
+    // the state of the ball kAhead places on is fetched while this one is done.
+    constexpr std::ptrdiff_t kAhead = 8;
+    const auto* end = near_balls_.data() + near_balls_.size();
+    for (; it != end && *it < b1; ++it) {
+      if (end - it > kAhead) fetch_ball(it[kAhead]);
+      ball(*it);
+    }
+  } else {
+    for (std::size_t p = b0; p < b1; ++p) ball(p);
+  }
+  flush();
+}
+
+}  // namespace bagdem

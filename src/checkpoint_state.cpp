@@ -125,6 +125,7 @@ void Simulation::load_state(const std::vector<char>& image) {
   // What is derived from the pair list (first, per-pair buffers, the walls near each
   // ball), without a new broad-phase search.
   derive_pair_buffers();
+  near_edge_ = near_skin_edge();  // as the run that saved the image found it at this step (end_drift)
   find_near_walls();
   if (!surfaces_.empty()) build_mesh_candidates(x_at_build_, film_at_build_, cavity_at_build_);
 }

@@ -218,27 +218,30 @@ void Simulation::StageFold::merge(const StageFold& o) {
 
 void Simulation::end_drift(const StageFold& fold) {
   finished_finite_ = fold.finished_finite;
+  largest_step_ = std::sqrt(fold.step2);
   // Rounded up twice over (the square root and the sum): travel_ never falls short of the true
   // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
-  travel_ = std::nextafter(travel_ + std::sqrt(fold.step2) * (1.0 + 1e-14), HUGE_VAL);
-  needs_rebuild_ = travel_ > far_check_at_ && moved_beyond_skin();
+  travel_ = std::nextafter(travel_ + largest_step_ * (1.0 + 1e-14), HUGE_VAL);
+  // The list is renewed a step ahead (kSkinStep): before the pairs at these positions when a ball
+  // was near the skin's edge at the last ones.
+  needs_rebuild_ = near_edge_;
+  near_edge_ = travel_ > far_check_at_ && near_skin_edge();
 }
 
-// Whether a ball is more than skin/2 from where it was at the last build, which the pair list
-// (found within skin) no longer covers. Asked only when it could be (end_drift): a ball moved at
-// most travel_ - t since travel_ was t, so after a check found them all within d of their place
-// at the build, none can be farther than skin/2 before travel_ has grown by skin/2 - d. The same
-// steps rebuild as with the test at every step, and the drift does not read x_at_build_. In the
-// shaken PD-box bed the check runs a few times per rebuild (the slack shrinks by a fraction each
-// time): 223 times in the 400 000-odd steps of `bagdem bench --sizes 1000 10000 --threads 1
-// --steps 1`, whose timed runs alone rebuild 38 times.
-bool Simulation::moved_beyond_skin() {
+// Whether a ball is more than skin/2 - kSkinStep x skin from where it was at the last build.
+// Asked only when it could be (end_drift): a ball moved at most travel_ - t since travel_ was t,
+// so after a check found them all within d of their place at the build, none can pass the edge
+// before travel_ has grown by edge - d. The same steps rebuild as with the test at every step, and
+// the drift does not read x_at_build_. In the shaken PD-box bed the check runs a few times per
+// rebuild (the slack shrinks by a fraction each time).
+bool Simulation::near_skin_edge() {
   const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
+  const double edge = (0.5 - kSkinStep) * scene_.skin;
   const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },
                                   [](double a, double b) { return std::max(a, b); });
-  if (d2 > 0.25 * scene_.skin * scene_.skin) return true;
+  if (d2 > edge * edge) return true;
   // Rounded down by far more than the rounding of these few operations (1e-16 of skin).
-  far_check_at_ = travel_ + (0.5 * scene_.skin - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
+  far_check_at_ = travel_ + (edge - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
   return false;
 }
 
@@ -363,7 +366,8 @@ void Simulation::derive_pair_buffers() {
   ps_.touching.assign(np, 0);
   ps_.wake.assign(np, 0.0f);  // every pair looked at in the next pair stage (travel_ >= 0)
   travel_ = 0.0;
-  far_check_at_ = -1.0;       // the next drift checks the distances from x_at_build_ (moved_beyond_skin)
+  far_check_at_ = -1.0;       // the next drift checks the distances from x_at_build_ (near_skin_edge)
+  near_edge_ = false;         // every ball is where it was at the build
   for (std::size_t k = 0; k < np; ++k) {
     const bool t = !ps_.tangential.empty() && ps_.tangential[k].stiffness != 0;
     const bool r = !ps_.rolling.empty() && ps_.rolling[k].stiffness != 0;

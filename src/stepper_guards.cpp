@@ -23,7 +23,8 @@ void Simulation::guards() {
   const bool crossed = crossed_ != none, crowded = mesh_overflow_ != none;
   const bool film_out = scene_.bag && film_deepest_ < 0.5 * scene_.bag->film.thickness -
                                                        scene_.max_overlap_fraction * scene_.bag->contact_radius;
-  if (!bad && !overlap && !escaped && !crossed && !crowded && !film_out) return;
+  const bool too_fast = largest_step_ > kSkinStep * scene_.skin;
+  if (!bad && !overlap && !escaped && !crossed && !crowded && !film_out && !too_fast) return;
 
   std::ostringstream m;
   m << "run stopped at t = " << time() << " s (step " << step_ << "): ";
@@ -83,13 +84,19 @@ void Simulation::guards() {
       throw RunError(m.str());
     }
   }
-  {
+  if (overlap) {
     m << "a contact overlap reached " << 100 * largest_overlap_ratio() << "% of a particle radius (limit "
       << 100 * scene_.max_overlap_fraction
       << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
          "raise the Young's modulus.";
+    throw RunError(m.str());
   }
+  // Last: a ball that fast has usually done one of the above already, which names what it did.
+  m << "a ball moved " << largest_step_ << " m in one step, more than " << kSkinStep << " of the neighbour skin ("
+    << kSkinStep * scene_.skin << " m of simulation.skin = " << scene_.skin
+    << " m). The pair list is renewed a step ahead, for that much motion a step; a faster ball could miss "
+       "contacts. Reduce simulation.timestep or raise simulation.skin.";
   throw RunError(m.str());
 }
 

@@ -1037,7 +1037,9 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   }
   const double y_film = lo, dt = 1e-6;
   const double y0 = y_film - 2.025e-3 - 1e-3, y1 = y_film + 0.5e-3;
-  LoadedCase c(guard_toml(y0, (y1 - y0) / dt, "timestep = 1e-6\nforce_timestep = true"));
+  // A skin of 16 mm: the list, renewed a step ahead, allows a quarter of it (4 mm) in one step
+  // (Simulation::kSkinStep); this step is 3.5 mm.
+  LoadedCase c(guard_toml(y0, (y1 - y0) / dt, "timestep = 1e-6\nforce_timestep = true\nskin = \"16 mm\""));
   const Scene& s = c.scene;
   ASSERT_EQ(s.dt, dt);
   Simulation sim(s);

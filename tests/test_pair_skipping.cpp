@@ -7,11 +7,14 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <cstdint>
 #include <cstdio>
 #include <vector>
 
 #include "bagdem/contact/geometry.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/stepper.hpp"
 #include "rng.hpp"
 #include "scene_builder.hpp"
@@ -84,35 +87,59 @@ TEST(PairSkipping, NoContactMissedOnOneOrTwoThreads) {
   }
 }
 
-// The neighbour list is rebuilt at a step exactly when a ball ended it more than skin/2 from where
-// it was at the last build. The stepper does not measure that distance at every step
-// (Simulation::moved_beyond_skin: only once travel could have taken a ball that far); this test
-// does, after every step, from the positions at the last build it saw. The gas at 3 m/s with a
-// skin of 20 um rebuilds every few dozen steps; tolerance: the same decision at every one of the
-// 1500 steps.
-TEST(PairSkipping, RebuildsExactlyWhenABallLeftHalfTheSkin) {
+// The neighbour list is renewed one step ahead (Simulation::kSkinStep): before a step's pairs
+// exactly when a ball ended the step before more than skin/2 - kSkinStep x skin from where it was
+// at the last build; so at no step's pairs is a ball more than skin/2 from there. The stepper does
+// not measure that distance at every step (Simulation::near_skin_edge: only once travel could
+// have taken a ball that far); this test does, after every step, from the positions at the last
+// build it saw. The gas at 3 m/s with a skin of 20 um rebuilds every few dozen steps; tolerance:
+// the same decision at every one of the 1500 steps, and no ball ever beyond skin/2.
+TEST(PairSkipping, RebuildsExactlyWhenABallNearedTheSkinsEdge) {
   Scene s = gas(9, 1e-3, 3.0, 11);
   s.skin = 2e-5;
+  const double edge = (0.5 - Simulation::kSkinStep) * s.skin;
   for (int threads : {1, 2}) {
     const int before = omp_get_max_threads();
     omp_set_num_threads(threads);
     Simulation sim(s);
     sim.set_parallel_balls(kParallelMin);
     std::vector<Vec3> at_build = sim.particles().x;
-    std::uint64_t builds = sim.neighbour_builds(), rebuilds = 0, wrong = 0;
+    std::uint64_t builds = sim.neighbour_builds(), rebuilds = 0, wrong = 0, beyond = 0;
+    double last_d2 = 0, farthest = 0;
     while (sim.steps_done() < s.total_steps()) {
-      sim.step();
+      sim.step();  // its pairs at the positions it ends with
       const std::vector<Vec3>& x = sim.particles().x;
-      double d2 = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
-      const bool expected = d2 > 0.25 * s.skin * s.skin, rebuilt = sim.neighbour_builds() != builds;
+      const bool expected = last_d2 > edge * edge, rebuilt = sim.neighbour_builds() != builds;
       wrong += expected != rebuilt;
       if (rebuilt) at_build = x, builds = sim.neighbour_builds(), ++rebuilds;
+      double d2 = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
+      beyond += d2 > 0.25 * s.skin * s.skin;
+      farthest = std::max(farthest, std::sqrt(d2));
+      last_d2 = d2;
     }
     omp_set_num_threads(before);
-    std::printf("[rebuilds] %d threads: %llu rebuilds in %llu steps\n", threads, static_cast<unsigned long long>(rebuilds),
-                static_cast<unsigned long long>(s.total_steps()));
+    std::printf("[rebuilds] %d threads: %llu rebuilds in %llu steps; farthest from the build %.3g of the skin\n", threads,
+                static_cast<unsigned long long>(rebuilds), static_cast<unsigned long long>(s.total_steps()), farthest / s.skin);
     EXPECT_GT(rebuilds, 10u) << "the gas must outrun the skin often for the test to mean anything";
     EXPECT_EQ(wrong, 0u) << threads << " threads: steps whose rebuild decision differs from the distance test";
+    EXPECT_EQ(beyond, 0u) << threads << " threads: steps whose pairs had a ball beyond skin/2";
+  }
+}
+
+// A ball that moves more than kSkinStep x skin in one step would outrun the list renewed a step
+// ahead: the run stops and says so. The same gas with the skin at 1 um: at up to 3 m/s a ball
+// moves up to 0.3 um a step, more than 0.25 um.
+TEST(PairSkipping, BallTooFastForTheSkinStopsTheRun) {
+  Scene s = gas(5, 1e-3, 3.0, 11);
+  s.skin = 1e-6;
+  Simulation sim(s);
+  try {
+    sim.advance(s.total_steps());
+    FAIL() << "the run must stop";
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("in one step, more than 0.25 of the neighbour skin"), std::string::npos) << what;
+    EXPECT_NE(what.find("raise simulation.skin"), std::string::npos) << what;
   }
 }

@@ -76,7 +76,15 @@ CavityState Simulation::cavity_at(double t) const {
 }
 
 void Simulation::advance(std::uint64_t steps) {
-  for (std::uint64_t k = 0; k < steps; ++k) step_once(k + 1 == steps);
+  for (std::uint64_t k = 0; k < steps;) {
+    const std::uint64_t pipelined = k + 1 < steps ? run_pipelined(steps - 1 - k) : 0;  // not the last (its kick)
+    if (pipelined > 0) {
+      k += pipelined;
+    } else {
+      step_once(k + 1 == steps);
+      ++k;
+    }
+  }
 }
 
 void Simulation::step_once(bool last) {
@@ -144,7 +152,7 @@ void Simulation::end_balance() {
 // error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
 // second order. Also finds the largest step a ball took (travel_; end_drift).
 template <bool Finish, bool Rotation, bool Gravity, bool Energy>
-void Simulation::drift_span(std::size_t b0, std::size_t b1, StageFold& fold) {
+void Simulation::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, StageFold& fold) {
   const double dt = scene_.dt, h = 0.5 * dt;
   const Vec3 g = scene_.gravity;
   // The arrays and the folds in locals, and every ball's values read before any is written: the
@@ -204,7 +212,8 @@ Simulation::BallSpan Simulation::drift_stage(bool finish) const {
 }
 
 void Simulation::over_balls(BallSpan span, StageFold& fold) {
-  for_range_spans(balance_, p_.size(), fold, [this, span](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, f); },
+  const WallMotion cavity = rigid_motion();
+  for_range_spans(balance_, p_.size(), fold, [this, span, &cavity](std::size_t b0, std::size_t b1, StageFold& f) { (this->*span)(b0, b1, cavity, f); },
                   [](StageFold& a, const StageFold& b) { a.merge(b); });
 }
 
@@ -236,12 +245,16 @@ void Simulation::end_drift(const StageFold& fold) {
 // rebuild (the slack shrinks by a fraction each time).
 bool Simulation::near_skin_edge() {
   const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
-  const double edge = (0.5 - kSkinStep) * scene_.skin;
   const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },
                                   [](double a, double b) { return std::max(a, b); });
+  return near_edge(d2, travel_, far_check_at_);
+}
+
+bool Simulation::near_edge(double d2, double travel, double& far) const {
+  const double edge = (0.5 - kSkinStep) * scene_.skin;
   if (d2 > edge * edge) return true;
   // Rounded down by far more than the rounding of these few operations (1e-16 of skin).
-  far_check_at_ = travel_ + (edge - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
+  far = travel + (edge - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
   return false;
 }
 
@@ -267,18 +280,22 @@ void Simulation::kick_drift() {
 
 // ---- 2. move_cavity -----------------------------------------------------------------------------
 void Simulation::move_cavity() {
-  cavity_prev_ = cavity_;
   const double t = static_cast<double>(step_ + 1) * scene_.dt;
-  cavity_ = cavity_at(t);
-  ++cavity_sums_.steps;
-  cavity_sums_.time += t;
-  cavity_sums_.position += cavity_.position;
-  cavity_sums_.velocity += cavity_.velocity;
+  cavity_to(t, cavity_at(t));
   // The walls' candidates (wall_near_) hold while the cavity moved at most skin/2 since the last
   // build; a slope moves a point at most |d shear| l further (l: half the cavity's axial extent).
   const double moved = (cavity_.position - cavity_pos_at_build_).norm() +
                        (tilt_ ? (cavity_.shear - cavity_shear_at_build_).norm() * tilt_extent_ : 0.0);
   if (moved > 0.5 * scene_.skin) needs_rebuild_ = true;
+}
+
+void Simulation::cavity_to(double t, const CavityState& c) {
+  cavity_prev_ = cavity_;
+  cavity_ = c;
+  ++cavity_sums_.steps;
+  cavity_sums_.time += t;
+  cavity_sums_.position += cavity_.position;
+  cavity_sums_.velocity += cavity_.velocity;
 }
 
 // ---- 3. neighbours ------------------------------------------------------------------------------
@@ -426,14 +443,16 @@ void Simulation::derive_ranges(std::uint32_t ranges) {
   ps_.cross_into_range.assign(ranges + 1, 0);
   ps_.records_upto.resize(ranges);
   ps_.records_from.resize(ranges);
+  ps_.cross_from.resize(ranges);
   for (std::uint32_t r = 0; r < ranges; ++r) {
-    ps_.records_upto[r] = r;
+    ps_.records_upto[r] = ps_.cross_from[r] = r;
     ps_.records_from[r] = pairs.begin[ps_.range_first[r + 1]];
   }
   for (const std::uint32_t k : ps_.cross) {
     const std::uint32_t i = ps_.first[k], ri = range_of(i), rj = range_of(pairs.partner[k]);
     ++ps_.cross_into_range[rj + 1];
     ps_.records_upto[ri] = std::max(ps_.records_upto[ri], rj);
+    ps_.cross_from[rj] = std::min(ps_.cross_from[rj], ri);
     ps_.records_from[ri] = std::min(ps_.records_from[ri], k);
   }
   for (std::uint32_t r = 0; r < ranges; ++r) ps_.cross_into_range[r + 1] += ps_.cross_into_range[r];
@@ -442,6 +461,7 @@ void Simulation::derive_ranges(std::uint32_t ranges) {
   for (std::size_t c = 0; c < ps_.cross.size(); ++c)
     ps_.cross_into[fill[range_of(pairs.partner[ps_.cross[c]])]++] = static_cast<std::uint32_t>(c);
   cross_done_ = std::vector<CrossStamp>(ranges);
+  progress_ = std::vector<RangeProgress>(ranges);
   ps_.rec.assign(2 * ps_.cross.size(), {Vec3::Zero(), Vec3::Zero()});
   ps_.rec_diss.assign(scene_.models.energy ? ps_.cross.size() : 0, Vec3::Zero());
 }

@@ -9,7 +9,6 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <thread>
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
@@ -29,14 +28,16 @@ constexpr std::size_t kFetchAheadMin = 16384, kFetchAheadMax = 4096;
 // receives its pairs (k, p), k < p ascending, then (p, j) ascending: partner order. On several
 // threads each thread does this for its own range of particles, and the pairs across ranges go
 // through records first (PairState): the same sums in the same order.
-void Simulation::pair_contacts(BallSpan walls, BallSpan drift) {
+std::uint64_t Simulation::pair_contacts(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
   const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
   const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
   if (ps_.ranges != ranges) derive_ranges(ranges);
   // The contact-law configuration is chosen once here, never inside the loop.
-  with_flags([this, walls, drift]<bool T, bool R, bool E, bool U>() { pair_contacts_impl<T, R, E, U>(walls, drift); },
+  std::uint64_t done = 0;
+  with_flags([&]<bool T, bool R, bool E, bool U>() { done = pair_contacts_impl<T, R, E, U>(walls, drift, pipelined); },
              scene_.models.tangential, scene_.models.rolling, scene_.models.energy, uniform_);
+  return done;
 }
 
 // Stages 4, 5 and the next step's stage 1 in one parallel region, in advance() when no later stage
@@ -78,10 +79,18 @@ template <bool Tangential, bool Rolling, bool Energy>
   return d;
 }
 
+void Simulation::end_pair_stage(const StageFold& fold, bool fused) {
+  overlap_excess_ = fold.excess;
+  if (fused) {
+    end_walls(fold);
+    end_drift(fold);
+  }
+}
+
 // Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
 // values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
-void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
+std::uint64_t Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
   const std::size_t np = ps_.pairs.size();
   const double dt = dt_step_;
   const PairLawTable* laws = &scene_.laws;  // a pointer: captured by value where used (pair_lanes)
@@ -201,12 +210,12 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   };
   // Whether pair k touches now: the one test of contact (sphere_sphere's, spheres_apart), and when
   // it may touch at the earliest (PairState::wake): at once when it touches now or touched at the
-  // last step (an opened pair's tallies and records are cleared at the next look), else once travel_
+  // last step (an opened pair's tallies and records are cleared at the next look), else once travel
   // has grown by half its gap, less 1e-9 of the radii's sum, which covers the rounding of the gap
-  // (about 1e-16 of it) many times over.
+  // (about 1e-16 of it) many times over. travel: travel_, or in pipelined steps the pair's range's
+  // (run_pipelined).
   float* wake = ps_.wake.data();
-  const double travel = travel_;
-  auto look = [x, first, partner, touching, wake, travel, radius](std::uint32_t k) BAGDEM_INLINE_LAMBDA {
+  auto look = [x, first, partner, touching, wake, radius](std::uint32_t k, double travel) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t i = first[k], j = partner[k];
     const double rsum = radius(i) + radius(j);
     const bool now = !spheres_apart(x[i], x[j], rsum);
@@ -231,7 +240,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   //  2. the contact law on the closed pairs, kLanes at a time (pair_lanes);
   //  3. in pair order: each closed pair applied, each opened pair closed, each cross pair's record
   //     added to its i.
-  auto one_block = [&]<bool Cross>(std::size_t k0, std::size_t k1, std::size_t c0, double& excess) BAGDEM_INLINE_LAMBDA {
+  auto one_block = [&]<bool Cross>(std::size_t k0, std::size_t k1, std::size_t c0, double travel, double& excess) BAGDEM_INLINE_LAMBDA {
     std::uint32_t awake[kBlock + kScanWidth], closed[kBlock], opened[kBlock], crossing[Cross ? kBlock : 1];
     std::size_t na = 0, nc = 0, no = 0, nx = 0;
     const std::uint8_t* is_cross = ps_.is_cross.data();
@@ -268,7 +277,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
         nx += cross;
         if (cross) continue;
       }
-      const bool now = look(k);
+      const bool now = look(k, travel);
       fetch_histories(now ? k : static_cast<std::uint32_t>(k0));  // without a branch: the block's first is at hand
       nc += now;
       no += !now & (touching[k] != 0);
@@ -297,14 +306,14 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
   };
   // Cross pairs cs[0, n), n <= kBlock, into their records (zero when apart, the closing tally when
   // just opened).
-  auto cross_block = [&](const std::uint32_t* cs, std::size_t n, double& excess) BAGDEM_INLINE_LAMBDA {
+  auto cross_block = [&](const std::uint32_t* cs, std::size_t n, double travel, double& excess) BAGDEM_INLINE_LAMBDA {
     std::uint32_t closed[kBlock], at[kBlock];
     std::size_t nc = 0;
     for (std::size_t m = 0; m < n; ++m) {
       const std::size_t c = cs[m];
       const std::uint32_t k = cross[c];
       if (wake[k] > travel) continue;  // apart since its last look, which left its records zero
-      if (look(k)) {
+      if (look(k, travel)) {
         fetch_histories(k);
         closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
         continue;
@@ -346,7 +355,7 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       if (touching[k] != 0) fetch_histories(static_cast<std::uint32_t>(k));
   };
   // Pairs [k0, k1) in blocks.
-  auto pair_span = [&](std::size_t k0, std::size_t k1, double& excess) BAGDEM_INLINE_LAMBDA {
+  auto pair_span = [&](std::size_t k0, std::size_t k1, double travel, double& excess) BAGDEM_INLINE_LAMBDA {
     std::size_t ahead = k0 < k1 ? first[k0] + ps_.reach : 0;
     if constexpr (Tangential || Rolling) fetch_touching(k0, std::min(k1, k0 + kBlock));
     for (std::size_t k = k0; k < k1; k += kBlock) {
@@ -356,84 +365,125 @@ void Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift) {
       // Most blocks hold no cross pair: they take the scan without the cross test.
       const std::size_t c0 = static_cast<std::size_t>(std::lower_bound(ps_.cross.begin(), ps_.cross.end(), k) - ps_.cross.begin());
       if (c0 < ps_.cross.size() && ps_.cross[c0] < end) {
-        one_block.template operator()<true>(k, end, c0, excess);
+        one_block.template operator()<true>(k, end, c0, travel, excess);
       } else {
-        one_block.template operator()<false>(k, end, c0, excess);
+        one_block.template operator()<false>(k, end, c0, travel, excess);
       }
     }
   };
   // Range r in two parts: its particles' records from the ranges below and its pairs up to its
   // first cross pair; then, with the records of its cross pairs at hand (PairState), its other pairs
   // and, fused (fused_contacts), its walls and its drift. With one range the first part is all pairs.
-  auto range_head = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+  auto range_head = [&](std::size_t r, double travel, StageFold& fold) BAGDEM_INLINE_LAMBDA {
     for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
       add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
-    pair_span(ps_.pairs.begin[ps_.range_first[r]], ps_.records_from[r], fold.excess);
+    pair_span(ps_.pairs.begin[ps_.range_first[r]], ps_.records_from[r], travel, fold.excess);
   };
-  auto range_tail = [&](std::size_t r, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+  auto range_tail = [&](std::size_t r, double travel, const WallMotion& cavity, StageFold& fold) BAGDEM_INLINE_LAMBDA {
     const std::uint32_t b0 = ps_.range_first[r], b1 = ps_.range_first[r + 1];
-    pair_span(ps_.records_from[r], ps_.pairs.begin[b1], fold.excess);
+    pair_span(ps_.records_from[r], ps_.pairs.begin[b1], travel, fold.excess);
     if (drift != nullptr) {
-      (this->*walls)(b0, b1, fold);
-      (this->*drift)(b0, b1, fold);
+      (this->*walls)(b0, b1, cavity, fold);
+      (this->*drift)(b0, b1, cavity, fold);
     }
   };
-  StageFold fold;
   const std::size_t ranges = ps_.ranges;
   if (ranges == 1) {
+    StageFold fold;
+    const double travel = travel_;
+    const WallMotion cavity = rigid_motion();
     auto one_range = [&](std::size_t r, StageFold& f) BAGDEM_INLINE_LAMBDA {
-      range_head(r, f);
-      range_tail(r, f);
+      range_head(r, travel, f);
+      range_tail(r, travel, cavity, f);
     };
     run_items(one_range, 0, 1, fold);
-  } else {
-    // The cross pairs into range r (their records; PairState), kBlock at a time.
-    auto cross_into = [&](std::size_t r, double& excess) BAGDEM_INLINE_LAMBDA {
-      const std::uint32_t *cs = ps_.cross_into.data() + ps_.cross_into_range[r], *end = ps_.cross_into.data() + ps_.cross_into_range[r + 1];
-      for (; cs < end; cs += kBlock) cross_block(cs, std::min<std::size_t>(kBlock, static_cast<std::size_t>(end - cs)), excess);
+    end_pair_stage(fold, drift != nullptr);
+    return 0;
+  }
+  // On several threads, range r's part of a step in two: first the cross pairs into it (their
+  // records; PairState), stamped when done; then the range, which waits for the stamps of the
+  // ranges above that its cross pairs reach only when its pairs reach the first of them. Each
+  // thread does the first part of all its ranges before the second (one range each; the loops
+  // cover them all for any team size), so every stamp comes. `stamp` is the step's own value.
+  auto cross_part = [&](std::size_t r, double travel, std::uint64_t stamp, StageFold& f) BAGDEM_INLINE_LAMBDA {
+    const double start = omp_get_wtime();
+    auto cross_into = [&](std::size_t q, double& excess) BAGDEM_INLINE_LAMBDA {
+      const std::uint32_t *cs = ps_.cross_into.data() + ps_.cross_into_range[q], *end = ps_.cross_into.data() + ps_.cross_into_range[q + 1];
+      for (; cs < end; cs += kBlock) cross_block(cs, std::min<std::size_t>(kBlock, static_cast<std::size_t>(end - cs)), travel, excess);
     };
+    run_items(cross_into, r, r + 1, f.excess);
+    cross_done_[r].region.store(stamp, std::memory_order_release);
+    balance_.add(r, omp_get_wtime() - start);
+  };
+  // false: given up waiting (give_up(); the range is left half done).
+  auto range_part = [&](std::size_t r, double travel, const WallMotion& cavity, std::uint64_t stamp, StageFold& f,
+                        const auto& give_up) BAGDEM_INLINE_LAMBDA {
+    const double start = omp_get_wtime();
+    auto head = [&](std::size_t q, StageFold& g) BAGDEM_INLINE_LAMBDA { range_head(q, travel, g); };
+    run_items(head, r, r + 1, f);
+    const double paused = omp_get_wtime();
+    for (std::size_t c = r + 1; c <= ps_.records_upto[r]; ++c)
+      if (!spin_until([&] { return cross_done_[c].region.load(std::memory_order_acquire) >= stamp; }, give_up)) return false;
+    const double resumed = omp_get_wtime();
+    auto tail = [&](std::size_t q, StageFold& g) BAGDEM_INLINE_LAMBDA { range_tail(q, travel, cavity, g); };
+    run_items(tail, r, r + 1, f);
+    balance_.add(r, (paused - start) + (omp_get_wtime() - resumed));  // its work, not its wait
+    return true;
+  };
+  if (pipelined == 0) {
+    StageFold fold;
     const std::uint64_t region = ++pair_regions_;
-    // Until the cross pairs into the ranges above r that r's cross pairs reach are computed.
-    auto await_records = [&](std::size_t r) {
-      for (std::size_t c = r + 1; c <= ps_.records_upto[r]; ++c)
-        for (int spins = 0; cross_done_[c].region.load(std::memory_order_acquire) != region; ++spins) {
-          if (spins < 4096) {
-            pause_cpu();
-          } else {
-            std::this_thread::yield();  // more threads than cores: let the one we wait for run
-          }
-        }
-    };
+    const double travel = travel_;
+    const WallMotion cavity = rigid_motion();
 #pragma omp parallel
     {
       StageFold mine;
       const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
-      // Each thread's ranges (one each; the loops cover them all for any team size): first the cross
-      // pairs into them, each stamped when done (no wait before: every stamp comes), then each range.
-      for (std::size_t r = me; r < ranges; r += team) {
-        const double start = omp_get_wtime();
-        run_items(cross_into, r, r + 1, mine.excess);
-        cross_done_[r].region.store(region, std::memory_order_release);
-        balance_.add(r, omp_get_wtime() - start);
-      }
-      for (std::size_t r = me; r < ranges; r += team) {
-        const double start = omp_get_wtime();
-        run_items(range_head, r, r + 1, mine);
-        const double paused = omp_get_wtime();
-        await_records(r);
-        const double resumed = omp_get_wtime();
-        run_items(range_tail, r, r + 1, mine);
-        balance_.add(r, (paused - start) + (omp_get_wtime() - resumed));  // its work, not its wait
-      }
+      for (std::size_t r = me; r < ranges; r += team) cross_part(r, travel, region, mine);
+      for (std::size_t r = me; r < ranges; r += team) range_part(r, travel, cavity, region, mine, [] { return false; });
 #pragma omp critical(bagdem_pair_excess)
       fold.merge(mine);
     }
+    end_pair_stage(fold, drift != nullptr);
+    return 0;
   }
-  overlap_excess_ = fold.excess;
-  if (drift != nullptr) {
-    end_walls(fold);
-    end_drift(fold);
+  // Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
+  // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
+  // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
+  // positions at step s - 1, Simulation::kSkinStep). A guard that fails ends the steps for all:
+  // each goes on only up to that step (stop_before_), so the first failing step is found.
+  const std::uint64_t base = pair_regions_;
+  const std::size_t nr = ranges;
+  RangeProgress* progress = progress_.data();
+  auto at_least = [progress](std::size_t q0, std::size_t q1, std::uint64_t steps) {
+    for (std::size_t q = q0; q < q1; ++q)
+      if (progress[q].done.load(std::memory_order_acquire) < steps) return false;
+    return true;
+  };
+#pragma omp parallel
+  {
+    const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+    for (std::uint64_t s = 0;; ++s) {
+      auto give_up = [this, s] { return stop_before_.load(std::memory_order_acquire) <= s; };
+      if (s >= 2 && !spin_until([&] { return at_least(0, nr, s - 1); }, give_up)) break;
+      if (give_up()) break;
+      bool going = true;
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = spin_until([&] { return at_least(ps_.cross_from[r], r, s); }, give_up);
+        if (going) {
+          progress[r].fold = StageFold{};
+          progress[r].cross = cross_travel(r, s);
+          cross_part(r, progress[r].cross, base + s + 1, progress[r].fold);
+        }
+      }
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = range_part(r, progress[r].travel[s % 4], wall_path_[s], base + s + 1, progress[r].fold, give_up);
+        if (going) end_range_step(r, s);
+      }
+      if (!going) break;
+    }
   }
+  return progress[0].done.load(std::memory_order_relaxed);
 }
 
 }  // namespace bagdem

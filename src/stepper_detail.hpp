@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <memory>
+#include <thread>
 
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
@@ -46,6 +47,21 @@ inline void pause_cpu() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
 #endif
+}
+
+// Spins until ready(), or false as soon as give_up(). After 4096 turns each turn yields the core
+// (more threads than cores: the thread waited for may need it).
+template <class Ready, class GiveUp>
+bool spin_until(const Ready& ready, const GiveUp& give_up) {
+  for (int spins = 0; !ready(); ++spins) {
+    if (give_up()) return false;
+    if (spins < 4096) {
+      pause_cpu();
+    } else {
+      std::this_thread::yield();
+    }
+  }
+  return true;
 }
 
 // The loops of the step over particles or pairs: span(begin, end, acc) over [0, n), on one thread

@@ -37,10 +37,9 @@ void Simulation::end_walls(const StageFold& fold) {
 
 // Balls [b0, b1) against the walls.
 template <bool Tangential, bool Rolling, bool Energy>
-void Simulation::wall_span(std::size_t b0, std::size_t b1, StageFold& ext) {
+void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
   const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
-  const WallMotion rigid = rigid_motion();  // the walls' motion (per ball with a slope: motion_at)
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;

@@ -31,6 +31,8 @@ class SpanBalance {
   // At the end of a step: once `window` steps are timed, moves the cuts when the spans' times
   // differ by more than the tolerance. Returns whether they moved.
   bool end_step();
+  // Steps until the end of the window (end_step looks at the clocks then).
+  std::uint32_t steps_to_window() const { return window_ > steps_ ? window_ - steps_ : 1; }
   // Tests: move after every `window` steps when the times differ at all (tolerance 0).
   void set_window(std::uint32_t window, double tolerance) { window_ = window, tolerance_ = tolerance; }
   std::uint64_t moves() const { return moves_; }

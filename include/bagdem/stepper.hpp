@@ -20,7 +20,8 @@
 //                      and between the steps of one advance() in the next step's stage 1)
 //  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
 // Between the steps of one advance() with no film and no STL wall, stages 4, 5 and the balls' part
-// of the next step's stage 1 run in one parallel region (fused_contacts).
+// of the next step's stage 1 run in one parallel region (fused_contacts); on several threads,
+// without a structure, many such steps run in one region, pipelined (run_pipelined).
 // Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
 // advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
 // v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
@@ -96,6 +97,7 @@ struct PairState {
   std::vector<std::uint32_t> cross_into_range;  // ranges + 1: range r's entries of cross_into
   std::vector<std::uint32_t> records_from;   // per range: its first cross pair (its pairs' end when it has none)
   std::vector<std::uint32_t> records_upto;   // per range: the highest range its cross pairs reach (itself when none)
+  std::vector<std::uint32_t> cross_from;     // per range: the lowest range whose balls the cross pairs into it reach (itself when none)
   struct Record {
     Vec3 force;   // on the record's particle: +F on i, -F on j (unit: N)
     Vec3 torque;  // on the record's particle (unit: N m)
@@ -204,6 +206,11 @@ class Simulation {
   // (fused_contacts; default on). Results are the same bits either way; tests compare the two.
   void set_fusion(bool on) { fuse_ = on; }
   std::uint64_t fused_steps() const { return fused_steps_; }
+  // Whether advance() may run its steps pipelined on several threads (run_pipelined; default on):
+  // the threads stay in one parallel region for many steps and wait only for the ranges next to
+  // theirs, not for all at each step. Results are the same bits either way; tests compare the two.
+  void set_pipelining(bool on) { pipelining_ = on; }
+  std::uint64_t pipelined_steps() const { return pipelined_steps_; }
   // From how many balls the ball stages run on several threads (default kParallelBalls, parallel.hpp).
   // Results are the same bits for any value; tests lower it to run the parallel paths on small scenes.
   void set_parallel_balls(std::size_t n) { parallel_balls_ = n; }
@@ -270,6 +277,7 @@ class Simulation {
   void step_once(bool last);
   void kick_drift();
   void move_cavity();
+  void cavity_to(double t, const CavityState& c);  // the cavity at time t is c (and its sums)
   void update_neighbours(bool force_rebuild);
   void derive_pair_buffers();
   void find_near_walls();
@@ -297,9 +305,10 @@ class Simulation {
   struct WallMotion {
     Vec3 pos, vel, half, step;
   };
-  WallMotion rigid_motion() const {
-    const Vec3 step = cavity_.position - cavity_prev_.position;
-    return {cavity_.position, cavity_.velocity, dt_step_ > 0 ? Vec3(step / dt_step_) : cavity_.velocity, step};
+  WallMotion rigid_motion() const { return rigid_motion(cavity_prev_, cavity_); }
+  WallMotion rigid_motion(const CavityState& prev, const CavityState& now) const {
+    const Vec3 step = now.position - prev.position;
+    return {now.position, now.velocity, dt_step_ > 0 ? Vec3(step / dt_step_) : now.velocity, step};
   }
   WallMotion motion_at(const Vec3& x) const {
     WallMotion m = rigid_motion();
@@ -328,10 +337,12 @@ class Simulation {
     void merge(const StageFold& o);
   };
   // A stage over the balls [b0, b1) (drift_span, wall_span, as chosen for the scene's models).
-  using BallSpan = void (Simulation::*)(std::size_t b0, std::size_t b1, StageFold& fold);
+  // cavity: the walls' motion over the step (rigid_motion), which the wall stage reads (with a
+  // slope, per ball: motion_at) and the drift does not.
+  using BallSpan = void (Simulation::*)(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
   // Stage 1 on balls [b0, b1): Finish: the last step's kick first (advance). end_drift: its results.
   template <bool Finish, bool Rotation, bool Gravity, bool Energy>
-  void drift_span(std::size_t b0, std::size_t b1, StageFold& fold);
+  void drift_span(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
   BallSpan drift_stage(bool finish) const;
   // span over all balls, on the threads' spans (SpanBalance), its folds merged into fold.
   void over_balls(BallSpan span, StageFold& fold);
@@ -343,13 +354,26 @@ class Simulation {
   bool fusable() const { return fuse_ && !profile_ && defer_kick_; }
   // Stage 4; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
   // them once its pairs are done.
-  void pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr);
+  // pipelined > 0: up to that many pipelined steps (run_pipelined), whose count it returns.
+  std::uint64_t pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr, std::uint64_t pipelined = 0);
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
-  void pair_contacts_impl(BallSpan walls, BallSpan drift);
+  std::uint64_t pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined);
+  // The pair stage's folds into the guards' values (and, fused, the walls' and the drift's).
+  void end_pair_stage(const StageFold& fold, bool fused);
+  // Up to `most` steps of advance() as pipelined steps; how many it did (0: the scene or the state
+  // does not allow them now).
+  std::uint64_t run_pipelined(std::uint64_t most);
+  // The travel scale of the cross pairs into range r at pipelined step s (run_pipelined).
+  double cross_travel(std::size_t r, std::uint64_t s) const;
+  // Range r finished pipelined step s: its travel, its rebuild flag, its guards.
+  void end_range_step(std::size_t r, std::uint64_t s);
+  // Whether balls at most sqrt(d2) from their place at the build are near the skin's edge
+  // (kSkinStep); if not, far: the travel (now `travel`) up to which they cannot be.
+  bool near_edge(double d2, double travel, double& far) const;
   void derive_ranges(std::uint32_t ranges);
   void end_balance();
   template <bool Tangential, bool Rolling, bool Energy>
-  void wall_span(std::size_t b0, std::size_t b1, StageFold& fold);
+  void wall_span(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
   BallSpan wall_stage() const;
   // The wall stage's results into the guards' values.
   void end_walls(const StageFold& fold);
@@ -527,6 +551,26 @@ class Simulation {
   };
   std::vector<CrossStamp> cross_done_;
   std::uint64_t pair_regions_ = 0;
+  // Per range, in pipelined steps (run_pipelined): how far it is, and what the other ranges read of
+  // it. Its own thread writes it; the others read it once `done` says it is there.
+  static constexpr std::uint64_t kNever = ~std::uint64_t{0};
+  struct alignas(64) RangeProgress {
+    std::atomic<std::uint64_t> done{0};  // steps of the region it finished: its balls are at step `done`
+    double travel[4] = {};    // its balls' travel (as travel_) at step s, slot s % 4 (no range gets more than 2 steps ahead of another)
+    bool near[4] = {};        // one of its balls near the skin's edge at step s (kSkinStep), slot s % 4
+    double far = 0;           // the travel up to which none of its balls can be near the edge (near_skin_edge)
+    double cross = 0;         // the travel scale of the cross pairs into it at its last step (cross_travel)
+    double step = 0;          // the largest distance one of its balls moved in its last step (unit: m)
+    StageFold fold;           // its folds of the step in progress, then of its last step
+    std::uint64_t failed = kNever;  // the step at which its guards failed
+  };
+  std::vector<RangeProgress> progress_;
+  std::atomic<std::uint64_t> stop_before_{0};  // no range starts this pipelined step or a later one
+  double region_travel_ = 0;                    // travel_ when the pipelined steps began (cross_travel)
+  std::vector<CavityState> cavity_path_;        // the cavity at each pipelined step (0: at the start)
+  std::vector<WallMotion> wall_path_;           // the walls' motion over each pipelined step
+  bool pipelining_ = true;                      // set_pipelining
+  std::uint64_t pipelined_steps_ = 0;
   bool uniform_ = false;                      // all balls of one radius and one material
   // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
   // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).

@@ -1,0 +1,165 @@
+// Pipelined steps: advance() on several threads without a meeting at every step.
+//
+// In the fused step (fused_contacts) each thread does its range's pairs, walls and next drift, and
+// the threads meet at the end of every step. On this 2-core machine the host interrupts a core for
+// 30-60 us about once a millisecond, at random; whichever thread is hit, the other waits for it at
+// the meeting, some 10 us a step of 210 us at N = 10000. Here the threads stay in one parallel
+// region for many steps and wait only for what they read:
+//  - the thread of range r computes the cross pairs into r at step s once the ranges below whose
+//    balls they reach are at step s (RangeProgress::done); the ranges wait for the records of their
+//    own cross pairs as in the fused step (PairState), so a range drifts its balls on only after
+//    the ranges above have read them;
+//  - whether the pair list holds at step s is known once every range is at step s - 1: the list is
+//    renewed a step ahead (Simulation::kSkinStep), so the region ends before the first step at
+//    which it must be renewed, and the next step renews it;
+//  - each range keeps its own travel (PairState::wake) and rebuild test;
+//  - the cavity's motion is computed ahead for all the region's steps;
+//  - the guards are checked per range and step; a failing step ends the region for all ranges
+//    after that step, and the first failing step is reported as the fused step reports it.
+// So a thread delayed by an interruption delays the other only when it is a step behind. The same
+// operations on every ball in the same order as the fused step: the same bits
+// (Determinism.PipelinedStepsEqualFused). The region ends where the balance looks at the clocks
+// (SpanBalance's window), at a rebuild and at the end of advance().
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bagdem/stepper.hpp"
+#include "stepper_detail.hpp"
+
+namespace bagdem {
+
+std::uint64_t Simulation::run_pipelined(std::uint64_t most) {
+  const auto threads = static_cast<std::uint32_t>(std::max(1, omp_get_max_threads()));
+  const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
+  // Fused steps (the next drift done: drifted_) with nothing that needs all balls at every step:
+  // no triangulated surface (the film, STL walls), no structure, no slope of the cavity; and no
+  // rebuild due before the first.
+  if (!pipelining_ || !fuse_ || profile_ || !surfaces_.empty() || couple_ || tilt_ || !drifted_ || needs_rebuild_ ||
+      threads < 2 || !several)
+    return 0;
+  if (ps_.ranges != threads) derive_ranges(threads);
+  // Up to the balance's next look at the clocks, and before the step at which the cavity has moved
+  // too far for the walls near each ball (move_cavity; that step rebuilds).
+  const std::uint64_t most_steps = std::min<std::uint64_t>(most, balance_.steps_to_window());
+  cavity_path_.resize(most_steps + 1);
+  wall_path_.resize(most_steps);
+  cavity_path_[0] = cavity_;
+  std::uint64_t steps = 0;
+  for (; steps < most_steps; ++steps) {
+    const CavityState c = cavity_at(static_cast<double>(step_ + steps + 1) * scene_.dt);
+    if ((c.position - cavity_pos_at_build_).norm() > 0.5 * scene_.skin) break;
+    cavity_path_[steps + 1] = c;
+    wall_path_[steps] = rigid_motion(cavity_path_[steps], c);
+  }
+  if (steps == 0) return 0;
+  region_travel_ = travel_;
+  for (RangeProgress& g : progress_) {
+    g.done.store(0, std::memory_order_relaxed);
+    g.travel[0] = g.cross = travel_;
+    g.near[0] = near_edge_;
+    g.far = far_check_at_;
+    g.step = 0;
+    g.failed = kNever;
+  }
+  stop_before_.store(near_edge_ ? 1 : steps);  // near the edge now: the step after the first rebuilds
+  pair_contacts(wall_stage(), drift_stage(true), steps);
+
+  std::uint64_t failed = kNever;
+  for (const RangeProgress& g : progress_) failed = std::min(failed, g.failed);
+  if (failed != kNever) {
+    // The state the guards report from, as after that step of fused steps.
+    StageFold f;
+    double step = 0;
+    for (const RangeProgress& g : progress_)
+      if (g.failed == failed) f.merge(g.fold), step = std::max(step, g.step);
+    step_ += failed + 1;
+    pipelined_steps_ += failed + 1;
+    cavity_prev_ = cavity_path_[failed];
+    cavity_ = cavity_path_[failed + 1];
+    overlap_excess_ = f.excess;
+    min_boundary_distance_ = f.min_dist;
+    all_finite_ = f.finished_finite;
+    largest_step_ = step;
+    guards();  // throws: a guard failed
+  }
+  // Every range did the same steps. The state as after that many fused steps (step_once).
+  const std::uint64_t done = progress_[0].done.load(std::memory_order_relaxed);
+  StageFold last;
+  double travel = travel_, slack = HUGE_VAL, step = 0;
+  bool near_before = false, near_now = false;
+  for (const RangeProgress& g : progress_) {
+    last.merge(g.fold);
+    step = std::max(step, g.step);
+    near_before = near_before || g.near[(done - 1) % 4];
+    near_now = near_now || g.near[done % 4];
+    // The largest of the scales (ranges' and cross pairs'): every pair's wake stays a bound
+    // (PairState::wake; cross_travel). Each range's balls can come near the edge only once its
+    // travel has grown by its slack, so once travel_ has.
+    travel = std::max({travel, g.travel[done % 4], g.cross});
+    slack = std::min(slack, g.far - g.travel[done % 4]);
+  }
+  travel_ = travel;
+  far_check_at_ = travel + slack;
+  needs_rebuild_ = near_before;
+  near_edge_ = near_now;
+  largest_step_ = step;
+  overlap_excess_ = last.excess;
+  min_boundary_distance_ = last.min_dist;
+  finished_finite_ = all_finite_ = balls_finite_ = true;
+  for (std::uint64_t s = 0; s < done; ++s) {
+    cavity_to(static_cast<double>(step_ + 1) * scene_.dt, cavity_path_[s + 1]);
+    ++step_;
+    end_balance();
+  }
+  fused_steps_ += done;
+  pipelined_steps_ += done;
+  pair_regions_ += done;  // the cross stamps used
+  return done;
+}
+
+// The wake of a cross pair (i in a range q below r, j in r) is set and compared on this scale: the
+// travel at the region's start (all ranges' then) plus half the sum of what r's travel and the
+// travels of all the ranges whose balls the cross pairs into r reach have grown since. Each ball
+// moved at most as much as that sum grew, so the pair's balls closed in by at most twice as much
+// as the scale grew: the bound the wake needs (PairState::wake), as travel_ is for the pairs of one
+// range. It starts where the ranges' travels start, so no scale jumps ahead of the others (it
+// would compound from region to region). Rounded up (the sum's few roundings are far below 1e-14).
+double Simulation::cross_travel(std::size_t r, std::uint64_t s) const {
+  double grown = progress_[r].travel[s % 4] - region_travel_;
+  for (std::size_t q = ps_.cross_from[r]; q < r; ++q) grown += progress_[q].travel[s % 4] - region_travel_;
+  return std::nextafter(region_travel_ + 0.5 * grown * (1.0 + 1e-14), HUGE_VAL);
+}
+
+void Simulation::end_range_step(std::size_t r, std::uint64_t s) {
+  RangeProgress& g = progress_[r];
+  const StageFold& f = g.fold;
+  g.step = std::sqrt(f.step2);
+  // As end_drift, on the range's balls.
+  const double travel = std::nextafter(g.travel[s % 4] + g.step * (1.0 + 1e-14), HUGE_VAL);
+  bool near = false;
+  if (travel > g.far) {
+    const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
+    double d2 = 0;
+    for (std::size_t i = ps_.range_first[r]; i < ps_.range_first[r + 1]; ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
+    near = near_edge(d2, travel, g.far);
+  }
+  g.travel[(s + 1) % 4] = travel;
+  g.near[(s + 1) % 4] = near;
+  auto stop_before = [this](std::uint64_t step) {
+    std::uint64_t now = stop_before_.load(std::memory_order_relaxed);
+    while (step < now && !stop_before_.compare_exchange_weak(now, step, std::memory_order_acq_rel)) {
+    }
+  };
+  // The guards' tests (guards) on the range's folds.
+  if (!f.finished_finite || f.excess > 0.0 || f.min_dist < 0.0 || g.step > kSkinStep * scene_.skin) {
+    g.failed = s;
+    stop_before(s + 1);
+  } else if (near) {
+    stop_before(s + 2);  // the list is renewed before step s + 2
+  }
+  g.done.store(s + 1, std::memory_order_release);
+}
+
+}  // namespace bagdem

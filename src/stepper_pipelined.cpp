@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "bagdem/stepper.hpp"
 #include "stepper_detail.hpp"
@@ -83,6 +84,7 @@ std::uint64_t Simulation::run_pipelined(std::uint64_t most) {
     all_finite_ = f.finished_finite;
     largest_step_ = step;
     guards();  // throws: a guard failed
+    throw std::logic_error("pipelined steps: a guard failed that guards() does not report");
   }
   // Every range did the same steps. The state as after that many fused steps (step_once).
   const std::uint64_t done = progress_[0].done.load(std::memory_order_relaxed);

@@ -18,7 +18,8 @@
 //   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
 //                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface,
 //                      and between the steps of one advance() in the next step's stage 1)
-//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film -> RunError
+//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film, a ball
+//                      too fast for the skin (kSkinStep) -> RunError
 // Between the steps of one advance() with no film and no STL wall, stages 4, 5 and the balls' part
 // of the next step's stage 1 run in one parallel region (fused_contacts); on several threads,
 // without a structure, many such steps run in one region, pipelined (run_pipelined).

@@ -268,7 +268,7 @@ TEST(Determinism, FusedStepEqualsStaged) {
 // stay in one region for up to a balance window of steps (64) and wait only for the ranges next
 // to theirs. It must end bitwise where the fused steps end (the 1-thread run, and 2 threads with
 // pipelining off). Energy tallies off and on, frictional and frictionless, 2 and 3 threads (3: more
-// threads than cores, and ranges whose cross pairs reach two ranges down), in uneven chunks of
+// threads than cores, and ranges whose cross pairs may reach two ranges down), in uneven chunks of
 // advance() through neighbour builds. 640 particles, 400 steps.
 TEST(Determinism, PipelinedStepsEqualFused) {
   for (bool energy : {false, true}) {
@@ -314,8 +314,8 @@ TEST(Determinism, PipelinedStepsEqualFused) {
   }
 }
 
-// A guard that fails in pipelined steps stops the run at the same step, with the same message, as
-// in fused steps: a contact overlap above a limit set low (5% of the radius) in the shaken box,
+// A guard that fails in pipelined steps stops the run at the same step, with the same kind of
+// message, as in fused steps: a contact overlap above a limit set low (5% of the radius) in the shaken box,
 // first passed at step 235 (inside a region of pipelined steps: they run 64 at a time). The
 // message's other figures come from the state then, which the ranges may have left a step apart.
 TEST(Determinism, PipelinedGuardStopsAtTheSameStep) {

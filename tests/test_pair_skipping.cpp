@@ -8,9 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <cstdint>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "bagdem/contact/geometry.hpp"

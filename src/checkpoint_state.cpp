@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3033ULL;  // "bagdem03": format 3 (the stepper's ball order)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3034ULL;  // "bagdem04": format 4 (the wall histories per wall, then per ball)
 
 struct Writer {
   std::vector<char> out;
@@ -109,7 +109,7 @@ void Simulation::load_state(const std::vector<char>& image) {
   r.pod(magic);
   r.pod(n);
   if (magic != kMagic)
-    throw std::runtime_error("not a checkpoint of this bagdem version (format 3); rerun from the start");
+    throw std::runtime_error("not a checkpoint of this bagdem version (format 4); rerun from the start");
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));

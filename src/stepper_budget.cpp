@@ -39,8 +39,8 @@ void Simulation::for_each_contact(Fn&& fn) const {
       const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
       fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
-         scene_.models.tangential ? &wall_tan_[p * nw + w] : nullptr,
-         scene_.models.rolling ? &wall_roll_[p * nw + w] : nullptr, p_.radius[p]);
+         scene_.models.tangential ? &wall_tan_[wall_slot(p, w)] : nullptr,
+         scene_.models.rolling ? &wall_roll_[wall_slot(p, w)] : nullptr, p_.radius[p]);
     }
     // Triangulated surfaces (film, STL walls): the slots of the last step.
     for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {

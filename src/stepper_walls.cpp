@@ -38,7 +38,6 @@ void Simulation::end_walls(const StageFold& fold) {
 // Balls [b0, b1) against the walls.
 template <bool Tangential, bool Rolling, bool Energy>
 void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
-  const std::size_t nw = scene_.walls.size();
   const double dt = dt_step_;
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
@@ -63,7 +62,7 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
   struct alignas(32) Contact {
     double row[4][4];  // (n, overlap), (v_rel, R*), (v_half, m*), (w_half, arm_i): the law's geometry
     double d;          // the centre's distance from the wall
-    std::size_t slot;  // p * nw + w: its histories
+    std::size_t slot;  // wall_slot(p, w): its histories
     const PairLaw* law;
   };
   struct alignas(32) Out {
@@ -215,15 +214,16 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
         // A contact that just opened: tally what it still held, clear its history (walls not
         // touched cost no memory access).
         if (touched_before & (1u << w)) {
+          const std::size_t slot = wall_slot(p, w);
           if constexpr (Energy) {
             const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
-            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[p * nw + w],
-                                                       Tangential ? &wall_tan_[p * nw + w] : nullptr,
-                                                       Rolling ? &wall_roll_[p * nw + w] : nullptr);
-            wall_damping_prev_[p * nw + w] = 0.0;
+            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[slot],
+                                                       Tangential ? &wall_tan_[slot] : nullptr,
+                                                       Rolling ? &wall_roll_[slot] : nullptr);
+            wall_damping_prev_[slot] = 0.0;
           }
-          if constexpr (Tangential) wall_tan_[p * nw + w] = {};
-          if constexpr (Rolling) wall_roll_[p * nw + w] = {};
+          if constexpr (Tangential) wall_tan_[slot] = {};
+          if constexpr (Rolling) wall_roll_[slot] = {};
         }
         continue;
       }
@@ -244,7 +244,7 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
       put(2, g.v_half, g.m_eff);
       put(3, g.w_half, g.arm_i);
       ct.d = d;
-      ct.slot = p * nw + w;
+      ct.slot = wall_slot(p, w);
       // Its histories fetched now, to be in cache when the batch's law reads them (flush).
       if constexpr (Tangential) prefetch_object(&wall_tan_[ct.slot], kTangentialBytes<Energy>);
       if constexpr (Rolling) prefetch_object(&wall_roll_[ct.slot]);

@@ -451,9 +451,13 @@ class Simulation {
     std::vector<RollingHistory> rolling;
     std::vector<double> damping_prev;
   } spare_;
-  std::vector<TangentialHistory> wall_tan_;   // per particle per wall: index i * walls + w
+  // Histories of the wall contacts, per wall then per particle (wall_slot): the balls on one wall
+  // of a bed (its floor) come in runs in the stepper's order (spatial_order), so their histories
+  // on that wall lie side by side.
+  std::vector<TangentialHistory> wall_tan_;
   std::vector<RollingHistory> wall_roll_;
-  std::vector<double> wall_damping_prev_;     // per particle per wall (energy tally)
+  std::vector<double> wall_damping_prev_;     // (energy tally)
+  std::size_t wall_slot(std::size_t p, std::size_t w) const { return w * p_.size() + p; }
   std::vector<std::uint32_t> wall_touch_;     // per particle: bit w set = touched wall w at the last step
   // Per particle: bit w set = wall w was within skin of the ball's surface at the last neighbour
   // build. The list holds while no ball and not the cavity moved more than skin/2 since

@@ -91,15 +91,20 @@ std::uint64_t Simulation::run_pipelined(std::uint64_t most) {
   StageFold last;
   double travel = travel_, slack = HUGE_VAL, step = 0;
   bool near_before = false, near_now = false;
-  for (const RangeProgress& g : progress_) {
+  for (std::size_t r = 0; r < progress_.size(); ++r) {
+    const RangeProgress& g = progress_[r];
     last.merge(g.fold);
     step = std::max(step, g.step);
     near_before = near_before || g.near[(done - 1) % 4];
     near_now = near_now || g.near[done % 4];
-    // The largest of the scales (ranges' and cross pairs'): every pair's wake stays a bound
-    // (PairState::wake; cross_travel). Each range's balls can come near the edge only once its
-    // travel has grown by its slack, so once travel_ has.
-    travel = std::max({travel, g.travel[done % 4], g.cross});
+    // The largest of the scales at the positions the steps end with, the ranges' and the cross
+    // pairs' (cross_travel at step `done`): every pair's wake stays a bound (PairState::wake).
+    // The cross scale can outgrow every range's travel (half the sum of three or more ranges'
+    // growths); had travel_ fallen short of it, a cross pair would sleep too long in the steps
+    // after (with three ranges, one thin enough for cross pairs to reach across it, that missed
+    // contacts: Determinism.PipelinedStepsEqualFused under load). Each range's balls can come near
+    // the edge only once its travel has grown by its slack, so once travel_ has.
+    travel = std::max({travel, g.travel[done % 4], cross_travel(r, done)});
     slack = std::min(slack, g.far - g.travel[done % 4]);
   }
   travel_ = travel;

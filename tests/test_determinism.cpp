@@ -314,6 +314,41 @@ TEST(Determinism, PipelinedStepsEqualFused) {
   }
 }
 
+// Three ranges, the middle one two balls thin, so that cross pairs reach from the first range
+// into the third: the cross pairs' scale is half the sum of three ranges' travels and can outgrow
+// each of them. At the end of pipelined steps travel_ must cover it at the final positions, or a
+// cross pair sleeps through its contact in the steps after (a bug of session 19, found when the
+// balance made a middle range that thin under load). The cuts stay (no balance moves); advance()
+// in calls of 6 steps, so that many regions of pipelined steps end (without the fix: fails).
+TEST(Determinism, PipelinedStepsWithCrossPairsOverAThinRange) {
+  Scene s = shaken_box(8, 8, 10, 4e-3, true);
+  s.models.tangential = s.models.rolling = false;
+  auto advanced = [&s](int threads) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    Simulation sim(s);
+    sim.set_parallel_balls(kParallelMin);
+    sim.set_balance_window(64, 1e9);
+    const auto n = static_cast<std::uint32_t>(sim.particles().size());
+    std::uint64_t crossing_two = 0;
+    for (std::size_t c = 0; sim.steps_done() < s.total_steps(); ++c) {
+      if (threads == 3) sim.set_cuts({0, n / 2, n / 2 + 2, n});
+      sim.advance(std::min<std::uint64_t>(6, s.total_steps() - sim.steps_done()));
+      const PairState& ps = sim.pair_state();
+      if (threads == 3)
+        for (const std::uint32_t k : ps.cross) crossing_two += ps.first[k] < n / 2 && ps.pairs.partner[k] >= n / 2 + 2;
+    }
+    omp_set_num_threads(before);
+    return std::make_tuple(sim.save_state(), sim.energy(), sim.pipelined_steps(), crossing_two);
+  };
+  const auto [state1, energy1, p1, c1] = advanced(1);
+  const auto [state3, energy3, p3, c3] = advanced(3);
+  EXPECT_GT(p3, s.total_steps() / 2) << "the steps must run pipelined";
+  EXPECT_GT(c3, 0u) << "cross pairs must reach across the thin range";
+  EXPECT_TRUE(state3 == state1);
+  EXPECT_TRUE(bitwise_equal(energy3, energy1));
+}
+
 // A guard that fails in pipelined steps stops the run at the same step, with the same kind of
 // message, as in fused steps: a contact overlap above a limit set low (5% of the radius) in the shaken box,
 // first passed at step 235 (inside a region of pipelined steps: they run 64 at a time). The

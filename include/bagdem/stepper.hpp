@@ -218,6 +218,12 @@ class Simulation {
   // How the threads' spans of the ball stages are balanced (SpanBalance): tests move them after every
   // step (window 1, tolerance 0) to show that results do not depend on where they lie.
   void set_balance_window(std::uint32_t steps, double tolerance) { balance_.set_window(steps, tolerance); }
+  // Tests: the threads' ranges cut at `cuts` (one more than the ranges: 0, ..., the ball count),
+  // until the balance moves them.
+  void set_cuts(std::vector<std::uint32_t> cuts) {
+    balance_.reset(std::move(cuts));
+    ps_.ranges = 0;
+  }
   // The spans' cuts now and how often they moved.
   const SpanBalance& balance() const { return balance_; }
   const StageTimes& stage_times() const { return times_; }

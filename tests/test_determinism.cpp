@@ -331,7 +331,7 @@ TEST(Determinism, PipelinedStepsWithCrossPairsOverAThinRange) {
     sim.set_balance_window(64, 1e9);
     const auto n = static_cast<std::uint32_t>(sim.particles().size());
     std::uint64_t crossing_two = 0;
-    for (std::size_t c = 0; sim.steps_done() < s.total_steps(); ++c) {
+    while (sim.steps_done() < s.total_steps()) {
       if (threads == 3) sim.set_cuts({0, n / 2, n / 2 + 2, n});
       sim.advance(std::min<std::uint64_t>(6, s.total_steps() - sim.steps_done()));
       const PairState& ps = sim.pair_state();

@@ -70,7 +70,7 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
 
   // Timings: bagdem N^1.05 and LIGGGHTS N^1.12 (wall time; ns per particle-step N^0.05 and
   // N^0.12), three rounds 0%, 10% and 20% slower at every size (drift cancels out of a round's fit;
-  // the table shows the middle round, the median, and the range).
+  // the table shows the median, here the middle round, and the range).
   std::ostringstream results;
   for (int round = 0; round < 3; ++round)
     for (double n : {1e3, 4e3, 1.6e4, 4.9e4, 1e5}) {

@@ -66,8 +66,10 @@ def report(path):
     if len(sizes) < 2:
         return  # no exponent from one size
     print("\nFitted exponent a of wall time per step ~ N^a (least squares over the sizes; flat cost is a = 1):")
+    def fit(y):
+        return 1 + np.polyfit(np.log(sizes), np.log(y), 1)[0]
+
     for c in codes:
-        fit = lambda y: 1 + np.polyfit(np.log(sizes), np.log(y), 1)[0]
         rounds = min(len(runs[c][n]) for n in sizes)
         each = " / ".join(f"{fit([runs[c][n][r] for n in sizes]):.3f}" for r in range(rounds))
         print(f"  {c}: a = {fit(med[c]):.3f} (medians); round by round {each}")

@@ -156,9 +156,7 @@ int main(int argc, char** argv) {
           return kExitRunError;
         }
         std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
-        for (const ModePeak& m : r.peaks)
-          std::printf("%s: peak %.4g m/N at %.5g Hz (bare %.4g m/N at %.5g Hz): reduction %.2f dB = %.1f%%\n", m.name.c_str(),
-                      m.peak, m.frequency, m.bare_peak, m.bare_frequency, m.reduction_db, m.reduction_percent);
+        for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
         std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
         std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
         return 0;

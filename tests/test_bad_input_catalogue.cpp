@@ -167,6 +167,8 @@ const std::vector<BadCase>& bad_cases() {
       // [excitation]
       {"force inf", Base::sdof, "amplitude = \"5 N\"", "amplitude = inf", {}, {"'excitation.amplitude'", "inf", "finite"}},
       {"kind chirp", Base::sdof, "kind = \"harmonic\"", "kind = \"chirp\"", {}, {"'excitation.kind'", "\"chirp\"", "\"stepped-sine\""}},
+      {"frequency 1e300 Hz", Base::sdof, "frequency = \"25 Hz\"", "frequency = \"1e300 Hz\"", {},
+       {"'excitation.frequency'", "\"1e300 Hz\"", "at least 8 steps per cycle"}},
       {"frequency nan", Base::sdof, "frequency = \"25 Hz\"", "frequency = nan", {}, {"'excitation.frequency'", "nan", "finite"}},
       // [bag] (the shipped bean bag)
       {"balls 0", Base::bag, "", "", {"bag.balls.count=0"}, {"'bag.balls.count'", "= 0:", "[1, 1e7]"}},

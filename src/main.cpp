@@ -21,11 +21,25 @@
 
 using namespace bagdem;
 
+namespace {
+
+// More threads than cores are taken (the results are the same for any count), but they share the
+// cores and the run is slower than with one per core: said on stderr.
+void warn_threads_above_cores(const std::vector<int>& threads) {
+  const int cores = omp_get_num_procs();
+  for (int t : threads)
+    if (t > cores)
+      std::cerr << "warning: --threads " << t << " is more than the " << cores << " cores of this machine: the threads "
+                << "share the cores and run slower than " << cores << " would; use --threads " << cores << " or fewer\n";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"bagdem " BAGDEM_VERSION
                ": discrete-element simulation of granular and bean-bag impact dampers.\n"
                "A case is a directory with case.toml (schema: docs/case-schema.md).\n"
-               "Exit codes: 0 success, 1 system error (I/O), 2 bad input, 3 the run went unstable."};
+               "Exit codes: 0 success, 1 system error (I/O), 2 bad input (case or command line), 3 the run went unstable."};
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 
@@ -125,7 +139,15 @@ int main(int argc, char** argv) {
   study::TradeArgs trade_args;
   CLI::App* trade = study::add_trade_command(app, trade_args);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 prints its message (or the help and version, which succeed); a command-line error is
+    // bad input like any other: exit code 2, not CLI11's own codes.
+    return app.exit(e) == 0 ? 0 : kExitInputError;
+  }
+  if ((run->parsed() || drop->parsed()) && threads > 0) warn_threads_above_cores({threads});
+  if (bench->parsed()) warn_threads_above_cores(bench_opt.threads);
   if (sweep->parsed()) return study::sweep_command(sweep_args);
   if (trade->parsed()) return study::trade_command(trade_args);
   try {

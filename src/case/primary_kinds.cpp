@@ -343,7 +343,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
     if (!(rms > 0)) in.fail("excitation.rms", "must be > 0 (N)");
     if (band.size() != 2 || !(band[0] > 0 && band[1] > band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo < hi (Hz)");
-    const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed)));
+    const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed), 0, kMaxSeed));
     const double period = in.quantity("excitation.period", dim::time, 0.0);
     if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
     if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");

@@ -70,6 +70,12 @@ int main(int argc, char** argv) {
   add_fidelity(run);
   run->add_flag("--quiet", quiet, "No progress line");
   run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (needs output.checkpoint_interval > 0)");
+  int seeds = 1;
+  run->add_option("--seeds", seeds,
+                  "An ensemble of N perturbed starts (simulation.seed = 1..N, each in OUT/point-NNN, resumable, as bagdem sweep runs "
+                  "them; --threads is then per start): every table with its mean and 95% interval over the starts "
+                  "(OUT/<table>_ensemble.csv), the peak reduction among them. A chaotic bed's figure from one start is not a measurement")
+      ->check(CLI::Range(1, 100000));
 
   auto* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
                                             "M_eff and C_eff by first-harmonic projection over whole steady cycles with standard errors, energy per cycle, "
@@ -160,6 +166,10 @@ int main(int argc, char** argv) {
       std::cout << describe_scene(s);
       for (const auto& w : s.warnings) std::cout << "warning: " << w << "\n";
       return 0;
+    }
+    if (run->parsed() && seeds > 1) {
+      if (resume) throw InputError("--resume", "", "", "an ensemble resumes by itself: run the same command again (done starts are kept)");
+      return study::run_ensemble(case_dir, sets, seeds, out_dir, threads);
     }
     if (run->parsed()) {
       const Scene s = load_case(case_dir, sets);

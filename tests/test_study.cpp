@@ -7,7 +7,7 @@
 //  - a sweep killed with its children, then resumed: done points untouched, the half-run one run
 //    again, the final table that of an uninterrupted sweep; a changed plan is refused;
 //  - a failing point is reported, the others finish, exit 3;
-//  - an ensemble over seeds: mean, sd and se against the rows;
+//  - an ensemble over seeds: mean, sd, se and ci95 against the rows;
 //  - MPI ranks share the points and merge the serial sweep's table.
 // The case is tiny: an SDOF (20 Hz, 2 kg) swept at 19 and 21 Hz with one ball that never touches a
 // wall (the setting of StructureSdof.SweptReceptanceMatchesTheAnalyticOneWithoutContents), about
@@ -408,9 +408,6 @@ TEST(Study, FailedPointIsReportedAndTheOthersFinish) {
   EXPECT_EQ(m.at(4, "status"), "done");
 }
 
-// Two seeds per force: the ensemble table's mean, sample sd and standard error of each numeric
-// column against the merged rows. The case has no random input, so the physics is the same for
-// both seeds (sd 0) while the wall time differs (sd > 0).
 // The studies shipped in cases/studies: each plans and loads every point as `bagdem sweep` would
 // before running (a key renamed or a bag that stops fitting fails here). The ball-size study keeps
 // the mass ratio with whole balls, 102, 13, 7 and 1 (the 20-mm point is one ball, a near-rigid
@@ -460,7 +457,10 @@ TEST(Study, ShippedStudiesLoadEveryPoint) {
   }
 }
 
-TEST(Study, EnsembleOverSeedsGivesMeanSdAndSe) {
+// Two seeds per force: the ensemble table's mean, sample sd, standard error and 95% half-width of
+// each numeric column against the merged rows. The case has no random input, so the physics is the same for
+// both seeds (sd 0) while the wall time differs (sd > 0).
+TEST(Study, EnsembleOverSeedsGivesMeanSdSeAndInterval) {
   TempDir d;
   const std::string c = make_case(d), out = (d.path / "out").string();
   const CmdResult r = sweep(d, {c, "--seeds", "2", "--vary", "excitation.amplitude=10 N,20 N", "--jobs", "2", "--cores", "2", "--out", out});
@@ -481,6 +481,7 @@ TEST(Study, EnsembleOverSeedsGivesMeanSdAndSe) {
       const double x1 = m.num(a, col + unit), x2 = m.num(b, col + unit), mean = (x1 + x2) / 2;
       const double sd = std::sqrt(((x1 - mean) * (x1 - mean) + (x2 - mean) * (x2 - mean)) / 1.0), se = sd / std::sqrt(2.0);
       const double got_mean = e.num(g, col + "_mean" + unit), got_sd = e.num(g, col + "_sd" + unit), got_se = e.num(g, col + "_se" + unit);
+      EXPECT_NEAR(e.num(g, col + "_ci95" + unit), 12.7062 * se, 1e-4 * se + 1e-14 * std::abs(mean));  // t_{0.975, 1}
       if (g == 0) std::printf("  %s: seeds %.9g, %.9g -> mean %.9g, sd %.3g, se %.3g\n", col.c_str(), x1, x2, got_mean, got_sd, got_se);
       EXPECT_NEAR(got_mean, mean, 1e-14 * std::abs(mean));
       EXPECT_NEAR(got_sd, sd, 1e-12 * std::abs(mean));

@@ -441,10 +441,12 @@ void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_di
 std::string describe_reduced(const std::vector<ReducedRow>& rows) {
   std::ostringstream o;
   o << std::setprecision(4);
-  o << "(+- the half-width of a 95% interval; a row marked * did not reach a steady window and is left out of the peak reduction)\n";
+  o << "(+- the half-width of a 95% interval; * a window that is not steady, left out of the peak reduction; ! C_eff below zero\n"
+       " beyond its interval: the contents gave energy back at the drive frequency)\n";
   o << "  f [Hz]      X [m]  Gamma     d/X  M_eff/M_bag (+-)    Cb/(Mb w) (+-)       loss  E/cycle [J]  phi [rad]  e (+-)            method  F_peak [N]  t_imp [s]\n";
   for (const ReducedRow& r : rows) {
-    o << (r.steady == 1 ? ' ' : '*') << std::setw(7) << r.frequency << " " << std::setw(10) << r.cavity_amplitude << " " << std::setw(6)
+    const bool negative = r.C_eff + (std::isfinite(r.C_eff_ci95) ? r.C_eff_ci95 : 0.0) < 0;
+    o << (r.steady == 1 ? (negative ? '!' : ' ') : '*') << std::setw(7) << r.frequency << " " << std::setw(10) << r.cavity_amplitude << " " << std::setw(6)
       << r.gamma << " " << std::setw(7) << r.clearance_ratio << " " << std::setw(8) << r.M_eff_ratio << " (" << std::setw(7)
       << r.M_eff_ci95 / r.bag_mass << ") " << std::setw(8) << r.Cb_over_Mbw << " (" << std::setw(7) << r.Cb_over_Mbw_ci95 << ") "
       << std::setw(8) << r.loss_factor << " " << std::setw(12) << r.energy_per_cycle << " " << std::setw(10) << r.impact_phase << " "

@@ -285,7 +285,9 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     // first harmonic of the window's second half differs from its first half's by less than the
     // tolerance, so that the window reduced is the window judged steady.
     const std::size_t K = std::max(plan.cycles, (plan.reduce_cycles + 1) / 2), window = 2 * K;
-    const std::size_t least = std::max(plan.min_cycles, window);
+    // A point's first cycle is never in the window: the drive has just changed frequency (and, at the
+    // sweep's start, the structure is released into its start state within it).
+    const std::size_t least = std::max(plan.min_cycles, window + 1);
     // One frequency point, from the state the last one left.
     auto run_point = [&](double requested) {
       const auto t_point = std::chrono::steady_clock::now();
@@ -356,8 +358,8 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       }
       ReducedRow reduced = reduce_series(last, pt.frequency, last.t.front() - 0.5 * scene.dt, context);
       reduced.response_amplitude = std::abs(pt.response);
-      if (scene.models.energy) reduced.dissipated_per_cycle = pt.dissipated_contents;
-      reduced.energy_balance = pt.balance;
+      // Without the contents' energy tallies (output.energy = false) the balance cannot close: unknown.
+      if (scene.models.energy) reduced.dissipated_per_cycle = pt.dissipated_contents, reduced.energy_balance = pt.balance;
       if (!pt.settled) reduced.steady = 0;
       judge_steady(reduced);
       pt.steady = reduced.steady == 1;

@@ -13,6 +13,7 @@
 
 #include "../run/output_files.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "bagdem/reduce/interval.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
 
@@ -196,7 +197,7 @@ Table ensemble_table(const Plan& plan, const Table& merged) {
       continue;
     }
     const auto [name, unit] = split_column(merged.columns[c]);
-    for (const char* stat : {"_mean", "_sd", "_se"}) e.columns.push_back(with_unit(name + stat, unit));
+    for (const char* stat : {"_mean", "_sd", "_se", "_ci95"}) e.columns.push_back(with_unit(name + stat, unit));
   }
   for (const auto& [key, g] : groups) {
     std::vector<std::string> row(g.any->begin() + 3, g.any->begin() + static_cast<long>(front));
@@ -214,20 +215,9 @@ Table ensemble_table(const Plan& plan, const Table& merged) {
       std::vector<double> x;
       for (const auto* r : g.rows)
         if (const auto v = cell_number((*r)[c])) x.push_back(*v);
-      const double n = static_cast<double>(x.size());
-      double mean = kNaN, sd = kNaN, se = kNaN;
-      if (!x.empty()) {
-        mean = 0;
-        for (double v : x) mean += v;
-        mean /= n;
-      }
-      if (x.size() > 1) {
-        double ss = 0;
-        for (double v : x) ss += (v - mean) * (v - mean);
-        sd = std::sqrt(ss / (n - 1));
-        se = sd / std::sqrt(n);
-      }
-      for (double s : {mean, sd, se}) row.push_back(number_text(s));
+      const Interval in = independent_interval(x);
+      const double sd = in.se * std::sqrt(static_cast<double>(x.size()));
+      for (double s : {in.mean, sd, in.se, in.ci95}) row.push_back(number_text(s));
     }
     e.rows.push_back(row);
   }

@@ -3,12 +3,16 @@
 // across the larger gap along the excitation direction e), and e_drop = -v_after / v_before of
 // their centre of mass along e (brief Eq. 9). The impact is the force on the wall ahead, every wave
 // of it, foot to foot (reduce/impacts.hpp, merged): v_before is the velocity before its first foot,
-// v_after after its last one. The run stops when that force has stayed below 5% of its peak for a
-// settling span (100 steps and 1% of the flight time) with the contents no longer approaching, or
-// as soon as another wall pushes the contents back, so that the rebound is measured before any
-// other wall acts on it. The contact time is the pulse's span foot to foot (no force threshold, so
-// it does not shrink with the step). e_drop lies in [0, 1], or the test fails saying why. Gravity
-// stays as in the case; the cavity is held fixed and a primary structure is not simulated.
+// v_after the fastest rebound from the pulse's centroid on (a bag's contents leave in waves; once
+// free, only friction slows them; a single ball's rebound speed is constant after its contact). The pulse is found above a quarter of its peak (sliding friction on
+// the floor pulls on the cavity along e too; the test fails when the peak is not at least twice the
+// largest friction force mu M g), and its feet reach down to where it rises out of the sliding.
+// The run stops when that force has stayed below the threshold for a settling span (100 steps and
+// 1% of the flight time) with the contents no longer approaching, or as soon as, on the way back,
+// another wall pushes the contents, so that the rebound is measured before any other wall acts on
+// it. The contact time is the pulse's span foot to foot (no force threshold, so it does not shrink
+// with the step). e_drop lies in [0, 1], or the test fails saying why. Gravity stays as in the
+// case; the cavity is held fixed and a primary structure is not simulated.
 #pragma once
 #include <filesystem>
 #include <string>

@@ -6,7 +6,7 @@
 // is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
 // the point has settled when the mean Y of the last K cycles differs from that of the K before by
 // less than the tolerance (SteadyStateDetector), K = max(steady_cycles, reduce_cycles / 2 rounded
-// up), after at least max(min_cycles, 2K) cycles; the point's response and the damper's reduction
+// up), after at least max(min_cycles, 2K + 1) cycles (the first cycle is never in the window); the point's response and the damper's reduction
 // are measured over those last 2K cycles (the window judged steady), with a 95% interval over the
 // correlated cycles (reduce/interval.hpp). The point is
 // steady when it settled, the energy balance over that window closes within 1% and the contents'

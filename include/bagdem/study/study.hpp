@@ -14,8 +14,8 @@
 //    only after the child exited 0. Anything else in OUT/point-NNN is never trusted: a restarted
 //    sweep deletes such a directory and runs the point again.
 //  - Ensemble statistics over the seeds (<name>_ensemble.csv): mean, sample standard deviation
-//    s = sqrt(sum (x - mean)^2 / (n - 1)) and standard error s / sqrt(n) of the n done seeds
-//    (textbook definitions; NaN where n < 2 for s and the error).
+//    s = sqrt(sum (x - mean)^2 / (n - 1)), standard error s / sqrt(n) and the half-width of the 95%
+//    interval t_{0.975, n-1} s / sqrt(n) of the n done seeds (reduce/interval.hpp; NaN where n < 2).
 //  - Exit codes: 0 every point done, 2 bad input (nothing run, nothing written), 3 a point failed
 //    (the others still ran; the tables list it as "failed"), 1 a system error.
 // Errors in the input are InputError naming the file (or option), the key, the value and what is
@@ -261,5 +261,14 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& args);
 // (index % ranks == rank), then rank 0 merges the tables and prints the summary. Returns the exit
 // code (the same on every rank).
 int sweep_command(const SweepArgs& args);
+
+// ---- ensemble_run.cpp: `bagdem run CASE --seeds N` -------------------------------------------------
+
+// The case as an ensemble of N perturbed starts: a study with no varied key and seeds 1..N (each
+// start in OUT/point-NNN, resumable, the cores shared as by `bagdem sweep`), then each mode's peak
+// reduction over the starts with its 95% interval, and a warning when the starts gave the same
+// results (simulation.seed changed nothing). OUT defaults to CASE_DIR/out. Returns the exit code.
+int run_ensemble(const std::string& case_dir, const std::vector<std::string>& sets, int seeds, const std::string& out,
+                 int threads);
 
 }  // namespace bagdem::study

@@ -236,3 +236,20 @@ TEST(Logs, OneLinePerPointWhenStderrIsNotATerminal) {
   EXPECT_EQ(run.err.find('\r'), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("100.0%"), std::string::npos) << run.err;
 }
+
+// `run --seeds 2`: the starts run as a study and the tables carry the interval over them; a case
+// whose start does not depend on the seed (the glued ball) is told that its interval covers no
+// start-to-start spread.
+TEST(Ensemble, RunWithSeedsGivesIntervalsOverTheStarts) {
+  TempDir d;
+  d.write("case.toml", glued_ball_sweep("around_modes = [1]\nspan = 0.12\npoints = 3"));
+  const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--seeds", "2", "--out", (d.path / "ens").string()}, d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const TextTable peaks = read_text_table(d.path / "ens" / "peaks_ensemble.csv");
+  ASSERT_EQ(peaks.rows.size(), 1u);
+  for (const char* c : {"reduction_dB_mean", "reduction_dB_ci95", "at_band_edge_mean"}) EXPECT_LT(peaks.find(c), peaks.names.size()) << c;
+  EXPECT_EQ(peaks.rows[0][peaks.find("n")], "2");
+  EXPECT_NE(r.out.find("95% interval over 2 starts"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("the 2 starts gave the same results"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(d.path / "ens" / "point-001" / "reduced.csv"));
+}

@@ -30,6 +30,11 @@ void describe_ensemble(const fs::path& out, int seeds) {
   }
   if (fs::exists(reduced)) {
     const TextTable t = read_text_table(reduced);
+    for (const auto& row : t.rows)
+      std::printf("%.5g Hz: M_eff/M_bag %.4g +- %.2g, C_b/(M_b w) %.4g +- %.2g, e %.3g +- %.2g (95%% intervals over %g starts)\n",
+                  cell(t, row, "frequency_mean"), cell(t, row, "M_eff_ratio_mean"), cell(t, row, "M_eff_ratio_ci95"),
+                  cell(t, row, "Cb_over_Mbw_mean"), cell(t, row, "Cb_over_Mbw_ci95"), cell(t, row, "e_mean"), cell(t, row, "e_ci95"),
+                  cell(t, row, "n"));
     bool spread = false;
     for (const auto& row : t.rows) spread = spread || cell(t, row, "M_eff_sd") > 0 || cell(t, row, "C_eff_sd") > 0;
     if (!spread && !t.rows.empty())

@@ -118,13 +118,14 @@ void write_run_tables(const fs::path& dir) {
       });
   std::ofstream(dir / "reduced.csv") << table(
       "frequency [Hz],cavity_amplitude [m],gamma [1],clearance_ratio [1],bag_mass [kg],mass_ratio [1],M_eff [kg],M_eff_se [kg],"
-      "M_eff_ratio [1],Cb_over_Mbw [1],Cb_over_Mbw_se [1],e_impact [1],e_impact_sd [1],e_eq19a [1],e_drop [1],impact_phase [rad]",
+      "M_eff_ratio [1],Cb_over_Mbw [1],Cb_over_Mbw_se [1],e_impact [1],e_impact_sd [1],e_eq19a [1],e_drop [1],impact_phase [rad],"
+      "e_method [text]",
       n, [&](int r) {
         const double X = 0.2 * std::abs(p.receptance(f[r], mu, cb)), w = kTwoPi * f[r];
         const double gamma = X * w * w / 9.81, bag = mu * p.M;
         return num(f[r]) + "," + num(X) + "," + num(gamma) + "," + num(0.001 / X) + "," + num(bag) + "," + num(mu) + "," +
                num(0.62 * bag) + "," + num(0.02 * bag) + ",0.62," + num(cb * (1 + 0.05 * r)) + ",0.02," +
-               num(0.10 + 0.01 * r) + ",0.04," + num(0.12 + 0.008 * r) + ",0.037,1.1";
+               num(0.10 + 0.01 * r) + ",0.04," + num(0.12 + 0.008 * r) + ",0.037,1.1,impact";
       });
   std::ofstream(dir / "compare.csv") << table(
       "frequency [Hz],dem_response [m],model_response [m],model_error [1],eq20_response [m],eq20_error [1],bare_response [m]", 7,

@@ -469,4 +469,36 @@ TEST(Projection, ImpactRestitution) {
     if (speeds[i] > bar) EXPECT_NEAR(kept.values[j++], expected[i], 1e-12);
 }
 
+// A wall that changes velocity during the pulses (0.5 m/s at 50 Hz: up to 0.3 m/s over a 2-ms
+// pulse, as fast as the approach): taken relative to the wall at each foot, the velocities give a
+// restitution far from the impact's; relative to the wall at the centroid they give it exactly.
+TEST(Projection, ImpactRestitutionInTheWallsFrameAtTheCentroid) {
+  const auto t = uniform_times(kDelta, 1500);
+  const auto impacts = bagdem::find_impacts(t, interval_means(t, kDelta, kTrain), 0);
+  ASSERT_EQ(impacts.size(), kTrain.size());
+  const bagdem::WallVelocity wall = [](double time) { return 0.5 * std::sin(2 * kPi * 50 * time); };
+  const std::vector<double> e_set = {0.6, 0.45, 0.8, 0.5, 0.7, 0.3};
+  // The contents fly at c_before, then leave at c_after = w_c - e (c_before - w_c), w_c the wall's
+  // velocity at the centroid; v is relative to the wall at each sample.
+  std::vector<double> v(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    std::size_t i = 0;
+    while (i + 1 < impacts.size() && t[k] > impacts[i].t_foot_end) ++i;
+    const double w_c = wall(impacts[i].t_centroid), before = w_c + impacts[i].side * 0.3;
+    const double after = w_c - e_set[i] * (before - w_c);
+    const double c = t[k] <= impacts[i].t_foot_start ? before : t[k] >= impacts[i].t_foot_end ? after : 0.5 * (before + after);
+    v[k] = c - wall(t[k]);
+  }
+  const auto centred = bagdem::impact_restitution(impacts, t, v, {}, {}, wall);
+  ASSERT_EQ(centred.values.size(), e_set.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < e_set.size(); ++i) {
+    EXPECT_NEAR(centred.values[i], e_set[i], 1e-12) << "impact " << i;
+    const auto at_feet = bagdem::impact_restitution({impacts[i]}, t, v);  // empty when it seems not to approach
+    if (!at_feet.values.empty()) worst = std::max(worst, std::abs(at_feet.values[0] - e_set[i]));
+  }
+  std::printf("  relative to the wall at each foot: worst error of e %.3f\n", worst);
+  EXPECT_GT(worst, 0.1);
+}
+
 }  // namespace

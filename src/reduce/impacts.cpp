@@ -115,7 +115,7 @@ std::vector<Impact> find_impacts(const std::vector<double>& t, const std::vector
 
 RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const std::vector<double>& t,
                                     const std::vector<double>& v, const std::vector<double>& force,
-                                    const FreeFlight& rule) {
+                                    const FreeFlight& rule, const WallVelocity& wall) {
   if (v.size() != t.size())
     throw std::invalid_argument("impact_restitution: " + std::to_string(v.size()) + " velocities for " +
                                 std::to_string(t.size()) + " times");
@@ -139,8 +139,12 @@ RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const st
     const auto before = std::upper_bound(t.begin(), t.end(), m.t_foot_start + tolerance);
     const auto after = std::lower_bound(t.begin(), t.end(), m.t_foot_end - tolerance);
     if (before == t.begin() || after == t.end()) continue;
-    const double v_before = v[static_cast<std::size_t>(before - t.begin()) - 1];
-    const double v_after = v[static_cast<std::size_t>(after - t.begin())];
+    double v_before = v[static_cast<std::size_t>(before - t.begin()) - 1];
+    double v_after = v[static_cast<std::size_t>(after - t.begin())];
+    if (wall) {  // relative to the wall at the centroid
+      const double at_centroid = wall(m.t_centroid);
+      v_before += wall(m.t_foot_start) - at_centroid, v_after += wall(m.t_foot_end) - at_centroid;
+    }
     // The contents must approach the wall that was hit: towards +x for the +x wall (side +1).
     if (!(v_before * m.side > 0) || std::abs(v_before) < rule.min_approach_speed) continue;
     // Interval k covers [t_k - Delta, t_k]: the flight before ends with the sample at t_foot_start,

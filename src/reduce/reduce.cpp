@@ -264,9 +264,12 @@ ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const R
     r.impact_phase = axial_mean(phases);
     r.peak_impact_force = peak / n, r.max_impact_force = peak_max, r.impact_duration = duration / n;
     // Per impact (Eq. 9) between free flights of a twentieth of a period, approaching at a tenth of
-    // the cavity's speed amplitude or faster.
+    // the cavity's speed amplitude or faster, the velocities relative to the wall at the impact's
+    // centroid (the cavity's first harmonic: x = Re(X e^{iwt}), x' = Re(i w X e^{iwt})).
     const FreeFlight rule{.span = T / 20, .threshold = kThreshold * largest, .min_approach_speed = 0.1 * w * X};
-    const RestitutionStats e = impact_restitution(impacts, t, v, F, rule);
+    const std::complex<double> V = std::complex<double>(0, w) * ep.displacement;
+    const WallVelocity wall = [V, w](double time) { return (V * std::polar(1.0, w * time)).real(); };
+    const RestitutionStats e = impact_restitution(impacts, t, v, F, rule, wall);
     r.e_impact_count = static_cast<double>(e.values.size());
     if (e.values.size() >= kMinImpactsForRestitution) {
       impact_interval = batch_means_interval(e.values);

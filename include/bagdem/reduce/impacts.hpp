@@ -45,6 +45,7 @@
 // (contents moving in +x hit the +x wall, side +1). Others (the bag pushed by a wall it is leaving,
 // or pulled by its strings) are skipped.
 #pragma once
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -88,13 +89,26 @@ struct FreeFlight {
   double min_approach_speed = 0;  // (unit: m/s)
 };
 
+// The wall's velocity along the axis at time t (unit: m/s), for the velocities' frame (below); a
+// null function keeps the velocities relative to the cavity at each sample.
+using WallVelocity = std::function<double(double)>;
+
 // Restitution of each impact from the relative velocity v (contents' centre of mass minus cavity,
 // along the same axis, point samples at the times t; unit: m/s), over [t_foot_start, t_foot_end].
 // An impact without a sample at or before t_foot_start or at or after t_foot_end is skipped, and so
 // is one that fails `rule` (which reads the force F at the times t; it may be empty when the rule
-// asks no free flight). Throws std::invalid_argument for sizes that differ or non-uniform t.
+// asks no free flight).
+// The frame. A bag's impact lasts a good part of a period, and the wall accelerates meanwhile: the
+// velocities relative to the wall at the two feet differ by the wall's own change of velocity, which
+// can exceed the approach speed itself (and give e > 1). With `wall`, both velocities are taken
+// relative to the wall's velocity at the impact's centroid t_c instead:
+//     u = v_rel + v_wall(t_foot) - v_wall(t_c),    e = -u_after / u_before,
+// the restitution of the instantaneous impact at t_c that exchanges the same momentum. In that
+// inertial frame the wall moves by a (t - t_c) to first order, and its work on the contents,
+// a integral of F (t - t_c) dt, vanishes by the centroid's definition: a passive bed gives e <= 1.
+// Throws std::invalid_argument for sizes that differ or non-uniform t.
 RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const std::vector<double>& t,
                                     const std::vector<double>& v, const std::vector<double>& force = {},
-                                    const FreeFlight& rule = {});
+                                    const FreeFlight& rule = {}, const WallVelocity& wall = {});
 
 }  // namespace bagdem

@@ -201,7 +201,8 @@ int main(int argc, char** argv) {
         return kExitRunError;
       }
       if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
-      if (!r.reduce_message.empty()) std::fprintf(stderr, "reduction skipped: %s\n", r.reduce_message.c_str());
+      if (!r.reduce_message.empty())
+        std::fprintf(stderr, "%s%s\n", r.reduced.empty() ? "reduction skipped: " : "note: ", r.reduce_message.c_str());
       if (s.models.energy)
         std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n", r.wall_seconds,
                     r.ns_per_particle_step, r.energy_balance_error);

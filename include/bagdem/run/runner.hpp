@@ -42,7 +42,7 @@ struct RunReport {
   double decay_time = 0;               // decay and impulse excitations: time to fall by 20 dB (s)
   double decay_zeta = 0;               // their fitted damping ratio
   std::vector<ReducedRow> reduced;     // harmonic cavity motion: the effective parameters (reduced.csv)
-  std::string reduce_message;          // why the reduction was not possible, if it was not
+  std::string reduce_message;          // why the reduction was not possible, or (with rows) why e has no estimate
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that

@@ -78,10 +78,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
 
   auto* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
-                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles with standard errors, energy per cycle, "
+                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles, energy per cycle, "
                                             "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
-                                            "restitution three ways (per impact, Eq. 19a, and the drop test if `bagdem drop` was run). Writes OUT/reduced.csv "
-                                            "(columns: docs/outputs.md).");
+                                            "restitution e (per impact between free flights, else Eq. 19a, else the drop test; e_method says which), "
+                                            "each with its standard error and 95% interval over the correlated cycles, and steady = 0 for a window "
+                                            "whose energy balance is off by more than 1%. Writes OUT/reduced.csv (columns: docs/outputs.md).");
   reduce->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   reduce->add_option("--out", out_dir, "Output directory of the run (default CASE_DIR/out)");
   reduce->add_option("--set", sets, "The --set overrides the run was made with (repeatable)");
@@ -102,7 +103,9 @@ int main(int argc, char** argv) {
   double drop_speed = 0;
   auto* drop = app.add_subcommand("drop", "Drop test of the case's bag: its contents, settled as in the case, are launched against a wall of the "
                                         "resting cavity along the excitation direction; prints e_drop = rebound / approach speed of their "
-                                        "centre of mass and writes OUT/drop.csv; `bagdem reduce` then reports it beside the other two estimates.");
+                                        "centre of mass (in [0, 1], or an error that says why) and writes OUT/drop.csv and OUT/drop_result.csv; "
+                                        "`bagdem reduce` then reports it beside the other two estimates (a run does the same by itself when a "
+                                        "row has neither of the others).");
   drop->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
   drop->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
   drop->add_option("--set", sets, "Override a key of case.toml (repeatable)");

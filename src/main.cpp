@@ -152,6 +152,10 @@ int main(int argc, char** argv) {
         if (!quiet) std::cerr << "bagdem run " << case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
                               << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
         const SweepReport r = run_sweep(s, o);
+        if (r.signal) {
+          std::cerr << "interrupted: " << r.message << "\n";
+          return 128 + r.signal;
+        }
         if (!r.complete) {
           std::cerr << "error: " << r.message << "\n";
           return kExitRunError;

@@ -2,7 +2,7 @@
 //  - a checkpoint whose bytes changed is refused (its checksum), as is a truncated one;
 //  - SIGTERM and SIGINT stop a run at its next step: results.h5.part reads status "interrupted",
 //    a checkpoint is left, the exit code is 128 + the signal, and --resume ends with the same bits
-//    as the run uninterrupted;
+//    as the run uninterrupted; the same for a sweep (stopped mid-point, resumed to the same sweep);
 //  - a full disk (tests/full_disk: writes to files fail with ENOSPC after a budget of bytes) ends
 //    the run with exit 1 naming the file, not a crash, and an earlier complete results.h5 in the
 //    same directory stays as it was.
@@ -24,6 +24,7 @@
 #include "h5_read.hpp"
 #include "results_compare.hpp"
 #include "support.hpp"
+#include "sweep_support.hpp"
 
 namespace fs = std::filesystem;
 using bagdem::testing::CmdResult;
@@ -238,6 +239,28 @@ TEST(Faults, SigtermLeavesAnInterruptedRunThatResumesToTheSameBits) {
   EXPECT_EQ(status_of(c.out / "results.h5"), "complete");
   EXPECT_FALSE(fs::exists(c.out / "checkpoint.bin"));
   bagdem::testing::expect_same_datasets(whole.out / "results.h5", c.out / "results.h5");
+}
+
+TEST(Faults, SigtermDuringASweepResumesToTheSameSweep) {
+  CaseDir c(bagdem::testing::rattling_ball_sweep());
+  const CaseDir whole(bagdem::testing::rattling_ball_sweep());
+  Background b(c, {});
+  // Stepping: the progress line of a point's cycle is out.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until && slurp(b.err).find("cycle") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_NE(slurp(b.err).find("cycle"), std::string::npos) << slurp(b.err);
+  ASSERT_EQ(kill(b.pid, SIGTERM), 0);
+  ASSERT_EQ(b.wait(), 143) << slurp(b.err);
+  EXPECT_EQ(status_of(c.out / "results.h5.part"), "interrupted");
+  ASSERT_TRUE(fs::exists(c.out / "checkpoint.bin"));
+  EXPECT_NE(slurp(b.err).find("--resume"), std::string::npos) << slurp(b.err);
+  const CmdResult resumed = c.run({"--resume"});
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  const CmdResult ref = whole.run();
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  EXPECT_EQ(status_of(c.out / "results.h5"), "complete");
+  bagdem::testing::expect_same_sweep(whole.out, c.out);
 }
 
 // ---- a full disk ----------------------------------------------------------------------------------

@@ -22,7 +22,9 @@
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
+#include "interrupt.hpp"
 #include "output_files.hpp"
+#include "sweep_state.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -199,53 +201,103 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
   return out;
 }
 
+// Why a sweep stops before its end: SIGINT/SIGTERM (`signal`), or 0 for the testing aid
+// RunOptions::stop_after_steps (as if killed: nothing more is written).
+struct SweepHalt {
+  int signal;
+};
+
 SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   if (!scene.primary || !scene.primary->sweep)
     throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
-  if (opt.resume) throw InputError(scene.case_file, "", "", "--resume is not available for sweeps yet; run the sweep again");
+  const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const Primary& P = *scene.primary;
   const Primary::Sweep& plan = *P.sweep;
   const fs::path out = opt.out_dir;
   fs::create_directories(out);
   const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5", summary = out / "summary.json";
-  const fs::path csv = out / "sweep.csv";
-  fs::remove(summary);
-  fs::remove(final_h5);
-  for (const char* stale : {"reduced.csv", "peaks.csv", "bare_curve.csv", "compare.csv"}) fs::remove(out / stale);
+  const fs::path csv = out / "sweep.csv", ckpt = out / "checkpoint.bin";
+  // The state of an interrupted sweep (sweep_state.hpp), or a fresh start.
+  SweepState state;
+  Simulation sim(scene);
+  if (opt.resume) {
+    const std::vector<char> image = load_sweep_checkpoint(ckpt, scene, state);
+    if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted sweep is missing; run again without --resume");
+    try {
+      sim.load_state(image);
+    } catch (const std::exception& e) {
+      throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
+    }
+  } else {
+    fs::remove(ckpt);
+  }
+  // The tables of an earlier run go; its results.h5 stays until this sweep's replaces it.
+  remove_derived_tables(out);
 
   const auto t_start = std::chrono::steady_clock::now();
   auto since = [](std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  Simulation sim(scene);
   std::vector<std::string> mats;
   for (const auto& m : scene.materials) mats.push_back(m.name);
-  ResultsFile file = open_results(part.string(), sim, mats, scene.dt);
-  file.set_attribute("case_file", scene.case_file);
-  file.set_attribute("resolved_config", scene.resolved);
-  file.set_attribute("settle_end", scene.settle);
-  file.set_attribute("timestep", scene.dt);
-  file.set_attribute("status", "running");
-  if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
-  std::vector<double> frame_times;
+  ResultsFile file = opt.resume ? ResultsFile::reopen(part.string(), state.lengths) : open_results(part.string(), sim, mats, scene.dt);
+  std::vector<double>& frame_times = state.frame_times;
   auto frame = [&] {
     append_ball_frame(file, sim.time(), sim);
     if (scene.bag) file.append_film_frame(sim.film().x);
     frame_times.push_back(sim.time());
   };
-  frame();
+  if (opt.resume) {
+    file.set_attribute("status", "running");
+  } else {
+    file.set_attribute("case_file", scene.case_file);
+    file.set_attribute("resolved_config", scene.resolved);
+    file.set_attribute("settle_end", scene.settle);
+    file.set_attribute("timestep", scene.dt);
+    file.set_attribute("status", "running");
+    if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
+    frame();
+  }
 
   SweepReport rep;
   const double F = P.amplitude;
+  // The points done before an interruption: their rows again (the reopened file has no /sweep).
+  const std::vector<SweepPoint> done_points = std::move(state.points);
+  const std::vector<ReducedRow> done_reduced = std::move(state.reduced);
+  for (const SweepPoint& p : done_points) file.append_table_row("sweep", kSweepColumns, row_of(p));
+  if (!done_points.empty()) write_csv(csv, done_points), write_reduced_csv(out / "reduced.csv", done_reduced);
+  // A signal stops the sweep before its next step; so does the testing aid, as if killed.
+  const std::uint64_t first_step = sim.steps_done();
+  auto halt_if_asked = [&] {
+    if (const int sig = pending_interrupt()) throw SweepHalt{sig};
+    if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps))
+      throw SweepHalt{0};
+  };
+  ReductionContext context = reduction_context(scene, nullptr, P.direction);
+  // A checkpoint of the sweep as it stands (between points, or during settling).
+  auto checkpoint = [&] {
+    file.flush();
+    state.lengths = file.lengths();
+    state.points = rep.points;
+    state.reduced = rep.reduced;
+    save_sweep_checkpoint(ckpt, sim, state);
+  };
   try {
     // Settling, the structure held.
     const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
-    while (sim.steps_done() < settle_steps) sim.step();
-    if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
-    const ReductionContext context = reduction_context(scene, &sim, P.direction);
+    if (!state.settled) {
+      while (sim.steps_done() < settle_steps) halt_if_asked(), sim.step();
+      if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
+      state.clearance = reduction_context(scene, &sim, P.direction).clearance;
+      state.settled = true;
+      checkpoint();
+    }
+    context.clearance = state.clearance;
 
-    std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
+    // An upper bound of the points: group_by_mode's pointers into rep.points stay valid.
+    const std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
+    rep.points.reserve(plan.frequencies.size() + plan.refine * std::max<std::size_t>(P.size(), 1));
     // One frequency point, from the state the last one left.
     auto run_point = [&](double requested) {
       const auto t_point = std::chrono::steady_clock::now();
@@ -268,6 +320,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         CavitySeries& series = recent.emplace_back();
         for (auto* v : {&series.t, &series.x, &series.force, &series.v_rel}) v->reserve(N);  // no growth inside the steps
         for (std::size_t n = 0; n < N; ++n) {
+          halt_if_asked();
           sim.step();
           const Simulation::StructureResponse r = sim.structure_response();
           const Complex e = std::polar(1.0, -r.phase);
@@ -337,11 +390,34 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         std::fputs(m.str().c_str(), stderr);
       }
     };
-    for (double f : plan.frequencies) run_point(f);
+    // The next point: one done before an interruption is taken as it was (the refinement then
+    // chooses as it did), a new one is run and checkpointed.
+    auto point = [&](double f) {
+      if (rep.points.size() < done_points.size()) {
+        rep.reduced.push_back(done_reduced[rep.points.size()]);
+        rep.points.push_back(done_points[rep.points.size()]);
+        return;
+      }
+      run_point(f);
+      checkpoint();
+    };
+    for (double f : plan.frequencies) point(f);
     // Peak refinement: per mode, `refine` more points, each halving the gap on the peak's side.
     for (std::size_t r = 0; r < plan.refine; ++r)
       for (const ModePoints& m : group_by_mode(P, rep.points))
-        if (const double f = refinement_frequency(m, scene.dt); f > 0) run_point(f);
+        if (const double f = refinement_frequency(m, scene.dt); f > 0) point(f);
+  } catch (const SweepHalt& h) {
+    file.flush();
+    if (h.signal == 0) return rep;  // the testing aid: as if killed
+    if (!state.settled) checkpoint();  // during settling; else the last point's checkpoint stands
+    file.set_attribute("status", "interrupted");
+    file.close();
+    rep.signal = h.signal;
+    std::ostringstream m;
+    m << signal_name(h.signal) << " at t = " << sim.time() << " s after " << rep.points.size() << " points: " << part.string()
+      << " and " << ckpt.string() << " kept; continue with --resume (a point cut short is run again)";
+    rep.message = m.str();
+    return rep;
   } catch (const RunError& e) {
     rep.message = e.what();
     file.set_attribute("status", std::string("failed: ") + e.what());
@@ -359,6 +435,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   fs::rename(part, final_h5);
   write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
              scene.bag ? scene.bag->rest.triangles.size() : 0);
+  fs::remove(ckpt);
 
   std::ostringstream j;
   j << std::setprecision(10);

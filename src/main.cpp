@@ -21,12 +21,26 @@
 
 using namespace bagdem;
 
+namespace {
+
+// More threads than cores are taken (the results are the same for any count), but they share the
+// cores and the run is slower than with one per core: said on stderr.
+void warn_threads_above_cores(const std::vector<int>& threads) {
+  const int cores = omp_get_num_procs();
+  for (int t : threads)
+    if (t > cores)
+      std::cerr << "warning: --threads " << t << " is more than the " << cores << " cores of this machine: the threads "
+                << "share the cores and run slower than " << cores << " would; use --threads " << cores << " or fewer\n";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"bagdem " BAGDEM_VERSION
                ": discrete-element simulation of granular and bean-bag impact dampers.\n"
                "A case is a directory with case.toml (schema: docs/case-schema.md).\n"
-               "Exit codes: 0 success, 1 system error (I/O, a full disk), 2 bad input, 3 the run went unstable, "
-               "130/143 a run stopped by SIGINT/SIGTERM (checkpoint written: continue with --resume)."};
+               "Exit codes: 0 success, 1 system error (I/O, a full disk), 2 bad input (case or command line), 3 the run "
+               "went unstable, 130/143 a run stopped by SIGINT/SIGTERM (checkpoint written: continue with --resume)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 
@@ -126,7 +140,15 @@ int main(int argc, char** argv) {
   study::TradeArgs trade_args;
   CLI::App* trade = study::add_trade_command(app, trade_args);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 prints its message (or the help and version, which succeed); a command-line error is
+    // bad input like any other: exit code 2, not CLI11's own codes.
+    return app.exit(e) == 0 ? 0 : kExitInputError;
+  }
+  if ((run->parsed() || drop->parsed()) && threads > 0) warn_threads_above_cores({threads});
+  if (bench->parsed()) warn_threads_above_cores(bench_opt.threads);
   if (sweep->parsed()) return study::sweep_command(sweep_args);
   if (trade->parsed()) return study::trade_command(trade_args);
   try {
@@ -161,9 +183,7 @@ int main(int argc, char** argv) {
           return kExitRunError;
         }
         std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
-        for (const ModePeak& m : r.peaks)
-          std::printf("%s: peak %.4g m/N at %.5g Hz (bare %.4g m/N at %.5g Hz): reduction %.2f dB = %.1f%%\n", m.name.c_str(),
-                      m.peak, m.frequency, m.bare_peak, m.bare_frequency, m.reduction_db, m.reduction_percent);
+        for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
         std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
         std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
         return 0;

@@ -63,6 +63,7 @@ amplitude = "0.5 N"
 frequencies = [26, 30, 34]
 refine = 1
 min_cycles = 4
+reduce_cycles = 4
 max_cycles = 8
 )";
 }

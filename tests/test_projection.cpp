@@ -4,6 +4,7 @@
 // the function, divided by Delta), so the references are exact to round-off.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -442,6 +443,30 @@ TEST(Projection, ImpactRestitution) {
   ASSERT_EQ(on.values.size(), kTrain.size());
   EXPECT_NEAR(on.mean, -0.4, 1e-12);
   EXPECT_TRUE(std::isnan(on.body()));
+
+  // Free flight: pulses 20 ms apart and at most 5 ms long fly free for 10 ms on each side; for 25 ms
+  // every pulse meets a neighbour (or the record's start).
+  const std::vector<double> F = interval_means(t, kDelta, kTrain);
+  double largest = 0;
+  for (double y : F) largest = std::max(largest, std::abs(y));
+  const bagdem::FreeFlight free10{.span = 10e-3, .threshold = 0.05 * largest, .min_approach_speed = 0};
+  const auto free = bagdem::impact_restitution(impacts, t, v, F, free10);
+  ASSERT_EQ(free.values.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(free.values[i], expected[i], 1e-12);
+  const bagdem::FreeFlight free25{.span = 25e-3, .threshold = 0.05 * largest, .min_approach_speed = 0};
+  EXPECT_TRUE(bagdem::impact_restitution(impacts, t, v, F, free25).values.empty());
+  // A slow approach is left out: the speed bar between the counted impacts' speeds keeps the faster.
+  std::vector<double> speeds;
+  for (std::size_t i : {0, 1, 2, 4, 5}) speeds.push_back(std::abs(v_before[i]));
+  std::vector<double> sorted = speeds;
+  std::sort(sorted.begin(), sorted.end());
+  const double bar = 0.5 * (sorted[1] + sorted[2]);
+  const bagdem::FreeFlight fast{.span = 0, .threshold = 0, .min_approach_speed = bar};
+  const auto kept = bagdem::impact_restitution(impacts, t, v, {}, fast);
+  ASSERT_EQ(kept.values.size(), 3u);
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < speeds.size(); ++i)
+    if (speeds[i] > bar) EXPECT_NEAR(kept.values[j++], expected[i], 1e-12);
 }
 
 }  // namespace

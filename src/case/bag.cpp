@@ -190,7 +190,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   if (!(d > 0)) in.fail("bag.balls.diameter", "must be > 0 (m)");
   const double r = 0.5 * d;
   const double ball_mass = sphere_mass(s.materials[static_cast<std::size_t>(ball_material)].density, r);
-  const std::uint64_t seed = static_cast<std::uint64_t>(in.integer("bag.balls.seed", static_cast<long long>(s.seed)));
+  const std::uint64_t seed = static_cast<std::uint64_t>(in.integer("bag.balls.seed", static_cast<long long>(s.seed), 0, kMaxSeed));
 
   b.shape = in.choice("bag.shape", {"capsule", "pillow"}, "capsule");
   b.axis = unit_vector(in, "bag.axis", Vec3::UnitX());

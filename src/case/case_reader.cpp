@@ -1,5 +1,8 @@
 #include "bagdem/case/case_reader.hpp"
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <functional>
 #include <sstream>
 
@@ -36,19 +39,70 @@ toml::node* child(toml::node* n, const std::string& part) {
   return nullptr;
 }
 
+// A value as the case wrote it, on one line: strings quoted, floats in their shortest form that
+// reads back the same (0.1, not toml++'s 0.10000000000000001), arrays element by element.
 std::string render(const toml::node& n) {
-  std::ostringstream s;
-  if (auto* str = n.as_string()) {
-    s << '"' << str->get() << '"';
-  } else if (n.is_table()) {
-    s << "{...}";
-  } else {
-    n.visit([&](auto&& v) { s << v; });
+  if (auto* str = n.as_string()) return '"' + str->get() + '"';
+  if (n.is_table()) return "{...}";
+  if (auto* a = n.as_array()) {
+    std::string o = "[";
+    for (std::size_t k = 0; k < a->size(); ++k) o += (k ? ", " : "") + render(*a->get(k));
+    return o + "]";
   }
+  if (auto* f = n.as_floating_point()) {
+    const double x = f->get();
+    if (std::isnan(x)) return "nan";
+    char b[32];
+    return std::string(b, std::to_chars(b, b + sizeof b, x).ptr);
+  }
+  std::ostringstream s;
+  n.visit([&](auto&& v) { s << v; });
   return s.str();
 }
 
+// Edit distance between two keys: insertions, deletions, substitutions and swaps of neighbours
+// (the optimal string alignment distance), so "cuont" is one edit from "count".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// Close enough to be a typo of one another. Loose (2 edits, or a third of the longer name) when
+// choosing among the keys a table allows; strict (1 edit, or a quarter) when guessing which present
+// key was meant for an absent one, since the loader has not asked for every key yet.
+bool near_miss(const std::string& a, const std::string& b, bool strict) {
+  const std::size_t len = std::max(a.size(), b.size());
+  return edit_distance(a, b) <= (strict ? std::max<std::size_t>(1, len / 4) : std::max<std::size_t>(2, len / 3));
+}
+
+std::string parent_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? "" : path.substr(0, dot);
+}
+
+std::string leaf_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
 }  // namespace
+
+std::optional<std::string> nearest_key(const std::string& name, const std::vector<std::string>& candidates) {
+  std::optional<std::string> best;
+  std::size_t best_distance = 0;
+  for (const std::string& c : candidates) {
+    const std::size_t d = edit_distance(name, c);
+    if (near_miss(name, c, false) && (!best || d < best_distance)) best = c, best_distance = d;
+  }
+  return best;
+}
 
 CaseReader::CaseReader(const std::string& file, const std::vector<std::string>& overrides) : file_(file) {
   try {
@@ -96,12 +150,55 @@ const toml::node* CaseReader::node(const std::string& key) const {
   const toml::node* n = &root_;
   std::string path;
   for (const auto& p : parts) {
+    path += (path.empty() ? "" : ".") + p;
+    asked_.insert(path);  // a key the loader looks for is an allowed key, present or not
+  }
+  path.clear();
+  for (const auto& p : parts) {
     n = child(const_cast<toml::node*>(n), p);
     if (!n) return nullptr;
     path += (path.empty() ? "" : ".") + p;
     read_.insert(path);
   }
   return n;
+}
+
+std::string CaseReader::unknown_key_message(const std::string& path) const {
+  const std::string parent = parent_of(path);
+  const std::string where = parent.empty() ? "" : " in [" + parent + "]";
+  // The keys allowed beside it: those the loader asked for in the same table.
+  std::vector<std::string> allowed;
+  for (const std::string& k : asked_)
+    if (parent_of(k) == parent && k != path) allowed.push_back(leaf_of(k));
+  if (const auto near = nearest_key(leaf_of(path), allowed))
+    return "unknown key" + where + "; did you mean '" + (parent.empty() ? "" : parent + ".") + *near + "'?";
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  if (allowed.empty() || allowed.size() > 24) return "unknown key" + where + "; see docs/case-schema.md for the allowed keys";
+  return "unknown key" + where + "; allowed there: " + list + " (docs/case-schema.md)";
+}
+
+std::optional<std::string> CaseReader::misspelling_of(const std::string& key) const {
+  // The first part of `key` that is absent, and its table: a key there nobody read that is a near
+  // miss of that part is the likely typo (e.g. "duraton" for a missing "duration").
+  const auto parts = split_key(key);
+  const toml::node* n = &root_;
+  std::string path;
+  for (const auto& p : parts) {
+    const toml::node* next = child(const_cast<toml::node*>(n), p);
+    if (!next) {
+      const auto* t = n->as_table();
+      if (!t) return std::nullopt;
+      for (const auto& [k, v] : *t) {
+        const std::string sibling = (path.empty() ? "" : path + ".") + std::string(k.str());
+        if (!read_.count(sibling) && !asked_.count(sibling) && near_miss(std::string(k.str()), p, true)) return sibling;
+      }
+      return std::nullopt;
+    }
+    path += (path.empty() ? "" : ".") + p;
+    n = next;
+  }
+  return std::nullopt;
 }
 
 bool CaseReader::has(const std::string& key) const { return node(key) != nullptr; }
@@ -134,11 +231,23 @@ std::string CaseReader::value_text(const std::string& key) const {
 }
 
 void CaseReader::fail(const std::string& key, const std::string& allowed) const {
+  if (!node(key)) {
+    if (const auto typo = misspelling_of(key)) {
+      const toml::node* t = node(*typo);
+      throw InputError(file_, *typo, render(*t),
+                       "unknown key" + std::string(parent_of(*typo).empty() ? "" : " in [" + parent_of(*typo) + "]") +
+                           "; did you mean '" + key + "'? (" + key + " " + allowed + ")");
+    }
+  }
   throw InputError(file_, key, value_text(key), allowed);
 }
 
 double CaseReader::to_quantity(const toml::node& n, const std::string& key, Dimension d) const {
-  if (auto v = n.value<double>()) return *v;  // integers convert too
+  if (auto v = n.value<double>()) {  // integers convert too
+    if (!std::isfinite(*v))
+      fail(key, "must be a finite number (not inf or nan): a number in SI units or a string with units of dimension " + d.si_unit());
+    return *v;
+  }
   if (auto* s = n.as_string()) {
     std::string why;
     if (auto q = parse_quantity(s->get(), d, &why)) return *q;
@@ -206,6 +315,12 @@ long long CaseReader::integer(const std::string& key, long long fallback) const 
   return n->as_integer()->get();
 }
 
+long long CaseReader::integer(const std::string& key, long long fallback, long long lo, long long hi) const {
+  const long long v = integer(key, fallback);
+  if (v < lo || v > hi) fail(key, "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return v;
+}
+
 bool CaseReader::boolean(const std::string& key, bool fallback) const {
   const toml::node* n = node(key);
   if (!n) return fallback;
@@ -224,13 +339,7 @@ void CaseReader::reject_unknown_keys() const {
   // Walk every leaf and table; the first one never read is unknown.
   std::function<void(const toml::node&, const std::string&)> walk = [&](const toml::node& n,
                                                                          const std::string& path) {
-    if (!path.empty() && !read_.count(path)) {
-      const auto dot = path.rfind('.');
-      const std::string parent = dot == std::string::npos ? "" : path.substr(0, dot);
-      throw InputError(file_, path, render(n),
-                       "unknown key" + std::string(parent.empty() ? "" : " in [" + parent + "]") +
-                           "; see docs/case-schema.md for the allowed keys");
-    }
+    if (!path.empty() && !read_.count(path)) throw InputError(file_, path, render(n), unknown_key_message(path));
     if (const auto* t = n.as_table()) {
       for (const auto& [k, v] : *t) walk(v, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()));
     } else if (const auto* a = n.as_array(); a && !path.empty()) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <sstream>
 
 #include "bagdem/error.hpp"
@@ -96,6 +97,45 @@ void resolve_output(const CaseReader& in, Scene& s) {
   if (!(o.checkpoint_interval >= 0)) in.fail("output.checkpoint_interval", "must be >= 0 (0 = no checkpoints)");
 }
 
+// Values that each pass their own check can still combine into a run that cannot be made: an
+// infinite Young's modulus or impact speed gives a step of 0, a huge one a step count past any
+// machine. A run of more than this many steps is refused, naming the step and how it was chosen.
+constexpr double kMaxSteps = 1e12;
+
+void refuse_impossible_run(const CaseReader& in, const Scene& s) {
+  const std::string key = "simulation.timestep";
+  const std::string value = in.has(key) ? in.value_text(key) : "\"auto\" (the default)";
+  const double steps = (s.settle + s.duration) / s.dt;
+  if (std::isfinite(s.dt) && s.dt > 0 && steps <= kMaxSteps) return;
+  std::ostringstream m;
+  m << "resolves to a step of " << s.dt << " s (" << s.dt_reason << "), which makes " << steps << " steps over settle + duration = "
+    << s.settle + s.duration << " s; a run must have a step > 0 and at most " << kMaxSteps
+    << " steps: check the values that set the step (the materials' youngs_modulus and density, the particles' size, "
+       "the expected impact speed from the cavity's motion or the initial velocities) and simulation.duration";
+  throw InputError(in.file(), key, value, m.str());
+}
+
+// A cavity whose bounding box is more than 100 times the size of its contents (10^6 times their
+// volume) is most often a length in the wrong unit, typically an STL file in millimetres read as
+// metres: warned about, since it is not impossible.
+void warn_oversized_cavity(Scene& s) {
+  double contents = 0;
+  for (const auto& p : s.particles) contents += 4.0 / 3.0 * std::numbers::pi * p.radius * p.radius * p.radius;
+  if (s.bag) contents = std::max(contents, s.bag->size.x() * s.bag->size.y() * s.bag->size.z());
+  const Vec3 ext = s.cavity_hi - s.cavity_lo;
+  const double cavity = ext.x() * ext.y() * ext.z();
+  if (!(contents > 0) || !(cavity > 1e6 * contents)) return;
+  std::ostringstream w;
+  w << "the cavity (" << ext.x() << " x " << ext.y() << " x " << ext.z() << " m) is " << std::cbrt(cavity / contents)
+    << " times the size of its contents (" << contents << " m^3): ";
+  if (s.cavity_kind == "stl")
+    w << "is the STL file in millimetres? Set cavity.scale = \"1 mm\" (the length of one unit of the file; default 1 m)";
+  else
+    w << "check the units of the cavity's keys (cavity.min, cavity.max, cavity.radius, cavity.length): a plain number is in "
+         "metres, write \"20 mm\" for millimetres";
+  s.warnings.push_back(w.str());
+}
+
 }  // namespace
 
 void decide_models(Scene& s) {
@@ -146,7 +186,7 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   s.settle = in.quantity("simulation.settle", dim::time, 0.0);
   if (!(s.duration > 0)) in.fail("simulation.duration", "must be > 0 (s)");
   if (!(s.settle >= 0)) in.fail("simulation.settle", "must be >= 0 (s)");
-  s.seed = static_cast<std::uint64_t>(in.integer("simulation.seed", 1));
+  s.seed = static_cast<std::uint64_t>(in.integer("simulation.seed", 1, 0, kMaxSeed));
   std::vector<std::string> kinds;
   for (const auto& k : broad_phase_kinds()) kinds.emplace_back(k.name);
   s.broad_phase = in.choice("simulation.neighbour", kinds, "hash");
@@ -171,7 +211,9 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   s.skin = in.quantity_or_auto("simulation.skin", dim::length).value_or(0.2 * dmax);
   if (!(s.skin > 0)) in.fail("simulation.skin", "must be > 0 or \"auto\"");
 
+  warn_oversized_cavity(s);
   resolve_timestep(in, s);
+  refuse_impossible_run(in, s);
   resolve_output(in, s);
   in.reject_unknown_keys();
   s.resolved = in.text();

@@ -377,7 +377,7 @@ void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::st
     if (ds.max() >= extent)
       in.fail(in.has(g + ".diameter") ? g + ".diameter" : g + ".diameter_distribution.max",
               "particles larger than the cavity (smallest extent " + std::to_string(extent) + " m)");
-    const auto seed = static_cast<std::uint64_t>(in.integer(g + ".seed", static_cast<long long>(s.seed + gi)));
+    const auto seed = static_cast<std::uint64_t>(in.integer(g + ".seed", static_cast<long long>(s.seed + gi), 0, kMaxSeed));
     generate(in, g, grp, s, grid, seed);
   }
 }

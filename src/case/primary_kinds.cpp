@@ -290,7 +290,12 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       sw->cycles = count("excitation.steady_cycles", 3);
       sw->min_cycles = count("excitation.min_cycles", 5);
       sw->max_cycles = count("excitation.max_cycles", 200);
+      const long long reduce_cycles = in.integer("excitation.reduce_cycles", 10);
+      if (reduce_cycles < 4 || reduce_cycles > 1000000)
+        in.fail("excitation.reduce_cycles", "must be a whole number in [4, 1e6] (the steady cycles each point is reduced over; an interval needs at least 4)");
+      sw->reduce_cycles = static_cast<std::size_t>(reduce_cycles);
       if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
+      if (sw->max_cycles < sw->reduce_cycles) in.fail("excitation.max_cycles", "must be >= reduce_cycles");
       const long long refine = in.integer("excitation.refine", 4);
       if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
       sw->refine = static_cast<std::size_t>(refine);
@@ -338,7 +343,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
     if (!(rms > 0)) in.fail("excitation.rms", "must be > 0 (N)");
     if (band.size() != 2 || !(band[0] > 0 && band[1] > band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo < hi (Hz)");
-    const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed)));
+    const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed), 0, kMaxSeed));
     const double period = in.quantity("excitation.period", dim::time, 0.0);
     if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
     if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");

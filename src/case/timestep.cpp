@@ -177,6 +177,19 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       double f_max = s.primary->drive_frequency;
       if (s.primary->sweep)
         for (double f : s.primary->sweep->frequencies) f_max = std::max(f_max, f);
+      if (f_max * s.dt > 1.0 / 8) {
+        // response.cpp drives at 1 / (N dt) with N >= 8: a faster drive would silently be another one.
+        std::string key = "excitation.frequency";
+        for (const char* k : {"excitation.frequency", "excitation.frequencies", "excitation.band", "excitation.around_modes"})
+          if (in.has(k)) {
+            key = k;
+            break;
+          }
+        std::ostringstream m;
+        m << "asks for a drive at up to " << f_max << " Hz, only " << 1 / (f_max * s.dt) << " steps per cycle at dt = " << s.dt
+          << " s; a drive needs at least 8 steps per cycle: give at most " << 1 / (8 * s.dt) << " Hz, or a smaller simulation.timestep";
+        in.fail(key, m.str());
+      }
       if (f_max * s.dt > 1.0 / 20) {
         std::ostringstream w;
         w << "the drive frequency " << f_max << " Hz has only " << 1 / (f_max * s.dt) << " steps per cycle at dt = "

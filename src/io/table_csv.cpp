@@ -11,18 +11,35 @@
 
 namespace bagdem {
 
+namespace {
+
+// A cell as RFC 4180 wants it: quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const std::string& v) {
+  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
 void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
-                     const std::vector<std::vector<double>>& rows) {
+                     const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns,
+                     const std::vector<std::vector<std::string>>& text_rows) {
   std::ostringstream s;
   s << std::setprecision(12);
   for (std::size_t k = 0; k < columns.size(); ++k) s << (k ? "," : "") << columns[k].name << " [" << columns[k].unit << "]";
+  for (const TableColumn& c : text_columns) s << "," << c.name << " [" << c.unit << "]";
   s << "\n";
-  for (const std::vector<double>& r : rows) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::vector<double>& r = rows[i];
     for (std::size_t k = 0; k < r.size(); ++k) {
       s << (k ? "," : "");
       if (std::isnan(r[k])) s << "nan";
       else s << r[k];
     }
+    if (!text_columns.empty())
+      for (const std::string& cell : text_rows.at(i)) s << "," << csv_cell(cell);
     s << "\n";
   }
   write_atomically(path, s.str());

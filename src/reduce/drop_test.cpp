@@ -8,6 +8,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/motion/motion.hpp"
+#include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/stepper.hpp"
 
@@ -39,41 +40,50 @@ DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem
   r.speed = speed;
   r.gap = plus ? g.plus : g.minus;
   if (r.gap <= 0) throw InputError(scene.case_file, "", "", "the contents touch the walls on both sides along the excitation: no room for a drop test");
-  double mass = 0;
-  for (double m : sim.particles().mass) mass += m;
-  for (double m : sim.film().mass) mass += m;
   sim.add_contents_velocity(speed * u);
 
-  // Contact: the wall force along u above a threshold far below the impact's scale M V / t.
-  const double threshold = 1e-3 * mass * speed / (100 * s.dt);
+  // Step until the impact on the wall ahead is over: its force (along u) has stayed below a
+  // fraction of its peak for a settling span (100 steps and 1% of the flight: a bag's contents
+  // arrive in waves) and the contents no longer approach it, or until any other wall pushes them
+  // (force against u): the rebound must be measured before it meets another wall.
+  constexpr double kThreshold = 0.05;  // of the peak force, as in the impacts of a run (reduce/impacts.hpp)
   const double flight = std::isfinite(r.gap) ? r.gap / speed : 0.0;
   const auto quiet_steps = std::max<std::uint64_t>(100, static_cast<std::uint64_t>(0.01 * flight / s.dt));
   const auto max_steps = static_cast<std::uint64_t>((5 * flight + 0.05) / s.dt);
-  std::vector<double> t, F, v;
-  bool touched = false;
-  std::uint64_t off = 0, first = 0, last = 0;
-  double v_before = speed;
-  double v_prev = sim.contents_relative_velocity().dot(u);
-  for (std::uint64_t n = 0; n < max_steps; ++n, v_prev = v.back()) {
+  std::vector<double> t{sim.time()}, F{0.0}, v{sim.contents_relative_velocity().dot(u)};
+  double peak = 0;
+  std::uint64_t calm = 0;
+  bool ended = false;
+  for (std::uint64_t n = 0; n < max_steps && !ended; ++n) {
     sim.step();
     const Simulation::CavitySample c = sim.take_cavity_sample();  // one step: this step's force, the velocity after it
     const double f = c.force.dot(u), vn = c.contents_velocity.dot(u);
     t.push_back(sim.time()), F.push_back(f), v.push_back(vn);
-    if (f > threshold) {
-      if (!touched) v_before = v_prev, first = n;
-      touched = true, off = 0, last = n;
-      r.peak_force = std::max(r.peak_force, f);
-    } else if (touched && ++off >= quiet_steps) {
-      r.v_before = v_before;
-      r.v_after = -vn;
-      r.restitution = r.v_after / r.v_before;
-      r.duration = static_cast<double>(last - first + 1) * s.dt;
-      break;
-    }
+    peak = std::max(peak, f);
+    calm = f > kThreshold * peak ? 0 : calm + 1;
+    ended = peak > 0 && ((calm >= quiet_steps && vn < 0.01 * speed) || f < -kThreshold * peak);
   }
-  if (!touched || r.v_before == 0)
-    throw RunError("drop test: the contents did not " + std::string(touched ? "leave" : "reach") + " the wall within " +
+  // The impact: the pulses on the wall ahead, merged (one side, every wave), foot to foot.
+  const std::vector<Impact> pulses = find_impacts(t, F, 0.0, kThreshold, 2 * (t.back() - t.front()));  // merge every wave
+  const auto hit = std::find_if(pulses.begin(), pulses.end(), [](const Impact& i) { return i.side > 0; });
+  if (!ended || hit == pulses.end())
+    throw RunError("drop test: the contents did not " + std::string(peak > 0 ? "leave" : "reach") + " the wall within " +
                    std::to_string(max_steps * s.dt) + " s; give a larger --speed");
+  const RestitutionStats rebound = impact_restitution({*hit}, t, v);
+  if (rebound.values.empty())
+    throw RunError("drop test: no clean impact (the contents did not approach the wall when it began); give a larger --speed");
+  const auto sample = [&](double time) { return v[static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), time - 1e-6 * s.dt) - t.begin())]; };
+  r.v_before = sample(hit->t_foot_start);
+  r.v_after = -sample(hit->t_foot_end);
+  r.restitution = rebound.values.front();
+  r.peak_force = hit->peak_force;
+  r.duration = hit->t_foot_end - hit->t_foot_start;
+  // A contents that comes to rest against the wall may keep a creep towards it of a hundredth of
+  // the approach speed: that is e = 0.
+  if (r.restitution < 0 && r.restitution >= -0.01) r.restitution = 0, r.v_after = 0;
+  if (!(r.restitution >= 0 && r.restitution <= 1))
+    throw RunError("drop test: e_drop = " + std::to_string(r.restitution) + " lies outside [0, 1] (approach " + std::to_string(r.v_before) +
+                   " m/s, rebound " + std::to_string(r.v_after) + " m/s): the contents gained energy in the impact; lower the time step (simulation.timestep_safety)");
   // drop.csv: at most about 20000 rows.
   const std::size_t every = std::max<std::size_t>(1, t.size() / 20000);
   std::vector<std::vector<double>> rows;

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "bagdem/reduce/interval.hpp"
+
 namespace bagdem {
 
 namespace {
@@ -165,14 +167,14 @@ EffectiveParameters effective_parameters(const std::vector<double>& t, const std
     damping[j] = -H.imag() / w;
     energy[j] = -std::numbers::pi * (Fj * std::conj(Xj)).imag();  // = pi C w |X_j|^2
   }
-  const MeanAndError m = mean_and_error(mass), c = mean_and_error(damping), e = mean_and_error(energy);
+  const Interval m = batch_means_interval(mass), c = batch_means_interval(damping), e = batch_means_interval(energy);
   EffectiveParameters p;
   p.frequency = f;
   p.displacement = X.amplitude;
   p.force = F.amplitude;
-  p.mass = m.mean, p.mass_se = m.standard_error;
-  p.damping = c.mean, p.damping_se = c.standard_error;
-  p.energy_per_cycle = e.mean, p.energy_per_cycle_se = e.standard_error;
+  p.mass = m.mean, p.mass_se = m.se, p.mass_ci95 = m.ci95;
+  p.damping = c.mean, p.damping_se = c.se, p.damping_ci95 = c.ci95;
+  p.energy_per_cycle = e.mean, p.energy_per_cycle_se = e.se, p.energy_per_cycle_ci95 = e.ci95;
   p.loss_factor = p.damping / (p.mass * w);
   p.cycles = n;
   return p;

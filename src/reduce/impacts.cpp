@@ -114,10 +114,23 @@ std::vector<Impact> find_impacts(const std::vector<double>& t, const std::vector
 }
 
 RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const std::vector<double>& t,
-                                    const std::vector<double>& v) {
+                                    const std::vector<double>& v, const std::vector<double>& force,
+                                    const FreeFlight& rule) {
   if (v.size() != t.size())
     throw std::invalid_argument("impact_restitution: " + std::to_string(v.size()) + " velocities for " +
                                 std::to_string(t.size()) + " times");
+  if (rule.span > 0 && force.size() != t.size())
+    throw std::invalid_argument("impact_restitution: " + std::to_string(force.size()) + " forces for " +
+                                std::to_string(t.size()) + " times");
+  // Free flight over [from, to]: inside the record, and no sample there above the threshold.
+  auto free_over = [&](double from, double to) {
+    if (rule.span <= 0) return true;
+    if (from < t.front() || to > t.back()) return false;
+    const auto first = std::lower_bound(t.begin(), t.end(), from), last = std::upper_bound(t.begin(), t.end(), to);
+    for (auto k = first; k != last; ++k)
+      if (std::abs(force[static_cast<std::size_t>(k - t.begin())]) > rule.threshold) return false;
+    return true;
+  };
   const double delta = sample_interval(t);
   const double tolerance = 1e-6 * delta;  // t_start and t_end are sample times, up to round-off
   RestitutionStats stats;
@@ -129,7 +142,12 @@ RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const st
     const double v_before = v[static_cast<std::size_t>(before - t.begin()) - 1];
     const double v_after = v[static_cast<std::size_t>(after - t.begin())];
     // The contents must approach the wall that was hit: towards +x for the +x wall (side +1).
-    if (!(v_before * m.side > 0)) continue;
+    if (!(v_before * m.side > 0) || std::abs(v_before) < rule.min_approach_speed) continue;
+    // Interval k covers [t_k - Delta, t_k]: the flight before ends with the sample at t_foot_start,
+    // the flight after starts with the interval after t_foot_end.
+    if (!free_over(m.t_foot_start - rule.span + tolerance, m.t_foot_start + tolerance) ||
+        !free_over(m.t_foot_end + delta - tolerance, m.t_foot_end + rule.span - tolerance))
+      continue;
     stats.values.push_back(-v_after / v_before);
   }
   const std::size_t n = stats.values.size();

@@ -10,12 +10,14 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/continuum_model.hpp"
 #include "bagdem/reduce/harmonic_projection.hpp"
 #include "bagdem/reduce/impacts.hpp"
+#include "bagdem/reduce/interval.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/io/table_csv.hpp"
@@ -68,18 +70,27 @@ constexpr RealField kRealFields[] = {
     {"bag_mass", "kg", &ReducedRow::bag_mass}, {"mass_ratio", "1", &ReducedRow::mass_ratio},
     {"balls", "1", &ReducedRow::balls}, {"ball_diameter", "m", &ReducedRow::ball_diameter},
     {"M_eff", "kg", &ReducedRow::M_eff}, {"M_eff_se", "kg", &ReducedRow::M_eff_se},
+    {"M_eff_ci95", "kg", &ReducedRow::M_eff_ci95},
     {"C_eff", "N s/m", &ReducedRow::C_eff}, {"C_eff_se", "N s/m", &ReducedRow::C_eff_se},
+    {"C_eff_ci95", "N s/m", &ReducedRow::C_eff_ci95},
     {"M_eff_ratio", "1", &ReducedRow::M_eff_ratio}, {"Cb_over_Mbw", "1", &ReducedRow::Cb_over_Mbw},
-    {"Cb_over_Mbw_se", "1", &ReducedRow::Cb_over_Mbw_se}, {"loss_factor", "1", &ReducedRow::loss_factor},
+    {"Cb_over_Mbw_se", "1", &ReducedRow::Cb_over_Mbw_se}, {"Cb_over_Mbw_ci95", "1", &ReducedRow::Cb_over_Mbw_ci95},
+    {"loss_factor", "1", &ReducedRow::loss_factor},
     {"energy_per_cycle", "J", &ReducedRow::energy_per_cycle},
     {"energy_per_cycle_se", "J", &ReducedRow::energy_per_cycle_se},
+    {"energy_per_cycle_ci95", "J", &ReducedRow::energy_per_cycle_ci95},
+    {"dissipated_per_cycle", "J", &ReducedRow::dissipated_per_cycle}, {"energy_balance", "1", &ReducedRow::energy_balance},
     {"impact_phase", "rad", &ReducedRow::impact_phase}, {"impacts_per_cycle", "1", &ReducedRow::impacts_per_cycle},
     {"e_impact", "1", &ReducedRow::e_impact}, {"e_impact_sd", "1", &ReducedRow::e_impact_sd},
     {"e_impact_count", "1", &ReducedRow::e_impact_count}, {"e_eq19a", "1", &ReducedRow::e_eq19a},
     {"peak_impact_force", "N", &ReducedRow::peak_impact_force},
     {"max_impact_force", "N", &ReducedRow::max_impact_force}, {"impact_duration", "s", &ReducedRow::impact_duration},
     {"response_amplitude", "m", &ReducedRow::response_amplitude}, {"cycles", "1", &ReducedRow::cycles},
-    {"e_drop", "1", &ReducedRow::e_drop}};
+    {"e_drop", "1", &ReducedRow::e_drop},
+    {"e", "1", &ReducedRow::e}, {"e_se", "1", &ReducedRow::e_se}, {"e_ci95", "1", &ReducedRow::e_ci95},
+    {"steady", "1", &ReducedRow::steady}};
+// The text column, after the numbers and the complex amplitudes.
+const TableColumn kMethodColumn{"e_method", "text"};
 constexpr std::size_t kReal = std::size(kRealFields);
 
 const std::vector<TableColumn> kColumns = [] {
@@ -151,6 +162,61 @@ ReductionContext reduction_context(const Scene& scene, const Simulation* sim, co
   return c;
 }
 
+namespace {
+
+// Eq. (19a) inverted at C_b/(M_b w) = c, NaN outside its domain.
+double eq19a_restitution(double c, double phi) {
+  if (!std::isfinite(c) || !std::isfinite(phi)) return kNaN;
+  return continuum::restitution_from_damping(c, phi).value_or(kNaN);
+}
+
+// Half the spread of Eq. (19a)'s e over c +- dc (e rises with c at a fixed phase); an end outside
+// the domain is taken at the domain's edge, e = 0.
+double eq19a_half_width(double c, double dc, double phi) {
+  if (!std::isfinite(dc)) return kNaN;
+  const double lo = eq19a_restitution(c - dc, phi), hi = eq19a_restitution(c + dc, phi);
+  return 0.5 * ((std::isfinite(hi) ? hi : 1.0) - (std::isfinite(lo) ? lo : 0.0));
+}
+
+}  // namespace
+
+void set_energy_balance(ReducedRow& r, const EnergyWindow& w, double t0, double t1) {
+  const std::size_t n = w.t.size();
+  if (n < 2 || w.fields.size() != 5 || !(t1 > t0) || t0 < w.t.front() || t1 > w.t.back() * (1 + 1e-12)) return;
+  // Linear interpolation of a cumulative series at time x.
+  auto at = [&](const std::vector<double>& y, double x) {
+    const auto hi = std::min<std::size_t>(n - 1, std::max<std::size_t>(1, static_cast<std::size_t>(std::lower_bound(w.t.begin(), w.t.end(), x) - w.t.begin())));
+    const double a = (x - w.t[hi - 1]) / (w.t[hi] - w.t[hi - 1]);
+    return y[hi - 1] + a * (y[hi] - y[hi - 1]);
+  };
+  auto change = [&](std::size_t k) { return at(w.fields[k], t1) - at(w.fields[k], t0); };
+  const double kinetic = change(0), elastic = change(1), work_cavity = change(2), work_gravity = change(3), dissipated = change(4);
+  r.dissipated_per_cycle = dissipated / r.cycles;
+  const double scale = std::max(std::abs(work_cavity), std::abs(dissipated));
+  r.energy_balance = scale > 0 ? (work_cavity + work_gravity - dissipated - kinetic - elastic) / scale : 0.0;
+}
+
+void judge_steady(ReducedRow& r) {
+  const bool balance_closes = !(std::abs(r.energy_balance) > kSteadyBalanceTolerance);  // NaN: not known, not a flag
+  const bool dissipates = !(r.dissipated_per_cycle < 0);
+  if (!balance_closes || !dissipates) r.steady = 0;
+}
+
+void choose_restitution(ReducedRow& r, const Interval& impact) {
+  r.e = r.e_se = r.e_ci95 = kNaN;
+  r.e_method = "none";
+  if (std::isfinite(r.e_impact) && r.e_impact_count >= static_cast<double>(kMinImpactsForRestitution)) {
+    r.e = r.e_impact, r.e_method = "impact";
+    r.e_se = impact.se, r.e_ci95 = impact.ci95;
+  } else if (std::isfinite(r.e_eq19a)) {
+    r.e = r.e_eq19a, r.e_method = "eq19a";
+    r.e_se = eq19a_half_width(r.Cb_over_Mbw, r.Cb_over_Mbw_se, r.impact_phase);
+    r.e_ci95 = eq19a_half_width(r.Cb_over_Mbw, r.Cb_over_Mbw_ci95, r.impact_phase);
+  } else if (std::isfinite(r.e_drop)) {
+    r.e = r.e_drop, r.e_method = "drop";
+  }
+}
+
 ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const ReductionContext& ctx) {
   const double w = 2 * kPi * f;
   const EffectiveParameters ep = effective_parameters(s.t, s.x, s.force, f, t_skip, Sampling::interval_mean);
@@ -164,12 +230,14 @@ ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const R
   r.bag_mass = ctx.bag_mass;
   r.mass_ratio = ctx.primary_mass > 0 ? ctx.bag_mass / ctx.primary_mass : kNaN;
   r.balls = ctx.balls, r.ball_diameter = ctx.ball_diameter;
-  r.M_eff = ep.mass, r.M_eff_se = ep.mass_se, r.C_eff = ep.damping, r.C_eff_se = ep.damping_se;
+  r.M_eff = ep.mass, r.M_eff_se = ep.mass_se, r.M_eff_ci95 = ep.mass_ci95;
+  r.C_eff = ep.damping, r.C_eff_se = ep.damping_se, r.C_eff_ci95 = ep.damping_ci95;
+  const double per_mbw = ctx.bag_mass > 0 ? 1 / (ctx.bag_mass * w) : kNaN;
   r.M_eff_ratio = ctx.bag_mass > 0 ? ep.mass / ctx.bag_mass : kNaN;
-  r.Cb_over_Mbw = ctx.bag_mass > 0 ? ep.damping / (ctx.bag_mass * w) : kNaN;
-  r.Cb_over_Mbw_se = ctx.bag_mass > 0 ? ep.damping_se / (ctx.bag_mass * w) : kNaN;
+  r.Cb_over_Mbw = ep.damping * per_mbw, r.Cb_over_Mbw_se = ep.damping_se * per_mbw, r.Cb_over_Mbw_ci95 = ep.damping_ci95 * per_mbw;
   r.loss_factor = ep.loss_factor;
   r.energy_per_cycle = ep.energy_per_cycle, r.energy_per_cycle_se = ep.energy_per_cycle_se;
+  r.energy_per_cycle_ci95 = ep.energy_per_cycle_ci95;
   r.cycles = static_cast<double>(ep.cycles);
   r.response_amplitude = kNaN;
 
@@ -180,27 +248,36 @@ ReducedRow reduce_series(const CavitySeries& s, double f, double t_skip, const R
   std::vector<double> t, F, v;
   for (std::size_t k = 0; k < s.t.size(); ++k)
     if (s.t[k] >= t0 - 1e-12 * T && s.t[k] <= t0 + span + 1e-12 * T) t.push_back(s.t[k]), F.push_back(s.force[k]), v.push_back(s.v_rel[k]);
-  const std::vector<Impact> impacts = t.size() > 2 ? find_impacts(t, F, t.front(), 0.05, T / 20) : std::vector<Impact>{};
+  constexpr double kThreshold = 0.05;
+  const std::vector<Impact> impacts = t.size() > 2 ? find_impacts(t, F, t.front(), kThreshold, T / 20) : std::vector<Impact>{};
   r.impacts_per_cycle = static_cast<double>(impacts.size()) / std::max(1.0, r.cycles);
+  r.impact_phase = r.e_impact = r.e_impact_sd = r.e_eq19a = kNaN;
+  Interval impact_interval{.mean = kNaN, .se = kNaN, .ci95 = kNaN};
   if (!impacts.empty()) {
     std::vector<double> phases;
-    double peak = 0, peak_max = 0, duration = 0;
+    double peak = 0, peak_max = 0, duration = 0, largest = 0;
     for (const Impact& i : impacts) {
       phases.push_back(std::fmod(motion_phase(ep.displacement, w, i.t_centroid), kPi));
       peak += i.peak_force, duration += i.duration();
       peak_max = std::max(peak_max, i.peak_force);
     }
+    for (double x : F) largest = std::max(largest, std::abs(x));
     const double n = static_cast<double>(impacts.size());
     r.impact_phase = axial_mean(phases);
     r.peak_impact_force = peak / n, r.max_impact_force = peak_max, r.impact_duration = duration / n;
-    const RestitutionStats e = impact_restitution(impacts, t, v);
+    // Per impact (Eq. 9) between free flights of a twentieth of a period, approaching at a tenth of
+    // the cavity's speed amplitude or faster.
+    const FreeFlight rule{.span = T / 20, .threshold = kThreshold * largest, .min_approach_speed = 0.1 * w * X};
+    const RestitutionStats e = impact_restitution(impacts, t, v, F, rule);
     r.e_impact_count = static_cast<double>(e.values.size());
-    r.e_impact = e.body();
-    r.e_impact_sd = e.values.size() > 1 ? e.sd : kNaN;
-    r.e_eq19a = continuum::restitution_from_damping(r.Cb_over_Mbw, r.impact_phase).value_or(kNaN);
-  } else {
-    r.impact_phase = r.e_impact = r.e_impact_sd = r.e_eq19a = kNaN;
+    if (e.values.size() >= kMinImpactsForRestitution) {
+      impact_interval = batch_means_interval(e.values);
+      r.e_impact = e.body();
+      r.e_impact_sd = e.sd;
+    }
+    r.e_eq19a = eq19a_restitution(r.Cb_over_Mbw, r.impact_phase);
   }
+  choose_restitution(r, impact_interval);
   return r;
 }
 
@@ -215,21 +292,30 @@ std::vector<double> reduced_values(const ReducedRow& r) {
 
 void write_reduced_csv(const fs::path& path, const std::vector<ReducedRow>& rows) {
   std::vector<std::vector<double>> values;
-  for (const ReducedRow& r : rows) values.push_back(reduced_values(r));
-  write_table_csv(path, kColumns, values);
+  std::vector<std::vector<std::string>> methods;
+  for (const ReducedRow& r : rows) values.push_back(reduced_values(r)), methods.push_back({r.e_method});
+  write_table_csv(path, kColumns, values, {kMethodColumn}, methods);
 }
 
 std::vector<ReducedRow> read_reduced_csv(const fs::path& path) {
   const std::vector<std::vector<double>> values = read_table_csv(path, kColumns);
+  const TextTable text = read_text_table(path);
+  const std::size_t method = text.find(kMethodColumn.name);
+  if (method == text.names.size()) throw InputError(path.string(), kMethodColumn.name, "", "column missing from the table");
   std::vector<ReducedRow> rows;
-  for (const std::vector<double>& v : values) {
-    ReducedRow r;
-    for (std::size_t k = 0; k < kReal; ++k) r.*kRealFields[k].member = v[k];
-    r.displacement = {v[kReal], v[kReal + 1]};
-    r.force = {v[kReal + 2], v[kReal + 3]};
-    rows.push_back(r);
-  }
+  for (std::size_t i = 0; i < values.size(); ++i) rows.push_back(reduced_row(values[i], text.rows[i][method]));
   return rows;
+}
+
+ReducedRow reduced_row(const std::vector<double>& v, const std::string& e_method) {
+  if (v.size() != kReal + 4)
+    throw std::invalid_argument("a reduced row has " + std::to_string(kReal + 4) + " values, not " + std::to_string(v.size()));
+  ReducedRow r;
+  for (std::size_t k = 0; k < kReal; ++k) r.*kRealFields[k].member = v[k];
+  r.displacement = {v[kReal], v[kReal + 1]};
+  r.force = {v[kReal + 2], v[kReal + 3]};
+  r.e_method = e_method;
+  return r;
 }
 
 namespace {
@@ -322,6 +408,23 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
     throw InputError(h5.string(), "/cavity/time", std::to_string(s.t.back()) + " s",
                      std::string("cannot be reduced: ") + e.what() + "; run longer (simulation.duration)");
   }
+  // The energy over the window: the force samples' intervals from the first after t_skip on.
+  ReducedRow& row = rows.front();
+  if (H5Lexists(in.file, "/energy", H5P_DEFAULT) > 0) {
+    const auto first = std::lower_bound(s.t.begin(), s.t.end(), t_skip - 1e-9 * interval);
+    const double t0 = (first == s.t.end() ? s.t.back() : *first) - interval;
+    EnergyWindow w;
+    w.t = in.series("/energy/time");
+    for (const char* name : {"kinetic", "elastic", "work_cavity", "work_gravity"}) w.fields.push_back(in.series(std::string("/energy/") + name));
+    std::vector<double> dissipated(w.t.size(), 0.0);
+    for (const char* name : {"dissipated_normal", "dissipated_tangential", "dissipated_rolling", "dissipated_damping"}) {
+      const std::vector<double> d = in.series(std::string("/energy/") + name);
+      for (std::size_t k = 0; k < d.size() && k < dissipated.size(); ++k) dissipated[k] += d[k];
+    }
+    w.fields.push_back(dissipated);
+    set_energy_balance(row, w, t0, t0 + row.cycles / f);
+  }
+  judge_steady(row);
   write_reduced_csv(out / "reduced.csv", rows);
   return rows;
 }
@@ -333,10 +436,10 @@ std::string describe_restitution(const std::vector<ReducedRow>& rows) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double e : {r.e_impact, r.e_eq19a, r.e_drop})
       if (std::isfinite(e)) lo = std::min(lo, e), hi = std::max(hi, e);
-    o << "restitution at " << r.frequency << " Hz: per impact " << r.e_impact << " (sd " << r.e_impact_sd << ", "
-      << r.e_impact_count << " impacts), Eq. (19a) " << r.e_eq19a << ", drop test "
-      << (std::isfinite(r.e_drop) ? std::to_string(r.e_drop) : std::string("not run (bagdem drop)"));
-    if (hi >= lo) o << "; they span " << hi - lo;
+    o << "restitution at " << r.frequency << " Hz: e = " << r.e << " +- " << r.e_ci95 << " (" << r.e_method << "); per impact "
+      << r.e_impact << " (sd " << r.e_impact_sd << ", " << r.e_impact_count << " impacts between free flights), Eq. (19a) "
+      << r.e_eq19a << ", drop test " << (std::isfinite(r.e_drop) ? std::to_string(r.e_drop) : std::string("not run"));
+    if (hi > lo) o << "; they span " << hi - lo;
     o << "\n";
   }
   return o.str();
@@ -347,20 +450,25 @@ void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_di
   if (!fs::exists(p)) return;
   const std::vector<std::vector<double>> v = read_table_csv(p, {{"restitution", "1"}});
   if (v.empty()) return;
-  for (ReducedRow& r : rows) r.e_drop = v.front().front();
+  for (ReducedRow& r : rows) {
+    r.e_drop = v.front().front();
+    if (r.e_method == "none" || r.e_method == "drop") choose_restitution(r, Interval{.mean = kNaN, .se = kNaN, .ci95 = kNaN});
+  }
   write_reduced_csv(fs::path(out_dir) / "reduced.csv", rows);
 }
 
 std::string describe_reduced(const std::vector<ReducedRow>& rows) {
   std::ostringstream o;
   o << std::setprecision(4);
-  o << "  f [Hz]      X [m]  Gamma     d/X  M_eff/M_bag (se)     Cb/(Mb w) (se)       loss  E/cycle [J]  phi [rad]  e(impact)   e(19a)  F_peak [N]  t_imp [s]\n";
+  o << "(+- the half-width of a 95% interval; a row marked * did not reach a steady window and is left out of the peak reduction)\n";
+  o << "  f [Hz]      X [m]  Gamma     d/X  M_eff/M_bag (+-)    Cb/(Mb w) (+-)       loss  E/cycle [J]  phi [rad]  e (+-)            method  F_peak [N]  t_imp [s]\n";
   for (const ReducedRow& r : rows) {
-    o << std::setw(8) << r.frequency << " " << std::setw(10) << r.cavity_amplitude << " " << std::setw(6) << r.gamma << " "
-      << std::setw(7) << r.clearance_ratio << " " << std::setw(8) << r.M_eff_ratio << " (" << std::setw(7) << r.M_eff_se / r.bag_mass
-      << ") " << std::setw(8) << r.Cb_over_Mbw << " (" << std::setw(7) << r.Cb_over_Mbw_se << ") " << std::setw(8) << r.loss_factor
-      << " " << std::setw(12) << r.energy_per_cycle << " " << std::setw(10) << r.impact_phase << " " << std::setw(10) << r.e_impact
-      << " " << std::setw(8) << r.e_eq19a << " " << std::setw(11) << r.peak_impact_force << " " << std::setw(10) << r.impact_duration << "\n";
+    o << (r.steady == 1 ? ' ' : '*') << std::setw(7) << r.frequency << " " << std::setw(10) << r.cavity_amplitude << " " << std::setw(6)
+      << r.gamma << " " << std::setw(7) << r.clearance_ratio << " " << std::setw(8) << r.M_eff_ratio << " (" << std::setw(7)
+      << r.M_eff_ci95 / r.bag_mass << ") " << std::setw(8) << r.Cb_over_Mbw << " (" << std::setw(7) << r.Cb_over_Mbw_ci95 << ") "
+      << std::setw(8) << r.loss_factor << " " << std::setw(12) << r.energy_per_cycle << " " << std::setw(10) << r.impact_phase << " "
+      << std::setw(6) << r.e << " (" << std::setw(7) << r.e_ci95 << ") " << std::setw(7) << r.e_method << " " << std::setw(11)
+      << r.peak_impact_force << " " << std::setw(10) << r.impact_duration << "\n";
   }
   return o.str();
 }

@@ -1,6 +1,7 @@
 #include "bagdem/run/runner.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstring>
@@ -17,6 +18,7 @@
 #include "bagdem/bag/bag_report.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
+#include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
@@ -92,28 +94,34 @@ Checkpoint load_checkpoint(const fs::path& path, const Scene& scene) {
   return c;
 }
 
+// Progress on stderr: on a terminal one line rewritten in place every second; in a log (stderr not
+// a terminal) a line of its own at every tenth of the run.
 class Progress {
  public:
-  Progress(bool quiet, std::uint64_t first_step) : quiet_(quiet), first_(first_step), start_(clock::now()), last_(start_) {}
+  Progress(bool quiet, std::uint64_t first_step)
+      : quiet_(quiet), terminal_(isatty(fileno(stderr)) != 0), first_(first_step), start_(clock::now()), last_(start_) {}
   void update(std::uint64_t step, std::uint64_t total, double t) {
     if (quiet_ || (step % 1024 != 0 && step != total)) return;  // the clock is read now and then
     const auto now = clock::now();
-    if (now - last_ < std::chrono::seconds(1) && step != total) return;
-    last_ = now;
-    const double el = std::chrono::duration<double>(now - start_).count();
     const double frac = static_cast<double>(step) / static_cast<double>(total);
+    if (terminal_ ? now - last_ < std::chrono::seconds(1) && step != total : std::floor(10 * frac) <= tenths_) return;
+    last_ = now;
+    tenths_ = std::floor(10 * frac);
+    const double el = std::chrono::duration<double>(now - start_).count();
     // ETA from this session's pace (a resumed run started at first_).
     const double done = static_cast<double>(step - first_), left = static_cast<double>(total - step);
     const double eta = done > 0 ? el * left / done : 0;
-    std::fprintf(stderr, "\r  %5.1f%%  t = %.5g s  elapsed %.0f s  ETA %.0f s   ", 100 * frac, t, el, eta);
-    if (step == total) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "%s  %5.1f%%  t = %.5g s  elapsed %.0f s  ETA %.0f s%s", terminal_ ? "\r" : "", 100 * frac, t, el, eta,
+                 terminal_ ? "   " : "\n");
+    if (terminal_ && step == total) std::fprintf(stderr, "\n");
   }
 
  private:
   using clock = std::chrono::steady_clock;
-  bool quiet_;
+  bool quiet_, terminal_;
   std::uint64_t first_;
   clock::time_point start_, last_;
+  double tenths_ = 0;  // the last tenth printed in a log
 };
 
 // summary.json of a complete run: rep's headline figures (the structure's are set here), `psteps`
@@ -401,6 +409,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   if (!scene.primary && f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
     try {
       rep.reduced = reduce_run(scene, out.string());
+      const std::string why = drop_where_no_restitution(scene, rep.reduced, out, opt.quiet);
+      if (!why.empty()) rep.reduce_message = "no restitution: the drop test could not run: " + why;
+      write_reduced_csv(out / "reduced.csv", rep.reduced);
     } catch (const InputError& e) {
       rep.reduce_message = e.what();
     }

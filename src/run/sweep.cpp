@@ -2,6 +2,7 @@
 #include "bagdem/run/sweep.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -19,7 +21,9 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/compare.hpp"
+#include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
 #include "interrupt.hpp"
@@ -32,6 +36,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 using Complex = std::complex<double>;
 
 const std::vector<TableColumn> kSweepColumns = {
@@ -45,6 +50,7 @@ const std::vector<TableColumn> kSweepColumns = {
     {"contents_force_re", "N"},    {"contents_force_im", "N"},
     {"work_external_per_cycle", "J"}, {"dissipated_structure_per_cycle", "J"},
     {"dissipated_contents_per_cycle", "J"}, {"energy_balance", "1"},
+    {"receptance_abs_ci95", "m/N"},
     {"cycles", "1"},               {"steady", "1"},
     {"spread", "1"},
     {"change", "1"},               {"wall_time", "s"}};
@@ -54,7 +60,7 @@ std::vector<double> row_of(const SweepPoint& p) {
   return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
           p.bare.real(), p.bare.imag(), -w * w * p.response.real(), -w * w * p.response.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
           p.cavity.imag(), p.contents_force.real(), p.contents_force.imag(), p.work_external, p.dissipated_structure,
-          p.dissipated_contents, p.balance, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.spread, p.change,
+          p.dissipated_contents, p.balance, p.receptance_ci95, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.spread, p.change,
           p.wall_seconds};
 }
 
@@ -66,12 +72,15 @@ void write_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
 
 // peaks.csv: one row per evaluated mode.
 void write_peaks_csv(const fs::path& path, const std::vector<ModePeak>& peaks) {
-  static const std::vector<TableColumn> columns = {{"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m/N"},
-                                                   {"frequency", "Hz"}, {"peak", "m/N"}, {"reduction_dB", "dB"},
-                                                   {"reduction_percent", "%"}};
+  static const std::vector<TableColumn> columns = {
+      {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m/N"}, {"frequency", "Hz"}, {"peak", "m/N"},
+      {"simulated_frequency", "Hz"}, {"simulated_peak", "m/N"}, {"peak_ci95", "m/N"}, {"reduction_dB", "dB"},
+      {"reduction_dB_ci95", "dB"}, {"reduction_percent", "%"}, {"at_band_edge", "1"}, {"unsteady_points", "1"}};
   std::vector<std::vector<double>> rows;
   for (const ModePeak& m : peaks)
-    rows.push_back({static_cast<double>(m.mode), m.bare_frequency, m.bare_peak, m.frequency, m.peak, m.reduction_db, m.reduction_percent});
+    rows.push_back({static_cast<double>(m.mode), m.bare_frequency, m.bare_peak, m.frequency, m.peak, m.simulated_frequency,
+                    m.simulated_peak, m.peak_ci95, m.reduction_db, m.reduction_db_ci95, m.reduction_percent,
+                    m.at_band_edge ? 1.0 : 0.0, static_cast<double>(m.unsteady_points)});
   write_table_csv(path, columns, rows);
 }
 
@@ -184,7 +193,10 @@ double refinement_frequency(const ModePoints& m, double dt) {
 
 std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
   std::vector<ModePeak> out;
-  for (const ModePoints& m : group_by_mode(P, points)) {
+  std::vector<SweepPoint> steady;
+  for (const SweepPoint& p : points)
+    if (p.steady) steady.push_back(p);
+  for (const ModePoints& m : group_by_mode(P, steady)) {
     std::vector<double> f, mag;
     for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
@@ -192,20 +204,35 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
     for (std::size_t k = 0; k <= m.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
     const Peak damped = find_peak(f, mag, f.front(), f.back());
     const Peak bare = bare_peak(P, f.front(), f.back());
+    const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());
     mp.frequency = damped.frequency, mp.peak = damped.magnitude;
+    mp.simulated_frequency = f[top], mp.simulated_peak = mag[top];
+    mp.peak_ci95 = m.points[top]->receptance_ci95;
+    mp.at_band_edge = top == 0 || top + 1 == f.size();
     mp.bare_frequency = bare.frequency, mp.bare_peak = bare.magnitude;
     mp.reduction_db = reduction_db(bare.magnitude, damped.magnitude);
     mp.reduction_percent = reduction_percent(mp.reduction_db);
+    // dB of the relative half-width: 20 log10(1 + ci / |H|), the larger side.
+    mp.reduction_db_ci95 = mp.simulated_peak > 0 ? 20 * std::log10(1 + mp.peak_ci95 / mp.simulated_peak) : kNaN;
+    for (const ModePoints& all : group_by_mode(P, points))
+      if (all.dof == m.dof) mp.unsteady_points = all.points.size() - m.points.size();
     out.push_back(mp);
   }
   return out;
 }
 
-// Why a sweep stops before its end: SIGINT/SIGTERM (`signal`), or 0 for the testing aid
-// RunOptions::stop_after_steps (as if killed: nothing more is written).
-struct SweepHalt {
-  int signal;
-};
+std::string describe_peak(const ModePeak& m) {
+  std::ostringstream o;
+  o << std::setprecision(4) << m.name << ": ";
+  if (m.at_band_edge) o << "AT THE BAND'S EDGE (the peak may lie outside the swept band; widen excitation.span): ";
+  o << "peak " << m.peak << " m/N at " << std::setprecision(5) << m.frequency << " Hz (largest simulated " << std::setprecision(4)
+    << m.simulated_peak << " +- " << m.peak_ci95 << " m/N at " << std::setprecision(5) << m.simulated_frequency << " Hz; bare "
+    << std::setprecision(4) << m.bare_peak << " m/N at " << std::setprecision(5) << m.bare_frequency << " Hz): reduction "
+    << (m.at_band_edge ? "at most " : "") << std::fixed << std::setprecision(2) << m.reduction_db << " +- " << m.reduction_db_ci95
+    << " dB = " << std::setprecision(1) << m.reduction_percent << "%";
+  if (m.unsteady_points > 0) o << " (" << m.unsteady_points << " unsteady point" << (m.unsteady_points > 1 ? "s" : "") << " left out)";
+  return o.str();
+}
 
 SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   if (!scene.primary || !scene.primary->sweep)
@@ -221,19 +248,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   // The state of an interrupted sweep (sweep_state.hpp), or a fresh start.
   SweepState state;
   Simulation sim(scene);
-  if (opt.resume) {
-    const std::vector<char> image = load_sweep_checkpoint(ckpt, scene, state);
-    if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted sweep is missing; run again without --resume");
-    try {
-      sim.load_state(image);
-    } catch (const std::exception& e) {
-      throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
-    }
-  } else {
-    fs::remove(ckpt);
-  }
-  // The tables of an earlier run go; its results.h5 stays until this sweep's replaces it.
-  remove_derived_tables(out);
+  start_sweep_state(out, opt.resume, sim, state);
 
   const auto t_start = std::chrono::steady_clock::now();
   auto since = [](std::chrono::steady_clock::time_point t0) {
@@ -248,14 +263,12 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     if (scene.bag) file.append_film_frame(sim.film().x);
     frame_times.push_back(sim.time());
   };
-  if (opt.resume) {
-    file.set_attribute("status", "running");
-  } else {
+  file.set_attribute("status", "running");
+  if (!opt.resume) {
     file.set_attribute("case_file", scene.case_file);
     file.set_attribute("resolved_config", scene.resolved);
     file.set_attribute("settle_end", scene.settle);
     file.set_attribute("timestep", scene.dt);
-    file.set_attribute("status", "running");
     if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
     frame();
   }
@@ -267,8 +280,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   const std::vector<ReducedRow> done_reduced = std::move(state.reduced);
   for (const SweepPoint& p : done_points) file.append_table_row("sweep", kSweepColumns, row_of(p));
   if (!done_points.empty()) write_csv(csv, done_points), write_reduced_csv(out / "reduced.csv", done_reduced);
-  // A signal stops the sweep before its next step; so does the testing aid, as if killed.
-  const std::uint64_t first_step = sim.steps_done();
+  const std::uint64_t first_step = sim.steps_done();  // a signal, or the testing aid, stops the next step
   auto halt_if_asked = [&] {
     if (const int sig = pending_interrupt()) throw SweepHalt{sig};
     if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps))
@@ -278,9 +290,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   // A checkpoint of the sweep as it stands (between points, or during settling).
   auto checkpoint = [&] {
     file.flush();
-    state.lengths = file.lengths();
-    state.points = rep.points;
-    state.reduced = rep.reduced;
+    state.lengths = file.lengths(), state.points = rep.points, state.reduced = rep.reduced;
     save_sweep_checkpoint(ckpt, sim, state);
   };
   try {
@@ -295,9 +305,16 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     }
     context.clearance = state.clearance;
 
+    std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
     // An upper bound of the points: group_by_mode's pointers into rep.points stay valid.
-    const std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
     rep.points.reserve(plan.frequencies.size() + plan.refine * std::max<std::size_t>(P.size(), 1));
+    // Progress: a line per cycle on a terminal (rewritten in place), a line per point in a log.
+    const bool terminal = isatty(fileno(stderr)) != 0;
+    // The window is the last 2K cycles, at least reduce_cycles: a point is settled when the mean
+    // first harmonic of the window's second half differs from its first half's by less than the
+    // tolerance, so that the window reduced is the window judged steady.
+    const std::size_t K = std::max(plan.cycles, (plan.reduce_cycles + 1) / 2), window = 2 * K;
+    const std::size_t least = std::max(plan.min_cycles, window);
     // One frequency point, from the state the last one left.
     auto run_point = [&](double requested) {
       const auto t_point = std::chrono::steady_clock::now();
@@ -308,15 +325,15 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       pt.frequency = 1.0 / (static_cast<double>(N) * scene.dt);
       sim.set_drive_frequency(pt.frequency);
       const double w = kTwoPi * pt.frequency;
-      SteadyStateDetector steady(plan.cycles, plan.tolerance);
-      std::vector<Ledger> starts;  // the ledger at the start of each cycle
-      std::vector<Complex> cav, load;
-      // The last K cycles step by step, for the reduction (reduce/reduce.hpp).
+      SteadyStateDetector steady(K, plan.tolerance);
+      // The last `window` cycles: the ledger at the start of each, the first harmonics, the samples.
+      std::deque<Ledger> starts;
+      std::deque<Complex> ys, cav, load;
       std::deque<CavitySeries> recent;
       for (std::size_t c = 0; c < plan.max_cycles; ++c) {
         starts.push_back(ledger(sim));
         Complex Y(0, 0), U(0, 0), L(0, 0);
-        if (recent.size() == plan.cycles) recent.pop_front();
+        if (recent.size() == window) recent.pop_front(), starts.pop_front(), ys.pop_front(), cav.pop_front(), load.pop_front();
         CavitySeries& series = recent.emplace_back();
         for (auto* v : {&series.t, &series.x, &series.force, &series.v_rel}) v->reserve(N);  // no growth inside the steps
         for (std::size_t n = 0; n < N; ++n) {
@@ -331,23 +348,27 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         const double k = 2.0 / static_cast<double>(N);
         Y *= k, U *= k, L *= k;
         steady.add(Y);
-        cav.push_back(U), load.push_back(L);
-        pt.response = steady.mean();
+        ys.push_back(Y), cav.push_back(U), load.push_back(L);
         pt.cycles = c + 1;
         pt.change = steady.last_change();
-        if (!opt.quiet)
+        if (!opt.quiet && terminal)
           std::fprintf(stderr, "\r  [%zu/%zu] %.4g Hz: cycle %zu, |Y| = %.4g m, change %.2g%%   ", i + 1, npts, pt.frequency,
                        c + 1, std::abs(Y), 100 * pt.change);
-        if (pt.cycles >= plan.min_cycles && steady.steady()) {
-          pt.steady = true;
+        if (pt.cycles >= least && steady.steady()) {
+          pt.settled = true;
           break;
         }
       }
-      // Energy per cycle over the last K cycles (or all when fewer).
-      const Ledger end = ledger(sim);
-      const std::size_t K = std::min(plan.cycles, starts.size());
-      const Ledger& from = starts[starts.size() - K];
-      const double cycles = static_cast<double>(K);
+      // Response, energy, first harmonics and reduction over the window.
+      const Ledger end = ledger(sim), &from = starts.front();
+      const double cycles = static_cast<double>(ys.size());
+      std::vector<double> magnitude;
+      pt.response = pt.cavity = pt.contents_force = Complex(0, 0);
+      for (std::size_t c = 0; c < ys.size(); ++c) {
+        pt.response += ys[c] / cycles, pt.cavity += cav[c] / cycles, pt.contents_force += load[c] / cycles;
+        magnitude.push_back(std::abs(ys[c]) / F);
+      }
+      pt.receptance_ci95 = batch_means_interval(magnitude).ci95;
       pt.work_external = (end.work_external - from.work_external) / cycles;
       pt.dissipated_structure = (end.dissipated_structure - from.dissipated_structure) / cycles;
       pt.dissipated_contents = (end.dissipated_contents - from.dissipated_contents) / cycles;
@@ -355,9 +376,6 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       pt.balance = pt.work_external != 0 ? residual / std::abs(pt.work_external) : 0.0;
       pt.receptance = pt.response / Complex(0, -F);
       pt.bare = P.bare_receptance(w);
-      // The cavity's and the contents' first harmonics over the same last K cycles.
-      pt.cavity = pt.contents_force = Complex(0, 0);
-      for (std::size_t c = cav.size() - K; c < cav.size(); ++c) pt.cavity += cav[c] / cycles, pt.contents_force += load[c] / cycles;
       pt.spread = steady.spread();
       // The damper's effective parameters over the same cycles (one step = one sample).
       CavitySeries last;
@@ -368,6 +386,11 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       }
       ReducedRow reduced = reduce_series(last, pt.frequency, last.t.front() - 0.5 * scene.dt, context);
       reduced.response_amplitude = std::abs(pt.response);
+      if (scene.models.energy) reduced.dissipated_per_cycle = pt.dissipated_contents;
+      reduced.energy_balance = pt.balance;
+      if (!pt.settled) reduced.steady = 0;
+      judge_steady(reduced);
+      pt.steady = reduced.steady == 1;
       rep.reduced.push_back(reduced);
       pt.wall_seconds = since(t_point);
       rep.points.push_back(pt);
@@ -377,16 +400,21 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
       write_reduced_csv(out / "reduced.csv", rep.reduced);
       if (!opt.quiet) {
         const double el = since(t_start);
-        std::fprintf(stderr, "\r  [%zu/%zu] %.5g Hz: |H| = %.4g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
-                     i + 1, npts, pt.frequency, std::abs(pt.receptance), std::abs(pt.bare),
+        std::fprintf(stderr, "%s  [%zu/%zu] %.5g Hz: |H| = %.4g +- %.2g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
+                     terminal ? "\r" : "", i + 1, npts, pt.frequency, std::abs(pt.receptance), pt.receptance_ci95, std::abs(pt.bare),
                      pt.steady ? "steady" : "NOT steady", pt.cycles, pt.wall_seconds,
                      el / static_cast<double>(i + 1) * static_cast<double>(npts > i + 1 ? npts - i - 1 : 0));
       }
       if (!pt.steady) {
         std::ostringstream m;
-        m << "warning: " << pt.frequency << " Hz did not reach steady state in " << plan.max_cycles
-          << " cycles (last change " << 100 * pt.change << "%, tolerance " << 100 * plan.tolerance
-          << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
+        m << "warning: " << pt.frequency << " Hz is flagged unsteady and left out of the peaks: ";
+        if (!pt.settled)
+          m << "it did not settle in " << plan.max_cycles << " cycles (last change " << 100 * pt.change << "%, tolerance "
+            << 100 * plan.tolerance << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
+        else
+          m << "over its last " << ys.size() << " cycles the energy balance is off by " << 100 * pt.balance
+            << "% (allowed " << 100 * kSteadyBalanceTolerance << "%) or the contents' tallied dissipation is negative ("
+            << pt.dissipated_contents << " J per cycle); raise excitation.min_cycles (a longer transient) or lower simulation.timestep_safety\n";
         std::fputs(m.str().c_str(), stderr);
       }
     };
@@ -413,10 +441,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     file.set_attribute("status", "interrupted");
     file.close();
     rep.signal = h.signal;
-    std::ostringstream m;
-    m << signal_name(h.signal) << " at t = " << sim.time() << " s after " << rep.points.size() << " points: " << part.string()
-      << " and " << ckpt.string() << " kept; continue with --resume (a point cut short is run again)";
-    rep.message = m.str();
+    rep.message = interrupted_message(h.signal, sim.time(), rep.points.size(), out);
     return rep;
   } catch (const RunError& e) {
     rep.message = e.what();
@@ -447,20 +472,27 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     << "  \"force_amplitude_N\": " << F << ",\n  \"peaks\": [";
   for (std::size_t k = 0; k < rep.peaks.size(); ++k) {
     const ModePeak& m = rep.peaks[k];
-    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << m.bare_frequency
-      << ", \"bare_peak_m_per_N\": " << m.bare_peak << ", \"frequency_Hz\": " << m.frequency << ", \"peak_m_per_N\": "
-      << m.peak << ", \"reduction_dB\": " << m.reduction_db << ", \"reduction_percent\": " << m.reduction_percent << "}";
+    auto num = [](double v) {
+      std::ostringstream n;
+      n << std::setprecision(10) << v;
+      return std::isfinite(v) ? n.str() : std::string("null");
+    };
+    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << num(m.bare_frequency)
+      << ", \"bare_peak_m_per_N\": " << num(m.bare_peak) << ", \"frequency_Hz\": " << num(m.frequency) << ", \"peak_m_per_N\": "
+      << num(m.peak) << ", \"simulated_frequency_Hz\": " << num(m.simulated_frequency) << ", \"simulated_peak_m_per_N\": "
+      << num(m.simulated_peak) << ", \"peak_ci95_m_per_N\": " << num(m.peak_ci95) << ", \"reduction_dB\": " << num(m.reduction_db)
+      << ", \"reduction_dB_ci95\": " << num(m.reduction_db_ci95) << ", \"reduction_percent\": " << num(m.reduction_percent)
+      << ", \"at_band_edge\": " << (m.at_band_edge ? "true" : "false") << ", \"unsteady_points\": " << m.unsteady_points << "}";
   }
   j << (rep.peaks.empty() ? "]\n}\n" : "\n  ]\n}\n");
   write_peaks_csv(out / "peaks.csv", rep.peaks);
+  if (const std::string why = drop_where_no_restitution(scene, rep.reduced, out, true); !why.empty() && !opt.quiet)
+    std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
+  write_reduced_csv(out / "reduced.csv", rep.reduced);
   rep.compare = compare_with_continuum(P, F, rep.reduced);
   write_compare_csv(out / "compare.csv", rep.compare);
   write_bare_curve(out / "bare_curve.csv", P, rep.points);
   write_atomically(summary, j.str());
-  if (!opt.quiet)
-    for (const ModePeak& m : rep.peaks)
-      std::fprintf(stderr, "%s: bare peak %.5g m/N at %.5g Hz, with contents %.5g m/N at %.5g Hz: reduction %.2f dB (%.1f%%)\n",
-                   m.name.c_str(), m.bare_peak, m.bare_frequency, m.peak, m.frequency, m.reduction_db, m.reduction_percent);
   return rep;
 }
 

@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
@@ -95,7 +96,7 @@ void read_vary(const toml::table& t, const std::string& prefix, const std::strin
     }
     const auto* list = node.as_array();
     if (!list || list->empty())
-      throw InputError(file, "vary." + key, "", "must be a non-empty array of values, e.g. [\"4 mm\", \"8 mm\"]");
+      throw InputError(file, "vary." + key, toml_text(node), "must be a non-empty array of values, e.g. [\"4 mm\", \"8 mm\"]");
     Varied v{key, {}};
     for (const auto& e : *list) {
       if (holds_table(e)) throw InputError(file, "vary." + key, "", "values must be strings, numbers, booleans or arrays, not tables");
@@ -105,9 +106,17 @@ void read_vary(const toml::table& t, const std::string& prefix, const std::strin
   }
 }
 
+// The value at key as written (toml_text), for error messages.
+std::string shown(const toml::table& t, const std::string& key) {
+  const toml::node* n = t.get(key);
+  return n ? toml_text(*n) : "";
+}
+
 long long positive_integer(const toml::table& t, const std::string& key, const std::string& file) {
+  const auto* n = t.get(key);
+  const bool integer = n && n->is_integer();
   const auto v = t[key].value<long long>();
-  if (!v || *v < 1) throw InputError(file, key, "", "must be an integer >= 1");
+  if (!integer || !v || *v < 1 || *v > 100000) throw InputError(file, key, shown(t, key), "must be an integer from 1 to 100000");
   return *v;
 }
 
@@ -124,15 +133,20 @@ void read_study_file(const fs::path& file, StudySpec& s) {
   }
   const std::string f = file.string();
   static const std::set<std::string> allowed = {"case", "combine", "seeds", "set", "vary", "jobs", "threads", "cores", "out", "tables", "fidelity"};
-  for (const auto& [k, node] : t)
-    if (!allowed.count(std::string(k.str())))
-      throw InputError(f, std::string(k.str()), "", "unknown key; study.toml takes case, combine, seeds, set, vary, jobs, threads, cores, out, tables, fidelity");
+  for (const auto& [k, node] : t) {
+    const std::string key(k.str());
+    if (allowed.count(key)) continue;
+    const auto near = nearest_key(key, std::vector<std::string>(allowed.begin(), allowed.end()));
+    throw InputError(f, key, toml_text(node),
+                     "unknown key; " + (near ? "did you mean '" + *near + "'? " : std::string()) +
+                         "study.toml takes case, combine, seeds, set, vary, jobs, threads, cores, out, tables, fidelity");
+  }
   const auto c = t["case"].value<std::string>();
   if (!c) throw InputError(f, "case", "", "is required: the base case directory, relative to this file");
   s.case_dir = (dir / *c).lexically_normal().string();
   if (t.contains("combine")) {
     const auto how = t["combine"].value<std::string>();
-    if (!how || (*how != "grid" && *how != "zip")) throw InputError(f, "combine", "", "must be \"grid\" or \"zip\"");
+    if (!how || (*how != "grid" && *how != "zip")) throw InputError(f, "combine", shown(t, "combine"), "must be \"grid\" or \"zip\"");
     s.combine = *how == "zip" ? Combine::zip : Combine::grid;
   }
   if (t.contains("seeds")) s.seeds = static_cast<int>(positive_integer(t, "seeds", f));
@@ -141,16 +155,16 @@ void read_study_file(const fs::path& file, StudySpec& s) {
   if (t.contains("cores")) s.cores = static_cast<int>(positive_integer(t, "cores", f));
   if (t.contains("out")) {
     const auto o = t["out"].value<std::string>();
-    if (!o) throw InputError(f, "out", "", "must be a directory name (relative to this file)");
+    if (!o) throw InputError(f, "out", shown(t, "out"), "must be a directory name (relative to this file)");
     s.out_dir = (dir / *o).lexically_normal().string();
   }
   auto strings = [&](const char* key, const char* example) {
     std::vector<std::string> out;
     const auto* a = t[key].as_array();
-    if (!a) throw InputError(f, key, "", std::string("must be an array of strings, e.g. ") + example);
+    if (!a) throw InputError(f, key, shown(t, key), std::string("must be an array of strings, e.g. ") + example);
     for (const auto& e : *a) {
       const auto v = e.value<std::string>();
-      if (!v) throw InputError(f, key, "", std::string("must be an array of strings, e.g. ") + example);
+      if (!v) throw InputError(f, key, shown(t, key), std::string("must be an array of strings, e.g. ") + example);
       out.push_back(*v);
     }
     return out;
@@ -161,12 +175,12 @@ void read_study_file(const fs::path& file, StudySpec& s) {
   if (t.contains("fidelity")) {
     const auto p = t["fidelity"].value<std::string>();
     if (!p || (*p != "fast" && *p != "balanced" && *p != "reference"))
-      throw InputError(f, "fidelity", "", "must be \"fast\", \"balanced\" or \"reference\" (a preset of bagdem trade)");
+      throw InputError(f, "fidelity", shown(t, "fidelity"), "must be \"fast\", \"balanced\" or \"reference\" (a preset of bagdem trade)");
     s.fidelity = *p;
   }
   if (t.contains("vary")) {
     const auto* v = t["vary"].as_table();
-    if (!v) throw InputError(f, "vary", "", "must be a table of keys of case.toml and their values: [vary] \"bag.balls.diameter\" = [\"4 mm\", \"8 mm\"]");
+    if (!v) throw InputError(f, "vary", shown(t, "vary"), "must be a table of keys of case.toml and their values: [vary] \"bag.balls.diameter\" = [\"4 mm\", \"8 mm\"]");
     read_vary(*v, "", f, s.vary);
   }
 }

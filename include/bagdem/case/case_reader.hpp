@@ -14,6 +14,9 @@
 
 namespace bagdem {
 
+// Random seeds: any integer from 0 to this (a negative seed is a typo, not a seed).
+inline constexpr long long kMaxSeed = 9223372036854775807LL;
+
 class CaseReader {
  public:
   // Parses `file`, then applies overrides "a.b.c=value" (value in TOML syntax; a bare word that is
@@ -43,26 +46,39 @@ class CaseReader {
   std::string choice(const std::string& key, const std::vector<std::string>& allowed,
                      const std::string& fallback) const;
   long long integer(const std::string& key, long long fallback) const;
+  // An integer in [lo, hi].
+  long long integer(const std::string& key, long long fallback, long long lo, long long hi) const;
   bool boolean(const std::string& key, bool fallback) const;
   // Rows of numbers (e.g. explicit positions [[x,y,z], ...]), each a quantity of dimension d.
   std::vector<Vec3> vector_list(const std::string& key, Dimension d) const;
 
-  // Throws InputError naming `key` and its current value with the message `allowed`.
+  // Throws InputError naming `key` and its current value with the message `allowed`. When `key` is
+  // absent and its table holds an unread key a typo away from it, names that key instead.
   [[noreturn]] void fail(const std::string& key, const std::string& allowed) const;
-  // After everything was read: throws for the first key nobody asked for.
+  // After everything was read: throws for the first key nobody asked for, with the nearest key the
+  // loader asked for in the same table (edit distance), or the list of those keys.
   void reject_unknown_keys() const;
+  // The value at key as written in TOML ("(missing)" when absent).
+  std::string value_text(const std::string& key) const;
   // The TOML text of the case with overrides applied.
   std::string text() const;
 
  private:
   const toml::node* node(const std::string& key) const;  // marks key and parents as read
-  std::string value_text(const std::string& key) const;
   double to_quantity(const toml::node& n, const std::string& key, Dimension d) const;
+  std::string unknown_key_message(const std::string& path) const;
+  // An unread key of the case that looks like a typo of the absent `key`.
+  std::optional<std::string> misspelling_of(const std::string& key) const;
 
   std::string file_;
   toml::table root_;
-  mutable std::set<std::string> read_;
+  mutable std::set<std::string> read_;   // keys present in the case and read
+  mutable std::set<std::string> asked_;  // keys asked for, present or not: the allowed keys
 };
+
+// The one of `candidates` nearest to `name` in edit distance, if it is close enough to be what a
+// typo of `name` meant (at most 2 edits, or a third of the longer name).
+std::optional<std::string> nearest_key(const std::string& name, const std::vector<std::string>& candidates);
 
 // Splits "a.b.0.c" into its parts.
 std::vector<std::string> split_key(const std::string& key);

@@ -10,8 +10,11 @@
 
 namespace bagdem {
 
+// Text columns, when given, follow the numbers (one cell per row and text column; quoted as CSV
+// needs).
 void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
-                     const std::vector<std::vector<double>>& rows);
+                     const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns = {},
+                     const std::vector<std::vector<std::string>>& text_rows = {});
 
 // Reads the given columns (by name, any order and extra columns in the file allowed) of a table;
 // throws InputError naming the file and the column when one is missing or a value is not a number.

@@ -29,7 +29,7 @@ struct CompareRow {
   double bare_response = 0;                                 // |H_bare| F at x_a (m)
   double model_response = 0, model_error = 0;               // the modal model with M_eff, C_eff
   double eq7_response = 0, eq7_error = 0;                   // SDOF, Eq. (7), real bag mass, DEM C_b/(M_b w)
-  double eq20_response = 0, eq20_error = 0;                 // SDOF, Eq. (20) from e_impact and phi
+  double eq20_response = 0, eq20_error = 0;                 // SDOF, Eq. (20) from e (the chosen restitution) and phi
 };
 
 // One row per reduced row (a sweep's frequencies). force: the drive amplitude F (N).

@@ -1,9 +1,14 @@
 // The bag's restitution from a drop test (physics brief section 5, method ii): the case's contents,
 // settled as in the case, are launched at speed V against a wall of the resting cavity (the one
 // across the larger gap along the excitation direction e), and e_drop = -v_after / v_before of
-// their centre of mass along e (brief Eq. 9), v_after taken when the wall force has been zero for
-// a settling span after the impact (100 steps and 1% of the flight time). Gravity stays as in the
-// case; the cavity is held fixed and a primary structure is not simulated.
+// their centre of mass along e (brief Eq. 9). The impact is the force on the wall ahead, every wave
+// of it, foot to foot (reduce/impacts.hpp, merged): v_before is the velocity before its first foot,
+// v_after after its last one. The run stops when that force has stayed below 5% of its peak for a
+// settling span (100 steps and 1% of the flight time) with the contents no longer approaching, or
+// as soon as another wall pushes the contents back, so that the rebound is measured before any
+// other wall acts on it. The contact time is the pulse's span foot to foot (no force threshold, so
+// it does not shrink with the step). e_drop lies in [0, 1], or the test fails saying why. Gravity
+// stays as in the case; the cavity is held fixed and a primary structure is not simulated.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -19,7 +24,7 @@ struct DropResult {
   double v_after = 0;        // rebound speed after it (m/s, positive away from the wall)
   double restitution = 0;    // e_drop = v_after / v_before
   double peak_force = 0;     // largest wall force during the impact (N)
-  double duration = 0;       // time the wall force was non-zero (s)
+  double duration = 0;       // the impact's span, foot to foot (s)
   double gap = 0;            // gap crossed before the impact (m)
 };
 

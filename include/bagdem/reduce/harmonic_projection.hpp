@@ -33,9 +33,9 @@
 // Only the whole cycles that end at or before the last sample are used.
 //
 // Uncertainty: the amplitude is the mean of the per-cycle Y_j; its standard error is (sd of Re Y_j,
-// sd of Im Y_j) / sqrt(n) (sample standard deviation, n - 1). A granular damper scatters from cycle
-// to cycle, so the cycles are the natural independent repeats (as in run/sweep.hpp); the estimate
-// assumes the cycles are uncorrelated.
+// sd of Im Y_j) / sqrt(n) (sample standard deviation, n - 1), which assumes uncorrelated cycles. The
+// effective parameters below take batch means instead (reduce/interval.hpp): a granular bed carries
+// its state from cycle to cycle.
 //
 // Effective parameters (physics brief section 5; the study's Eq. (3) with the contents as M_b, C_b):
 // the contents' force on the cavity F ~ -M_eff x'' - C_eff x', so for each cycle
@@ -77,9 +77,11 @@ struct EffectiveParameters {
   double frequency = 0;                // f (unit: Hz)
   std::complex<double> displacement;   // X_hat, mean over the cycles (unit: m)
   std::complex<double> force;          // F_hat, mean over the cycles (unit: N)
-  double mass = 0, mass_se = 0;        // M_eff and its standard error (unit: kg)
-  double damping = 0, damping_se = 0;  // C_eff and its standard error (unit: N s/m)
-  double energy_per_cycle = 0, energy_per_cycle_se = 0;  // pi C_eff w |X|^2, dissipated by the contents (unit: J)
+  // Each with the standard error and the 95% half-width of batch means over the cycles
+  // (reduce/interval.hpp): cycles of a granular bed are correlated.
+  double mass = 0, mass_se = 0, mass_ci95 = 0;           // M_eff (unit: kg)
+  double damping = 0, damping_se = 0, damping_ci95 = 0;  // C_eff (unit: N s/m)
+  double energy_per_cycle = 0, energy_per_cycle_se = 0, energy_per_cycle_ci95 = 0;  // pi C_eff w |X|^2, dissipated by the contents (unit: J)
   double loss_factor = 0;              // C_eff / (M_eff w), from the means (unit: 1)
   std::size_t cycles = 0;              // whole cycles used
 };
@@ -87,8 +89,8 @@ struct EffectiveParameters {
 // Effective mass and damping of the contents from the cavity displacement x (point samples, or
 // interval means as results.h5 records it: displacement_sampling) and the contents' force on the
 // cavity F (interval means), both the components along the excitation
-// direction, at times t. Per cycle, then averaged; standard errors = sample standard deviation over
-// the cycles / sqrt(cycles) (NaN with one cycle). Throws std::invalid_argument as first_harmonic
+// direction, at times t. Per cycle, then averaged; standard errors and intervals by batch means over
+// the cycles (NaN with fewer than 4 cycles). Throws std::invalid_argument as first_harmonic
 // does, and when a cycle of x has no first harmonic (X_j = 0).
 EffectiveParameters effective_parameters(const std::vector<double>& t, const std::vector<double>& x,
                                          const std::vector<double>& force, double f, double t_skip,

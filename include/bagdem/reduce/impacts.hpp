@@ -76,11 +76,25 @@ struct RestitutionStats {
   double body() const { return mean >= 0 ? mean : std::numeric_limits<double>::quiet_NaN(); }
 };
 
+// Which impacts give a restitution (the study's Eq. (9) assumes an instantaneous impact between
+// free flights): the contents must fly free of every wall for `span` before the pulse's first foot
+// and after its last one (|F| at or below `threshold` at every sample there, and the span inside
+// the record), and approach the wall at `min_approach_speed` or faster. Otherwise the velocities
+// around the pulse carry other walls' forces, or a slow approach turns the ratio into noise.
+// The default asks nothing.
+struct FreeFlight {
+  double span = 0;                // (unit: s)
+  double threshold = 0;           // (unit: N)
+  double min_approach_speed = 0;  // (unit: m/s)
+};
+
 // Restitution of each impact from the relative velocity v (contents' centre of mass minus cavity,
 // along the same axis, point samples at the times t; unit: m/s), over [t_foot_start, t_foot_end].
-// An impact without a sample at or before t_foot_start or at or after t_foot_end is skipped.
-// Throws std::invalid_argument for sizes that differ or non-uniform t.
+// An impact without a sample at or before t_foot_start or at or after t_foot_end is skipped, and so
+// is one that fails `rule` (which reads the force F at the times t; it may be empty when the rule
+// asks no free flight). Throws std::invalid_argument for sizes that differ or non-uniform t.
 RestitutionStats impact_restitution(const std::vector<Impact>& impacts, const std::vector<double>& t,
-                                    const std::vector<double>& v);
+                                    const std::vector<double>& v, const std::vector<double>& force = {},
+                                    const FreeFlight& rule = {});
 
 }  // namespace bagdem

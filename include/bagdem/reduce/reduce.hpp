@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bagdem/io/results_file.hpp"
+#include "bagdem/reduce/interval.hpp"
 #include "bagdem/scene.hpp"
 
 namespace bagdem {
@@ -63,18 +64,58 @@ struct CavitySeries {
   std::vector<double> t, x, force, v_rel;
 };
 
+// One row of reduced.csv. Every reduced figure carries its standard error (_se) and the half-width
+// of its 95% interval (_ci95) over the window's correlated cycles (reduce/interval.hpp); an
+// ensemble's table (--seeds) replaces them by the interval over the starts.
 struct ReducedRow {
   double frequency = 0, cavity_amplitude = 0, gamma = 0, clearance_ratio = 0;
   double bag_mass = 0, mass_ratio = 0, balls = 0, ball_diameter = 0;
-  double M_eff = 0, M_eff_se = 0, C_eff = 0, C_eff_se = 0, M_eff_ratio = 0, Cb_over_Mbw = 0, Cb_over_Mbw_se = 0;
-  double loss_factor = 0, energy_per_cycle = 0, energy_per_cycle_se = 0;
+  double M_eff = 0, M_eff_se = 0, M_eff_ci95 = 0, C_eff = 0, C_eff_se = 0, C_eff_ci95 = 0, M_eff_ratio = 0;
+  double Cb_over_Mbw = 0, Cb_over_Mbw_se = 0, Cb_over_Mbw_ci95 = 0;
+  double loss_factor = 0, energy_per_cycle = 0, energy_per_cycle_se = 0, energy_per_cycle_ci95 = 0;
+  // Energy the contents' contacts dissipated per cycle by the tallies (NaN with output.energy = false),
+  // and the window's energy balance: (work on the contents - dissipated - change of stored energy)
+  // / work, relative (NaN when unknown).
+  double dissipated_per_cycle = kUnknown, energy_balance = kUnknown;
   double impact_phase = 0, impacts_per_cycle = 0, e_impact = 0, e_impact_sd = 0, e_impact_count = 0, e_eq19a = 0;
-  double e_drop = std::numeric_limits<double>::quiet_NaN();  // from `bagdem drop` when it was run
+  double e_drop = kUnknown;  // from the drop test of the same contents, when it was run
+  // The restitution a designer takes: the first available of e_impact, e_eq19a and e_drop (e_method),
+  // with its interval; NaN and "none" when none is available.
+  double e = kUnknown, e_se = kUnknown, e_ci95 = kUnknown;
+  std::string e_method = "none";
   double peak_impact_force = 0, max_impact_force = 0, impact_duration = 0;
   double response_amplitude = 0;    // |Y| at the structure's response point (coupled runs; NaN otherwise)
-  double cycles = 0;
+  double cycles = 0;                // whole cycles of the window
+  // 1 when the window is steady: the response settled, the energy balance closes within 1% and the
+  // tallied dissipation is not negative; 0 flags the row (kept out of the peak reduction).
+  double steady = 1;
   std::complex<double> displacement, force;  // X_hat (m) and F_hat (N), for the comparison
+  static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
 };
+
+// The minimum of impacts with free flight before and after for a per-impact restitution.
+inline constexpr std::size_t kMinImpactsForRestitution = 5;
+// The largest relative misclosure of a steady window's energy balance.
+inline constexpr double kSteadyBalanceTolerance = 0.01;
+
+// Sets e, e_se, e_ci95 and e_method from the estimators in their order of preference: per impact
+// (at least kMinImpactsForRestitution impacts; its interval `impact`, batch means over the impacts),
+// Eq. (19a) (its interval mapped from that of C_b/(M_b w)), the drop test (no interval from one start).
+void choose_restitution(ReducedRow& row, const Interval& impact);
+
+// Cumulative energy series of the contents (results.h5's /energy): times t, and in `fields` the
+// kinetic, elastic, work of the cavity, work of gravity and dissipated energy, in that order (J).
+struct EnergyWindow {
+  std::vector<double> t;
+  std::vector<std::vector<double>> fields;
+};
+// Sets row.dissipated_per_cycle and row.energy_balance over [t0, t1] (row.cycles cycles; the
+// series interpolated linearly): balance = (W_cavity + W_gravity - D - change of kinetic and elastic
+// energy) / max(|W_cavity|, |D|). Leaves them NaN when the series does not cover the window.
+void set_energy_balance(ReducedRow& row, const EnergyWindow& energy, double t0, double t1);
+// Flags the row unsteady (steady = 0) when its energy balance is off by more than
+// kSteadyBalanceTolerance or the tallied dissipation is negative; a steady = 0 stays.
+void judge_steady(ReducedRow& row);
 
 // Reduces whole cycles of f (Hz) after t_skip (s).
 ReducedRow reduce_series(const CavitySeries& series, double f, double t_skip, const ReductionContext& context);
@@ -82,6 +123,8 @@ ReducedRow reduce_series(const CavitySeries& series, double f, double t_skip, co
 // The table's columns (name, unit) and a row's values in that order.
 const std::vector<TableColumn>& reduced_columns();
 std::vector<double> reduced_values(const ReducedRow& row);
+// Its inverse: the row of those values and the e_method text.
+ReducedRow reduced_row(const std::vector<double>& values, const std::string& e_method);
 // Writes rows as CSV (header "name [unit]"), atomically.
 void write_reduced_csv(const std::filesystem::path& path, const std::vector<ReducedRow>& rows);
 // Reads a reduced.csv back (for compare and export); throws InputError naming the file if malformed.

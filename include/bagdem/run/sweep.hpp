@@ -4,9 +4,14 @@
 // time steps per cycle, so that the first harmonic of a cycle's N samples,
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
 // is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
-// the point is steady when the mean Y of the last K cycles differs from that of the K before by
-// less than the tolerance (SteadyStateDetector); the point's response is that mean, with its
-// cycle-to-cycle scatter. At most max_cycles are run, with a warning.
+// the point has settled when the mean Y of the last K cycles differs from that of the K before by
+// less than the tolerance (SteadyStateDetector), K = max(steady_cycles, reduce_cycles / 2 rounded
+// up), after at least max(min_cycles, 2K) cycles; the point's response and the damper's reduction
+// are measured over those last 2K cycles (the window judged steady), with a 95% interval over the
+// correlated cycles (reduce/interval.hpp). The point is
+// steady when it settled, the energy balance over that window closes within 1% and the contents'
+// tallied dissipation is not negative; an unsteady point is flagged (steady = 0 in sweep.csv and
+// reduced.csv) and kept out of the peaks. At most max_cycles are run, with a warning.
 //
 // Per point: the complex response at x_a (displacement Y and acceleration -w^2 Y, as the study's
 // accelerometer), the receptance H = Y / (-i F), the bare structure's analytic receptance at the
@@ -20,7 +25,11 @@
 // damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
 // planned frequencies the sweep adds `excitation.refine` points per mode, each halfway between
 // the largest |H| and its larger neighbour; the damped peak is then the parabola through the
-// largest and its neighbours (find_peak), the bare peak that of the analytic receptance.
+// largest and its neighbours (find_peak), the bare peak that of the analytic receptance. The
+// largest simulated |H| is reported beside the fitted peak; when it is the mode's first or last
+// point the peak may lie outside the band: the peak is marked at_band_edge and its reduction is
+// only a bound. The reduction's interval is that of the largest point's |H| (its relative
+// half-width, in dB).
 //
 // Files (CASE_DIR/out unless --out): sweep.csv (rewritten after each point), results.h5 with the
 // table /sweep (one row per point, columns as in sweep.csv) and a particle frame after each point,
@@ -53,8 +62,10 @@ struct SweepPoint {
   double dissipated_structure = 0;        // per cycle (unit: J)
   double dissipated_contents = 0;         // per cycle (unit: J)
   double balance = 0;                     // relative closure of the energy balance over those cycles
+  double receptance_ci95 = 0;             // 95% half-width of |H| over the window's cycles (unit: m/N)
   std::size_t cycles = 0;                 // cycles run at this frequency
-  bool steady = false;                    // reached the tolerance (else max_cycles)
+  bool settled = false;                   // reached the tolerance (else max_cycles)
+  bool steady = false;                    // settled, and the window's energy balances (see above)
   double change = 0;                      // relative change between the last two K-cycle means
   double spread = 0;                      // cycle-to-cycle scatter of the amplitude over the last K cycles (relative RMS)
   double wall_seconds = 0;
@@ -64,8 +75,13 @@ struct ModePeak {
   std::string name;                       // "mode 1", ...
   std::size_t mode = 0;                   // elastic mode number (1 = the first elastic mode)
   double bare_frequency = 0, bare_peak = 0;  // peak of |H| of the bare structure (unit: Hz, m/N)
-  double frequency = 0, peak = 0;         // peak of |H| with the contents (unit: Hz, m/N)
+  double frequency = 0, peak = 0;         // fitted peak of |H| with the contents (unit: Hz, m/N)
+  double simulated_frequency = 0, simulated_peak = 0;  // the largest simulated |H| (unit: Hz, m/N)
+  double peak_ci95 = 0;                   // 95% half-width of the largest simulated |H| (unit: m/N)
   double reduction_db = 0, reduction_percent = 0;
+  double reduction_db_ci95 = 0;           // 95% half-width of the reduction (unit: dB)
+  bool at_band_edge = false;              // the largest |H| is the mode's first or last point
+  std::size_t unsteady_points = 0;        // the mode's points left out as unsteady
 };
 
 struct SweepReport {
@@ -85,5 +101,8 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& options);
 // The peaks of a finished sweep (points in any order): per mode of the plan, or per elastic mode
 // inside the swept band.
 std::vector<ModePeak> sweep_peaks(const Primary& primary, const std::vector<SweepPoint>& points);
+// One line for a mode's peak: the fitted and the largest simulated peak, the reduction with its
+// interval, and the band-edge mark.
+std::string describe_peak(const ModePeak& peak);
 
 }  // namespace bagdem

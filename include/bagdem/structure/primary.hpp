@@ -98,6 +98,7 @@ struct Primary {
     double tolerance = 0.01;           // steady: amplitude change below this over `cycles` cycles
     std::size_t cycles = 3;            // K
     std::size_t min_cycles = 5;        // at each frequency at least
+    std::size_t reduce_cycles = 10;    // the last cycles of a point that its response and reduction are measured over
     std::size_t max_cycles = 200;      // cap (with a warning)
     std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
   };

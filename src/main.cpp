@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   CLI::App app{"bagdem " BAGDEM_VERSION
                ": discrete-element simulation of granular and bean-bag impact dampers.\n"
                "A case is a directory with case.toml (schema: docs/case-schema.md).\n"
-               "Exit codes: 0 success, 1 system error (I/O), 2 bad input (case or command line), 3 the run went unstable."};
+               "Exit codes: 0 success, 1 system error (I/O, a full disk), 2 bad input (case or command line), 3 the run "
+               "went unstable, 130/143 a run stopped by SIGINT/SIGTERM (checkpoint written: continue with --resume)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
   run->add_option("--set", sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
   add_fidelity(run);
   run->add_flag("--quiet", quiet, "No progress line");
-  run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (needs output.checkpoint_interval > 0)");
+  run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (left by output.checkpoint_interval > 0, and by SIGINT or SIGTERM, which stop a run with exit code 130 or 143)");
   int seeds = 1;
   run->add_option("--seeds", seeds,
                   "An ensemble of N perturbed starts (simulation.seed = 1..N, each in OUT/point-NNN, resumable, as bagdem sweep runs "
@@ -186,6 +187,10 @@ int main(int argc, char** argv) {
         if (!quiet) std::cerr << "bagdem run " << case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
                               << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
         const SweepReport r = run_sweep(s, o);
+        if (r.signal) {
+          std::cerr << "interrupted: " << r.message << "\n";
+          return 128 + r.signal;
+        }
         if (!r.complete) {
           std::cerr << "error: " << r.message << "\n";
           return kExitRunError;
@@ -199,6 +204,10 @@ int main(int argc, char** argv) {
       if (!quiet) std::cerr << "bagdem run " << case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
                             << " s, " << s.total_steps() << " steps -> " << o.out_dir << "\n";
       const RunReport r = run_scene(s, o);
+      if (r.signal) {
+        std::cerr << "interrupted: " << r.message << "\n";
+        return 128 + r.signal;
+      }
       if (!r.complete) {
         std::cerr << "error: " << r.message << "\n";
         return kExitRunError;

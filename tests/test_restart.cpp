@@ -21,6 +21,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/run/runner.hpp"
 
+#include "results_compare.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;
@@ -71,61 +72,9 @@ frame_interval = "5 ms"
 checkpoint_interval = "10 ms"
 )";
 
-// ---- results.h5 read back with the HDF5 C API ----------------------------------------------------
-
-struct RawDataset {
-  std::vector<hsize_t> dims;
-  std::vector<unsigned char> bytes;
-};
-
-herr_t collect_dataset_names(hid_t group, const char* name, const H5L_info_t*, void* data) {
-  const hid_t obj = H5Oopen(group, name, H5P_DEFAULT);
-  if (obj < 0) return 0;
-  if (H5Iget_type(obj) == H5I_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
-  H5Oclose(obj);
-  return 0;
-}
-
-// Every dataset of the file: name -> dims and raw bytes (read in the native form of its type).
-std::map<std::string, RawDataset> read_all_datasets(const fs::path& path) {
-  std::map<std::string, RawDataset> out;
-  const hid_t f = H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  EXPECT_GE(f, 0) << path;
-  if (f < 0) return out;
-  std::vector<std::string> names;
-  H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, collect_dataset_names, &names);
-  for (const auto& name : names) {
-    RawDataset d;
-    const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-    const hid_t space = H5Dget_space(ds);
-    d.dims.resize(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
-    H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
-    const hid_t ftype = H5Dget_type(ds);
-    const hid_t mtype = H5Tget_native_type(ftype, H5T_DIR_DEFAULT);
-    const auto npoints = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space));
-    d.bytes.assign(npoints * H5Tget_size(mtype), 0);
-    if (npoints > 0) {
-      EXPECT_GE(H5Dread(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()), 0) << name;
-    }
-    H5Tclose(mtype);
-    H5Tclose(ftype);
-    H5Sclose(space);
-    H5Dclose(ds);
-    out[name] = std::move(d);
-  }
-  H5Fclose(f);
-  return out;
-}
-
-std::string dims_text(const std::vector<hsize_t>& dims) {
-  std::string s = "[";
-  for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? ", " : "") + std::to_string(dims[k]);
-  return s + "]";
-}
-
 // Every dataset of A is in B with the same shape and the same bits, and vice versa.
 void expect_same_results(const fs::path& a, const fs::path& b) {
-  const auto A = read_all_datasets(a), B = read_all_datasets(b);
+  const auto A = bagdem::testing::read_all_datasets(a), B = bagdem::testing::read_all_datasets(b);
   // The layout of results.h5 (include/bagdem/io/results_file.hpp): the series compared must exist.
   for (const char* name : {"/frames/time", "/frames/position", "/frames/velocity", "/frames/angular_velocity",
                            "/cavity/time", "/cavity/position", "/cavity/velocity", "/cavity/force",
@@ -135,22 +84,7 @@ void expect_same_results(const fs::path& a, const fs::path& b) {
   }
   ASSERT_TRUE(A.count("/frames/time"));
   EXPECT_GE(A.at("/frames/time").dims.at(0), 20u) << "expected ~25 frames";
-  EXPECT_EQ(A.size(), B.size());
-  for (const auto& [name, da] : A) {
-    const auto it = B.find(name);
-    if (it == B.end()) {
-      ADD_FAILURE() << name << " missing in " << b;
-      continue;
-    }
-    const RawDataset& db = it->second;
-    EXPECT_EQ(da.dims, db.dims) << name << ": " << dims_text(da.dims) << " vs " << dims_text(db.dims);
-    if (da.dims != db.dims) continue;
-    if (da.bytes != db.bytes) {
-      std::size_t k = 0;
-      while (k < da.bytes.size() && da.bytes[k] == db.bytes[k]) ++k;
-      ADD_FAILURE() << name << " differs (first differing byte " << k << " of " << da.bytes.size() << ")";
-    }
-  }
+  bagdem::testing::expect_same_datasets(A, a, B, b);
 }
 
 // "particles" and "steps" of summary.json.

@@ -115,8 +115,10 @@ std::string describe_scene(const Scene& s) {
     << " steps\n";
   o << "output      frames every " << s.output.frame_interval << " s, cavity samples every "
     << s.output.cavity_interval << " s, energy every " << s.output.energy_interval << " s, checkpoints "
-    << (s.output.checkpoint_interval > 0 ? "every " + std::to_string(s.output.checkpoint_interval) + " s" : "off")
-    << "\n";
+    << (s.primary && s.primary->sweep ? std::string("after settling and each point (a sweep)")
+        : s.output.checkpoint_interval > 0 ? "every " + std::to_string(s.output.checkpoint_interval) + " s"
+                                           : std::string("off"))
+    << "; on SIGINT/SIGTERM\n";
   o << "guards      overlap above " << 100 * s.max_overlap_fraction
     << "% of a radius, NaN, or a particle outside the cavity stops the run\n";
   // Memory: hot particle arrays + tallies + ~12 candidate pairs per particle with their buffers.

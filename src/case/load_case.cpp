@@ -220,4 +220,16 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   return s;
 }
 
+std::string first_difference(const std::string& was, const std::string& now) {
+  std::istringstream sa(was), sb(now);
+  std::string la, lb;
+  while (true) {
+    const bool ga = static_cast<bool>(std::getline(sa, la)), gb = static_cast<bool>(std::getline(sb, lb));
+    if (!ga && !gb) return "";
+    if (!ga) la = "(nothing)";
+    if (!gb) lb = "(nothing)";
+    if (la != lb || !ga || !gb) return "was '" + la + "', now '" + lb + "'";
+  }
+}
+
 }  // namespace bagdem

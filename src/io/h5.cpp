@@ -5,8 +5,37 @@
 
 namespace bagdem::h5 {
 
+namespace {
+// HDF5 closes the files still open when the program exits. A file whose close failed (its last
+// writes did not fit on a full disk) stays in HDF5's tables half torn down, and closing it again at
+// exit crashes (SIGSEGV in H5F__close_cb, HDF5 1.10). bagdem closes every file itself, so that
+// clean-up at exit is not wanted: switched off before the first HDF5 call (a static initializer).
+[[maybe_unused]] const herr_t kNoCleanupAtExit = H5dont_atexit();
+}  // namespace
+
+namespace {
+herr_t innermost(unsigned n, const H5E_error2_t* e, void* out) {
+  if (n == 0 && e->desc) *static_cast<std::string*>(out) = e->desc;
+  return 0;
+}
+}  // namespace
+
+std::string error_reason() {
+  std::string desc;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost, &desc);
+  // The file drivers' "... errno = 28, error message = 'No space left on device', ...".
+  const std::string key = "error message = '";
+  const std::size_t at = desc.find(key);
+  if (at == std::string::npos) return desc;
+  const std::size_t end = desc.find('\'', at + key.size());
+  return desc.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
+}
+
 Check Check::with_prefix(const std::string& prefix) {
-  return Check([prefix](const std::string& what) { throw std::runtime_error(prefix + what); });
+  return Check([prefix](const std::string& what) {
+    const std::string reason = error_reason();
+    throw std::runtime_error(prefix + what + (reason.empty() ? "" : " (" + reason + ")"));
+  });
 }
 
 void Check::fail(const std::string& what) const {

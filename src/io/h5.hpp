@@ -40,7 +40,7 @@ class H5 {
 class Check {
  public:
   explicit Check(std::function<void(const std::string&)> fail) : fail_(std::move(fail)) {}
-  // std::runtime_error(prefix + what).
+  // std::runtime_error(prefix + what + " (" + error_reason() + ")").
   static Check with_prefix(const std::string& prefix);
   [[noreturn]] void fail(const std::string& what) const;
   template <class T>
@@ -52,6 +52,10 @@ class Check {
  private:
   std::function<void(const std::string&)> fail_;
 };
+
+// The innermost description on HDF5's error stack after a failed call: for a failed write the
+// system's reason ("No space left on device"); "" when the stack is empty.
+std::string error_reason();
 
 // Strings are variable-length UTF-8 (the text lives in the global heap, so a long one is not bound
 // by the 64 KiB object-header limit of fixed-length attributes).

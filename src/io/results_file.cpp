@@ -204,8 +204,7 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
     p->film_rows = lengths.frames;
     p->film = true;
   }
-  // Tables: /structure follows the time series (cut to the checkpoint's rows); any other table is
-  // rewritten by its writer.
+  // Tables: /structure follows the time series (cut to the checkpoint's rows).
   if (p->ok(H5Lexists(p->file, "structure", H5P_DEFAULT), "cannot look for /structure") > 0) {
     H5 g(p->ok(H5Gopen2(p->file, "/structure", H5P_DEFAULT), "cannot open /structure"), H5Gclose);
     H5G_info_t info;
@@ -219,6 +218,17 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
     }
     t.rows = lengths.structure;
   }
+  // Any other table (/sweep) goes: its writer writes it again, from the rows it restored.
+  H5G_info_t root;
+  p->ok(H5Gget_info(p->file, &root), "cannot read /");
+  std::vector<std::string> others;
+  for (hsize_t k = 0; k < root.nlinks; ++k) {
+    char name[256];
+    p->ok(H5Lget_name_by_idx(p->file, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT), "cannot list /");
+    const std::string n = name;
+    if (n != "particles" && n != "frames" && n != "cavity" && n != "energy" && n != "film" && n != "structure") others.push_back(n);
+  }
+  for (const std::string& n : others) p->ok(H5Ldelete(p->file, n.c_str(), H5P_DEFAULT), "cannot remove /" + n);
   p->flush();
   return ResultsFile(p.release());
 }

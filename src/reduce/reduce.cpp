@@ -10,7 +10,9 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
+#include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/continuum_model.hpp"
 #include "bagdem/reduce/harmonic_projection.hpp"
@@ -304,16 +306,19 @@ std::vector<ReducedRow> read_reduced_csv(const fs::path& path) {
   const std::size_t method = text.find(kMethodColumn.name);
   if (method == text.names.size()) throw InputError(path.string(), kMethodColumn.name, "", "column missing from the table");
   std::vector<ReducedRow> rows;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const std::vector<double>& v = values[i];
-    ReducedRow r;
-    for (std::size_t k = 0; k < kReal; ++k) r.*kRealFields[k].member = v[k];
-    r.displacement = {v[kReal], v[kReal + 1]};
-    r.force = {v[kReal + 2], v[kReal + 3]};
-    r.e_method = text.rows[i][method];
-    rows.push_back(r);
-  }
+  for (std::size_t i = 0; i < values.size(); ++i) rows.push_back(reduced_row(values[i], text.rows[i][method]));
   return rows;
+}
+
+ReducedRow reduced_row(const std::vector<double>& v, const std::string& e_method) {
+  if (v.size() != kReal + 4)
+    throw std::invalid_argument("a reduced row has " + std::to_string(kReal + 4) + " values, not " + std::to_string(v.size()));
+  ReducedRow r;
+  for (std::size_t k = 0; k < kReal; ++k) r.*kRealFields[k].member = v[k];
+  r.displacement = {v[kReal], v[kReal + 1]};
+  r.force = {v[kReal + 2], v[kReal + 3]};
+  r.e_method = e_method;
+  return r;
 }
 
 namespace {
@@ -346,11 +351,27 @@ struct ResultsReader {
   }
 };
 
+// Checks that results.h5 at `h5` (InputError with `missing` when there is none) holds a run of the
+// scene's case: a reduction with another case (an edited case.toml, other --set options) would
+// reproject the run as something it was not.
+void require_case_of_run(const fs::path& h5, const Scene& scene, const char* missing) {
+  if (!fs::exists(h5)) throw InputError(h5.string(), "", "", missing);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
+  const ResultsReader in{h5.string(), h5::H5(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)};
+  if (in.file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
+  const std::string ran = in.text("resolved_config");
+  if (ran != scene.resolved)
+    throw InputError(h5.string(), "resolved_config", "",
+                     "the case differs from the one the run was made with (" + first_difference(ran, scene.resolved) +
+                         "); give the case and the --set options of the run, or run it again");
+}
+
 }  // namespace
 
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir) {
   const fs::path out = out_dir;
   if (scene.primary && scene.primary->sweep) {
+    require_case_of_run(out / "results.h5", scene, "is missing: run the sweep first (bagdem run)");
     const fs::path csv = out / "reduced.csv";
     if (!fs::exists(csv)) throw InputError(csv.string(), "", "", "is missing: run the sweep first (bagdem run)");
     return read_reduced_csv(csv);
@@ -359,10 +380,8 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
   if (scene.primary || !(f > 0))
     throw InputError(scene.case_file, "cavity.motion.kind", "", "reduction needs harmonic cavity motion ([cavity.motion] kind = \"harmonic\") or a stepped-sine sweep of a primary structure");
   const fs::path h5 = out / "results.h5";
-  if (!fs::exists(h5)) throw InputError(h5.string(), "", "", "is missing: run the case first (bagdem run)");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
+  require_case_of_run(h5, scene, "is missing: run the case first (bagdem run)");
   const ResultsReader in{h5.string(), h5::H5(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)};
-  if (in.file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
   const std::string status = in.text("status");
   if (status != "complete") throw InputError(h5.string(), "status", status, "must be \"complete\": reduce a finished run");
   const std::vector<double> t = in.series("/cavity/time"), pos = in.series("/cavity/position"),

@@ -1,6 +1,8 @@
 // Internal to src/run: writing the small result files (summary.json, sweep.csv) so that a reader
 // never sees half of one, and the balls' data in results.h5 in the scene's order.
 #pragma once
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -26,15 +28,29 @@ inline void append_ball_frame(ResultsFile& file, double t, const Simulation& sim
   file.append_frame(t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w));
 }
 
-// Writes `text` to `path` atomically (temporary name, then rename).
+// Writes `text` to `path` atomically (temporary name, then rename); std::runtime_error naming the
+// file and the system's reason when it cannot be written (a full disk).
 inline void write_atomically(const std::filesystem::path& path, const std::string& text) {
   const std::filesystem::path tmp = path.string() + ".part";
   {
     std::ofstream f(tmp, std::ios::binary);
     f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+    f.close();  // the last bytes reach the disk here, or fail here
+    if (!f) throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
   }
   std::filesystem::rename(tmp, path);
+}
+
+// The tables a run, a sweep, `reduce`, `compare`, `drop` and `export` derive in an output
+// directory: a new run (or a resumed one) removes them first, so that none of an earlier run is
+// left beside its results. results.h5 is not among them: it is replaced when the new one is
+// complete (renamed over it), so an interrupted or failed run leaves the earlier one intact.
+inline constexpr const char* kDerivedTables[] = {"summary.json", "reduced.csv", "compare.csv", "peaks.csv",
+                                                 "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv",
+                                                 "export.csv", "export.json", "export.h5"};
+
+inline void remove_derived_tables(const std::filesystem::path& out) {
+  for (const char* name : kDerivedTables) std::filesystem::remove(out / name);
 }
 
 // A string for a JSON document: quotes, backslashes and newlines escaped.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,15 +13,18 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <type_traits>
 
 #include "bagdem/bag/bag_report.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/run/drop_fallback.hpp"
-#include "bagdem/stepper.hpp"
-#include "output_files.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
+#include "checkpoint_file.hpp"
+#include "interrupt.hpp"
+#include "output_files.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -57,63 +61,37 @@ const std::vector<TableColumn> kStructureColumns = {
     {"force", "N"},          {"cavity_displacement", "m"}, {"contents_force", "N"}, {"work_external", "J"},
     {"work_contents", "J"},  {"dissipated", "J"},       {"energy", "J"}};
 
-// What the run loop itself must carry across a restart, beside the simulation state.
+// What the run loop itself must carry across a restart, beside the simulation state: 8-byte
+// fields only, so that the image has no padding.
 struct RunTallies {
   SeriesLengths lengths;               // rows written to results.h5
   double dissipated_at_measure = 0;    // total dissipation when the measured cycles began (J)
+  double bag_packing = -1;             // the bag's packing fraction when settling ended (-1: not yet)
+  double bag_outer[3] = {0, 0, 0};     // its outer size then (m)
 };
+static_assert(std::is_trivially_copyable_v<RunTallies> && sizeof(RunTallies) == sizeof(SeriesLengths) + 5 * sizeof(double));
 
-// A checkpoint file: the run tallies, the case it belongs to (resolved TOML text, so a resume with a
-// changed case is refused), and the simulation's state image.
+// checkpoint.bin of a run (checkpoint_file.hpp): the tallies, then the simulation's state image.
+void save_checkpoint(const fs::path& path, const Simulation& sim, const RunTallies& l) {
+  const std::vector<char> state = sim.save_state();
+  save_checkpoint_file(path, {"run", sim.scene().resolved,
+                              {std::string(reinterpret_cast<const char*>(&l), sizeof l), std::string(state.begin(), state.end())}});
+}
+
 struct Checkpoint {
   RunTallies tallies;
-  std::string case_text;
   std::vector<char> state;
 };
 
-void write_block(std::ostream& s, const char* data, std::uint64_t n) {
-  s.write(reinterpret_cast<const char*>(&n), sizeof n);
-  s.write(data, static_cast<std::streamsize>(n));
-}
-
-void save_checkpoint(const fs::path& path, const Simulation& sim, const RunTallies& l) {
-  std::ostringstream s(std::ios::binary);
-  const std::vector<char> state = sim.save_state();
-  s.write(reinterpret_cast<const char*>(&l), sizeof l);
-  write_block(s, sim.scene().resolved.data(), sim.scene().resolved.size());
-  write_block(s, state.data(), state.size());
-  write_atomically(path, s.str());
-}
-
-Checkpoint load_checkpoint(const fs::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path.string(), "", "", "no checkpoint to resume from (run without --resume, with output.checkpoint_interval > 0)");
+Checkpoint load_checkpoint(const fs::path& path, const Scene& scene) {
+  const CheckpointData d = load_checkpoint_file(path, "run");
+  require_checkpoint_case(d, scene.case_file, scene.resolved);
   Checkpoint c;
-  auto block = [&](auto& out) {
-    std::uint64_t n = 0;
-    f.read(reinterpret_cast<char*>(&n), sizeof n);
-    if (!f || n > (1ULL << 40)) return;
-    out.resize(n);
-    f.read(out.data(), static_cast<std::streamsize>(n));
-  };
-  f.read(reinterpret_cast<char*>(&c.tallies), sizeof c.tallies);
-  block(c.case_text);
-  block(c.state);
-  if (!f) throw InputError(path.string(), "", "", "checkpoint file is truncated or corrupt; run again without --resume");
+  if (d.blocks.size() != 2 || d.blocks[0].size() != sizeof c.tallies)
+    throw InputError("checkpoint " + path.string() + " has not the blocks of a run; run again without --resume");
+  std::memcpy(static_cast<void*>(&c.tallies), d.blocks[0].data(), sizeof c.tallies);
+  c.state.assign(d.blocks[1].begin(), d.blocks[1].end());
   return c;
-}
-
-// The first line where two case texts differ, as "was: ... / now: ...".
-std::string first_difference(const std::string& a, const std::string& b) {
-  std::istringstream sa(a), sb(b);
-  std::string la, lb;
-  while (true) {
-    const bool ga = static_cast<bool>(std::getline(sa, la)), gb = static_cast<bool>(std::getline(sb, lb));
-    if (!ga && !gb) return "";
-    if (!ga) la = "(nothing)";
-    if (!gb) lb = "(nothing)";
-    if (la != lb || !ga || !gb) return "was '" + la + "', now '" + lb + "'";
-  }
 }
 
 // Progress on stderr: on a terminal one line rewritten in place every second; in a log (stderr not
@@ -146,9 +124,68 @@ class Progress {
   double tenths_ = 0;  // the last tenth printed in a log
 };
 
+// summary.json of a complete run: rep's headline figures (the structure's are set here), `psteps`
+// the particle-steps of this session, `response` and `response_acc` the structure's response at x_a
+// after release, sampled every ds (s).
+std::string summary_json(const Scene& scene, const Simulation& sim, RunReport& rep, double psteps,
+                         const std::vector<double>& response, const std::vector<double>& response_acc, double ds) {
+  const bool energy = scene.models.energy;
+  const EnergySample e = sim.energy();
+  const std::uint64_t total = scene.total_steps();
+  const double wall = rep.wall_seconds;
+  std::ostringstream j;
+  j << std::setprecision(10);
+  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n"
+    << "  \"particles\": " << sim.particles().size() << ",\n  \"steps\": " << total << ",\n"
+    << "  \"dt\": " << scene.dt << ",\n  \"dt_reason\": \"" << json_escape(scene.dt_reason) << "\",\n"
+    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << wall << ",\n"
+    << "  \"particle_steps_per_second\": " << (wall > 0 ? psteps / wall : 0) << ",\n"
+    << "  \"ns_per_particle_step\": " << rep.ns_per_particle_step << ",\n"
+    << "  \"neighbour_builds\": " << sim.neighbour_builds() << ",\n"
+    << "  \"energy_balance_error\": " << (energy ? number(rep.energy_balance_error) : "null") << ",\n";
+  if (energy) {
+    j << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
+      << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
+      << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
+      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling
+      << ", \"dissipated_damping\": " << e.dissipated_damping << "},\n";
+  } else {
+    j << "  \"energy\": null,\n  \"note\": \"output.energy = false: no energy budget was tallied\",\n";
+  }
+  if (rep.bag)
+    j << "  \"bag\": {\"balls\": " << scene.bag->balls << ", \"film_triangles\": " << scene.bag->rest.triangles.size()
+      << ", \"packing_fraction\": " << rep.bag_packing << ", \"outer_m\": [" << rep.bag_outer.x() << ", "
+      << rep.bag_outer.y() << ", " << rep.bag_outer.z() << "]},\n";
+  if (scene.primary) {
+    const Primary& P = *scene.primary;
+    const auto& S = sim.structure().scalars;
+    rep.structure = true;
+    rep.response_rms = rms(response, ds, 0.0);
+    rep.acceleration_rms = rms(response_acc, ds, 0.0);
+    j << "  \"structure\": {\"kind\": \"" << P.kind << "\", \"response_at_m\": " << P.response_at
+      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms
+      << ", \"work_external_J\": " << S.work_external << ", \"work_contents_J\": " << S.work_contents
+      << ", \"dissipated_J\": " << S.dissipated << ", \"energy_J\": " << sim.structure_energy();
+    if (!P.harmonic && response.size() > 8) {
+      // Free decay or a blow: the decay of the response (structure/response.hpp, fit_decay).
+      const DecayFit d = fit_decay(response, ds);
+      rep.decay_time = d.decay_time;
+      rep.decay_zeta = d.zeta;
+      j << ", \"decay\": {\"peaks\": " << d.peaks << ", \"rate_1_s\": " << d.rate << ", \"damped_frequency_Hz\": "
+        << d.damped_frequency << ", \"damping_ratio\": " << d.zeta << ", \"decay_time_20dB_s\": " << d.decay_time
+        << ", \"measured_decay_time_20dB_s\": " << d.measured_decay_time << "}";
+    }
+    j << "},\n";
+  }
+  j << "  \"cycles_measured\": " << rep.cycles << ",\n"
+    << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
+  return j.str();
+}
+
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
+  const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const fs::path out = opt.out_dir;
   fs::create_directories(out);
@@ -170,8 +207,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::uint64_t settle_step = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
   // When settling ends: the bag's packing and size, and the settled bag saved for reuse (bag.from).
   RunReport rep;
+  RunTallies run;
   auto bag_settled = [&] {
     const BagReport b = measure_bag(scene, sim);
+    run.bag_packing = b.packing_fraction;
+    for (int k = 0; k < 3; ++k) run.bag_outer[k] = b.outer[k];
     rep.bag = true;
     rep.bag_packing = b.packing_fraction;
     rep.bag_outer = b.outer;
@@ -202,15 +242,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
 
   std::vector<double> frame_times;
   std::optional<ResultsFile> file;
-  RunTallies run;
   auto total_dissipation = [](const EnergySample& e) { return e.dissipated(); };
   if (opt.resume) {
-    Checkpoint c = load_checkpoint(ckpt);
-    if (c.case_text != scene.resolved)
-      throw InputError(scene.case_file, "", "",
-                       "the case differs from the one of the interrupted run (" +
-                           first_difference(c.case_text, scene.resolved) +
-                           "); resume with the same case and --set options, or run again without --resume");
+    Checkpoint c = load_checkpoint(ckpt, scene);
     if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
     try {
       sim.load_state(c.state);
@@ -218,8 +252,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
     }
     run = c.tallies;
-    fs::remove(summary);  // a run in progress is not complete
+    if (run.bag_packing >= 0) {  // settled before the interruption
+      rep.bag = true;
+      rep.bag_packing = run.bag_packing;
+      rep.bag_outer = Vec3(run.bag_outer[0], run.bag_outer[1], run.bag_outer[2]);
+    }
+    remove_derived_tables(out);  // a run in progress is not complete
     file.emplace(ResultsFile::reopen(part.string(), run.lengths));
+    file->set_attribute("status", "running");
     if (scene.primary && run.lengths.structure > 0) {
       // The response before the interruption, for the summary's RMS and decay over the whole run:
       // the rows after release (the structure is released at the start of the step after settling).
@@ -234,8 +274,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       frame_times.push_back(static_cast<double>(s) * scene.dt);
     }
   } else {
-    fs::remove(summary);  // a run in progress is not complete
-    fs::remove(final_h5);
+    // The tables of an earlier run go; its results.h5 stays until this run's replaces it.
+    remove_derived_tables(out);
+    fs::remove(ckpt);
     std::vector<std::string> mats;
     for (const auto& m : scene.materials) mats.push_back(m.name);
     file.emplace(open_results(part.string(), sim, mats, n_cavity * scene.dt));
@@ -277,6 +318,19 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   };
   try {
     while (sim.steps_done() < total) {
+      if (const int sig = pending_interrupt()) {  // the state after a whole step: a checkpoint
+        file->flush();
+        run.lengths = file->lengths();
+        save_checkpoint(ckpt, sim, run);
+        file->set_attribute("status", "interrupted");
+        file->close();
+        rep.signal = sig;
+        std::ostringstream m;
+        m << signal_name(sig) << " at t = " << sim.time() << " s (step " << sim.steps_done() << " of " << total
+          << "): " << part.string() << " and " << ckpt.string() << " kept; continue with --resume";
+        rep.message = m.str();
+        return rep;
+      }
       if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps)) {
         file->flush();
         return rep;  // simulated kill: nothing finalised
@@ -349,54 +403,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
                scene.bag ? scene.bag->rest.triangles.size() : 0);
   fs::remove(ckpt);
 
-  std::ostringstream j;
-  j << std::setprecision(10);
-  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n"
-    << "  \"particles\": " << sim.particles().size() << ",\n  \"steps\": " << total << ",\n"
-    << "  \"dt\": " << scene.dt << ",\n  \"dt_reason\": \"" << json_escape(scene.dt_reason) << "\",\n"
-    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << wall << ",\n"
-    << "  \"particle_steps_per_second\": " << (wall > 0 ? psteps / wall : 0) << ",\n"
-    << "  \"ns_per_particle_step\": " << rep.ns_per_particle_step << ",\n"
-    << "  \"neighbour_builds\": " << sim.neighbour_builds() << ",\n"
-    << "  \"energy_balance_error\": " << (energy ? number(rep.energy_balance_error) : "null") << ",\n";
-  if (energy) {
-    j << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
-      << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
-      << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
-      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling
-      << ", \"dissipated_damping\": " << e.dissipated_damping << "},\n";
-  } else {
-    j << "  \"energy\": null,\n  \"note\": \"output.energy = false: no energy budget was tallied\",\n";
-  }
-  if (rep.bag)
-    j << "  \"bag\": {\"balls\": " << scene.bag->balls << ", \"film_triangles\": " << scene.bag->rest.triangles.size()
-      << ", \"packing_fraction\": " << rep.bag_packing << ", \"outer_m\": [" << rep.bag_outer.x() << ", "
-      << rep.bag_outer.y() << ", " << rep.bag_outer.z() << "]},\n";
-  if (scene.primary) {
-    const Primary& P = *scene.primary;
-    const auto& S = sim.structure().scalars;
-    const double ds = static_cast<double>(n_cavity) * scene.dt;
-    rep.structure = true;
-    rep.response_rms = rms(response, ds, 0.0);
-    rep.acceleration_rms = rms(response_acc, ds, 0.0);
-    j << "  \"structure\": {\"kind\": \"" << P.kind << "\", \"response_at_m\": " << P.response_at
-      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms
-      << ", \"work_external_J\": " << S.work_external << ", \"work_contents_J\": " << S.work_contents
-      << ", \"dissipated_J\": " << S.dissipated << ", \"energy_J\": " << sim.structure_energy();
-    if (!P.harmonic && response.size() > 8) {
-      // Free decay or a blow: the decay of the response (structure/response.hpp, fit_decay).
-      const DecayFit d = fit_decay(response, ds);
-      rep.decay_time = d.decay_time;
-      rep.decay_zeta = d.zeta;
-      j << ", \"decay\": {\"peaks\": " << d.peaks << ", \"rate_1_s\": " << d.rate << ", \"damped_frequency_Hz\": "
-        << d.damped_frequency << ", \"damping_ratio\": " << d.zeta << ", \"decay_time_20dB_s\": " << d.decay_time
-        << ", \"measured_decay_time_20dB_s\": " << d.measured_decay_time << "}";
-    }
-    j << "},\n";
-  }
-  j << "  \"cycles_measured\": " << rep.cycles << ",\n"
-    << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
-  write_atomically(summary, j.str());
+  const double ds = static_cast<double>(n_cavity) * scene.dt;
+  write_atomically(summary, summary_json(scene, sim, rep, psteps, response, response_acc, ds));
   // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
   if (!scene.primary && f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
     try {

@@ -26,7 +26,10 @@
 #include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/structure/response.hpp"
+#include "interrupt.hpp"
 #include "output_files.hpp"
+#include "sweep_peaks.hpp"
+#include "sweep_state.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -34,7 +37,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 using Complex = std::complex<double>;
 
 const std::vector<TableColumn> kSweepColumns = {
@@ -66,20 +68,6 @@ void write_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
   std::vector<std::vector<double>> rows;
   for (const SweepPoint& p : points) rows.push_back(row_of(p));
   write_table_csv(path, kSweepColumns, rows);
-}
-
-// peaks.csv: one row per evaluated mode.
-void write_peaks_csv(const fs::path& path, const std::vector<ModePeak>& peaks) {
-  static const std::vector<TableColumn> columns = {
-      {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m/N"}, {"frequency", "Hz"}, {"peak", "m/N"},
-      {"simulated_frequency", "Hz"}, {"simulated_peak", "m/N"}, {"peak_ci95", "m/N"}, {"reduction_dB", "dB"},
-      {"reduction_dB_ci95", "dB"}, {"reduction_percent", "%"}, {"at_band_edge", "1"}, {"unsteady_points", "1"}};
-  std::vector<std::vector<double>> rows;
-  for (const ModePeak& m : peaks)
-    rows.push_back({static_cast<double>(m.mode), m.bare_frequency, m.bare_peak, m.frequency, m.peak, m.simulated_frequency,
-                    m.simulated_peak, m.peak_ci95, m.reduction_db, m.reduction_db_ci95, m.reduction_percent,
-                    m.at_band_edge ? 1.0 : 0.0, static_cast<double>(m.unsteady_points)});
-  write_table_csv(path, columns, rows);
 }
 
 // bare_curve.csv: the bare structure's analytic response at 400 frequencies over the swept band,
@@ -117,168 +105,82 @@ Ledger ledger(const Simulation& sim) {
   return l;
 }
 
-// The peak of the bare receptance in [lo, hi] (Hz): the largest of a fine scan, refined by golden
-// section.
-Peak bare_peak(const Primary& p, double lo, double hi) {
-  auto mag = [&](double f) { return std::abs(p.bare_receptance(kTwoPi * f)); };
-  const int n = 400;
-  double best = lo, best_m = -1;
-  for (int k = 0; k <= n; ++k) {
-    const double f = lo + (hi - lo) * k / n, m = mag(f);
-    if (m > best_m) best = f, best_m = m;
-  }
-  double a = std::max(lo, best - (hi - lo) / n), b = std::min(hi, best + (hi - lo) / n);
-  const double g = 0.5 * (std::sqrt(5.0) - 1);
-  for (int it = 0; it < 80; ++it) {
-    const double c = b - g * (b - a), d = a + g * (b - a);
-    if (mag(c) > mag(d)) b = d; else a = c;
-  }
-  const double f = 0.5 * (a + b);
-  return {f, mag(f)};
-}
-
 }  // namespace
-
-namespace {
-
-// The modes whose peaks a sweep evaluates (the plan's, or every elastic mode inside the swept
-// band), and for each the points nearest to it in log-frequency among the elastic modes, sorted
-// by frequency.
-struct ModePoints {
-  std::size_t dof;
-  std::vector<const SweepPoint*> points;
-};
-std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points) {
-  std::vector<ModePoints> out;
-  if (points.empty()) return out;
-  std::vector<const SweepPoint*> pts;
-  for (const SweepPoint& p : points) pts.push_back(&p);
-  std::sort(pts.begin(), pts.end(), [](const SweepPoint* a, const SweepPoint* b) { return a->frequency < b->frequency; });
-  std::vector<std::size_t> elastic;
-  for (std::size_t k = 0; k < P.size(); ++k)
-    if (!P.rigid_body[k]) elastic.push_back(k);
-  std::vector<std::size_t> modes = P.sweep ? P.sweep->modes : std::vector<std::size_t>{};
-  if (modes.empty())
-    for (std::size_t k : elastic)
-      if (P.natural_frequency[k] >= pts.front()->frequency && P.natural_frequency[k] <= pts.back()->frequency) modes.push_back(k);
-  for (std::size_t m : modes) {
-    ModePoints mp{m, {}};
-    for (const SweepPoint* p : pts)
-      if (P.nearest_elastic_mode(p->frequency) == m) mp.points.push_back(p);
-    if (!mp.points.empty()) out.push_back(std::move(mp));
-  }
-  return out;
-}
-
-// The next frequency of a mode's peak refinement: halfway between the largest |H| and its larger
-// neighbour (the side the peak lies on); 0 when the largest is at an end of the mode's points or
-// the step would be below 1e-4 of the frequency, or would round to the steps per cycle of one of
-// the two points (the same frequency again).
-double refinement_frequency(const ModePoints& m, double dt) {
-  const auto& p = m.points;
-  std::size_t k = 0;
-  for (std::size_t i = 1; i < p.size(); ++i)
-    if (std::abs(p[i]->receptance) > std::abs(p[k]->receptance)) k = i;
-  if (k == 0 || k + 1 >= p.size()) return 0.0;
-  const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
-  const double f = 0.5 * (p[k]->frequency + side->frequency);
-  const std::size_t N = steps_per_cycle(f, dt);
-  if (N == steps_per_cycle(p[k]->frequency, dt) || N == steps_per_cycle(side->frequency, dt)) return 0.0;
-  return std::abs(f - p[k]->frequency) > 1e-4 * p[k]->frequency ? f : 0.0;
-}
-
-}  // namespace
-
-std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
-  std::vector<ModePeak> out;
-  std::vector<SweepPoint> steady;
-  for (const SweepPoint& p : points)
-    if (p.steady) steady.push_back(p);
-  for (const ModePoints& m : group_by_mode(P, steady)) {
-    std::vector<double> f, mag;
-    for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
-    ModePeak mp;
-    mp.name = P.dof_names[m.dof];
-    for (std::size_t k = 0; k <= m.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
-    const Peak damped = find_peak(f, mag, f.front(), f.back());
-    const Peak bare = bare_peak(P, f.front(), f.back());
-    const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());
-    mp.frequency = damped.frequency, mp.peak = damped.magnitude;
-    mp.simulated_frequency = f[top], mp.simulated_peak = mag[top];
-    mp.peak_ci95 = m.points[top]->receptance_ci95;
-    mp.at_band_edge = top == 0 || top + 1 == f.size();
-    mp.bare_frequency = bare.frequency, mp.bare_peak = bare.magnitude;
-    mp.reduction_db = reduction_db(bare.magnitude, damped.magnitude);
-    mp.reduction_percent = reduction_percent(mp.reduction_db);
-    // dB of the relative half-width: 20 log10(1 + ci / |H|), the larger side.
-    mp.reduction_db_ci95 = mp.simulated_peak > 0 ? 20 * std::log10(1 + mp.peak_ci95 / mp.simulated_peak) : kNaN;
-    for (const ModePoints& all : group_by_mode(P, points))
-      if (all.dof == m.dof) mp.unsteady_points = all.points.size() - m.points.size();
-    out.push_back(mp);
-  }
-  return out;
-}
-
-std::string describe_peak(const ModePeak& m) {
-  std::ostringstream o;
-  o << std::setprecision(4) << m.name << ": ";
-  if (m.at_band_edge) o << "AT THE BAND'S EDGE (the peak may lie outside the swept band; widen excitation.span): ";
-  o << "peak " << m.peak << " m/N at " << std::setprecision(5) << m.frequency << " Hz (largest simulated " << std::setprecision(4)
-    << m.simulated_peak << " +- " << m.peak_ci95 << " m/N at " << std::setprecision(5) << m.simulated_frequency << " Hz; bare "
-    << std::setprecision(4) << m.bare_peak << " m/N at " << std::setprecision(5) << m.bare_frequency << " Hz): reduction "
-    << (m.at_band_edge ? "at most " : "") << std::fixed << std::setprecision(2) << m.reduction_db << " +- " << m.reduction_db_ci95
-    << " dB = " << std::setprecision(1) << m.reduction_percent << "%";
-  if (m.unsteady_points > 0) o << " (" << m.unsteady_points << " unsteady point" << (m.unsteady_points > 1 ? "s" : "") << " left out)";
-  return o.str();
-}
 
 SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   if (!scene.primary || !scene.primary->sweep)
     throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
-  if (opt.resume) throw InputError(scene.case_file, "", "", "--resume is not available for sweeps yet; run the sweep again");
+  const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const Primary& P = *scene.primary;
   const Primary::Sweep& plan = *P.sweep;
   const fs::path out = opt.out_dir;
   fs::create_directories(out);
   const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5", summary = out / "summary.json";
-  const fs::path csv = out / "sweep.csv";
-  fs::remove(summary);
-  fs::remove(final_h5);
-  for (const char* stale : {"reduced.csv", "peaks.csv", "bare_curve.csv", "compare.csv"}) fs::remove(out / stale);
+  const fs::path csv = out / "sweep.csv", ckpt = out / "checkpoint.bin";
+  // The state of an interrupted sweep (sweep_state.hpp), or a fresh start.
+  SweepState state;
+  Simulation sim(scene);
+  start_sweep_state(out, opt.resume, sim, state);
 
   const auto t_start = std::chrono::steady_clock::now();
   auto since = [](std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  Simulation sim(scene);
   std::vector<std::string> mats;
   for (const auto& m : scene.materials) mats.push_back(m.name);
-  ResultsFile file = open_results(part.string(), sim, mats, scene.dt);
-  file.set_attribute("case_file", scene.case_file);
-  file.set_attribute("resolved_config", scene.resolved);
-  file.set_attribute("settle_end", scene.settle);
-  file.set_attribute("timestep", scene.dt);
-  file.set_attribute("status", "running");
-  if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
-  std::vector<double> frame_times;
+  ResultsFile file = opt.resume ? ResultsFile::reopen(part.string(), state.lengths) : open_results(part.string(), sim, mats, scene.dt);
+  std::vector<double>& frame_times = state.frame_times;
   auto frame = [&] {
     append_ball_frame(file, sim.time(), sim);
     if (scene.bag) file.append_film_frame(sim.film().x);
     frame_times.push_back(sim.time());
   };
-  frame();
+  file.set_attribute("status", "running");
+  if (!opt.resume) {
+    file.set_attribute("case_file", scene.case_file);
+    file.set_attribute("resolved_config", scene.resolved);
+    file.set_attribute("settle_end", scene.settle);
+    file.set_attribute("timestep", scene.dt);
+    if (scene.bag) file.write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
+    frame();
+  }
 
   SweepReport rep;
   const double F = P.amplitude;
+  // The points done before an interruption: their rows again (the reopened file has no /sweep).
+  const std::vector<SweepPoint> done_points = std::move(state.points);
+  const std::vector<ReducedRow> done_reduced = std::move(state.reduced);
+  for (const SweepPoint& p : done_points) file.append_table_row("sweep", kSweepColumns, row_of(p));
+  if (!done_points.empty()) write_csv(csv, done_points), write_reduced_csv(out / "reduced.csv", done_reduced);
+  const std::uint64_t first_step = sim.steps_done();  // a signal, or the testing aid, stops the next step
+  auto halt_if_asked = [&] {
+    if (const int sig = pending_interrupt()) throw SweepHalt{sig};
+    if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps))
+      throw SweepHalt{0};
+  };
+  ReductionContext context = reduction_context(scene, nullptr, P.direction);
+  // A checkpoint of the sweep as it stands (between points, or during settling).
+  auto checkpoint = [&] {
+    file.flush();
+    state.lengths = file.lengths(), state.points = rep.points, state.reduced = rep.reduced;
+    save_sweep_checkpoint(ckpt, sim, state);
+  };
   try {
     // Settling, the structure held.
     const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
-    while (sim.steps_done() < settle_steps) sim.step();
-    if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
-    const ReductionContext context = reduction_context(scene, &sim, P.direction);
+    if (!state.settled) {
+      while (sim.steps_done() < settle_steps) halt_if_asked(), sim.step();
+      if (settle_steps > 0 && !opt.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene.settle, since(t_start));
+      state.clearance = reduction_context(scene, &sim, P.direction).clearance;
+      state.settled = true;
+      checkpoint();
+    }
+    context.clearance = state.clearance;
 
     std::size_t npts = plan.frequencies.size() + plan.refine * (plan.modes.empty() ? 1 : plan.modes.size());
+    // An upper bound of the points: group_by_mode's pointers into rep.points stay valid.
+    rep.points.reserve(plan.frequencies.size() + plan.refine * std::max<std::size_t>(P.size(), 1));
     // Progress: a line per cycle on a terminal (rewritten in place), a line per point in a log.
     const bool terminal = isatty(fileno(stderr)) != 0;
     // The window is the last 2K cycles, at least reduce_cycles: a point is settled when the mean
@@ -310,6 +212,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         CavitySeries& series = recent.emplace_back();
         for (auto* v : {&series.t, &series.x, &series.force, &series.v_rel}) v->reserve(N);  // no growth inside the steps
         for (std::size_t n = 0; n < N; ++n) {
+          halt_if_asked();
           sim.step();
           const Simulation::StructureResponse r = sim.structure_response();
           const Complex e = std::polar(1.0, -r.phase);
@@ -390,11 +293,31 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         std::fputs(m.str().c_str(), stderr);
       }
     };
-    for (double f : plan.frequencies) run_point(f);
+    // The next point: one done before an interruption is taken as it was (the refinement then
+    // chooses as it did), a new one is run and checkpointed.
+    auto point = [&](double f) {
+      if (rep.points.size() < done_points.size()) {
+        rep.reduced.push_back(done_reduced[rep.points.size()]);
+        rep.points.push_back(done_points[rep.points.size()]);
+        return;
+      }
+      run_point(f);
+      checkpoint();
+    };
+    for (double f : plan.frequencies) point(f);
     // Peak refinement: per mode, `refine` more points, each halving the gap on the peak's side.
     for (std::size_t r = 0; r < plan.refine; ++r)
       for (const ModePoints& m : group_by_mode(P, rep.points))
-        if (const double f = refinement_frequency(m, scene.dt); f > 0) run_point(f);
+        if (const double f = refinement_frequency(m, scene.dt); f > 0) point(f);
+  } catch (const SweepHalt& h) {
+    file.flush();
+    if (h.signal == 0) return rep;  // the testing aid: as if killed
+    if (!state.settled) checkpoint();  // during settling; else the last point's checkpoint stands
+    file.set_attribute("status", "interrupted");
+    file.close();
+    rep.signal = h.signal;
+    rep.message = interrupted_message(h.signal, sim.time(), rep.points.size(), out);
+    return rep;
   } catch (const RunError& e) {
     rep.message = e.what();
     file.set_attribute("status", std::string("failed: ") + e.what());
@@ -412,6 +335,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
   fs::rename(part, final_h5);
   write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
              scene.bag ? scene.bag->rest.triangles.size() : 0);
+  fs::remove(ckpt);
 
   std::ostringstream j;
   j << std::setprecision(10);
@@ -420,22 +344,8 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
     << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
     << std::count_if(rep.points.begin(), rep.points.end(), [](const SweepPoint& p) { return !p.steady; }) << ",\n"
-    << "  \"force_amplitude_N\": " << F << ",\n  \"peaks\": [";
-  for (std::size_t k = 0; k < rep.peaks.size(); ++k) {
-    const ModePeak& m = rep.peaks[k];
-    auto num = [](double v) {
-      std::ostringstream n;
-      n << std::setprecision(10) << v;
-      return std::isfinite(v) ? n.str() : std::string("null");
-    };
-    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << num(m.bare_frequency)
-      << ", \"bare_peak_m_per_N\": " << num(m.bare_peak) << ", \"frequency_Hz\": " << num(m.frequency) << ", \"peak_m_per_N\": "
-      << num(m.peak) << ", \"simulated_frequency_Hz\": " << num(m.simulated_frequency) << ", \"simulated_peak_m_per_N\": "
-      << num(m.simulated_peak) << ", \"peak_ci95_m_per_N\": " << num(m.peak_ci95) << ", \"reduction_dB\": " << num(m.reduction_db)
-      << ", \"reduction_dB_ci95\": " << num(m.reduction_db_ci95) << ", \"reduction_percent\": " << num(m.reduction_percent)
-      << ", \"at_band_edge\": " << (m.at_band_edge ? "true" : "false") << ", \"unsteady_points\": " << m.unsteady_points << "}";
-  }
-  j << (rep.peaks.empty() ? "]\n}\n" : "\n  ]\n}\n");
+    << "  \"force_amplitude_N\": " << F << ",\n  \"peaks\": ";
+  j << peaks_json(rep.peaks) << "\n}\n";
   write_peaks_csv(out / "peaks.csv", rep.peaks);
   if (const std::string why = drop_where_no_restitution(scene, rep.reduced, out, true); !why.empty() && !opt.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());

@@ -12,6 +12,11 @@ namespace bagdem {
 
 Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides = {});
 
+// The first line where two resolved case texts (Scene::resolved) differ, as "was 'LINE', now
+// 'LINE'" ("(nothing)" past the end of one); "" when they are equal. Used to refuse a resume, a
+// reduction or a comparison with another case than the run's.
+std::string first_difference(const std::string& was, const std::string& now);
+
 // Human-readable report of a resolved scene (what `bagdem check` prints).
 std::string describe_scene(const Scene& s);
 

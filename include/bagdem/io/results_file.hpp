@@ -2,7 +2,8 @@
 //
 // Layout (all SI; every dataset has a "unit" string attribute; times in s):
 //   /                      attributes: program_version, case_file, resolved_config (TOML text),
-//                          status ("running", "complete", "failed: <message>"), settle_end (s)
+//                          status ("running", "complete", "failed: <message>"; "interrupted" when
+//                          SIGINT/SIGTERM stopped the run), settle_end (s)
 //   /particles/radius      [N]            m
 //   /particles/material    [N]            int (index into the attribute "materials", comma list)
 //   /frames/time           [F]            s
@@ -73,7 +74,8 @@ class ResultsFile {
   ResultsFile(const std::string& path, const std::vector<double>& radius,
               const std::vector<int>& material, const std::vector<std::string>& materials,
               double cavity_interval);
-  // Reopens an existing file to continue a run: every series is cut to `lengths`.
+  // Reopens an existing file to continue a run: every series is cut to `lengths`; tables other than
+  // /structure (/sweep) are removed, for their writer to write again from the rows it restored.
   static ResultsFile reopen(const std::string& path, const SeriesLengths& lengths);
   ResultsFile(ResultsFile&&) noexcept;
   ResultsFile& operator=(ResultsFile&&) noexcept;

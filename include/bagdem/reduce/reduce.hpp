@@ -123,6 +123,8 @@ ReducedRow reduce_series(const CavitySeries& series, double f, double t_skip, co
 // The table's columns (name, unit) and a row's values in that order.
 const std::vector<TableColumn>& reduced_columns();
 std::vector<double> reduced_values(const ReducedRow& row);
+// Its inverse: the row of those values and the e_method text.
+ReducedRow reduced_row(const std::vector<double>& values, const std::string& e_method);
 // Writes rows as CSV (header "name [unit]"), atomically.
 void write_reduced_csv(const std::filesystem::path& path, const std::vector<ReducedRow>& rows);
 // Reads a reduced.csv back (for compare and export); throws InputError naming the file if malformed.

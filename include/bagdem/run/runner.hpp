@@ -3,11 +3,17 @@
 //
 // Files in the output directory (default CASE_DIR/out):
 //   results.h5      written as results.h5.part and renamed when the run ends (complete or failed);
-//                   its root attribute "status" says which
+//                   its root attribute "status" says which. An earlier run's results.h5 stays until
+//                   then; the earlier run's tables (summary.json, reduced.csv, compare.csv, the drop
+//                   test's, ...: output_files.hpp) are removed when the run starts
 //   results.xmf     XDMF index of the particle frames for ParaView
 //   summary.json    written last and atomically: its presence marks a complete run
 //   reduced.csv     harmonic cavity motion: the contents' effective parameters (reduce/reduce.hpp)
-//   checkpoint.bin  the latest checkpoint (output.checkpoint_interval > 0); --resume continues it
+//   checkpoint.bin  the latest checkpoint (output.checkpoint_interval > 0, and on SIGINT/SIGTERM),
+//                   checksummed; --resume continues it
+// SIGINT or SIGTERM stops the run after the step in progress: a checkpoint is written, results.h5.part
+// gets status "interrupted" and is closed, and the report's `signal` is set (`bagdem run` exits with
+// 128 + the signal).
 #pragma once
 #include <string>
 #include <vector>
@@ -28,6 +34,7 @@ struct RunOptions {
 struct RunReport {
   bool complete = false;
   std::string message;                 // failure message, if any
+  int signal = 0;                      // SIGINT or SIGTERM stopped the run (a checkpoint was left)
   double wall_seconds = 0;
   double ns_per_particle_step = 0;
   double energy_balance_error = 0;     // relative, see summary.json

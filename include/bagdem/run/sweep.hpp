@@ -35,7 +35,9 @@
 // table /sweep (one row per point, columns as in sweep.csv) and a particle frame after each point,
 // reduced.csv (the damper's effective parameters per point, reduce/reduce.hpp), peaks.csv (one
 // row per mode), bare_curve.csv (the bare structure's analytic response over the band), and
-// summary.json with the peaks (written last).
+// summary.json with the peaks (written last). checkpoint.bin: written when settling ends and after
+// each point; SIGINT/SIGTERM stop the sweep (status "interrupted") and --resume continues it from
+// the last point done to the same results as a sweep uninterrupted.
 #pragma once
 #include <complex>
 #include <string>
@@ -85,6 +87,7 @@ struct ModePeak {
 struct SweepReport {
   bool complete = false;
   std::string message;                    // failure, if any
+  int signal = 0;                         // SIGINT or SIGTERM stopped the sweep (a checkpoint was left)
   std::vector<SweepPoint> points;
   std::vector<ModePeak> peaks;
   std::vector<ReducedRow> reduced;        // per point: the damper's effective parameters (reduced.csv)

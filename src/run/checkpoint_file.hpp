@@ -1,0 +1,39 @@
+// Internal to src/run: checkpoint.bin, what a run or a sweep needs to continue after an
+// interruption (--resume), in a file that is verified before it is used.
+//
+// Layout (little-endian): the magic "bagdemCK", the format number (u64), the payload's length in
+// bytes (u64) and its FNV-1a 64-bit hash (u64), then the payload: the kind ("run" or "sweep"), the
+// resolved case text and the kind's own blocks, each block a u64 length and its bytes. Any byte
+// changed in the payload changes the hash; a changed header fails the magic, format or length.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace bagdem {
+
+inline constexpr std::uint64_t kCheckpointFormat = 2;  // 1: no header, no checksum
+
+struct CheckpointData {
+  std::string kind;                 // "run" or "sweep"
+  std::string case_text;            // the resolved case (a resume with another case is refused)
+  std::vector<std::string> blocks;  // the kind's own data
+};
+
+// FNV-1a, 64 bits.
+std::uint64_t fnv1a64(const char* data, std::size_t n);
+
+// Writes the checkpoint atomically (a temporary name, then rename); throws std::runtime_error
+// naming the file when it cannot be written (a full disk).
+void save_checkpoint_file(const std::filesystem::path& path, const CheckpointData& data);
+
+// Reads and verifies a checkpoint of `kind`: InputError (exit 2) naming the file when it is
+// missing, of another format or kind, truncated, or its checksum does not match.
+CheckpointData load_checkpoint_file(const std::filesystem::path& path, const std::string& kind);
+
+// Refuses (InputError) a resume whose case differs from the checkpoint's, naming the first
+// difference.
+void require_checkpoint_case(const CheckpointData& data, const std::string& case_file, const std::string& resolved);
+
+}  // namespace bagdem

@@ -1,0 +1,155 @@
+// The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/sweep.hpp).
+#include "sweep_peaks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/structure/response.hpp"
+
+namespace bagdem {
+
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The peak of the bare receptance in [lo, hi] (Hz): the largest of a fine scan, refined by golden
+// section.
+Peak bare_peak(const Primary& p, double lo, double hi) {
+  auto mag = [&](double f) { return std::abs(p.bare_receptance(kTwoPi * f)); };
+  const int n = 400;
+  double best = lo, best_m = -1;
+  for (int k = 0; k <= n; ++k) {
+    const double f = lo + (hi - lo) * k / n, m = mag(f);
+    if (m > best_m) best = f, best_m = m;
+  }
+  double a = std::max(lo, best - (hi - lo) / n), b = std::min(hi, best + (hi - lo) / n);
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 80; ++it) {
+    const double c = b - g * (b - a), d = a + g * (b - a);
+    if (mag(c) > mag(d)) b = d; else a = c;
+  }
+  const double f = 0.5 * (a + b);
+  return {f, mag(f)};
+}
+
+}  // namespace
+
+std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<ModePoints> out;
+  if (points.empty()) return out;
+  std::vector<const SweepPoint*> pts;
+  for (const SweepPoint& p : points) pts.push_back(&p);
+  std::sort(pts.begin(), pts.end(), [](const SweepPoint* a, const SweepPoint* b) { return a->frequency < b->frequency; });
+  std::vector<std::size_t> elastic;
+  for (std::size_t k = 0; k < P.size(); ++k)
+    if (!P.rigid_body[k]) elastic.push_back(k);
+  std::vector<std::size_t> modes = P.sweep ? P.sweep->modes : std::vector<std::size_t>{};
+  if (modes.empty())
+    for (std::size_t k : elastic)
+      if (P.natural_frequency[k] >= pts.front()->frequency && P.natural_frequency[k] <= pts.back()->frequency) modes.push_back(k);
+  for (std::size_t m : modes) {
+    ModePoints mp{m, {}};
+    for (const SweepPoint* p : pts)
+      if (P.nearest_elastic_mode(p->frequency) == m) mp.points.push_back(p);
+    if (!mp.points.empty()) out.push_back(std::move(mp));
+  }
+  return out;
+}
+
+double refinement_frequency(const ModePoints& m, double dt) {
+  const auto& p = m.points;
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < p.size(); ++i)
+    if (std::abs(p[i]->receptance) > std::abs(p[k]->receptance)) k = i;
+  if (k == 0 || k + 1 >= p.size()) return 0.0;
+  const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
+  const double f = 0.5 * (p[k]->frequency + side->frequency);
+  const std::size_t N = steps_per_cycle(f, dt);
+  if (N == steps_per_cycle(p[k]->frequency, dt) || N == steps_per_cycle(side->frequency, dt)) return 0.0;
+  return std::abs(f - p[k]->frequency) > 1e-4 * p[k]->frequency ? f : 0.0;
+}
+
+void write_peaks_csv(const std::filesystem::path& path, const std::vector<ModePeak>& peaks) {
+  static const std::vector<TableColumn> columns = {
+      {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m/N"}, {"frequency", "Hz"}, {"peak", "m/N"},
+      {"simulated_frequency", "Hz"}, {"simulated_peak", "m/N"}, {"peak_ci95", "m/N"}, {"reduction_dB", "dB"},
+      {"reduction_dB_ci95", "dB"}, {"reduction_percent", "%"}, {"at_band_edge", "1"}, {"unsteady_points", "1"}};
+  std::vector<std::vector<double>> rows;
+  for (const ModePeak& m : peaks)
+    rows.push_back({static_cast<double>(m.mode), m.bare_frequency, m.bare_peak, m.frequency, m.peak, m.simulated_frequency,
+                    m.simulated_peak, m.peak_ci95, m.reduction_db, m.reduction_db_ci95, m.reduction_percent,
+                    m.at_band_edge ? 1.0 : 0.0, static_cast<double>(m.unsteady_points)});
+  write_table_csv(path, columns, rows);
+}
+
+std::string peaks_json(const std::vector<ModePeak>& peaks) {
+  auto num = [](double v) {
+    std::ostringstream n;
+    n << std::setprecision(10) << v;
+    return std::isfinite(v) ? n.str() : std::string("null");
+  };
+  std::ostringstream j;
+  j << "[";
+  for (std::size_t k = 0; k < peaks.size(); ++k) {
+    const ModePeak& m = peaks[k];
+    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << num(m.bare_frequency)
+      << ", \"bare_peak_m_per_N\": " << num(m.bare_peak) << ", \"frequency_Hz\": " << num(m.frequency) << ", \"peak_m_per_N\": "
+      << num(m.peak) << ", \"simulated_frequency_Hz\": " << num(m.simulated_frequency) << ", \"simulated_peak_m_per_N\": "
+      << num(m.simulated_peak) << ", \"peak_ci95_m_per_N\": " << num(m.peak_ci95) << ", \"reduction_dB\": " << num(m.reduction_db)
+      << ", \"reduction_dB_ci95\": " << num(m.reduction_db_ci95) << ", \"reduction_percent\": " << num(m.reduction_percent)
+      << ", \"at_band_edge\": " << (m.at_band_edge ? "true" : "false") << ", \"unsteady_points\": " << m.unsteady_points << "}";
+  }
+  j << (peaks.empty() ? "]" : "\n  ]");
+  return j.str();
+}
+
+std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<ModePeak> out;
+  std::vector<SweepPoint> steady;
+  for (const SweepPoint& p : points)
+    if (p.steady) steady.push_back(p);
+  for (const ModePoints& m : group_by_mode(P, steady)) {
+    std::vector<double> f, mag;
+    for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
+    ModePeak mp;
+    mp.name = P.dof_names[m.dof];
+    for (std::size_t k = 0; k <= m.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
+    const Peak damped = find_peak(f, mag, f.front(), f.back());
+    const Peak bare = bare_peak(P, f.front(), f.back());
+    const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());
+    mp.frequency = damped.frequency, mp.peak = damped.magnitude;
+    mp.simulated_frequency = f[top], mp.simulated_peak = mag[top];
+    mp.peak_ci95 = m.points[top]->receptance_ci95;
+    mp.at_band_edge = top == 0 || top + 1 == f.size();
+    mp.bare_frequency = bare.frequency, mp.bare_peak = bare.magnitude;
+    mp.reduction_db = reduction_db(bare.magnitude, damped.magnitude);
+    mp.reduction_percent = reduction_percent(mp.reduction_db);
+    // dB of the relative half-width: 20 log10(1 + ci / |H|), the larger side.
+    mp.reduction_db_ci95 = mp.simulated_peak > 0 ? 20 * std::log10(1 + mp.peak_ci95 / mp.simulated_peak) : kNaN;
+    for (const ModePoints& all : group_by_mode(P, points))
+      if (all.dof == m.dof) mp.unsteady_points = all.points.size() - m.points.size();
+    out.push_back(mp);
+  }
+  return out;
+}
+
+std::string describe_peak(const ModePeak& m) {
+  std::ostringstream o;
+  o << std::setprecision(4) << m.name << ": ";
+  if (m.at_band_edge) o << "AT THE BAND'S EDGE (the peak may lie outside the swept band; widen excitation.span): ";
+  o << "peak " << m.peak << " m/N at " << std::setprecision(5) << m.frequency << " Hz (largest simulated " << std::setprecision(4)
+    << m.simulated_peak << " +- " << m.peak_ci95 << " m/N at " << std::setprecision(5) << m.simulated_frequency << " Hz; bare "
+    << std::setprecision(4) << m.bare_peak << " m/N at " << std::setprecision(5) << m.bare_frequency << " Hz): reduction "
+    << (m.at_band_edge ? "at most " : "") << std::fixed << std::setprecision(2) << m.reduction_db << " +- " << m.reduction_db_ci95
+    << " dB = " << std::setprecision(1) << m.reduction_percent << "%";
+  if (m.unsteady_points > 0) o << " (" << m.unsteady_points << " unsteady point" << (m.unsteady_points > 1 ? "s" : "") << " left out)";
+  return o.str();
+}
+
+}  // namespace bagdem

@@ -1,0 +1,125 @@
+// A sweep's checkpoint (sweep_state.hpp).
+#include "sweep_state.hpp"
+
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <type_traits>
+
+#include "bagdem/error.hpp"
+#include "checkpoint_file.hpp"
+#include "interrupt.hpp"
+#include "output_files.hpp"
+
+namespace bagdem {
+
+namespace {
+
+// The points are stored as their bytes: every field, exactly.
+static_assert(std::is_trivially_copyable_v<SweepPoint>,
+              "a sweep's checkpoint stores its points as bytes: give a field that is not trivially copyable "
+              "its own block in sweep_state.cpp");
+static_assert(std::is_trivially_copyable_v<SeriesLengths>);
+
+template <class T>
+std::string bytes(const std::vector<T>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <class T>
+bool from_bytes(const std::string& b, std::vector<T>& v) {
+  if (b.size() % sizeof(T) != 0) return false;
+  v.resize(b.size() / sizeof(T));
+  std::memcpy(static_cast<void*>(v.data()), b.data(), b.size());
+  return true;
+}
+
+// Reduced rows as the numbers of reduced_values (every field, reduce.cpp) and their e_method
+// texts, one per line.
+std::string reduced_numbers(const std::vector<ReducedRow>& rows) {
+  std::vector<double> v;
+  for (const ReducedRow& r : rows) {
+    const std::vector<double> x = reduced_values(r);
+    v.insert(v.end(), x.begin(), x.end());
+  }
+  return bytes(v);
+}
+
+std::string reduced_methods(const std::vector<ReducedRow>& rows) {
+  std::string t;
+  for (const ReducedRow& r : rows) t += r.e_method + "\n";
+  return t;
+}
+
+bool reduced_from(const std::string& numbers, const std::string& methods, std::vector<ReducedRow>& rows) {
+  std::vector<double> v;
+  const std::size_t n = reduced_values(ReducedRow{}).size();
+  if (!from_bytes(numbers, v) || v.size() % n != 0) return false;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < v.size(); k += n) {
+    const std::size_t end = methods.find('\n', at);
+    if (end == std::string::npos) return false;
+    rows.push_back(reduced_row(std::vector<double>(v.begin() + k, v.begin() + k + n), methods.substr(at, end - at)));
+    at = end + 1;
+  }
+  return at == methods.size();
+}
+
+// settled, clearance and the lengths, as 8-byte fields.
+struct Head {
+  double settled = 0, clearance = 0;
+  SeriesLengths lengths;
+};
+static_assert(sizeof(Head) == 2 * sizeof(double) + sizeof(SeriesLengths));
+
+}  // namespace
+
+void save_sweep_checkpoint(const std::filesystem::path& path, const Simulation& sim, const SweepState& s) {
+  const Head h{s.settled ? 1.0 : 0.0, s.clearance, s.lengths};
+  const std::vector<char> image = sim.save_state();
+  save_checkpoint_file(path, {"sweep", sim.scene().resolved,
+                              {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
+                               reduced_methods(s.reduced), bytes(s.frame_times), std::string(image.begin(), image.end())}});
+}
+
+std::vector<char> load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& s) {
+  const CheckpointData d = load_checkpoint_file(path, "sweep");
+  require_checkpoint_case(d, scene.case_file, scene.resolved);
+  Head h;
+  const bool ok = d.blocks.size() == 6 && d.blocks[0].size() == sizeof h && from_bytes(d.blocks[1], s.points) &&
+                  reduced_from(d.blocks[2], d.blocks[3], s.reduced) && from_bytes(d.blocks[4], s.frame_times) &&
+                  s.points.size() == s.reduced.size();
+  if (!ok) throw InputError("checkpoint " + path.string() + " has not the blocks of a sweep; run again without --resume");
+  std::memcpy(static_cast<void*>(&h), d.blocks[0].data(), sizeof h);
+  s.settled = h.settled != 0;
+  s.clearance = h.clearance;
+  s.lengths = h.lengths;
+  return std::vector<char>(d.blocks[5].begin(), d.blocks[5].end());
+}
+
+std::string interrupted_message(int signal, double t, std::size_t points, const std::filesystem::path& out) {
+  std::ostringstream m;
+  m << signal_name(signal) << " at t = " << t << " s after " << points << " points: " << (out / "results.h5.part").string()
+    << " and " << (out / "checkpoint.bin").string() << " kept; continue with --resume (a point cut short is run again)";
+  return m.str();
+}
+
+void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state) {
+  const std::filesystem::path ckpt = out / "checkpoint.bin", part = out / "results.h5.part";
+  if (resume) {
+    const std::vector<char> image = load_sweep_checkpoint(ckpt, sim.scene(), state);
+    if (!std::filesystem::exists(part))
+      throw InputError(part.string(), "", "", "the partial results file of the interrupted sweep is missing; run again without --resume");
+    try {
+      sim.load_state(image);
+    } catch (const std::exception& e) {
+      throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
+    }
+  } else {
+    std::filesystem::remove(ckpt);
+  }
+  // The tables of an earlier run go; its results.h5 stays until this sweep's replaces it.
+  remove_derived_tables(out);
+}
+
+}  // namespace bagdem

@@ -1,0 +1,47 @@
+// Internal to src/run: what a stepped-sine sweep carries across an interruption (checkpoint.bin of
+// kind "sweep", checkpoint_file.hpp). A sweep is checkpointed when settling ends and after each
+// point (and during settling on SIGINT/SIGTERM); --resume continues from there: the points done are
+// restored, a point cut short is run again from its start.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bagdem/io/results_file.hpp"
+#include "bagdem/reduce/reduce.hpp"
+#include "bagdem/run/sweep.hpp"
+#include "bagdem/stepper.hpp"
+
+namespace bagdem {
+
+// Why a sweep stops before its end: SIGINT/SIGTERM (`signal`), or 0 for the testing aid
+// RunOptions::stop_after_steps (as if killed: nothing more is written).
+struct SweepHalt {
+  int signal;
+};
+
+// What `bagdem run` prints when `signal` stopped a sweep at time t (s) after `points` points.
+std::string interrupted_message(int signal, double t, std::size_t points, const std::filesystem::path& out);
+
+struct SweepState {
+  bool settled = false;               // settling is over: the points below follow it
+  double clearance = 0;               // the contents' free travel when settling ended (ReductionContext)
+  SeriesLengths lengths;              // rows of results.h5.part's series (frames) at the checkpoint
+  std::vector<SweepPoint> points;     // the points done, in order
+  std::vector<ReducedRow> reduced;    // their reduction
+  std::vector<double> frame_times;    // times of the frames written (results.xmf)
+};
+
+// Readies `out` for a sweep: with `resume`, the state and the simulation's state from
+// out/checkpoint.bin (InputError when it or results.h5.part is missing or unusable); otherwise a
+// fresh state and no checkpoint. Either way the earlier run's tables go (output_files.hpp).
+void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state);
+
+// Writes out the state and the simulation's image.
+void save_sweep_checkpoint(const std::filesystem::path& path, const Simulation& sim, const SweepState& state);
+
+// Reads a sweep's checkpoint (InputError when it is missing, corrupt, of a run, or of another
+// case) into `state`; returns the simulation's image.
+std::vector<char> load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& state);
+
+}  // namespace bagdem

@@ -1,0 +1,266 @@
+// What a run leaves in its output directory, through the bagdem binary and run_scene:
+//  - a rerun starts from a clean slate: the tables of an earlier run (reduced.csv, compare.csv,
+//    peaks.csv, sweep.csv, bare_curve.csv, summary.json, the drop test's files) are gone when the
+//    new run writes none;
+//  - `reduce` and `compare` refuse a case that differs from the one results.h5 was run with
+//    (its resolved_config), naming the first difference, and change nothing;
+//  - a resumed bag run's summary.json equals the uninterrupted run's, apart from the timings.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/run/runner.hpp"
+#include "bag_support.hpp"
+#include "support.hpp"
+
+namespace fs = std::filesystem;
+using bagdem::testing::CmdResult;
+using bagdem::testing::run_bagdem;
+using bagdem::testing::slurp;
+using bagdem::testing::TempDir;
+
+namespace {
+
+// 30 soft balls shaken at 25 Hz in a box (as tests/test_restart.cpp): 0.2 s reduce to one row.
+const std::string kShakenBox = R"([simulation]
+duration = "0.2 s"
+settle = "0.02 s"
+gravity = [0, 0, "-9.81 m/s^2"]
+
+[materials.rubber]
+density = "1200 kg/m^3"
+youngs_modulus = "5 MPa"
+poisson_ratio = 0.45
+
+[interactions.default]
+restitution = 0.6
+friction = 0.4
+
+[cavity]
+kind = "box"
+material = "rubber"
+min = [0, 0, 0]
+max = ["40 mm", "40 mm", "50 mm"]
+
+[cavity.motion]
+kind = "harmonic"
+amplitude = "2 mm"
+frequency = "25 Hz"
+direction = [1, 0, 1]
+
+[particles.balls]
+material = "rubber"
+diameter = "6 mm"
+count = 30
+fill = "random"
+seed = 7
+
+[output]
+frame_interval = "5 ms"
+)";
+
+struct CaseDir {
+  TempDir tmp;
+  fs::path dir, out;
+  explicit CaseDir(const std::string& toml) : dir(tmp.path / "case"), out(dir / "out") {
+    fs::create_directories(dir);
+    std::ofstream(dir / "case.toml") << toml;
+  }
+  CmdResult cli(const std::string& command, std::vector<std::string> more = {}) const {
+    std::vector<std::string> args = {command, dir.string()};
+    if (command == "run") args.insert(args.end(), {"--quiet", "--threads", "1"});
+    args.insert(args.end(), more.begin(), more.end());
+    return run_bagdem(args, tmp.path);
+  }
+};
+
+TEST(RunOutputs, RerunRemovesTheEarlierRunsTables) {
+  CaseDir c(kShakenBox);
+  ASSERT_EQ(c.cli("run").code, 0);
+  ASSERT_TRUE(fs::exists(c.out / "reduced.csv"));
+  // Tables other commands and other kinds of run leave in the same directory, and a file of the user's.
+  for (const char* f : {"compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv"})
+    std::ofstream(c.out / f) << "stale\n";
+  std::ofstream(c.out / "notes.txt") << "mine\n";
+  // Under two cycles after settling: the rerun reduces nothing and writes no reduced.csv.
+  const CmdResult r = c.cli("run", {"--set", "simulation.duration=\"0.05 s\""});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(c.out / "summary.json"));
+  EXPECT_TRUE(fs::exists(c.out / "results.h5"));
+  for (const char* f : {"reduced.csv", "compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv"})
+    EXPECT_FALSE(fs::exists(c.out / f)) << f << " of the earlier run is still there";
+  EXPECT_EQ(slurp(c.out / "notes.txt"), "mine\n") << "a file bagdem does not write was touched";
+}
+
+TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {
+  CaseDir c(kShakenBox);
+  ASSERT_EQ(c.cli("run").code, 0);
+  const std::string reduced = slurp(c.out / "reduced.csv");
+  ASSERT_FALSE(reduced.empty());
+  const CmdResult other = c.cli("reduce", {"--set", "cavity.motion.frequency=\"30 Hz\""});
+  EXPECT_EQ(other.code, 2) << other.err;
+  EXPECT_NE(other.err.find((c.out / "results.h5").string()), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("frequency"), std::string::npos) << "the first difference is not named: " << other.err;
+  EXPECT_NE(other.err.find("30 Hz"), std::string::npos) << other.err;
+  EXPECT_EQ(slurp(c.out / "reduced.csv"), reduced) << "a refused reduce rewrote reduced.csv";
+  // An edit of case.toml is refused the same way; the case as run reduces.
+  std::ofstream(c.dir / "case.toml") << std::regex_replace(kShakenBox, std::regex("amplitude = \"2 mm\""), "amplitude = \"3 mm\"");
+  const CmdResult edited = c.cli("reduce");
+  EXPECT_EQ(edited.code, 2) << edited.err;
+  EXPECT_NE(edited.err.find("amplitude"), std::string::npos) << edited.err;
+  std::ofstream(c.dir / "case.toml") << kShakenBox;
+  const CmdResult same = c.cli("reduce");
+  EXPECT_EQ(same.code, 0) << same.err;
+  EXPECT_EQ(slurp(c.out / "reduced.csv"), reduced);
+}
+
+TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {
+  // A steel ball squeezed between the walls of an SDOF primary's cavity, swept at two frequencies.
+  const std::string sweep = R"([simulation]
+duration = "0.1 s"
+gravity = [0, 0, 0]
+initial_overlap = 0.01
+
+[materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "200 GPa"
+poisson_ratio = 0.3
+
+[interactions.default]
+restitution = 0.5
+friction = 0.3
+
+[cavity]
+kind = "planes"
+material = "steel"
+min = [-0.01, -0.01, -0.01]
+max = [0.01, 0.01, 0.01]
+
+[[cavity.planes]]
+point = [-0.00499, 0, 0]
+normal = [1, 0, 0]
+
+[[cavity.planes]]
+point = [0.00499, 0, 0]
+normal = [-1, 0, 0]
+
+[particles.ball]
+material = "steel"
+diameter = 0.01
+positions = [[0, 0, 0]]
+
+[primary]
+kind = "sdof"
+mass = 0.5
+stiffness = 17765.287921960843
+damping_ratio = 0.2
+direction = [1, 0, 0]
+axis = [0, 1, 0]
+
+[excitation]
+kind = "stepped-sine"
+amplitude = "0.5 N"
+frequencies = [28, 32]
+start = "steady"
+refine = 0
+min_cycles = 4
+)";
+  CaseDir c(sweep);
+  const CmdResult run = c.cli("run");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::string compare = slurp(c.out / "compare.csv");
+  ASSERT_FALSE(compare.empty());
+  const CmdResult other = c.cli("compare", {"--set", "excitation.amplitude=\"2 N\""});
+  EXPECT_EQ(other.code, 2) << other.err;
+  EXPECT_NE(other.err.find((c.out / "results.h5").string()), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("amplitude"), std::string::npos) << other.err;
+  EXPECT_EQ(slurp(c.out / "compare.csv"), compare);
+  const CmdResult reduce = c.cli("reduce", {"--set", "excitation.amplitude=\"2 N\""});
+  EXPECT_EQ(reduce.code, 2) << reduce.err;
+  const CmdResult same = c.cli("compare");
+  EXPECT_EQ(same.code, 0) << same.err;
+}
+
+// summary.json without the keys that measure the machine (wall time, speed, threads).
+std::string without_timings(const std::string& json) {
+  std::istringstream in(json);
+  std::string line, out;
+  const std::regex timing("\"(wall_time_s|particle_steps_per_second|ns_per_particle_step|threads)\"");
+  while (std::getline(in, line))
+    if (!std::regex_search(line, timing)) out += line + "\n";
+  return out;
+}
+
+TEST(RunOutputs, ResumedBagRunKeepsItsSummary) {
+  // A bag of 20 steel balls settled for 1 ms, then shaken; checkpoints every 1 ms.
+  const std::string toml = R"([simulation]
+duration = "0.004 s"
+settle = "0.001 s"
+gravity = [0, 0, "-9.81 m/s^2"]
+seed = 4
+
+)" + std::string(bagdem::testing::kSteelAndFilm) + R"(
+[interactions.default]
+restitution = 0.5
+friction = 0.3
+
+[cavity]
+kind = "box"
+material = "steel"
+min = ["-25 mm", "-12 mm", "-12 mm"]
+max = ["25 mm", "12 mm", "12 mm"]
+
+[cavity.motion]
+kind = "harmonic"
+amplitude = "1 mm"
+frequency = "30 Hz"
+direction = [1, 0, 0]
+
+[bag]
+triangles = 200
+shape = "capsule"
+axis = [1, 0, 0]
+radius = "7 mm"
+
+[bag.balls]
+material = "steel"
+diameter = "4 mm"
+count = 20
+
+[bag.film]
+material = "ldpe"
+thickness = "50 um"
+
+[output]
+frame_interval = "1 ms"
+checkpoint_interval = "1 ms"
+)";
+  bagdem::testing::LoadedCase c(toml);
+  ASSERT_TRUE(c.scene.bag);
+  const std::uint64_t total = c.scene.total_steps(), settle = static_cast<std::uint64_t>(c.scene.settle / c.scene.dt);
+  auto run = [&](const fs::path& out, long long stop, bool resume) {
+    bagdem::RunOptions o;
+    o.out_dir = out.string();
+    o.threads = 1;
+    o.quiet = true;
+    o.stop_after_steps = stop;
+    o.resume = resume;
+    return bagdem::run_scene(c.scene, o);
+  };
+  const fs::path a = c.dir.path / "A", b = c.dir.path / "B";
+  ASSERT_TRUE(run(a, -1, false).complete);
+  // Stopped after the settling (and a checkpoint after it), resumed to the end.
+  EXPECT_FALSE(run(b, static_cast<long long>(settle + (total - settle) * 3 / 4), false).complete);
+  ASSERT_TRUE(run(b, -1, true).complete);
+  const std::string ja = slurp(a / "summary.json"), jb = slurp(b / "summary.json");
+  ASSERT_NE(ja.find("\"bag\""), std::string::npos) << ja;
+  EXPECT_EQ(without_timings(jb), without_timings(ja));
+}
+
+}  // namespace

@@ -1,0 +1,61 @@
+// Checkpoint and resume of a stepped-sine sweep (src/run/sweep_state.hpp): a sweep killed in the
+// middle of a point (RunOptions::stop_after_steps, which leaves results.h5.part and the checkpoint
+// of the last point done as a kill would), resumed, killed again in the refinement and resumed to
+// the end, writes the same results.h5 (every dataset, bit for bit, but the points' wall times),
+// sweep.csv and reduced.csv as the sweep uninterrupted. The CLI's SIGTERM during a sweep is in
+// test_faults.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/run/sweep.hpp"
+#include "results_compare.hpp"
+#include "support.hpp"
+#include "sweep_support.hpp"
+
+namespace fs = std::filesystem;
+using bagdem::testing::TempDir;
+
+
+namespace {
+
+TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep();
+  const bagdem::Scene scene = bagdem::load_case(dir.string());
+  auto sweep = [&](const fs::path& out, long long stop, bool resume) {
+    bagdem::RunOptions o;
+    o.out_dir = out.string();
+    o.threads = 1;
+    o.quiet = true;
+    o.stop_after_steps = stop;
+    o.resume = resume;
+    return bagdem::run_sweep(scene, o);
+  };
+  const fs::path a = tmp.path / "A", b = tmp.path / "B";
+  const bagdem::SweepReport ra = sweep(a, -1, false);
+  ASSERT_TRUE(ra.complete) << ra.message;
+  ASSERT_EQ(ra.points.size(), 4u) << "three planned points and one refinement";
+  // The steps of the whole sweep: settling, then each point's cycles.
+  double steps = std::round(scene.settle / scene.dt);
+  for (const bagdem::SweepPoint& p : ra.points) steps += static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
+  // Killed during the second point, then during the refinement (the fourth point).
+  const bagdem::SweepReport rb1 = sweep(b, std::llround(0.35 * steps), false);
+  EXPECT_FALSE(rb1.complete);
+  EXPECT_TRUE(fs::exists(b / "checkpoint.bin"));
+  EXPECT_TRUE(fs::exists(b / "results.h5.part"));
+  EXPECT_FALSE(fs::exists(b / "results.h5"));
+  EXPECT_FALSE(sweep(b, std::llround(0.55 * steps), true).complete);
+  const bagdem::SweepReport rb = sweep(b, -1, true);
+  ASSERT_TRUE(rb.complete) << rb.message;
+  ASSERT_EQ(rb.points.size(), ra.points.size());
+  bagdem::testing::expect_same_sweep(a, b);
+}
+
+}  // namespace

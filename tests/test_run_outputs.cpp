@@ -118,6 +118,10 @@ TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {
   const CmdResult same = c.cli("reduce");
   EXPECT_EQ(same.code, 0) << same.err;
   EXPECT_EQ(slurp(c.out / "reduced.csv"), reduced);
+  // output.skip_cycles chooses the cycles reduced, not the run: another value reduces (fewer cycles).
+  const CmdResult later = c.cli("reduce", {"--set", "output.skip_cycles=2"});
+  EXPECT_EQ(later.code, 0) << later.err;
+  EXPECT_NE(slurp(c.out / "reduced.csv"), reduced);
 }
 
 TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {

@@ -23,6 +23,7 @@
 #include "bagdem/run/runner.hpp"
 #include "h5_read.hpp"
 #include "results_compare.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 #include "sweep_support.hpp"
 
@@ -31,51 +32,10 @@ using bagdem::testing::CmdResult;
 using bagdem::testing::run_bagdem;
 using bagdem::testing::shell_quote;
 using bagdem::testing::slurp;
+using bagdem::testing::shaken_box;
 using bagdem::testing::TempDir;
 
 namespace {
-
-// 30 soft balls shaken in a box with gravity and a settle phase (as tests/test_restart.cpp), for
-// `duration`; frames every 5 ms.
-std::string shaken_box(const std::string& duration, const std::string& checkpoint_interval = "0 s") {
-  return R"([simulation]
-duration = ")" + duration + R"("
-settle = "0.02 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-
-[materials.rubber]
-density = "1200 kg/m^3"
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.45
-
-[interactions.default]
-restitution = 0.6
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "rubber"
-min = [0, 0, 0]
-max = ["40 mm", "40 mm", "50 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "25 Hz"
-direction = [1, 0, 1]
-
-[particles.balls]
-material = "rubber"
-diameter = "6 mm"
-count = 30
-fill = "random"
-seed = 7
-
-[output]
-frame_interval = "5 ms"
-checkpoint_interval = ")" + checkpoint_interval + R"("
-)";
-}
 
 struct CaseDir {
   TempDir tmp;

@@ -22,6 +22,7 @@
 #include "bagdem/run/runner.hpp"
 
 #include "results_compare.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;
@@ -34,43 +35,7 @@ namespace {
 
 // 30 soft balls with friction in a box shaken along (1, 0, 1), gravity, a settle phase, frames and
 // checkpoints every few hundred steps (~9300 steps of ~1.3e-5 s).
-const std::string kCase = R"([simulation]
-duration = "0.1 s"
-settle = "0.02 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-
-[materials.rubber]
-density = "1200 kg/m^3"
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.45
-
-[interactions.default]
-restitution = 0.6
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "rubber"
-min = [0, 0, 0]
-max = ["40 mm", "40 mm", "50 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "25 Hz"
-direction = [1, 0, 1]
-
-[particles.balls]
-material = "rubber"
-diameter = "6 mm"
-count = 30
-fill = "random"
-seed = 7
-
-[output]
-frame_interval = "5 ms"
-checkpoint_interval = "10 ms"
-)";
+const std::string kCase = bagdem::testing::shaken_box("0.1 s", "10 ms");
 
 // Every dataset of A is in B with the same shape and the same bits, and vice versa.
 void expect_same_results(const fs::path& a, const fs::path& b) {

@@ -17,6 +17,8 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bag_support.hpp"
+#include "case_texts.hpp"
+#include "sweep_support.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;
@@ -28,42 +30,7 @@ using bagdem::testing::TempDir;
 namespace {
 
 // 30 soft balls shaken at 25 Hz in a box (as tests/test_restart.cpp): 0.2 s reduce to one row.
-const std::string kShakenBox = R"([simulation]
-duration = "0.2 s"
-settle = "0.02 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-
-[materials.rubber]
-density = "1200 kg/m^3"
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.45
-
-[interactions.default]
-restitution = 0.6
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "rubber"
-min = [0, 0, 0]
-max = ["40 mm", "40 mm", "50 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "25 Hz"
-direction = [1, 0, 1]
-
-[particles.balls]
-material = "rubber"
-diameter = "6 mm"
-count = 30
-fill = "random"
-seed = 7
-
-[output]
-frame_interval = "5 ms"
-)";
+const std::string kShakenBox = bagdem::testing::shaken_box("0.2 s");
 
 struct CaseDir {
   TempDir tmp;
@@ -125,57 +92,7 @@ TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {
 }
 
 TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {
-  // A steel ball squeezed between the walls of an SDOF primary's cavity, swept at two frequencies.
-  const std::string sweep = R"([simulation]
-duration = "0.1 s"
-gravity = [0, 0, 0]
-initial_overlap = 0.01
-
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[cavity]
-kind = "planes"
-material = "steel"
-min = [-0.01, -0.01, -0.01]
-max = [0.01, 0.01, 0.01]
-
-[[cavity.planes]]
-point = [-0.00499, 0, 0]
-normal = [1, 0, 0]
-
-[[cavity.planes]]
-point = [0.00499, 0, 0]
-normal = [-1, 0, 0]
-
-[particles.ball]
-material = "steel"
-diameter = 0.01
-positions = [[0, 0, 0]]
-
-[primary]
-kind = "sdof"
-mass = 0.5
-stiffness = 17765.287921960843
-damping_ratio = 0.2
-direction = [1, 0, 0]
-axis = [0, 1, 0]
-
-[excitation]
-kind = "stepped-sine"
-amplitude = "0.5 N"
-frequencies = [28, 32]
-start = "steady"
-refine = 0
-min_cycles = 4
-)";
-  CaseDir c(sweep);
+  CaseDir c(bagdem::testing::rattling_ball_sweep());
   const CmdResult run = c.cli("run");
   ASSERT_EQ(run.code, 0) << run.err;
   const std::string compare = slurp(c.out / "compare.csv");

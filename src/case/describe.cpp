@@ -87,6 +87,12 @@ std::string describe_scene(const Scene& s) {
       << (P.excitation ? P.excitation->describe() : std::string("none"))
       << (P.harmonic ? (P.start_steady ? " (starts in the bare steady state)" : " (starts from rest)") : "")
       << "; expected cavity speed " << P.expected_cavity_speed << " m/s\n";
+    if (const auto& sw = P.sweep) {
+      const std::size_t K = sw->half_window();
+      o << "            each point: steady when the mean response of its last " << K << " cycles is within "
+        << 100 * sw->tolerance << "% of the " << K << " before (at least " << sw->least_cycles() << ", at most "
+        << sw->max_cycles << " cycles), reduced over those " << 2 * K << " cycles with 95% intervals\n";
+    }
     if (P.harmonic) {
       // The bare structure's largest cavity amplitude over the drive frequencies, and Gamma.
       const std::vector<double> f = P.sweep ? P.sweep->frequencies : std::vector<double>{P.drive_frequency};

@@ -185,11 +185,10 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     const bool terminal = isatty(fileno(stderr)) != 0;
     // The window is the last 2K cycles, at least reduce_cycles: a point is settled when the mean
     // first harmonic of the window's second half differs from its first half's by less than the
-    // tolerance, so that the window reduced is the window judged steady.
-    const std::size_t K = std::max(plan.cycles, (plan.reduce_cycles + 1) / 2), window = 2 * K;
-    // A point's first cycle is never in the window: the drive has just changed frequency (and, at the
-    // sweep's start, the structure is released into its start state within it).
-    const std::size_t least = std::max(plan.min_cycles, window + 1);
+    // tolerance, so that the window reduced is the window judged steady. A point's first cycle is
+    // never in it: the drive has just changed frequency (and, at the sweep's start, the structure
+    // is released into its start state within it).
+    const std::size_t K = plan.half_window(), window = 2 * K, least = plan.least_cycles();
     // One frequency point, from the state the last one left.
     auto run_point = [&](double requested) {
       const auto t_point = std::chrono::steady_clock::now();

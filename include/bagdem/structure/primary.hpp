@@ -34,6 +34,7 @@
 // (omega dt)^2/24, 4.8e-8 at 85.6 Hz with dt = 2 us; stability needs omega_max dt < 2, checked
 // when the case is loaded.
 #pragma once
+#include <algorithm>
 #include <Eigen/Dense>
 #include <complex>
 #include <memory>
@@ -101,6 +102,12 @@ struct Primary {
     std::size_t reduce_cycles = 10;    // the last cycles of a point that its response and reduction are measured over
     std::size_t max_cycles = 200;      // cap (with a warning)
     std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
+    // The steady test compares the mean response of the last K cycles with the K before, and the
+    // point is reduced over those 2K cycles: K = max(cycles, reduce_cycles / 2 rounded up).
+    std::size_t half_window() const { return std::max(cycles, (reduce_cycles + 1) / 2); }
+    // The least cycles a point runs: the window and the cycle before it (a point's first cycle,
+    // right after the drive changed frequency, is never in the window).
+    std::size_t least_cycles() const { return std::max(min_cycles, 2 * half_window() + 1); }
   };
   std::shared_ptr<const Sweep> sweep;  // null unless stepped-sine
 

@@ -25,7 +25,6 @@ import os
 import sys
 
 import numpy as np
-from scipy import stats
 
 OMEGA = 2 * math.pi * 30.0  # the box's angular frequency (30 Hz)
 
@@ -81,12 +80,14 @@ def record(d):
 
 def interval(xs):
     """Mean and the half-width of its 95% interval (Student t over the values, n - 1 degrees)."""
+    from scipy import stats  # here, not at the top: the other commands start faster without it
     x = np.asarray(xs, dtype=float)
     n = len(x)
     return float(x.mean()), float(stats.t.ppf(0.975, n - 1) * x.std(ddof=1) / math.sqrt(n))
 
 
 def ensemble(n_balls, dirs):
+    from scipy import stats
     res = [json.load(open(f"{d}/result.json")) for d in dirs]
     n = len(res)
     if n < 2:

@@ -73,7 +73,7 @@ def record(d):
     res = dict(cycles=lig["cycles"], skip_cycles=lig["skip_cycles"], total_mass=lig["total_mass"],
                liggghts=dict(M_eff=lig["M_eff"], C_eff=lig["C_eff"], seconds=seconds("lig")),
                bagdem=dict(M_eff=col("M_eff"), C_eff=col("C_eff"), seconds=seconds("bagdem")))
-    tmp = f"{d}/result.json.tmp"
+    tmp = f"{d}/result.json.{os.getpid()}"
     json.dump(res, open(tmp, "w"), indent=1)
     os.replace(tmp, f"{d}/result.json")
 
@@ -125,7 +125,7 @@ if __name__ == "__main__":
         table(a[1], a[2], a[3])
     elif len(a) == 2 and a[0] == "record":
         record(a[1])
-    elif len(a) >= 3 and a[0] == "ensemble":
+    elif len(a) >= 2 and a[0] == "ensemble":
         ensemble(a[1], a[2:])
     else:
         sys.exit(__doc__)

@@ -1,5 +1,6 @@
 // The growth benchmark's fit (run/bench.hpp): the exponent of y ~ x^a by least squares in log-log;
-// and tools/growth_peers.py, the tiling and fit of tools/growth-peers.
+// tools/growth_peers.py, the tiling and fit of tools/growth-peers; and tools/compare_peers.py, the
+// jittered starts and the intervals of tools/compare-peers --starts K.
 #include <gtest/gtest.h>
 
 #include <cmath>

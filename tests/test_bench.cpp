@@ -1,5 +1,6 @@
 // The growth benchmark's fit (run/bench.hpp): the exponent of y ~ x^a by least squares in log-log;
-// and tools/growth_peers.py, the tiling and fit of tools/growth-peers.
+// tools/growth_peers.py, the tiling and fit of tools/growth-peers; and tools/compare_peers.py, the
+// jittered starts and the intervals of tools/compare-peers --starts K.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -85,4 +86,117 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
   EXPECT_NE(report.find("bagdem: a = 1.050 (medians); round by round 1.050 / 1.050 / 1.050"), std::string::npos) << report;
   EXPECT_NE(report.find("liggghts: a = 1.120 (medians)"), std::string::npos) << report;
   EXPECT_NE(report.find("| 1000 | 27.5 (25.0-30.0) | 99.0 (90.0-108.0) | 3.60 |"), std::string::npos) << report;
+}
+
+// tools/compare_peers.py, the helper of tools/compare-peers --starts K (what bagdem and LIGGGHTS
+// compute on PD-box, as an ensemble of jittered starts): the jittered bed of start k, and the
+// ensemble's intervals on synthetic starts.
+namespace {
+struct Ball {
+  std::vector<double> v;  // id vx vy vz wx wy wz
+};
+std::vector<Ball> velocities(const std::string& data) {
+  std::vector<Ball> balls;
+  const auto at = data.find("\nVelocities\n");
+  if (at == std::string::npos) return balls;
+  std::istringstream lines(data.substr(at + 12));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream f(line);
+    Ball b;
+    double x;
+    while (f >> x) b.v.push_back(x);
+    if (!b.v.empty()) balls.push_back(b);
+  }
+  return balls;
+}
+}  // namespace
+
+TEST(ComparePeers, JittersEveryVelocityBy1e6InADirectionDrawnFromTheSeed) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  std::ostringstream bed;
+  bed << "synthetic\n\n1000 atoms\n1 atom types\n\nAtoms\n\n";
+  for (int i = 1; i <= 1000; ++i) bed << (1001 - i) << " 1 0.004 7800 " << 0.001 * (i % 50) << " 0.002 " << 1e-6 * i << " 0 0 0\n";
+  bed << "\nVelocities\n\n";
+  for (int i = 1; i <= 1000; ++i) bed << (1001 - i) << " " << 1e-3 * i << " -2e-5 0 " << 0.5 * i << " 0.25 -3\n";
+  dir.write("bed.data", bed.str());
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  const auto jitter = [&](int seed, const std::string& name) {
+    EXPECT_EQ(std::system((tool + " jitter " + shell_quote(dir.str() + "/bed.data") + " " + shell_quote(dir.str() + "/" + name) + " " + std::to_string(seed)).c_str()), 0);
+    return slurp(dir.path / name);
+  };
+  const std::string one = jitter(1, "s1.data"), again = jitter(1, "s1b.data"), two = jitter(2, "s2.data");
+  EXPECT_EQ(one, again);  // the seed alone decides the jitter
+  EXPECT_NE(one, two);
+  const std::string src = bed.str();
+  const auto split = src.find("\nVelocities\n");
+  EXPECT_EQ(one.substr(0, split), src.substr(0, split));  // header and positions as they were
+  const auto before = velocities(src);
+  for (const std::string* data : {&one, &two}) {
+    const auto after = velocities(*data);
+    ASSERT_EQ(after.size(), 1000u);
+    double mean[3] = {0, 0, 0};
+    for (size_t i = 0; i < after.size(); ++i) {
+      ASSERT_EQ(after[i].v.size(), 7u);
+      EXPECT_EQ(after[i].v[0], before[i].v[0]);  // the ball's id, in the file's order
+      double dv2 = 0;
+      for (int c = 1; c <= 3; ++c) {
+        const double d = after[i].v[c] - before[i].v[c];
+        dv2 += d * d;
+        mean[c - 1] += d / 1000;
+      }
+      EXPECT_NEAR(std::sqrt(dv2), 1e-6, 1e-12) << "ball " << before[i].v[0];
+      for (int c = 4; c <= 6; ++c) EXPECT_EQ(after[i].v[c], before[i].v[c]);  // spins untouched
+    }
+    // Random directions: no drift of the bed (a mean of 1000 unit vectors is ~0.02 a component).
+    for (double m : mean) EXPECT_LT(std::abs(m), 1e-7);
+  }
+  // Each ball its own direction, each seed its own draw.
+  const auto a = velocities(one), b = velocities(two);
+  EXPECT_GT(std::abs((a[0].v[1] - before[0].v[1]) - (a[1].v[1] - before[1].v[1])), 1e-9);
+  EXPECT_GT(std::abs(a[0].v[1] - b[0].v[1]), 1e-9);
+}
+
+TEST(ComparePeers, EnsembleIsEachCodesMeanWithAStudentTIntervalAndThePairedDifference) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  // Start k: offset o = k - 4.5 (sample sd over 8 starts sqrt(6)). LIGGGHTS C = 10 + o, bagdem
+  // C = 13 + 2 o, so the paired difference 3 + o; M = 0.005 + 0.001 o and 0.006 - 0.001 o.
+  std::string starts;
+  for (int k = 1; k <= 8; ++k) {
+    const double o = k - 4.5;
+    const std::string s = "start" + std::to_string(k);
+    std::filesystem::create_directories(dir.path / s / "bagdem");
+    std::ostringstream lig, csv;
+    lig.precision(17);
+    csv.precision(17);
+    lig << "{\"cycles\": 30, \"skip_cycles\": 5.0, \"total_mass\": 0.2613, \"M_eff\": " << 0.005 + 0.001 * o << ", \"C_eff\": " << 10 + o << "}";
+    csv << "f [Hz],M_eff [kg],M_eff_se [kg],C_eff [N s/m],C_eff_se [N s/m]\n30," << 0.006 - 0.001 * o << ",1," << 13 + 2 * o << ",1\n";
+    dir.write(s + "/lig.json", lig.str());
+    dir.write(s + "/bagdem/reduced.csv", csv.str());
+    dir.write(s + "/lig.seconds", "600\n");
+    dir.write(s + "/bagdem.seconds", "180\n");
+    ASSERT_EQ(std::system((tool + " record " + shell_quote(dir.str() + "/" + s)).c_str()), 0);
+    starts += " " + shell_quote(dir.str() + "/" + s);
+  }
+  const TempDir capture;
+  ASSERT_EQ(std::system((tool + " ensemble 1000" + starts + " > " + shell_quote(capture.str() + "/out.txt")).c_str()), 0);
+  const std::string report = slurp(capture.path / "out.txt");
+  // Half-width t(0.975, 7) sd / sqrt(8) = 2.364624 x sqrt(6) / sqrt(8) = 2.047824: with 1.96 it would
+  // be 1.697, with the standard error for the sd 0.724, with the population sd (n) 1.916, and an
+  // unpaired difference would be wider than the codes' own intervals.
+  EXPECT_NE(report.find("t(0.975, 7) = 2.365"), std::string::npos) << report;
+  EXPECT_NE(report.find("| C_eff (N s/m) | 10 +- 2.048 | 13 +- 4.096 | +3 +- 2.048 (+30.0% +- 20.5% of LIGGGHTS) |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| M_eff (kg) | 0.005 +- 0.002048 | 0.006 +- 0.002048 | +0.001 +- 0.004096 (+20.0% +- 81.9% of LIGGGHTS) |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| start3 | 0.0035 | 8.5 | 0.0075 | 10 | 600 | 180 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("LIGGGHTS 80.0 min, bagdem 24.0 min over the 8 starts (600 s and 180 s a start)"), std::string::npos) << report;
+
+  // Two starts: t(0.975, 1) = 12.706 (n - 1 degrees of freedom, not n: t(0.975, 2) = 4.303).
+  ASSERT_EQ(std::system((tool + " ensemble 1000 " + shell_quote(dir.str() + "/start1") + " " + shell_quote(dir.str() + "/start3") + " > " + shell_quote(capture.str() + "/two.txt")).c_str()), 0);
+  const std::string two = slurp(capture.path / "two.txt");
+  EXPECT_NE(two.find("| C_eff (N s/m) | 7.5 +- 12.71 | 8 +- 25.41 | +0.5 +- 12.71 "), std::string::npos) << two;
+  // One start has no interval.
+  EXPECT_NE(std::system((tool + " ensemble 1000 " + shell_quote(dir.str() + "/start1") + " 2>/dev/null >/dev/null").c_str()), 0);
 }

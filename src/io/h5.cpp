@@ -11,9 +11,8 @@ namespace {
 // exit crashes (SIGSEGV in H5F__close_cb, HDF5 1.10). bagdem closes every file itself, so that
 // clean-up at exit is not wanted: switched off before the first HDF5 call (a static initializer).
 [[maybe_unused]] const herr_t kNoCleanupAtExit = H5dont_atexit();
-}  // namespace
 
-namespace {
+// The description of the innermost error on HDF5's stack.
 herr_t innermost(unsigned n, const H5E_error2_t* e, void* out) {
   if (n == 0 && e->desc) *static_cast<std::string*>(out) = e->desc;
   return 0;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "bagdem/case/load_case.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "support.hpp"
 
 namespace bagdem::testing {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "bagdem/contact/hertz_theory.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 namespace bagdem::testing {

@@ -20,6 +20,7 @@
 
 #include "bag_support.hpp"
 #include "h5_read.hpp"
+#include "bagdem/parallel.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/bag_file.hpp"
@@ -413,7 +414,7 @@ void expect_same(const Snapshot& a, const Snapshot& b) {
 
 }  // namespace
 
-// One and two OpenMP threads give bitwise the same balls and film (stepper.hpp, Determinism). The
+// One and two OpenMP threads give bitwise the same balls and film (src/step/stage.hpp, Determinism). The
 // film's parallel loops engage above kParallelMin = 512 nodes: bag.triangles = 1200 (~600 nodes),
 // 40 balls, the box shaken (strings, friction, film damping), 3000 steps.
 TEST(BagDeterminism, FilmParallelPathsMatchOneThread) {

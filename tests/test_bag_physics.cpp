@@ -364,7 +364,7 @@ TEST(BagDrop, BagBouncesLessThanHalfAsMuchAsABall) {
 }
 
 // The film is between the bag's balls and the floor: a ball of the bag must not touch a cavity wall
-// directly while it is inside the film (stepper_film.cpp: "what the balls feel through the film is
+// directly while it is inside the film (src/step/film.cpp: "what the balls feel through the film is
 // the ball-film law"). Reference: a ball resting on the film on the floor has its centre r + t/2 +
 // t/2 above the floor less the ball-film and film-floor overlaps; it may reach the floor only if
 // those overlaps exceed the film thickness. Tolerance: no ball centre nearer the floor than its
@@ -417,7 +417,7 @@ thickness = "50 um"
   const Vec3 p0 = momentum();
   const double t0 = sim.time();
   while (sim.time() < 0.08) sim.step();
-  const Simulation::CavitySample f = sim.take_cavity_sample();
+  const CavitySample f = sim.take_cavity_sample();
   const double M = bag_mass(sim), weight = M * 9.81;
   const Vec3 expected = M * c.scene.gravity - (momentum() - p0) / (sim.time() - t0);
   std::printf("BagDrop: settling bag: mean force on the cavity (%.5g, %.5g, %.5g) N, M g - dP/dt (%.5g, %.5g, %.5g) N, "
@@ -877,7 +877,7 @@ const StiffFilmResult& stiff_film_result() {
 }  // namespace
 
 // With a film much heavier than the balls and as stiff, the ball-film law is the ball-wall law
-// (stepper_meshes.cpp: R* = the ball's radius, m* -> the ball's mass as the film's nodes get heavy).
+// (src/step/surfaces.cpp: R* = the ball's radius, m* -> the ball's mass as the film's nodes get heavy).
 // Balls outside the bag are sent at 1 m/s along the film's outward normal onto its upper side: at
 // the centroid of a face, the midpoint of a convex edge (ridge) and a vertex (the one-contact-per-
 // feature rule must give one contact each); another hits the box's ceiling (same material pair).
@@ -991,7 +991,7 @@ std::size_t film_self_intersections(const TriangleMesh& mesh, const std::vector<
 
 // A ball driven through the film stops the run with a RunError naming the film. Scene: a 4 mm probe
 // ball inside the bag hits the film at 20 m/s (the auto step accounts for that speed: it is the
-// largest initial particle speed). Reference: the guard of stepper_guards.cpp, message "ball N
+// largest initial particle speed). Reference: the guard of src/step/guards.cpp, message "ball N
 // crossed the bag's film" (no tolerance: the run must stop with that message before its 2 ms end).
 // Printed for the report: where the ball is when the run stops (winding number of the film about
 // its centre: 1 inside, 0 outside) and how many film edges pass through film triangles.
@@ -1082,7 +1082,7 @@ TEST(BagEnergy, FilmContactEnergyIsContinuousAcrossAShallowFold) {
       if (h.distance2 < R * R) hits.push_back({t, 0, h});
     }
     select_mesh_contacts(m, hits);
-    // Then one contact per patch, as the stepper does (stepper_meshes.cpp).
+    // Then one contact per patch, as the stepper does (src/step/surfaces.cpp).
     Vec3 normals[4];
     double overlaps[4];
     bool keep[4];

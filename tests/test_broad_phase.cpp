@@ -15,7 +15,7 @@
 
 #include "bagdem/motion/motion.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "rng.hpp"
 #include "scene_builder.hpp"
 
@@ -295,7 +295,7 @@ TEST(BroadPhase, SimulationHashAndKdtreeBitwiseIdentical) {
   }
   omp_set_num_threads(before);
   std::printf("[broad-phase] shaken bed: %zu particles, %zu candidate pairs, %llu builds, up to %zu contacts\n",
-              a.particles().size(), a.pair_state().pairs.size(),
+              a.particles().size(), a.pair_list().pairs,
               static_cast<unsigned long long>(a.neighbour_builds()), max_contacts);
   EXPECT_GT(max_contacts, 20u);  // measured 28
   EXPECT_GT(a.neighbour_builds(), 1u);

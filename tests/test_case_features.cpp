@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "support.hpp"
 
 using namespace bagdem;

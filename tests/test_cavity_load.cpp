@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;
@@ -45,7 +45,7 @@ TEST(CavityLoad, SampleKinematicsAreIntervalMeans) {
     t_sum += sim.time();
     x_sum += motion->at(sim.time()).position.x();
   }
-  const Simulation::CavitySample c = sim.take_cavity_sample();
+  const CavitySample c = sim.take_cavity_sample();
   EXPECT_NEAR(c.time, t_sum / 1000, 1e-15);
   EXPECT_NEAR(c.position.x(), x_sum / 1000, 1e-15);
   EXPECT_NEAR(c.time, 500.5e-6, 1e-12);  // mean of 1..1000 us

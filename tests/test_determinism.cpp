@@ -1,4 +1,4 @@
-// Thread-count independence (stepper.hpp, "Determinism"): every per-particle sum runs in a fixed
+// Thread-count independence (src/step/stage.hpp, "Determinism"): every per-particle sum runs in a fixed
 // order and totals are summed in index order, so a run must be bitwise identical for any number of
 // OpenMP threads. The parallel loops engage above 512 items (the ball stages from kParallelBalls =
 // 2048 balls, lowered to 512 here with set_parallel_balls) and the broad phase above 2000 particles,
@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/parallel.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/motion/motion.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "rng.hpp"
 #include "scene_builder.hpp"
 
@@ -81,7 +82,7 @@ RunResult run(const Scene& s, int threads) {
     }
     r.state = sim.save_state();
     r.energy = sim.energy();
-    r.pairs = sim.pair_state().pairs.size();
+    r.pairs = sim.pair_list().pairs;
     r.contacts = sim.contact_count();
     r.builds = sim.neighbour_builds();
     r.moves = sim.balance().moves();
@@ -220,7 +221,7 @@ TEST(Determinism, AdvanceEqualsStepByStep) {
 }
 
 // advance() runs the pairs, the walls and the next step's drift in one parallel region, each thread
-// on its own range (Simulation::fused_contacts): it must end bitwise where the staged step (the same
+// on its own range (Stepper::fused_contacts): it must end bitwise where the staged step (the same
 // advance() with set_fusion(false), one region per stage) ends. Energy tallies off (the wall stage
 // then visits only the balls near a wall) and on, frictional and frictionless, 1, 2 and 3 threads
 // (the threads' spans moved at every step), in uneven chunks of advance() through neighbour builds.
@@ -264,7 +265,7 @@ TEST(Determinism, FusedStepEqualsStaged) {
   }
 }
 
-// advance() on several threads runs its steps pipelined (Simulation::run_pipelined): the threads
+// advance() on several threads runs its steps pipelined (Stepper::run_pipelined): the threads
 // stay in one region for up to a balance window of steps (64) and wait only for the ranges next
 // to theirs. It must end bitwise where the fused steps end (the 1-thread run, and 2 threads with
 // pipelining off). Energy tallies off and on, frictional and frictionless, 2 and 3 threads (3: more
@@ -339,9 +340,8 @@ TEST(Determinism, PipelinedStepsWithCrossPairsOverAThinRange) {
     while (sim.steps_done() < s.total_steps()) {
       if (threads == 3) sim.set_cuts({0, n / 2, n / 2 + 2, n});
       sim.advance(std::min<std::uint64_t>(6, s.total_steps() - sim.steps_done()));
-      const PairState& ps = sim.pair_state();
       if (threads == 3)
-        for (const std::uint32_t k : ps.cross) crossing_two += ps.first[k] < n / 2 && ps.pairs.partner[k] >= n / 2 + 2;
+        for (const auto& [i, j] : sim.cross_pairs()) crossing_two += i < n / 2 && j >= n / 2 + 2;
     }
     omp_set_num_threads(before);
     return Out{sim.save_state(), sim.energy(), sim.pipelined_steps(), crossing_two};

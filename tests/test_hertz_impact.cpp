@@ -20,7 +20,7 @@
 #include <cstdio>
 
 #include "bagdem/contact/hertz_theory.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;

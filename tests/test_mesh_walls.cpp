@@ -40,7 +40,7 @@
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/mesh/stl.hpp"
 #include "bagdem/motion/motion.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "mesh_support.hpp"
 #include "scene_builder.hpp"
 #include "support.hpp"

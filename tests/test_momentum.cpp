@@ -1,4 +1,4 @@
-// Momentum conservation of the pair contacts (stepper.hpp, contact/*.hpp).
+// Momentum conservation of the pair contacts (src/step/pair_kernel.cpp, contact/*.hpp).
 //
 // A cluster of balls converging on its centre in the middle of a large box, with friction, rolling
 // resistance, damping and spin, but no gravity and no wall contact during the run (the test checks
@@ -16,7 +16,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "rng.hpp"
 #include "scene_builder.hpp"
 

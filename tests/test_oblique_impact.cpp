@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "bagdem/contact/hertz_theory.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;

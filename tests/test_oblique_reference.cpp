@@ -41,7 +41,7 @@
 
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/contact/restitution.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;

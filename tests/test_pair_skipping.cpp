@@ -13,9 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/parallel.hpp"
 #include "bagdem/contact/geometry.hpp"
 #include "bagdem/error.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
+#include "step/stepper.hpp"
 #include "rng.hpp"
 #include "scene_builder.hpp"
 
@@ -52,7 +54,7 @@ struct Tally {
 Tally run_and_check(const Scene& s, int threads) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(threads);
-  Simulation sim(s);
+  Stepper sim(s);  // the stepper itself: the test reads its pair list
   sim.set_parallel_balls(kParallelMin);  // the parallel ball stages on this small scene
   Tally t;
   while (sim.steps_done() < s.total_steps()) {
@@ -90,7 +92,7 @@ TEST(PairSkipping, NoContactMissedOnOneOrTwoThreads) {
 // The neighbour list is renewed one step ahead (Simulation::kSkinStep): before a step's pairs
 // exactly when a ball ended the step before more than skin/2 - kSkinStep x skin from where it was
 // at the last build; so at no step's pairs is a ball more than skin/2 from there. The stepper does
-// not measure that distance at every step (Simulation::near_skin_edge: only once travel could
+// not measure that distance at every step (Stepper::near_skin_edge: only once travel could
 // have taken a ball that far); this test does, after every step, from the positions at the last
 // build it saw. The gas at 3 m/s with a skin of 20 um rebuilds every few dozen steps; tolerance:
 // the same decision at every one of the 1500 steps, and no ball ever beyond skin/2.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bagdem/io/results_file.hpp"
+#include "bagdem/step/energy.hpp"
 #include "h5_read.hpp"
 
 using namespace bagdem;
@@ -69,7 +70,7 @@ TEST(ResultsFileWrite, ValuesReadBackExactly) {
     for (int f = 0; f < 2; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
     for (int s = 0; s < 5; ++s)
       rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4));
-    for (int k = 0; k < 4; ++k) rf.append_energy(0.02 * k, energy(k));
+    for (int k = 0; k < 4; ++k) rf.append_energy(0.02 * k, energy(k).terms());
     const SeriesLengths len = rf.lengths();
     EXPECT_EQ(len.frames, 2u);
     EXPECT_EQ(len.cavity, 5u);
@@ -235,7 +236,7 @@ TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
     for (int f = 0; f < 3; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
     for (int s = 0; s < 5; ++s)
       rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4));
-    for (int k = 0; k < 5; ++k) rf.append_energy(0.02 * k, energy(k));
+    for (int k = 0; k < 5; ++k) rf.append_energy(0.02 * k, energy(k).terms());
   }
   {
     ResultsFile rf = ResultsFile::reopen(path, {1, 2, 3});
@@ -311,13 +312,13 @@ TEST(ResultsFileAttributes, SetAttributeOverwrites) {
 TEST(ResultsFileMove, MoveTransfersOwnership) {
   TempDir dir;
   ResultsFile a(dir / "a.h5", kRadius, kMaterial, {"glass"}, 0.01);
-  a.append_energy(0.0, energy(0));
+  a.append_energy(0.0, energy(0).terms());
   ResultsFile b(std::move(a));
   EXPECT_EQ(a.lengths().energy, 0u);  // NOLINT(bugprone-use-after-move): moved-from is empty
   EXPECT_EQ(b.lengths().energy, 1u);
   ResultsFile c(dir / "c.h5", kRadius, kMaterial, {"glass"}, 0.01);
   c = std::move(b);  // closes c.h5, takes a.h5
-  c.append_energy(1.0, energy(1));
+  c.append_energy(1.0, energy(1).terms());
   c.close();
   hid_t file = open_read(dir / "a.h5");
   ASSERT_GE(file, 0);

@@ -34,7 +34,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/reduce/impact_damper_theory.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
 

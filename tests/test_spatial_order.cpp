@@ -13,10 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/parallel.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/neighbour/spatial_order.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
+#include "step/stepper.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
 
@@ -149,7 +151,7 @@ TEST(SpatialOrder, TwoRangesShareFewPairs) {
   const Scene s = shuffled(load(tmp), perm, 11);
   const int before = omp_get_max_threads();
   omp_set_num_threads(2);
-  Simulation sim(s);
+  Stepper sim(s);  // the stepper itself: the test reads its threads' ranges
   sim.set_parallel_balls(kParallelMin);  // two ranges on this small scene
   sim.step();
   omp_set_num_threads(before);

@@ -46,7 +46,7 @@
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/error.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "support.hpp"
 
 using namespace bagdem;

@@ -16,7 +16,7 @@
 #include <numbers>
 
 #include "bagdem/contact/hertz_theory.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 
 using namespace bagdem;

@@ -1,4 +1,4 @@
-// The primary structure carrying the cavity (structure/primary.hpp, stepper_structure.cpp,
+// The primary structure carrying the cavity (structure/primary.hpp, src/step/structure.cpp,
 // run/sweep.hpp), through case files:
 //  - case keys and refusals;
 //  - an SDOF without contents (one ball that never touches a wall): the swept receptance against
@@ -23,7 +23,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/sweep.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/modes.hpp"
 #include "bagdem/structure/response.hpp"
 #include "support.hpp"

@@ -16,7 +16,7 @@ inline constexpr std::size_t kParallelMin = 512;
 // parallel regions a step cost about 7 us of fork, join and imbalance on two threads, the work of
 // some 200 balls: on the PD-box bed two threads were 0.8x of one at 1000 balls and 1.15-1.5x at
 // 4000 (bagdem bench --growth --tiles 1 2 --threads 1 / 2, 2026-11-25). With one region a step
-// (Simulation::fused_contacts, session 14), still 0.86-0.98x at 1000 balls and 1.33-1.57x at 4000
+// (Stepper::fused_contacts, session 14), still 0.86-0.98x at 1000 balls and 1.33-1.57x at 4000
 // with the threshold at 512 (3 rounds), so it stays here.
 inline constexpr std::size_t kParallelBalls = 2048;
 

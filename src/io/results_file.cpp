@@ -29,16 +29,9 @@ constexpr std::pair<const char*, const char*> kFrameFields[] = {
     {"position", "m"}, {"velocity", "m/s"}, {"angular_velocity", "rad/s"}};
 constexpr std::pair<const char*, const char*> kCavityFields[] = {
     {"position", "m"}, {"velocity", "m/s"}, {"force", "N"}, {"torque", "N m"}, {"contents_velocity", "m/s"}};
-// Energy datasets (J), named exactly as the EnergySample fields.
-constexpr std::pair<const char*, double EnergySample::*> kEnergyFields[] = {
-    {"kinetic", &EnergySample::kinetic},
-    {"elastic", &EnergySample::elastic},
-    {"work_cavity", &EnergySample::work_cavity},
-    {"work_gravity", &EnergySample::work_gravity},
-    {"dissipated_normal", &EnergySample::dissipated_normal},
-    {"dissipated_tangential", &EnergySample::dissipated_tangential},
-    {"dissipated_rolling", &EnergySample::dissipated_rolling},
-    {"dissipated_damping", &EnergySample::dissipated_damping}};
+// A series' name: a field's (name, unit) or an energy term's name.
+const char* name_of(const std::pair<const char*, const char*>& field) { return field.first; }
+const char* name_of(const char* term) { return term; }
 
 constexpr hsize_t kRowsPerChunk = 1024;  // time, cavity and energy series: 8-24 KiB chunks
 
@@ -170,8 +163,7 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
 
   H5 energy = p->group("energy");
   p->energy.push_back(p->series(energy, "time", {}, kRowsPerChunk, "s"));
-  for (auto [name, member] : kEnergyFields)
-    p->energy.push_back(p->series(energy, name, {}, kRowsPerChunk, "J"));
+  for (const char* name : kEnergyTerms) p->energy.push_back(p->series(energy, name, {}, kRowsPerChunk, "J"));
 
   p->flush();
   impl_ = p.release();
@@ -187,12 +179,11 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
   auto open = [&](std::vector<H5>& out, const std::string& group, const auto& fields,
                   std::size_t rows) {
     out.push_back(p->open_truncated(group + "/time", rows));
-    for (const auto& field : fields)
-      out.push_back(p->open_truncated(group + "/" + field.first, rows));
+    for (const auto& field : fields) out.push_back(p->open_truncated(group + "/" + name_of(field), rows));
   };
   open(p->frames, "/frames", kFrameFields, lengths.frames);
   open(p->cavity, "/cavity", kCavityFields, lengths.cavity);
-  open(p->energy, "/energy", kEnergyFields, lengths.energy);
+  open(p->energy, "/energy", kEnergyTerms, lengths.energy);
   p->n = p->dims(p->frames[1]).at(1);  // /frames/position is [F, N, 3]
   if (p->ok(H5Lexists(p->file, "film", H5P_DEFAULT), "cannot look for /film") > 0) {
     p->film_position = p->open_truncated("/film/position", lengths.frames);
@@ -360,11 +351,10 @@ void ResultsFile::append_cavity(double t, const Vec3& position, const Vec3& velo
   ++p.len.cavity;  // no flush (frequent): the next frame, flush() or close() does it
 }
 
-void ResultsFile::append_energy(double t, const EnergySample& e) {
+void ResultsFile::append_energy(double t, const std::array<double, kEnergyTerms.size()>& terms) {
   Impl& p = open_or_throw(impl_);
   p.append_row(p.energy[0], p.len.energy, &t);
-  for (std::size_t k = 0; k < std::size(kEnergyFields); ++k)
-    p.append_row(p.energy[1 + k], p.len.energy, &(e.*kEnergyFields[k].second));
+  for (std::size_t k = 0; k < terms.size(); ++k) p.append_row(p.energy[1 + k], p.len.energy, &terms[k]);
   ++p.len.energy;  // no flush, as for the cavity
 }
 

@@ -10,7 +10,7 @@
 #include "bagdem/motion/motion.hpp"
 #include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 
@@ -64,7 +64,7 @@ DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem
   bool ended = false;
   for (std::uint64_t n = 0; n < max_steps && !ended; ++n) {
     sim.step();
-    const Simulation::CavitySample c = sim.take_cavity_sample();  // one step: this step's force, the velocity after it
+    const CavitySample c = sim.take_cavity_sample();  // one step: this step's force, the velocity after it
     const double f = c.force.dot(u), vn = c.contents_velocity.dot(u);
     t.push_back(sim.time()), F.push_back(f), v.push_back(vn);
     peak = std::max(peak, f);

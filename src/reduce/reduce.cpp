@@ -19,7 +19,7 @@
 #include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/particles.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "../io/h5.hpp"
 

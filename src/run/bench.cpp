@@ -13,7 +13,8 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/neighbour/broad_phase.hpp"
+#include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -60,13 +61,13 @@ double timed_run(const Scene& scene, long long steps, int threads, std::uint64_t
   *builds = sim.neighbour_builds();
   if (load) {
     const auto n = static_cast<double>(sim.particles().size());
-    const std::vector<std::uint8_t>& touching = sim.pair_state().touching;
-    const auto pair_contacts = static_cast<double>(std::count(touching.begin(), touching.end(), std::uint8_t{1}));
-    load->pairs = static_cast<double>(sim.pair_state().pairs.size()) / n;
-    load->crossing = static_cast<double>(sim.pair_state().cross.size()) / static_cast<double>(std::max<std::size_t>(1, sim.pair_state().pairs.size()));
+    const PairListSize list = sim.pair_list();
+    const auto pair_contacts = static_cast<double>(list.touching);
+    load->pairs = static_cast<double>(list.pairs) / n;
+    load->crossing = static_cast<double>(list.cross) / static_cast<double>(std::max<std::size_t>(1, list.pairs));
     load->pair_contacts = pair_contacts / n;
     load->wall_contacts = (static_cast<double>(sim.contact_count()) - pair_contacts) / n;
-    const Simulation::StageTimes& t = sim.stage_times();
+    const StageTimes& t = sim.stage_times();
     const double total = t.integrate + t.neighbours + t.pairs + t.walls + t.triangles + t.film + t.guards;
     load->integrate = t.integrate / total, load->neighbours = t.neighbours / total;
     load->pair_stage = t.pairs / total, load->wall_stage = t.walls / total;
@@ -322,7 +323,7 @@ int run_bag_bench(const BenchOptions& opt) {
     for (int th : opt.threads) {
       omp_set_num_threads(th);
       std::vector<double> us;
-      Simulation::StageTimes last;
+      StageTimes last;
       std::uint64_t builds = 0;
       for (int r = 0; r < opt.repeats; ++r) {
         Simulation sim(sc);
@@ -338,7 +339,7 @@ int run_bag_bench(const BenchOptions& opt) {
       }
       std::vector<double> sorted = us;
       std::sort(sorted.begin(), sorted.end());
-      const Simulation::StageTimes& t = last;
+      const StageTimes& t = last;
       const double total = t.integrate + t.neighbours + t.pairs + t.walls + t.triangles + t.film + t.guards;
       std::printf("| %zu | %zu | %zu | %.3g | %lld | %d | %.2f | %.0f | %.0f | %.0f | %llu |\n", sc.bag->rest.triangles.size(),
                   sc.bag->rest.vertices.size(), sc.bag->balls, sc.dt, steps, th, sorted[sorted.size() / 2],

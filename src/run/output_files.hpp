@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bagdem/io/results_file.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 

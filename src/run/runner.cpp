@@ -20,7 +20,7 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 #include "checkpoint_file.hpp"
 #include "interrupt.hpp"
@@ -229,7 +229,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   std::vector<double> response, response_acc;
   auto structure_row = [&](std::optional<ResultsFile>& f) {
     if (!scene.primary) return;
-    const Simulation::StructureResponse r = sim.structure_response();
+    const StructureResponse r = sim.structure_response();
     const auto& S = sim.structure().scalars;
     f->append_table_row("structure", kStructureColumns,
                         {sim.time(), r.displacement, r.velocity, r.acceleration, r.force, r.cavity, r.load,
@@ -288,7 +288,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (scene.bag) file->write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
     append_ball_frame(*file, 0, sim);
     film_frame(file);
-    if (energy) file->append_energy(0, sim.energy());
+    if (energy) file->append_energy(0, sim.energy().terms());
     frame_times.push_back(0);
   }
 
@@ -344,11 +344,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       }
       if (energy && s == measure_step) run.dissipated_at_measure = total_dissipation(sim.energy());
       if (s % n_cavity == 0 || s == total) {
-        const Simulation::CavitySample c = sim.take_cavity_sample();
+        const CavitySample c = sim.take_cavity_sample();
         file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque, c.contents_velocity);
         structure_row(file);
       }
-      if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy());
+      if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy().terms());
       if (s % n_frame == 0 || s == total) {
         // Behind the per-step guard (a ball beyond the film's mid-surface), a global check at each
         // frame: every ball of the bag is inside its film (winding number).

@@ -24,7 +24,7 @@
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/drop_fallback.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 #include "interrupt.hpp"
 #include "output_files.hpp"
@@ -213,7 +213,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
         for (std::size_t n = 0; n < N; ++n) {
           halt_if_asked();
           sim.step();
-          const Simulation::StructureResponse r = sim.structure_response();
+          const StructureResponse r = sim.structure_response();
           const Complex e = std::polar(1.0, -r.phase);
           Y += r.displacement * e, U += r.cavity * e, L += r.load * e;
           series.t.push_back(sim.time()), series.x.push_back(r.cavity), series.force.push_back(r.load);

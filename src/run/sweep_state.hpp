@@ -10,7 +10,7 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/sweep.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 

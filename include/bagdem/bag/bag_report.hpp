@@ -3,7 +3,7 @@
 #pragma once
 #include "bagdem/io/bag_file.hpp"
 #include "bagdem/scene.hpp"
-#include "bagdem/stepper.hpp"
+#include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 

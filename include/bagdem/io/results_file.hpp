@@ -21,7 +21,7 @@
 //                                             interval (time + interval/2): impacts' restitution
 //                          attribute "interval" (s)
 //   /energy/time           [E]            s
-//   /energy/<name>         [E]            J   for name in EnergySample (see below)
+//   /energy/<name>         [E]            J   for name in kEnergyTerms (below)
 //   /film/triangles        [T, 3]         int (unit "1") a bag run's film: node indices of its
 //                                             triangles, counter-clockwise seen from outside
 //   /film/position         [F, V, 3]      m   the film's V nodes at each frame of /frames/time
@@ -42,20 +42,11 @@
 
 namespace bagdem {
 
-// One row of the energy budget (unit: J). Balance: work_cavity + work_gravity =
-// (kinetic + elastic) - (kinetic + elastic at t = 0) + dissipated_normal + dissipated_tangential
-// + dissipated_rolling + dissipated_damping (= dissipated()).
-struct EnergySample {
-  double kinetic = 0;               // translational + rotational
-  double elastic = 0;               // stored in contact springs (normal, tangential, rolling)
-  double work_cavity = 0;           // cumulative work of the cavity walls on the contents
-  double work_gravity = 0;          // cumulative work of gravity on the contents
-  double dissipated_normal = 0;     // cumulative, normal damping
-  double dissipated_tangential = 0; // cumulative, tangential damping and sliding
-  double dissipated_rolling = 0;    // cumulative, rolling resistance
-  double dissipated_damping = 0;    // cumulative, the bag's film damping and its strings' dampers
-  double dissipated() const { return dissipated_normal + dissipated_tangential + dissipated_rolling + dissipated_damping; }
-};
+// The energy budget's terms, each a dataset /energy/<name> (J), in the order of the values
+// append_energy takes (step/energy.hpp: EnergySample::terms()).
+inline constexpr std::array<const char*, 8> kEnergyTerms = {
+    "kinetic", "elastic", "work_cavity", "work_gravity", "dissipated_normal", "dissipated_tangential",
+    "dissipated_rolling", "dissipated_damping"};
 
 // Lengths of the time series written so far (stored in checkpoints; resume truncates to them).
 struct SeriesLengths {
@@ -98,7 +89,7 @@ class ResultsFile {
 
   void append_cavity(double t, const Vec3& position, const Vec3& velocity, const Vec3& mean_force,
                      const Vec3& mean_torque, const Vec3& contents_velocity);
-  void append_energy(double t, const EnergySample& e);
+  void append_energy(double t, const std::array<double, kEnergyTerms.size()>& terms);
   // A row of the table /<group>, one 1-D dataset per column (created, with its "unit" attribute,
   // by the first row; later rows must give the same columns). /structure is cut to
   // SeriesLengths::structure on reopening.

@@ -1,7 +1,7 @@
 // Force time histories f(t) that drive a primary structure at x_f (structure/primary.hpp), t counted
 // from the end of settling (unit: N). One class per kind (src/structure/excitation.cpp):
 //   harmonic  F sin(2 pi f t + phase). (A run's harmonic drive advances its phase step by step
-//             instead, so that a sweep can change f with the phase continuous: stepper_structure.cpp.)
+//             instead, so that a sweep can change f with the phase continuous: src/step/structure.cpp.)
 //   impulse   a hammer blow: half-sine pulse of impulse J and duration tau from t0,
 //             f = (pi J / (2 tau)) sin(pi (t - t0) / tau) on [t0, t0 + tau] (its integral is J).
 //   random    band-limited random force: a random-phase multisine, equal amplitudes on the lines

@@ -29,7 +29,7 @@
 // s moves by (w_b + theta s) e, so the walls' motion matches the load's projection to second order
 // in the cavity's length.
 //
-// Integration: velocity Verlet with the contents (stepper.hpp), the damping force from the velocity
+// Integration: velocity Verlet with the contents (src/step/stage.hpp), the damping force from the velocity
 // predicted to the end of the step as the contact dashpots do. Verlet's frequency error is
 // (omega dt)^2/24, 4.8e-8 at 85.6 Hz with dt = 2 us; stability needs omega_max dt < 2, checked
 // when the case is loaded.

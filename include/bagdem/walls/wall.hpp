@@ -1,7 +1,7 @@
 // Walls are geometry: each kind is one function returning the signed distance of a point from the
 // surface and the inward normal (walls/plane.hpp, walls/cylinder.hpp), and the effective radius of a
 // sphere's contact with it. The contact law is the one of particle pairs with the wall's mass at
-// infinity (src/stepper_walls.cpp, wall_contacts). Cavities (box, capped cylinder, planes) are built from
+// infinity (src/step/walls.cpp, wall_contacts). Cavities (box, capped cylinder, planes) are built from
 // these primitives (src/case/cavity_kinds.cpp).
 #pragma once
 #include <cstdint>

@@ -1,7 +1,7 @@
-// Stage 4 of the step: pair contacts, the contact kernel (layer 3 of neighbour search -> contact
-// geometry -> contact law; the wall contacts, stage 5, are in stepper_walls.cpp). Each configuration of the model switches is compiled
+// The pairs stage (stage.hpp): pair contacts, the contact kernel (neighbour search -> contact
+// geometry -> contact law; the wall contacts are in walls.cpp). Each configuration of the model switches is compiled
 // as its own loop (with_flags), so no switch is tested per contact.
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 
 #include <omp.h>
 
@@ -12,7 +12,7 @@
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
-#include "stepper_detail.hpp"
+#include "loops.hpp"
 
 namespace bagdem {
 
@@ -28,7 +28,7 @@ constexpr std::size_t kFetchAheadMin = 16384, kFetchAheadMax = 4096;
 // receives its pairs (k, p), k < p ascending, then (p, j) ascending: partner order. On several
 // threads each thread does this for its own range of particles, and the pairs across ranges go
 // through records first (PairState): the same sums in the same order.
-std::uint64_t Simulation::pair_contacts(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
+std::uint64_t Stepper::pair_contacts(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
   const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
   const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
@@ -40,7 +40,7 @@ std::uint64_t Simulation::pair_contacts(BallSpan walls, BallSpan drift, std::uin
   return done;
 }
 
-// Stages 4, 5 and the next step's stage 1 in one parallel region, in advance() when no later stage
+// The pairs and walls stages and the next step's kick_drift in one parallel region, in advance() when no later stage
 // adds to the balls' forces (no film, no STL wall; fusable): each thread does its range's pairs,
 // then its walls, then moves its balls on to the next step (their kick and drift). The staged step
 // takes three regions (a fork and a join each, and each thread waits at each join for the slowest);
@@ -54,32 +54,25 @@ std::uint64_t Simulation::pair_contacts(BallSpan walls, BallSpan drift, std::uin
 // is still in cache from its pairs when it drifts. It was slower, not faster: 79-83 ns against
 // 74-76 ns per particle-step at 49 000 balls on one thread (the staged passes stream through
 // memory, which the prefetchers follow; the pieces break the streams).
-void Simulation::fused_contacts() {
+void Stepper::fused_contacts() {
   pair_contacts(wall_stage(), drift_stage(true));  // the kick of this step is pending (advance)
-  drifted_ = true;
+  ctx_.drifted = true;
   ++fused_steps_;
 }
 
 // A pair contact opened this step: clears its history and returns what it still held
 // (closing_tally, when Energy; else zero). Rare, so kept out of line: the pair loop stays small.
 template <bool Tangential, bool Rolling, bool Energy>
-[[gnu::noinline]] Vec3 Simulation::open_pair(std::size_t k) {
+[[gnu::noinline]] Vec3 Stepper::open_pair(std::size_t k) {
   ps_.touching[k] = 0;
-  Vec3 d = Vec3::Zero();
-  if constexpr (Energy) {
+  return ps_.hist.open<Tangential, Rolling, Energy>(k, ctx_.dt, [&] {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
-    const Vec3 v_c = p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n);
-    d = closing_tally<Tangential, Rolling>(n, v_c, p_.w[i] - p_.w[j], dt_step_, ps_.damping_prev[k],
-                                           Tangential ? &ps_.tangential[k] : nullptr, Rolling ? &ps_.rolling[k] : nullptr);
-    ps_.damping_prev[k] = 0.0;
-  }
-  if constexpr (Tangential) ps_.tangential[k] = {};
-  if constexpr (Rolling) ps_.rolling[k] = {};
-  return d;
+    return OpeningMotion{n, p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n), p_.w[i] - p_.w[j]};
+  });
 }
 
-void Simulation::end_pair_stage(const StageFold& fold, bool fused) {
+void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
   overlap_excess_ = fold.excess;
   if (fused) {
     end_walls(fold);
@@ -90,9 +83,9 @@ void Simulation::end_pair_stage(const StageFold& fold, bool fused) {
 // Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
 // values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
-std::uint64_t Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
+std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
   const std::size_t np = ps_.pairs.size();
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   const PairLawTable* laws = &scene_.laws;  // a pointer: captured by value where used (pair_lanes)
   const double frac = scene_.max_overlap_fraction;
   const double r0 = np > 0 ? p_.radius[0] : 0.0, im0 = np > 0 ? p_.inv_mass[0] : 0.0;
@@ -106,9 +99,9 @@ std::uint64_t Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift, std
   const std::uint32_t* first = ps_.first.data();
   const std::uint32_t* partner = ps_.pairs.partner.data();
   std::uint8_t* touching = ps_.touching.data();
-  double* damping_prev = ps_.damping_prev.data();
-  TangentialHistory* tangential = ps_.tangential.data();
-  RollingHistory* rolling = ps_.rolling.data();
+  double* damping_prev = ps_.hist.damping_prev.data();
+  TangentialHistory* tangential = ps_.hist.tangential.data();
+  RollingHistory* rolling = ps_.hist.rolling.data();
   const std::uint32_t* cross = ps_.cross.data();
   PairState::Record* rec = ps_.rec.data();
   Vec3* rec_diss = ps_.rec_diss.data();
@@ -450,7 +443,7 @@ std::uint64_t Simulation::pair_contacts_impl(BallSpan walls, BallSpan drift, std
   // Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
   // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
   // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
-  // positions at step s - 1, Simulation::kSkinStep). A guard that fails ends the steps for all:
+  // positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:
   // each goes on only up to that step (stop_before_), so the first failing step is found.
   const std::uint64_t base = pair_regions_;
   const std::size_t nr = ranges;

@@ -1,6 +1,6 @@
-// Stage 6 of the step: the bag's film. Its nodes carry gravity, the membrane's elastic and damping
+// The film stage (stage.hpp): the bag's film. Its nodes carry gravity, the membrane's elastic and damping
 // forces (bag/membrane.hpp), their contacts with the cavity walls, the strings' pull, and the
-// loads of the balls' film contacts (stepper_meshes.cpp), summed in a fixed order (node by node;
+// loads of the balls' film contacts (surfaces.cpp), summed in a fixed order (node by node;
 // the balls' loads in ball order), so results do not depend on the thread count.
 //
 // Film-wall contact: each node is the centre of a small patch of film of half thickness t/2; it
@@ -14,12 +14,12 @@
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
-#include "bagdem/stepper.hpp"
-#include "stepper_detail.hpp"
+#include "stepper.hpp"
+#include "loops.hpp"
 
 namespace bagdem {
 
-void Simulation::set_up_film() {
+void Stepper::set_up_film() {
   if (!scene_.bag) return;
   const Bag& bag = *scene_.bag;
   membrane_ = std::make_unique<Membrane>(bag.rest, bag.film);
@@ -38,13 +38,12 @@ void Simulation::set_up_film() {
     film_.inv_mass[k] = 1.0 / film_.mass[k];
   }
   const std::size_t nw = scene_.walls.size();
-  film_wall_tan_.assign(scene_.models.tangential ? nn * nw : 0, {});
-  film_wall_damping_prev_.assign(scene_.models.energy ? nn * nw : 0, 0.0);
+  film_wall_hist_.assign(nn * nw, scene_.models.tangential, false, scene_.models.energy);
   film_wall_touch_.assign(nn, 0);
   strings_.assign(bag.strings.size(), {});
 }
 
-void Simulation::film_stage() {
+void Stepper::film_stage() {
   if (!scene_.bag) return;
   const Bag& bag = *scene_.bag;
   const std::size_t nn = film_.size();
@@ -59,7 +58,7 @@ void Simulation::film_stage() {
   with_flags([this]<bool T, bool E>() { film_walls<T, E>(); }, scene_.models.tangential, scene_.models.energy);
 
   // Strings, from the tie's mean position to the anchor moving with the cavity.
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   for (std::size_t s = 0; s < bag.strings.size(); ++s) {
     const BagString& st = bag.strings[s];
     // The anchor moves with the cavity at its own place (the slope's shear included).
@@ -119,10 +118,10 @@ void Simulation::film_stage() {
 
 // Film nodes against the cavity's walls (planes, cylinders).
 template <bool Tangential, bool Energy>
-void Simulation::film_walls() {
+void Stepper::film_walls() {
   const Bag& bag = *scene_.bag;
   const std::size_t nn = film_.size(), nw = scene_.walls.size();
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   const WallMotion rigid = rigid_motion();
   const double reach = 0.5 * bag.film.thickness;
   double work = 0, dn = 0, dtg = 0, deepest = 1e300;
@@ -143,14 +142,10 @@ void Simulation::film_walls() {
       const std::size_t h = k * nw + w;
       if (g.overlap <= 0) {
         if (touched_before & (1u << w)) {
-          if constexpr (Energy) {
-            const Vec3 dd = closing_tally<Tangential, false>(g.n, film_.v[k] - c_half, Vec3::Zero(), dt,
-                                                             film_wall_damping_prev_[h],
-                                                             Tangential ? &film_wall_tan_[h] : nullptr, nullptr);
-            dn += dd.x(), dtg += dd.y();
-            film_wall_damping_prev_[h] = 0.0;
-          }
-          if constexpr (Tangential) film_wall_tan_[h] = {};
+          const Vec3 dd = film_wall_hist_.open<Tangential, false, Energy>(h, dt, [&] {
+            return OpeningMotion{g.n, film_.v[k] - c_half, Vec3::Zero()};
+          });
+          if constexpr (Energy) dn += dd.x(), dtg += dd.y();
         }
         continue;
       }
@@ -164,8 +159,8 @@ void Simulation::film_walls() {
       Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
       [[maybe_unused]] double no_tally = 0;
       const Vec3 Fc = surface_contact<Tangential, false, Energy>(
-          g, scene_.laws(bag.material, wall.material), dt, Energy ? film_wall_damping_prev_[h] : no_tally,
-          Tangential ? &film_wall_tan_[h] : nullptr, nullptr, no_torque, diss);
+          g, scene_.laws(bag.material, wall.material), dt, Energy ? film_wall_hist_.damping_prev[h] : no_tally,
+          Tangential ? &film_wall_hist_.tangential[h] : nullptr, nullptr, no_torque, diss);
       if constexpr (Energy) dn += diss.x(), dtg += diss.y();
       F_wall += Fc;
       L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
@@ -190,7 +185,7 @@ void Simulation::film_walls() {
 }
 
 // Elastic energy held by the film: membrane and bending, strings, film-wall contacts.
-double Simulation::film_elastic_energy() const {
+double Stepper::film_elastic_energy() const {
   if (!scene_.bag) return 0.0;
   const Bag& bag = *scene_.bag;
   double u = membrane_->elastic_energy(film_.x);
@@ -215,7 +210,7 @@ double Simulation::film_elastic_energy() const {
       const double overlap = 0.5 * bag.film.thickness - wall_distance(scene_.walls[w], film_.x[k] - motion_at(film_.x[k]).pos, n);
       if (overlap <= 0) continue;
       u += hertz_energy(scene_.laws(bag.material, scene_.walls[w].material), bag.contact_radius, overlap);
-      if (scene_.models.tangential) u += mindlin_energy(film_wall_tan_[k * nw + w]);
+      if (scene_.models.tangential) u += mindlin_energy(film_wall_hist_.tangential[k * nw + w]);
     }
   return u;
 }

@@ -1,4 +1,4 @@
-// Stage 6 of the step: balls against triangulated surfaces, the bag's film (deformable, surface 0
+// The triangles stage (stage.hpp): balls against triangulated surfaces, the bag's film (deformable, surface 0
 // when there is a bag) and STL walls (rigid, moving with the cavity).
 //
 // Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
@@ -26,8 +26,8 @@
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/contact/surface_law.hpp"
-#include "bagdem/stepper.hpp"
-#include "stepper_detail.hpp"
+#include "stepper.hpp"
+#include "loops.hpp"
 
 namespace bagdem {
 namespace {
@@ -101,7 +101,7 @@ void keep_patches(std::vector<Found>& hits) {
 
 }  // namespace
 
-void Simulation::set_up_meshes() {
+void Stepper::set_up_meshes() {
   surfaces_.clear();
   if (scene_.bag) surfaces_.push_back({&scene_.bag->rest, true, scene_.bag->material, 0.5 * scene_.bag->film.thickness});
   for (const MeshWall& w : scene_.mesh_walls) surfaces_.push_back({&w.mesh, false, w.material, 0.0});
@@ -130,7 +130,7 @@ void Simulation::set_up_meshes() {
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
-void Simulation::triangle_contacts() {
+void Stepper::triangle_contacts() {
   if (surfaces_.empty()) return;
   with_flags([this]<bool T, bool R, bool E>() { triangle_contacts_impl<T, R, E>(); }, scene_.models.tangential,
              scene_.models.rolling, scene_.models.energy);
@@ -139,9 +139,9 @@ void Simulation::triangle_contacts() {
 // Each ball's contacts add to its force after its walls' (the same order for any thread count); the
 // STL walls' share enters the cavity's load and work as the analytic walls' does.
 template <bool Tangential, bool Rolling, bool Energy>
-void Simulation::triangle_contacts_impl() {
+void Stepper::triangle_contacts_impl() {
   const std::size_t n = p_.size();
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   const WallMotion rigid = rigid_motion();
   auto one = [&](std::size_t p) {
     double excess = -HUGE_VAL;
@@ -166,7 +166,7 @@ void Simulation::triangle_contacts_impl() {
 }
 
 // From the positions of a build (the current ones, or those stored in a checkpoint).
-void Simulation::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
+void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     const Surface& sf = surfaces_[s];
     if (sf.film) {
@@ -183,7 +183,7 @@ void Simulation::build_mesh_candidates(const std::vector<Vec3>& balls, const std
 
 // The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the
 // cavity; those of the film while no ball and no film node moved more than skin/2.
-bool Simulation::meshes_need_rebuild() const {
+bool Stepper::meshes_need_rebuild() const {
   if (surfaces_.empty()) return false;
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
   // The candidates of STL walls are found for the cavity's translation; a slope moves a point at
@@ -204,10 +204,10 @@ bool Simulation::meshes_need_rebuild() const {
 }
 
 template <bool Tangential, bool Rolling, bool Energy>
-void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
+void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
                                Vec3& load, double& excess) {
   constexpr std::size_t K = kMaxMeshContacts;
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   const double r = p_.radius[p];
   const WallMotion wm = motion_at(p_.x[p]);
   const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
@@ -323,14 +323,14 @@ void Simulation::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3
 }
 
 
-// Film nodes against the STL walls: the film-wall law of stepper_film.cpp (R* = the film's contact
+// Film nodes against the STL walls: the film-wall law of film.cpp (R* = the film's contact
 // radius, m* = the node's mass, reach = half the thickness) on the sphere-triangle contact.
 template <bool Tangential, bool Energy>
-void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
+void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
                                     double& deepest) {
   constexpr std::size_t K = kMaxMeshContacts;
   const Bag& bag = *scene_.bag;
-  const double dt = dt_step_;
+  const double dt = ctx_.dt;
   const WallMotion wm = motion_at(film_.x[k]);
   const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
   const double reach = node_reach_[k];
@@ -407,18 +407,18 @@ void Simulation::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& 
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
 }
 
-template void Simulation::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Simulation::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Stepper::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Stepper::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Stepper::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void Stepper::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
 
-std::size_t Simulation::mesh_contact_count() const {
+std::size_t Stepper::mesh_contact_count() const {
   std::size_t c = 0;
   for (std::uint8_t k : slot_count_) c += k;
   return c;
 }
 
-std::vector<std::size_t> Simulation::balls_outside_bag() const {
+std::vector<std::size_t> Stepper::balls_outside_bag() const {
   std::vector<std::size_t> out;
   if (!scene_.bag) return out;
   const Bag& bag = *scene_.bag;

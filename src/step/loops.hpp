@@ -1,4 +1,4 @@
-// Pieces the stepper's source files share (private to src/).
+// Loops the stepper's stages share: compile-time switches, the threads' spans and ranges, waiting.
 #pragma once
 #include <omp.h>
 
@@ -8,9 +8,7 @@
 #include <memory>
 #include <thread>
 
-#include "bagdem/contact/mindlin.hpp"
-#include "bagdem/contact/rolling.hpp"
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
@@ -34,12 +32,6 @@ template <class Body, class Acc>
 [[gnu::flatten]] void run_items(Body body, std::size_t begin, std::size_t end, Acc& acc) {
   for (std::size_t i = begin; i < end; ++i) body(i, acc);
 }
-
-// The bytes of a tangential history that the law reads and writes: without the energy tally its
-// force and stiffness, the first row (surface_contact_lanes). 7 in 8 histories straddle two cache
-// lines, 3 in 8 of the first rows.
-template <bool Energy>
-constexpr std::size_t kTangentialBytes = Energy ? sizeof(TangentialHistory) : 4 * sizeof(double);
 
 // One turn of a spin wait: tells the core it is waiting (x86 `pause`), so it yields resources and
 // leaves the loop without a memory-order flush when the value comes.
@@ -146,19 +138,6 @@ template <class Acc, class Body, class Merge>
 void for_ranges(SpanBalance& balance, std::size_t n, Acc& acc, const Body& body, Merge merge) {
   for_range_spans(
       balance, n, acc, [&body](std::size_t b, std::size_t e, Acc& a) { run_items(body, b, e, a); }, merge);
-}
-
-// What a contact still held when it opened, as (normal, tangential, rolling) dissipation: the last
-// half step of its forces' trapezoidal work (hertz.hpp, mindlin.hpp, rolling.hpp) and the energy
-// its springs still stored. Both vanish with the overlap as dt -> 0; tallying them keeps the
-// energy budget exact. n: normal from j to i; v_c, w_rel: half-step relative motion.
-template <bool Tangential, bool Rolling>
-Vec3 closing_tally(const Vec3& n, const Vec3& v_c, const Vec3& w_rel, double dt, double damping_prev,
-                   const TangentialHistory* th, const RollingHistory* rh) {
-  Vec3 d(-0.5 * damping_prev * v_c.dot(n) * dt, 0, 0);
-  if constexpr (Tangential) d.y() = mindlin_energy(*th) - 0.5 * th->total.dot(v_c - v_c.dot(n) * n) * dt;
-  if constexpr (Rolling) d.z() = rolling_energy(*rh) - 0.5 * rh->torque.dot(w_rel - w_rel.dot(n) * n) * dt;
-  return d;
 }
 
 }  // namespace bagdem

@@ -1,120 +1,30 @@
-// The stepper: one time step is a fixed list of stages over flat arrays (see Stage).
-//
-//   1. kick_drift      v += dt/2 F/m, x += dt v, w += dt/2 T/I        velocity Verlet, first half
-//                      (balls and film nodes)
-//   2. move_cavity     cavity position and velocity at t + dt (prescribed, or from the structure)
-//   3. neighbours      rebuild the Verlet pair list, the walls near each ball and the
-//                      sphere-triangle candidate lists when a ball came near the skin's edge at
-//                      the last step (kSkinStep), or a film node or the cavity moved more than skin/2
-//   4. pair_contacts   each candidate pair that may touch (PairState::wake): geometry -> contact
-//                      law -> per-pair force/torque
-//   5. wall_contacts   each ball: its wall contacts
-//   6. triangles       each ball: its contacts with triangulated surfaces, the bag's film and STL
-//                      walls (stepper_meshes.cpp)
-//   7. film            the bag's film: membrane, strings, film-wall contacts, the balls' loads on
-//                      its nodes (stepper_film.cpp)
-//   8. structure       the primary structure carrying the cavity: the contents' load on it, its
-//                      external force, its acceleration (stepper_structure.cpp)
-//   9. kick            v += dt/2 F/m, w += dt/2 T/I                    velocity Verlet, second half
-//                      (the balls' kick is done at the end of stage 5 when stage 6 has no surface,
-//                      and between the steps of one advance() in the next step's stage 1)
-//  10. guards          NaN, excessive overlap, a ball outside the cavity or across the film, a ball
-//                      too fast for the skin (kSkinStep) -> RunError
-// Between the steps of one advance() with no film and no STL wall, stages 4, 5 and the balls' part
-// of the next step's stage 1 run in one parallel region (fused_contacts); on several threads,
-// without a structure, many such steps run in one region, pipelined (run_pipelined).
-// Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
-// advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
-// v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
-// restitution when damping dominates).
-// Determinism: every per-particle sum runs in a fixed order (pairs by partner index, then walls in
-// wall order), and totals are summed over particles in index order, so results are bitwise equal
-// for any thread count. The index order is the stepper's own: set-up sorts the balls spatially
-// (neighbour/spatial_order.hpp), so that each thread's contiguous range of balls is a compact piece
-// of the bed (PairState); outputs are written in the scene's order.
+// The stepper behind Simulation (step/simulation.hpp): the state of the contents, the cavity and the
+// structure as flat arrays, and the stages of a step (stage.hpp) that advance it. Private to src/step/.
 #pragma once
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "bagdem/bag/membrane.hpp"
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
-#include "bagdem/io/results_file.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/parallel.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 #include "bagdem/span_balance.hpp"
+#include "bagdem/step/energy.hpp"
+#include "bagdem/step/samples.hpp"
+#include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/primary.hpp"
+#include "pair_state.hpp"
+#include "stage.hpp"
 
 namespace bagdem {
-
-// Contact histories and per-pair results on the current candidate pair list.
-//
-// Pair contacts on several threads. The particles are cut into `ranges` contiguous ranges (one per
-// thread; at first of about equal pair counts, then moved by the clock, SpanBalance), and each
-// range's pairs are summed onto its particles in pair order by one thread, as a single thread sums
-// them all. The spatial order of the balls makes the ranges slabs of the bed, so few pairs cross
-// between them (1-4% in a packed bed). A pair whose particles lie in two ranges (a cross pair: i's
-// range is below j's) is computed first, by the thread of j's range, into two records. i adds
-// its record at the pair's place among its own pairs; j adds its records, in the order of their i,
-// before its own range reaches it: where a single thread adds them too (j's partners below its range
-// come first in partner order). The same operands in the same order: the same bits for any thread
-// count. The threads do not meet between the cross pairs and the ranges: a range's thread waits
-// for the records of its cross pairs only when its pairs reach the first of them (the range's last
-// balls; by then the threads of the ranges above have long computed them), and a thread never
-// waits before it has computed the cross pairs into its own ranges, so every wait ends.
-struct PairState {
-  CandidatePairs pairs;                      // i < j, canonical order
-  std::vector<std::uint32_t> first;          // i of each pair
-  std::vector<TangentialHistory> tangential; // per pair (empty when the scene has no friction)
-  std::vector<RollingHistory> rolling;       // per pair (empty without rolling resistance)
-  std::vector<double> damping_prev;          // per pair, previous normal damping force (energy tally) (unit: N)
-  std::vector<std::uint8_t> touching;        // per pair: 1 in contact at the last step (its history may be set), 0 apart
-  // Per pair: the value of Simulation's `travel` from which on the pair may touch (unit: m). A pair
-  // found apart by a gap g when travel was t0 cannot close while travel < t0 + g/2 (each of its
-  // balls moved at most travel - t0 since), so the pair stage does not look at it until then. In a
-  // shaken bed most candidate pairs sleep for hundreds of steps; they cost one comparison a step.
-  // Single precision rounded down (round_down_to_float): a pair may wake a little early, never late.
-  std::vector<float> wake;
-  // The largest j - i of the pairs: the pair stage at ball i reaches balls up to i + reach, most of
-  // them for the first time in the step (their state is fetched ahead: pair_contacts_impl).
-  std::size_t reach = 0;
-
-  std::uint32_t ranges = 0;                  // 0: not yet cut for this list (derive_ranges)
-  std::vector<std::uint32_t> range_first;    // ranges + 1: range r holds particles [range_first[r], range_first[r + 1])
-  std::vector<std::uint32_t> cross;          // the cross pairs, ascending
-  std::vector<std::uint8_t> is_cross;        // per pair
-  struct JSide {
-    std::uint32_t particle, cross;           // j of cross pair `cross`
-  };
-  std::vector<JSide> j_side;                 // by particle, then by i
-  std::vector<std::uint32_t> j_side_range;   // ranges + 1: range r's entries of j_side
-  std::vector<std::uint32_t> cross_into;     // the cross pairs (indices into `cross`) by j's range, ascending within each
-  std::vector<std::uint32_t> cross_into_range;  // ranges + 1: range r's entries of cross_into
-  std::vector<std::uint32_t> records_from;   // per range: its first cross pair (its pairs' end when it has none)
-  std::vector<std::uint32_t> records_upto;   // per range: the highest range its cross pairs reach (itself when none)
-  std::vector<std::uint32_t> cross_from;     // per range: the lowest range whose balls the cross pairs into it reach (itself when none)
-  struct Record {
-    Vec3 force;   // on the record's particle: +F on i, -F on j (unit: N)
-    Vec3 torque;  // on the record's particle (unit: N m)
-  };
-  std::vector<Record> rec;                   // per cross pair c: i's (2c) and j's (2c + 1); zero when apart
-  std::vector<Vec3> rec_diss;                // per cross pair (energy tally): its (normal, tangential, rolling) dissipation this step, half to each particle (unit: J)
-};
-
-// The bag's film nodes: point masses (no rotation), integrated like the balls.
-struct FilmNodes {
-  std::vector<Vec3> x, v, v_pred, f;   // as in Particles (unit: m, m/s, N)
-  std::vector<Vec3> f_damp, f_damp_prev;  // membrane damping force, this and the previous step (unit: N)
-  std::vector<Vec3> wall_force_prev;   // force of the walls on each node at the previous step (unit: N)
-  std::vector<double> mass, inv_mass;  // (unit: kg, 1/kg)
-  std::size_t size() const { return x.size(); }
-};
 
 // One ball's contact with a feature of a triangulated surface (film or STL wall), with its history.
 struct MeshSlot {
@@ -134,13 +44,13 @@ struct FilmLoad {
   std::uint32_t triangle = 0;
 };
 
-class Simulation {
+class Stepper {
  public:
-  explicit Simulation(const Scene& scene);
+  explicit Stepper(const Scene& scene);
 
   void step() { advance(1); }       // advance one time step
   // Advances `steps` time steps, the same bits as step() that many times. Between two of them the
-  // balls' second half-kick (stage 9) is not a pass of its own: it is done in the next step's
+  // balls' second half-kick (the kick stage) is not a pass of its own: it is done in the next step's
   // kick_drift, which applies the same force twice in the same order (v + h F/m, then + h F/m), and
   // the wall stage visits only the balls near a wall or the cavity's bounds (near_balls_). One pass
   // over the balls fewer a step. The state is complete when it returns (and only then: read
@@ -178,32 +88,9 @@ class Simulation {
   double initial_stored_energy() const { return kinetic_elastic0_; }
   // Energy budget now (sums over particles in index order).
   EnergySample energy() const;
-  // The cavity over the steps since the last call, all as means over those steps (so every channel
-  // is centred on the same time): force and torque the contents exerted on it (impulse / elapsed
-  // time; torque about Scene::cavity_reference), its position and velocity, and the mean of the
-  // steps' times. Resets the sums.
-  struct CavitySample {
-    double time = 0;               // mean of the step times (unit: s)
-    Vec3 position = Vec3::Zero();  // (unit: m)
-    Vec3 velocity = Vec3::Zero();  // (unit: m/s)
-    Vec3 force = Vec3::Zero();     // (unit: N)
-    Vec3 torque = Vec3::Zero();    // (unit: N m)
-    Vec3 contents_velocity = Vec3::Zero();  // the contents' centre of mass relative to the cavity, at the end (unit: m/s)
-  };
-  // Wall-clock time spent in each stage since profiling was switched on (benchmarks; off by
-  // default: reading the clock costs about 1% of a small step).
-  struct StageTimes {
-    double integrate = 0;   // kick_drift + move_cavity + kick (balls and film nodes) (unit: s)
-    double neighbours = 0;  // pair list and triangle candidate lists
-    double pairs = 0;       // ball-ball contacts
-    double walls = 0;       // ball-wall contacts (and the balls' kick, kick_balls_here)
-    double triangles = 0;   // ball-film and ball-STL contacts
-    double film = 0;        // membrane, strings, film-wall contacts, loads on the film
-    double guards = 0;
-    std::uint64_t steps = 0;
-  };
+  // The cavity over the steps since the last call (take_cavity_sample): means over them.
   void set_profiling(bool on) { profile_ = on; }
-  // Whether advance() may run stages 4, 5 and the next step's 1 in one parallel region
+  // Whether advance() may run the pairs and walls stages and the next step's kick_drift in one parallel region
   // (fused_contacts; default on). Results are the same bits either way; tests compare the two.
   void set_fusion(bool on) { fuse_ = on; }
   std::uint64_t fused_steps() const { return fused_steps_; }
@@ -234,38 +121,13 @@ class Simulation {
   // ball that moves more than kSkinStep x skin in one step stops the run (guards). So no ball is
   // ever more than skin/2 from its place at the build when its pairs are computed, and on several
   // threads each range of balls knows a step ahead whether the list holds, without waiting for the
-  // others (pipelined steps, advance). The list is then renewed after skin/4 of motion instead of
-  // skin/2: 3 builds instead of 2 in the 12 000 steps of `bagdem bench --sizes 10000`, about 0.2%
-  // of the time at 8 ms a build (one thread unchanged within the noise). kSkinStep x
-  // skin is 0.2 mm with the default skin of 4 mm balls: 1000 m/s at dt = 2e-7 s.
-  static constexpr double kSkinStep = 0.25;
+  // others (pipelined steps). The price: a renewal after skin/4 of motion instead of skin/2.
+  // kSkinStep x skin is 0.2 mm with the default skin of 4 mm balls: 1000 m/s at dt = 2e-7 s.
+  static constexpr double kSkinStep = Simulation::kSkinStep;
   CavitySample take_cavity_sample();
   // Number of contacts (pairs and walls) currently closed.
   std::size_t contact_count() const;
 
-  // The primary structure (scene.primary): its state, its response at x_a, its energy.
-  struct StructureState {
-    std::vector<double> q, v, v_pred, a;  // generalized coordinates and their rates (structure/primary.hpp)
-    std::vector<double> damping_prev;     // C v_pred at the last step (trapezoidal tallies)
-    std::vector<double> load_prev;        // generalized load of the contents at the last step
-    struct Scalars {
-      double phase = 0;          // harmonic drive: phase of the force F sin(phase) (unit: rad)
-      double omega = 0;          // harmonic drive: circular frequency (unit: rad/s)
-      double force = 0;          // external force at x_f at the last step (unit: N)
-      bool released = false;     // settling is over: the structure moves
-      double work_external = 0;  // cumulative work of the external force (unit: J)
-      double work_contents = 0;  // cumulative work of the contents' load on the structure (unit: J)
-      double dissipated = 0;     // cumulative dissipation of the structure's damping (unit: J)
-    } scalars;
-    Vec3 load_now = Vec3::Zero();  // the contents' load moments (m0, m1, m2) at the last step
-  };
-  struct StructureResponse {
-    double displacement = 0, velocity = 0, acceleration = 0;  // at x_a along e (unit: m, m/s, m/s^2)
-    double force = 0;      // external force at x_f (unit: N)
-    double phase = 0;      // drive phase (unit: rad)
-    double cavity = 0;     // cavity displacement along e (unit: m)
-    double load = 0;       // transverse force of the contents on the cavity (unit: N)
-  };
   const StructureState& structure() const { return structure_; }
   // Velocity of the contents' centre of mass (balls and film nodes) relative to the cavity, now.
   Vec3 contents_relative_velocity() const;
@@ -282,7 +144,20 @@ class Simulation {
   void load_state(const std::vector<char>& image);
 
  private:
+  // One row of the step's table of stages (stages()): what it runs, the clock that times it.
+  struct StageEntry {
+    Stage stage;
+    void (Stepper::*run)();
+    double StageTimes::*clock;
+  };
+  static std::span<const StageEntry> stages();
+  void begin_step(bool last);
   void step_once(bool last);
+  // The stages that are not a function of their own elsewhere.
+  void renew_neighbours();
+  void pair_stage();
+  void structure_stage();
+  void end_step();
   void kick_drift();
   void move_cavity();
   void cavity_to(double t, const CavityState& c);  // the cavity at time t is c (and its sums)
@@ -316,7 +191,7 @@ class Simulation {
   WallMotion rigid_motion() const { return rigid_motion(cavity_prev_, cavity_); }
   WallMotion rigid_motion(const CavityState& prev, const CavityState& now) const {
     const Vec3 step = now.position - prev.position;
-    return {now.position, now.velocity, dt_step_ > 0 ? Vec3(step / dt_step_) : now.velocity, step};
+    return {now.position, now.velocity, ctx_.stepping() ? Vec3(step / ctx_.dt) : now.velocity, step};
   }
   WallMotion motion_at(const Vec3& x) const {
     WallMotion m = rigid_motion();
@@ -325,7 +200,7 @@ class Simulation {
     m.pos += s * cavity_.shear;
     m.vel += s * cavity_.shear_rate;
     m.step += s * (cavity_.shear - cavity_prev_.shear);
-    if (dt_step_ > 0) m.half = m.step / dt_step_;
+    if (ctx_.stepping()) m.half = m.step / ctx_.dt;
     return m;
   }
   // Moments (f, f s, f s^2) of the transverse force f = F . e the contents put on the cavity at
@@ -347,8 +222,8 @@ class Simulation {
   // A stage over the balls [b0, b1) (drift_span, wall_span, as chosen for the scene's models).
   // cavity: the walls' motion over the step (rigid_motion), which the wall stage reads (with a
   // slope, per ball: motion_at) and the drift does not.
-  using BallSpan = void (Simulation::*)(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
-  // Stage 1 on balls [b0, b1): Finish: the last step's kick first (advance). end_drift: its results.
+  using BallSpan = void (Stepper::*)(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
+  // kick_drift on balls [b0, b1): Finish: the last step's kick first (advance). end_drift: its results.
   template <bool Finish, bool Rotation, bool Gravity, bool Energy>
   void drift_span(std::size_t b0, std::size_t b1, const WallMotion& cavity, StageFold& fold);
   BallSpan drift_stage(bool finish) const;
@@ -358,9 +233,9 @@ class Simulation {
   bool near_skin_edge();
   // Stages 4, 5 and the next step's 1 in one parallel region (fused_contacts).
   void fused_contacts();
-  // defer_kick_ also means no triangulated surface, so no film: no later stage adds to the balls.
-  bool fusable() const { return fuse_ && !profile_ && defer_kick_; }
-  // Stage 4; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
+  // ctx_.defer_kick also means no triangulated surface, so no film: no later stage adds to the balls.
+  bool fusable() const { return fuse_ && !profile_ && ctx_.defer_kick; }
+  // The pairs stage; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
   // them once its pairs are done.
   // pipelined > 0: up to that many pipelined steps (run_pipelined), whose count it returns.
   std::uint64_t pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr, std::uint64_t pipelined = 0);
@@ -396,7 +271,7 @@ class Simulation {
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
-  void bag_state_fields(IO& io);
+  void state_fields(IO& io);  // checkpoint.cpp
   bool meshes_need_rebuild() const;
   template <bool Tangential, bool Energy>
   void film_walls();
@@ -420,7 +295,7 @@ class Simulation {
       g.w_half.setZero();
     }
   }
-  // Stage 9 for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
+  // The kick for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
   // whether the new velocity is finite.
   BAGDEM_INLINE bool kick_ball(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {
     const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * F;
@@ -453,16 +328,12 @@ class Simulation {
   // Buffers of the previous pair list, reused by the next rebuild (no allocation once grown).
   struct Spare {
     CandidatePairs pairs;
-    std::vector<TangentialHistory> tangential;
-    std::vector<RollingHistory> rolling;
-    std::vector<double> damping_prev;
+    ContactHistories hist;
   } spare_;
   // Histories of the wall contacts, per wall then per particle (wall_slot): the balls on one wall
   // of a bed (its floor) come in runs in the stepper's order (spatial_order), so their histories
   // on that wall lie side by side.
-  std::vector<TangentialHistory> wall_tan_;
-  std::vector<RollingHistory> wall_roll_;
-  std::vector<double> wall_damping_prev_;     // (energy tally)
+  ContactHistories wall_hist_;
   std::size_t wall_slot(std::size_t p, std::size_t w) const { return w * p_.size() + p; }
   std::vector<std::uint32_t> wall_touch_;     // per particle: bit w set = touched wall w at the last step
   // Per particle: bit w set = wall w was within skin of the ball's surface at the last neighbour
@@ -477,7 +348,7 @@ class Simulation {
   Vec3 cavity_pos_at_build_ = Vec3::Zero();   // cavity position and shear at the last build
   Vec3 cavity_shear_at_build_ = Vec3::Zero();
   CavityState cavity_, cavity_prev_;
-  double dt_step_ = 0;                        // dt of the step in progress (0 during set-up)
+  StepContext ctx_;                           // what the stages of the step in progress share
   std::uint64_t step_ = 0;
   std::uint64_t builds_ = 0;
   // Sums over the steps of the current cavity sample (take_cavity_sample).
@@ -487,7 +358,7 @@ class Simulation {
     Vec3 position = Vec3::Zero();    // (unit: m)
     Vec3 velocity = Vec3::Zero();    // (unit: m/s)
   } cavity_sums_;
-  // ---- triangulated surfaces (stepper_meshes.cpp): the film (surface 0 with a bag), STL walls ----
+  // ---- triangulated surfaces (surfaces.cpp): the film (surface 0 with a bag), STL walls ----
   struct Surface {
     const TriangleMesh* mesh;   // topology (and, for STL walls, the vertices in the cavity frame)
     bool film;                  // vertices are film_.x (lab frame); otherwise mesh->vertices + cavity position
@@ -511,11 +382,10 @@ class Simulation {
   std::vector<MeshSlot> node_slots_;          // per film node: kMaxMeshContacts slots on STL walls
   std::vector<std::uint8_t> node_slot_count_;
   std::size_t mesh_overflow_ = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
-  // ---- the bag's film (stepper_film.cpp) ----
+  // ---- the bag's film (film.cpp) ----
   FilmNodes film_;
   std::unique_ptr<Membrane> membrane_;
-  std::vector<TangentialHistory> film_wall_tan_;  // per node per wall
-  std::vector<double> film_wall_damping_prev_;
+  ContactHistories film_wall_hist_;               // per node per wall (no rolling: a node does not turn)
   std::vector<std::uint32_t> film_wall_touch_;    // per node: walls touched at the last step
   struct StringState {
     double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
@@ -531,7 +401,7 @@ class Simulation {
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
   } film_tally_;
 
-  // ---- the primary structure (stepper_structure.cpp) ----
+  // ---- the primary structure (structure.cpp) ----
   StructureState structure_;
   Eigen::VectorXd q_hold_;                    // where the structure is held while the contents settle
   struct {
@@ -584,13 +454,9 @@ class Simulation {
   bool pipelining_ = true;                      // set_pipelining
   std::uint64_t pipelined_steps_ = 0;
   bool uniform_ = false;                      // all balls of one radius and one material
-  // Stage 9 kicks the balls inside stage 5 when no later stage adds to their forces (no triangulated
-  // surface): one pass over them fewer. Not during set-up (dt_step_ = 0).
-  bool kick_balls_here() const { return surfaces_.empty() && dt_step_ > 0; }
-  // In advance: this step's kick of the balls is left to the next step's kick_drift (only when stage
-  // 5 would do it: no triangulated surface).
-  bool defer_kick_ = false;
-  bool kick_pending_ = false;                 // the last step's kick of the balls is still to be done
+  // The kick stage is done for the balls inside the walls stage when no later stage adds to their forces (no triangulated
+  // surface): one pass over them fewer. Not during set-up (ctx_.dt = 0).
+  bool kick_balls_here() const { return surfaces_.empty() && ctx_.stepping(); }
   bool balls_finite_ = true;                  // every ball's velocity finite after that kick
   bool finished_finite_ = true;               // every ball's velocity finite after kick_drift finished a pending kick
   // The pair list is renewed before this step's pairs: a ball was near the skin's edge at the last
@@ -601,8 +467,6 @@ class Simulation {
   // travel_ up to which no ball can be near the skin's edge (near_skin_edge) (unit: m).
   double far_check_at_ = -1.0;
   bool fuse_ = true;                          // set_fusion
-  // The balls' stage 1 of the next step is done (fused_contacts): kick_drift skips it.
-  bool drifted_ = false;
   std::uint64_t fused_steps_ = 0;
   // Since the pair list was installed (derive_pair_buffers): the sum over the steps of the largest
   // distance any ball moved in the step, rounded up, so no ball moved farther (PairState::wake) (unit: m).

@@ -1,7 +1,7 @@
 // What the step tallies, read at output time: the energy budget, the cavity samples, contact
 // counts. Totals are summed over particles (or pairs) in index order, so they are the same for any
 // thread count.
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 
 #include <omp.h>
 
@@ -13,7 +13,7 @@
 namespace bagdem {
 
 // ---- energy budget and loads --------------------------------------------------------------------
-double Simulation::potential_energy() const {
+double Stepper::potential_energy() const {
   if (!scene_.models.gravity) return 0.0;
   double u = 0;
   for (std::size_t i = 0; i < p_.size(); ++i) u -= p_.mass[i] * scene_.gravity.dot(p_.x[i]);
@@ -22,13 +22,13 @@ double Simulation::potential_energy() const {
 }
 
 template <class Fn>
-void Simulation::for_each_contact(Fn&& fn) const {
+void Stepper::for_each_contact(Fn&& fn) const {
   for (std::size_t k = 0; k < ps_.pairs.size(); ++k) {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     ContactGeometry g;
     if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) continue;
     fn(g.overlap, g.R_eff, scene_.laws(p_.material[i], p_.material[j]),
-       scene_.models.tangential ? &ps_.tangential[k] : nullptr, scene_.models.rolling ? &ps_.rolling[k] : nullptr,
+       scene_.models.tangential ? &ps_.hist.tangential[k] : nullptr, scene_.models.rolling ? &ps_.hist.rolling[k] : nullptr,
        std::min(p_.radius[i], p_.radius[j]));
   }
   const std::size_t nw = scene_.walls.size();
@@ -39,8 +39,8 @@ void Simulation::for_each_contact(Fn&& fn) const {
       const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
       fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
-         scene_.models.tangential ? &wall_tan_[wall_slot(p, w)] : nullptr,
-         scene_.models.rolling ? &wall_roll_[wall_slot(p, w)] : nullptr, p_.radius[p]);
+         scene_.models.tangential ? &wall_hist_.tangential[wall_slot(p, w)] : nullptr,
+         scene_.models.rolling ? &wall_hist_.rolling[wall_slot(p, w)] : nullptr, p_.radius[p]);
     }
     // Triangulated surfaces (film, STL walls): the slots of the last step.
     for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {
@@ -52,7 +52,7 @@ void Simulation::for_each_contact(Fn&& fn) const {
   }
 }
 
-double Simulation::elastic_energy() const {
+double Stepper::elastic_energy() const {
   double u = 0;
   for_each_contact([&](double overlap, double R_eff, const PairLaw& law, const TangentialHistory* t,
                        const RollingHistory* r, double) {
@@ -64,14 +64,14 @@ double Simulation::elastic_energy() const {
 }
 
 // The largest overlap / smaller radius of any contact now (for messages).
-double Simulation::largest_overlap_ratio() const {
+double Stepper::largest_overlap_ratio() const {
   double worst = 0;
   for_each_contact([&](double overlap, double, const PairLaw&, const TangentialHistory*, const RollingHistory*,
                        double r_min) { worst = std::max(worst, overlap / r_min); });
   return worst;
 }
 
-EnergySample Simulation::energy() const {
+EnergySample Stepper::energy() const {
   EnergySample e;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     e.kinetic += 0.5 * p_.mass[i] * p_.v[i].squaredNorm();
@@ -91,7 +91,7 @@ EnergySample Simulation::energy() const {
   return e;
 }
 
-Simulation::CavitySample Simulation::take_cavity_sample() {
+CavitySample Stepper::take_cavity_sample() {
   Vec3 J(0, 0, 0), L(0, 0, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
     J += tally_.wall_impulse[i];
@@ -118,19 +118,19 @@ Simulation::CavitySample Simulation::take_cavity_sample() {
   return c;
 }
 
-void Simulation::add_contents_velocity(const Vec3& dv) {
+void Stepper::add_contents_velocity(const Vec3& dv) {
   for (std::size_t i = 0; i < p_.size(); ++i) p_.v[i] += dv;
   for (std::size_t k = 0; k < film_.size(); ++k) film_.v[k] += dv;
 }
 
-Vec3 Simulation::contents_relative_velocity() const {
+Vec3 Stepper::contents_relative_velocity() const {
   Vec3 momentum = Vec3::Zero();
   for (std::size_t i = 0; i < p_.size(); ++i) momentum += p_.mass[i] * p_.v[i];
   for (std::size_t k = 0; k < film_.size(); ++k) momentum += film_.mass[k] * film_.v[k];
   return contents_mass_ > 0 ? Vec3(momentum / contents_mass_ - cavity_.velocity) : Vec3::Zero();
 }
 
-std::size_t Simulation::contact_count() const {
+std::size_t Stepper::contact_count() const {
   std::size_t c = 0;
   for_each_contact([&](double, double, const PairLaw&, const TangentialHistory*, const RollingHistory*, double) { ++c; });
   return c;

@@ -1,8 +1,8 @@
-// Stage 5 of the step: the balls against the cavity's walls (planes, cylinders), in batches of
-// contacts through the same lane-wise law as the pairs (stepper_contacts.cpp), with the balls' kick
+// The walls stage (stage.hpp): the balls against the cavity's walls (planes, cylinders), in batches of
+// contacts through the same lane-wise law as the pairs (pair_kernel.cpp), with the balls' kick
 // where no later stage adds to their forces. Each configuration of the model switches is compiled
 // as its own loop (with_flags).
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,26 +10,26 @@
 #include <cmath>
 
 #include "bagdem/contact/surface_law.hpp"
-#include "stepper_detail.hpp"
+#include "loops.hpp"
 
 namespace bagdem {
 
 // ---- 5. wall_contacts ---------------------------------------------------------------------------
-void Simulation::wall_contacts() {
+void Stepper::wall_contacts() {
   StageFold fold;
   fold.excess = overlap_excess_;  // the pair stage's
   over_balls(wall_stage(), fold);
   end_walls(fold);
 }
 
-Simulation::BallSpan Simulation::wall_stage() const {
+Stepper::BallSpan Stepper::wall_stage() const {
   BallSpan span = nullptr;
-  with_flags([&span]<bool T, bool R, bool E>() { span = &Simulation::wall_span<T, R, E>; }, scene_.models.tangential,
+  with_flags([&span]<bool T, bool R, bool E>() { span = &Stepper::wall_span<T, R, E>; }, scene_.models.tangential,
              scene_.models.rolling, scene_.models.energy);
   return span;
 }
 
-void Simulation::end_walls(const StageFold& fold) {
+void Stepper::end_walls(const StageFold& fold) {
   overlap_excess_ = fold.excess;
   min_boundary_distance_ = fold.min_dist;
   balls_finite_ = fold.kicked_finite;
@@ -37,17 +37,17 @@ void Simulation::end_walls(const StageFold& fold) {
 
 // Balls [b0, b1) against the walls.
 template <bool Tangential, bool Rolling, bool Energy>
-void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
-  const double dt = dt_step_;
+void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
+  const double dt = ctx_.dt;
   const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
   const PairLawTable& laws = scene_.laws;
   const double frac = scene_.max_overlap_fraction;
-  // Stage 9's kick of the balls, done here while the ball's force and torque are at hand when no
+  // The kick stage's kick of the balls, done here while the ball's force and torque are at hand when no
   // later stage adds to them (kick_balls_here; the same operations as kick()).
-  const bool kick = kick_balls_here() && !defer_kick_, rotation = scene_.models.rotation;
+  const bool kick = kick_balls_here() && !ctx_.defer_kick, rotation = scene_.models.rotation;
   // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
   // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
-  const bool near_only = defer_kick_ && !Energy;
+  const bool near_only = ctx_.defer_kick && !Energy;
   const double h = 0.5 * dt;
   // A ball whose wall contacts are closed waits in `held` while the law runs on the contacts of a
   // batch of balls, kLanes at a time (surface_contact_lanes); the others are done at once. Each
@@ -121,9 +121,9 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
       TangentialHistory* th[kLanes];
       RollingHistory* rh[kLanes];
       for (std::size_t l = 0; l < kLanes; ++l) {
-        damping[l] = Energy ? &wall_damping_prev_[e[l]->slot] : nullptr;
-        th[l] = Tangential ? &wall_tan_[e[l]->slot] : nullptr;
-        rh[l] = Rolling ? &wall_roll_[e[l]->slot] : nullptr;
+        damping[l] = Energy ? &wall_hist_.damping_prev[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &wall_hist_.tangential[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &wall_hist_.rolling[e[l]->slot] : nullptr;
       }
       auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
         const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
@@ -214,16 +214,10 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
         // A contact that just opened: tally what it still held, clear its history (walls not
         // touched cost no memory access).
         if (touched_before & (1u << w)) {
-          const std::size_t slot = wall_slot(p, w);
-          if constexpr (Energy) {
-            const Vec3 v_c = p_.v[p] - c_half - r * p_.w[p].cross(g.n);
-            diss += closing_tally<Tangential, Rolling>(g.n, v_c, p_.w[p], dt, wall_damping_prev_[slot],
-                                                       Tangential ? &wall_tan_[slot] : nullptr,
-                                                       Rolling ? &wall_roll_[slot] : nullptr);
-            wall_damping_prev_[slot] = 0.0;
-          }
-          if constexpr (Tangential) wall_tan_[slot] = {};
-          if constexpr (Rolling) wall_roll_[slot] = {};
+          const Vec3 d = wall_hist_.open<Tangential, Rolling, Energy>(wall_slot(p, w), dt, [&] {
+            return OpeningMotion{g.n, p_.v[p] - c_half - r * p_.w[p].cross(g.n), p_.w[p]};
+          });
+          if constexpr (Energy) diss += d;
         }
         continue;
       }
@@ -246,8 +240,8 @@ void Simulation::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rig
       ct.d = d;
       ct.slot = wall_slot(p, w);
       // Its histories fetched now, to be in cache when the batch's law reads them (flush).
-      if constexpr (Tangential) prefetch_object(&wall_tan_[ct.slot], kTangentialBytes<Energy>);
-      if constexpr (Rolling) prefetch_object(&wall_roll_[ct.slot]);
+      if constexpr (Tangential) prefetch_object(&wall_hist_.tangential[ct.slot], kTangentialBytes<Energy>);
+      if constexpr (Rolling) prefetch_object(&wall_hist_.rolling[ct.slot]);
       ct.law = &laws(p_.material[p], wall.material);
     }
     const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};

@@ -1,6 +1,6 @@
-// Stage 7 of the step: the run-time guards, and the messages that say what happened and what to
+// The guards stage (stage.hpp): the run-time guards, and the messages that say what happened and what to
 // change.
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 
 #include <omp.h>
 
@@ -14,7 +14,7 @@
 namespace bagdem {
 
 // ---- 7. guards ----------------------------------------------------------------------------------
-void Simulation::guards() {
+void Stepper::guards() {
   const std::size_t n = p_.size();
   const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
   const bool overlap = overlap_excess_ > 0.0;

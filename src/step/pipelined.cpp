@@ -10,7 +10,7 @@
 //    own cross pairs as in the fused step (PairState), so a range drifts its balls on only after
 //    the ranges above have read them;
 //  - whether the pair list holds at step s is known once every range is at step s - 1: the list is
-//    renewed a step ahead (Simulation::kSkinStep), so the region ends before the first step at
+//    renewed a step ahead (Stepper::kSkinStep), so the region ends before the first step at
 //    which it must be renewed, and the next step renews it;
 //  - each range keeps its own travel (PairState::wake) and rebuild test;
 //  - the cavity's motion is computed ahead for all the region's steps;
@@ -26,18 +26,18 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "bagdem/stepper.hpp"
-#include "stepper_detail.hpp"
+#include "stepper.hpp"
+#include "loops.hpp"
 
 namespace bagdem {
 
-std::uint64_t Simulation::run_pipelined(std::uint64_t most) {
+std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
   const auto threads = static_cast<std::uint32_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
-  // Fused steps (the next drift done: drifted_) with nothing that needs all balls at every step:
+  // Fused steps (the next drift done: ctx_.drifted) with nothing that needs all balls at every step:
   // no triangulated surface (the film, STL walls), no structure, no slope of the cavity; and no
   // rebuild due before the first.
-  if (!pipelining_ || !fuse_ || profile_ || !surfaces_.empty() || couple_ || tilt_ || !drifted_ || needs_rebuild_ ||
+  if (!pipelining_ || !fuse_ || profile_ || !surfaces_.empty() || couple_ || tilt_ || !ctx_.drifted || needs_rebuild_ ||
       threads < 2 || !several)
     return 0;
   if (ps_.ranges != threads) derive_ranges(threads);
@@ -133,13 +133,13 @@ std::uint64_t Simulation::run_pipelined(std::uint64_t most) {
 // as the scale grew: the bound the wake needs (PairState::wake), as travel_ is for the pairs of one
 // range. It starts where the ranges' travels start, so no scale jumps ahead of the others (it
 // would compound from region to region). Rounded up (the sum's few roundings are far below 1e-14).
-double Simulation::cross_travel(std::size_t r, std::uint64_t s) const {
+double Stepper::cross_travel(std::size_t r, std::uint64_t s) const {
   double grown = progress_[r].travel[s % 4] - region_travel_;
   for (std::size_t q = ps_.cross_from[r]; q < r; ++q) grown += progress_[q].travel[s % 4] - region_travel_;
   return std::nextafter(region_travel_ + 0.5 * grown * (1.0 + 1e-14), HUGE_VAL);
 }
 
-void Simulation::end_range_step(std::size_t r, std::uint64_t s) {
+void Stepper::end_range_step(std::size_t r, std::uint64_t s) {
   RangeProgress& g = progress_[r];
   const StageFold& f = g.fold;
   g.step = std::sqrt(f.step2);

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "bagdem/stepper.hpp"
+#include "stepper.hpp"
 #include "bagdem/structure/excitation.hpp"
 
 namespace bagdem {
@@ -20,7 +20,7 @@ using VecMap = Eigen::Map<Eigen::VectorXd>;
 using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
 }  // namespace
 
-void Simulation::set_up_structure() {
+void Stepper::set_up_structure() {
   if (!scene_.primary) return;
   const Primary& P = *scene_.primary;
   const std::size_t n = P.size();
@@ -44,7 +44,7 @@ void Simulation::set_up_structure() {
 }
 
 // The state the structure is released in (see release_structure) and the drive's phase then.
-void Simulation::release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& phase) const {
+void Stepper::release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& phase) const {
   const Primary& P = *scene_.primary;
   q = P.q0, v = P.v0, phase = 0;
   if (!P.harmonic) return;
@@ -71,7 +71,7 @@ void Simulation::release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& p
 // of a free-free beam in their steady state (they have no stiffness to bring a drift back); with
 // excitation.start = "steady" the whole structure starts in its bare steady state, at the phase at
 // which the cavity's displacement is zero (no jump of the walls into the settled contents).
-void Simulation::release_structure() {
+void Stepper::release_structure() {
   StructureState& S = structure_;
   S.scalars.released = true;
   Eigen::VectorXd q, v;
@@ -82,19 +82,19 @@ void Simulation::release_structure() {
 }
 
 // a from the present state, the contents' load of the last step and the force now (as at set-up:
-// dt_step_ = 0, so nothing is tallied and the previous-step values restart from here).
-void Simulation::restart_acceleration() {
+// ctx_.dt = 0, so nothing is tallied and the previous-step values restart from here).
+void Stepper::restart_acceleration() {
   for (std::size_t k = 0; k < structure_.v.size(); ++k) structure_.v_pred[k] = structure_.v[k];
-  const double keep = dt_step_;
-  dt_step_ = 0;
+  const double keep = ctx_.dt;
+  ctx_.dt = 0;
   structure_forces();
-  dt_step_ = keep;
+  ctx_.dt = keep;
 }
 
 // The bare steady state under F sin(theta + w t) at t = 0, from the responses to F sin(w t) and
 // F cos(w t) (sin(theta + wt) = cos(theta) sin(wt) + sin(theta) cos(wt)). With q_s(t) = Re(Q e^{iwt})
 // the sine response, the cosine response is Re(i Q e^{iwt}): at t = 0, q_c = v_s/w, v_c = -w q_s.
-void Simulation::bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const {
+void Stepper::bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const {
   const Primary& P = *scene_.primary;
   Eigen::VectorXd qs, vs;
   P.bare_steady_state(P.amplitude, w, qs, vs);
@@ -104,7 +104,7 @@ void Simulation::bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen
 }
 
 // Adds sign x (the bare steady state at phase theta) to the rigid-body DOFs (free-free beams).
-void Simulation::steady_rigid(double theta, double w, double sign) {
+void Stepper::steady_rigid(double theta, double w, double sign) {
   const Primary& P = *scene_.primary;
   if (!P.harmonic || w <= 0) return;
   Eigen::VectorXd q, v;
@@ -116,7 +116,7 @@ void Simulation::steady_rigid(double theta, double w, double sign) {
   }
 }
 
-void Simulation::set_drive_frequency(double hz) {
+void Stepper::set_drive_frequency(double hz) {
   if (!scene_.primary || !scene_.primary->harmonic) return;
   StructureState& S = structure_;
   const double w_new = 2 * std::numbers::pi * hz;
@@ -131,7 +131,7 @@ void Simulation::set_drive_frequency(double hz) {
   S.scalars.omega = w_new;
 }
 
-void Simulation::structure_drift() {
+void Stepper::structure_drift() {
   StructureState& S = structure_;
   if (!S.scalars.released) return;
   const double dt = scene_.dt, h = 0.5 * dt;
@@ -143,7 +143,7 @@ void Simulation::structure_drift() {
   S.scalars.phase += S.scalars.omega * dt;
 }
 
-CavityState Simulation::structure_cavity() const {
+CavityState Stepper::structure_cavity() const {
   const Primary& P = *scene_.primary;
   const StructureState& S = structure_;
   // Displacement from where the structure was held while the contents settled (an expression:
@@ -158,13 +158,13 @@ CavityState Simulation::structure_cavity() const {
   return c;
 }
 
-double Simulation::external_force(double t_motion) const {
+double Stepper::external_force(double t_motion) const {
   const Primary& P = *scene_.primary;
   if (P.harmonic) return P.amplitude * std::sin(structure_.scalars.phase);
   return P.excitation ? P.excitation->force(t_motion) : 0.0;
 }
 
-void Simulation::structure_forces() {
+void Stepper::structure_forces() {
   const Primary& P = *scene_.primary;
   StructureState& S = structure_;
   // The contents' load moments, ball by ball, then the film's (fixed order).
@@ -181,18 +181,18 @@ void Simulation::structure_forces() {
   Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
   Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
   // Time since release at the end of this step (at release itself: 0).
-  const double t = static_cast<double>(step_ + (dt_step_ > 0 ? 1 : 0) - release_step_) * scene_.dt;
+  const double t = static_cast<double>(step_ + (ctx_.stepping() ? 1 : 0) - release_step_) * scene_.dt;
   const double f = external_force(t);
   fd = P.damping.cwiseProduct(v);
   Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;
   VecMap a(S.a.data(), n);
   a.noalias() = P.mass_inverse * Q;
   VecMap fd_prev(S.damping_prev.data(), n), Qc_prev(S.load_prev.data(), n);
-  if (dt_step_ > 0) {
+  if (ctx_.stepping()) {
     // Trapezoidal work over this step's displacement dt v(n+1/2).
-    S.scalars.work_external += 0.5 * (f + S.scalars.force) * dt_step_ * P.at_force.dot(v_half);
-    S.scalars.work_contents += 0.5 * dt_step_ * (Qc + Qc_prev).dot(v_half);
-    S.scalars.dissipated += 0.5 * dt_step_ * (fd + fd_prev).dot(v_half);
+    S.scalars.work_external += 0.5 * (f + S.scalars.force) * ctx_.dt * P.at_force.dot(v_half);
+    S.scalars.work_contents += 0.5 * ctx_.dt * (Qc + Qc_prev).dot(v_half);
+    S.scalars.dissipated += 0.5 * ctx_.dt * (fd + fd_prev).dot(v_half);
   }
   S.scalars.force = f;
   fd_prev = fd;
@@ -200,14 +200,14 @@ void Simulation::structure_forces() {
   S.load_now = m;
 }
 
-void Simulation::structure_kick() {
+void Stepper::structure_kick() {
   StructureState& S = structure_;
   if (!S.scalars.released) return;
   const double h = 0.5 * scene_.dt;
   for (std::size_t k = 0; k < S.v.size(); ++k) S.v[k] += h * S.a[k];
 }
 
-double Simulation::structure_energy() const {
+double Stepper::structure_energy() const {
   if (!scene_.primary) return 0.0;
   const Primary& P = *scene_.primary;
   const std::size_t n = structure_.q.size();
@@ -215,7 +215,7 @@ double Simulation::structure_energy() const {
   return 0.5 * v.dot(P.mass * v) + 0.5 * q.dot(P.stiffness.cwiseProduct(q));
 }
 
-Simulation::StructureResponse Simulation::structure_response() const {
+StructureResponse Stepper::structure_response() const {
   StructureResponse r;
   if (!scene_.primary) return r;
   const Primary& P = *scene_.primary;

@@ -1,0 +1,57 @@
+// The stages of one time step, in order, and what they share. Every way of running a step goes
+// through the one table of stages (stepper.cpp, kStages): one after the other (staged), each on the
+// clock (profiling), or with pairs, walls and the next step's drift in one parallel region (fused;
+// many fused steps on several threads: pipelined.cpp).
+//
+//   kick_drift    v += dt/2 F/m, x += dt v, w += dt/2 T/I         velocity Verlet, first half
+//                 (balls and film nodes; balls.cpp)
+//   move_cavity   cavity position and velocity at t + dt (prescribed, or from the structure)
+//   neighbours    renew the Verlet pair list, the walls near each ball and the sphere-triangle
+//                 candidate lists when a ball came near the skin's edge at the last step (kSkinStep),
+//                 or a film node or the cavity moved more than skin/2 (pair_list.cpp)
+//   pairs         each candidate pair that may touch (PairState::wake): geometry -> contact law ->
+//                 per-pair force and torque (pair_kernel.cpp, on the threads' ranges)
+//   walls         each ball: its wall contacts (walls.cpp)
+//   triangles     each ball: its contacts with triangulated surfaces, the bag's film and STL walls
+//                 (surfaces.cpp)
+//   film          the bag's film: membrane, strings, film-wall contacts, the balls' loads on its
+//                 nodes (film.cpp)
+//   structure     the primary structure carrying the cavity: the contents' load on it, its external
+//                 force, its acceleration (structure.cpp)
+//   kick          v += dt/2 F/m, w += dt/2 T/I                     velocity Verlet, second half
+//                 (the balls' kick is done in the wall stage when no triangulated surface follows,
+//                 and between the steps of one advance() in the next step's kick_drift)
+//   guards        NaN, excessive overlap, a ball outside the cavity or across the film, a ball too
+//                 fast for the skin (kSkinStep) -> RunError (guards.cpp)
+//
+// Velocity Verlet is symplectic and second order (Swope et al., J. Chem. Phys. 76, 1982). Springs
+// advance with the half-step motion; dashpots see the velocity predicted to the end of the step,
+// v(n+1/2) + dt/2 F(n)/m (LAMMPS and LIGGGHTS use the half-step velocity, a first-order error in the
+// restitution when damping dominates).
+// Determinism: every per-particle sum runs in a fixed order (pairs by partner index, then walls in
+// wall order), and totals are summed over particles in index order, so results are bitwise equal
+// for any thread count. The index order is the stepper's own: set-up sorts the balls spatially
+// (neighbour/spatial_order.hpp), so that each thread's contiguous range of balls is a compact piece
+// of the bed (PairState); outputs are written in the scene's order.
+#pragma once
+#include <cstdint>
+
+namespace bagdem {
+
+enum class Stage : std::uint8_t { kick_drift, move_cavity, neighbours, pairs, walls, triangles, film, structure, kick, guards };
+
+// What the stages of the step in progress share; Stepper::begin_step sets it.
+struct StepContext {
+  // The step's dt; 0 while the forces are evaluated at rest (set-up, the structure's release):
+  // then contacts add no history and nothing is tallied (unit: s).
+  double dt = 0;
+  bool stepping() const { return dt > 0; }
+  // This step's kick of the balls is left to the next step's kick_drift, which applies the same
+  // force twice in the same order (advance, between two of its steps; only when the wall stage
+  // would do it: no triangulated surface).
+  bool defer_kick = false;
+  bool kick_pending = false;  // the last step's kick of the balls is still to be done
+  bool drifted = false;       // the balls' kick_drift of this step is done (fused: pair_kernel.cpp)
+};
+
+}  // namespace bagdem

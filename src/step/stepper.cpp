@@ -1,0 +1,164 @@
+// The stepper: set-up, the table of stages and the ways of running it (stage.hpp), and the cavity's
+// motion. Each stage's work is in the file named after it.
+#include "stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "bagdem/neighbour/spatial_order.hpp"
+#include "bagdem/particles.hpp"
+#include "loops.hpp"
+
+namespace bagdem {
+
+Stepper::Stepper(const Scene& scene) : scene_(scene), broad_(make_broad_phase(scene.broad_phase)) {
+  const std::size_t n = scene.particles.size();
+  order_ = spatial_order(scene);
+  p_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleInit& q = scene.particles[order_[i]];
+    const double rho = scene.materials[static_cast<std::size_t>(q.material)].density;
+    const double m = sphere_mass(rho, q.radius);
+    p_.x[i] = q.x;
+    p_.v[i] = q.v;
+    p_.w[i] = q.w;
+    p_.radius[i] = q.radius;
+    p_.mass[i] = m;
+    p_.inv_mass[i] = 1.0 / m;
+    p_.inv_inertia[i] = 1.0 / (0.4 * m * q.radius * q.radius);
+    p_.material[i] = q.material;
+  }
+  p_.v_pred = p_.v;
+  p_.w_pred = p_.w;
+  // Balls all alike (one radius, one material): the pair kernel takes R*, m* and the law as constants.
+  uniform_ = n > 0 && std::all_of(scene.particles.begin(), scene.particles.end(), [&](const ParticleInit& q) {
+               return q.radius == scene.particles[0].radius && q.material == scene.particles[0].material;
+             });
+  tally_.resize(n);
+  const std::size_t nw = scene.walls.size();
+  wall_hist_.assign(n * nw, scene.models.tangential, scene.models.rolling, scene.models.energy);
+  wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
+  wall_near_.assign(n, 0);
+  cavity_ = cavity_prev_ = cavity_at(0.0);
+  set_up_structure();
+  set_up_film();
+  set_up_meshes();
+  // The contents' mass, balls then film nodes (the order contents_relative_velocity sums them in).
+  for (std::size_t i = 0; i < n; ++i) contents_mass_ += p_.mass[i];
+  for (std::size_t k = 0; k < film_.size(); ++k) contents_mass_ += film_.mass[k];
+  update_neighbours(true);
+  for (std::size_t i = 0; i < n; ++i) start_sums(i);
+  ctx_.dt = 0.0;  // set-up force evaluation: no history increment, no dissipation
+  pair_contacts();
+  wall_contacts();
+  triangle_contacts();
+  film_stage();
+  if (couple_) {
+    structure_forces();  // the contents' load at rest
+    release_step_ = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
+    if (release_step_ == 0) release_structure();
+  }
+  potential0_ = potential_energy();
+  const EnergySample e0 = energy();
+  kinetic_elastic0_ = e0.kinetic + e0.elastic;
+}
+
+CavityState Stepper::cavity_at(double t) const {
+  if (couple_) return structure_cavity();
+  if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
+  return scene_.motion->at(t - scene_.settle);
+}
+
+void Stepper::advance(std::uint64_t steps) {
+  for (std::uint64_t k = 0; k < steps;) {
+    const std::uint64_t pipelined = k + 1 < steps ? run_pipelined(steps - 1 - k) : 0;  // not the last (its kick)
+    if (pipelined > 0) {
+      k += pipelined;
+    } else {
+      step_once(k + 1 == steps);
+      ++k;
+    }
+  }
+}
+
+// The step's stages (stage.hpp), in order: what each runs, and the clock that times it.
+std::span<const Stepper::StageEntry> Stepper::stages() {
+  static constexpr StageEntry table[] = {
+      {Stage::kick_drift, &Stepper::kick_drift, &StageTimes::integrate},
+      {Stage::move_cavity, &Stepper::move_cavity, &StageTimes::integrate},
+      {Stage::neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours},
+      {Stage::pairs, &Stepper::pair_stage, &StageTimes::pairs},
+      {Stage::walls, &Stepper::wall_contacts, &StageTimes::walls},
+      {Stage::triangles, &Stepper::triangle_contacts, &StageTimes::triangles},
+      {Stage::film, &Stepper::film_stage, &StageTimes::film},
+      {Stage::structure, &Stepper::structure_stage, &StageTimes::integrate},
+      {Stage::kick, &Stepper::kick, &StageTimes::integrate},
+      {Stage::guards, &Stepper::end_step, &StageTimes::guards}};
+  return table;
+}
+
+void Stepper::begin_step(bool last) {
+  ctx_.dt = scene_.dt;
+  ctx_.defer_kick = !last && surfaces_.empty();
+  if (couple_ && step_ == release_step_ && !structure_.scalars.released) release_structure();
+}
+
+// The stages one after the other; fused (fusable), the pair stage also does the walls and the next
+// step's drift, each thread on its range of balls (fused_contacts).
+void Stepper::step_once(bool last) {
+  begin_step(last);
+  const bool fused = fusable();
+  double t = profile_ ? omp_get_wtime() : 0.0;
+  for (const StageEntry& s : stages()) {
+    if (fused && s.stage == Stage::walls) continue;
+    (this->*(fused && s.stage == Stage::pairs ? &Stepper::fused_contacts : s.run))();
+    if (profile_) {
+      const double now = omp_get_wtime();
+      times_.*s.clock += now - t;
+      t = now;
+    }
+  }
+  if (profile_) ++times_.steps;
+}
+
+void Stepper::renew_neighbours() { update_neighbours(false); }
+void Stepper::pair_stage() { pair_contacts(); }
+void Stepper::structure_stage() {
+  if (couple_) structure_forces();
+}
+void Stepper::end_step() {
+  ++step_;
+  guards();
+  end_balance();
+}
+
+// The threads' spans are moved by the clock (SpanBalance); the pair stage's ranges are cut anew
+// where its cuts moved.
+void Stepper::end_balance() {
+  if (balance_.end_step()) ps_.ranges = 0;
+}
+
+// ---- move_cavity -------------------------------------------------------------------------------
+void Stepper::move_cavity() {
+  const double t = static_cast<double>(step_ + 1) * scene_.dt;
+  cavity_to(t, cavity_at(t));
+  // The walls' candidates (wall_near_) hold while the cavity moved at most skin/2 since the last
+  // build; a slope moves a point at most |d shear| l further (l: half the cavity's axial extent).
+  const double moved = (cavity_.position - cavity_pos_at_build_).norm() +
+                       (tilt_ ? (cavity_.shear - cavity_shear_at_build_).norm() * tilt_extent_ : 0.0);
+  if (moved > 0.5 * scene_.skin) needs_rebuild_ = true;
+}
+
+void Stepper::cavity_to(double t, const CavityState& c) {
+  cavity_prev_ = cavity_;
+  cavity_ = c;
+  ++cavity_sums_.steps;
+  cavity_sums_.time += t;
+  cavity_sums_.position += cavity_.position;
+  cavity_sums_.velocity += cavity_.velocity;
+}
+
+}  // namespace bagdem

@@ -144,6 +144,8 @@ class Stepper {
   void load_state(const std::vector<char>& image);
 
  private:
+  template <bool, bool, bool, bool>
+  friend struct PairKernel;  // pair_kernel.hpp: the pairs stage's work, on the stepper's arrays
   // One row of the step's table of stages (stages()): what it runs, the clock that times it.
   struct StageEntry {
     Stage stage;

@@ -1,0 +1,189 @@
+// The pairs stage (stage.hpp): which thread computes which pairs, and when (the kernel that computes
+// them: pair_kernel.hpp). Each configuration of the model switches is compiled as its own loop
+// (with_flags), so no switch is tested per contact.
+#include "stepper.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+
+#include "loops.hpp"
+#include "pair_kernel.hpp"
+
+namespace bagdem {
+
+// ---- pair_contacts ---------------------------------------------------------------------------
+// The pairs run in (i, j) order and each adds its force to f[i] and f[j] at once, so particle p
+// receives its pairs (k, p), k < p ascending, then (p, j) ascending: partner order. On several
+// threads each thread does this for its own range of particles, and the pairs across ranges go
+// through records first (PairState): the same sums in the same order.
+std::uint64_t Stepper::pair_contacts(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
+  const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
+  const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
+  if (ps_.ranges != ranges) derive_ranges(ranges);
+  // The contact-law configuration is chosen once here, never inside the loop.
+  std::uint64_t done = 0;
+  with_flags([&]<bool T, bool R, bool E, bool U>() { done = pair_contacts_impl<T, R, E, U>(walls, drift, pipelined); },
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, uniform_);
+  return done;
+}
+
+// The pairs and walls stages and the next step's kick_drift in one parallel region, in advance() when no later stage
+// adds to the balls' forces (no film, no STL wall; fusable): each thread does its range's pairs,
+// then its walls, then moves its balls on to the next step (their kick and drift). The staged step
+// takes three regions (a fork and a join each, and each thread waits at each join for the slowest);
+// here the threads meet once, and a thread's lead in one stage makes up for its lag in another.
+// Why this is sound: pairs run i < j, so once range r's pairs are done no pair of this step reads
+// its balls again (the cross pairs into range r were computed before, and r waited for those out of
+// it before its last pairs, PairState): their forces are complete, their walls can be done and they
+// can move on. The same operations on every ball in the
+// same order as the staged step: the same bits (Determinism.FusedStepEqualsStaged).
+void Stepper::fused_contacts() {
+  pair_contacts(wall_stage(), drift_stage(true));  // the kick of this step is pending (advance)
+  ctx_.drifted = true;
+  ++fused_steps_;
+}
+
+// A pair contact opened this step: clears its history and returns what it still held
+// (closing_tally, when Energy; else zero). Rare, so kept out of line: the pair loop stays small.
+template <bool Tangential, bool Rolling, bool Energy>
+[[gnu::noinline]] Vec3 Stepper::open_pair(std::size_t k) {
+  ps_.touching[k] = 0;
+  return ps_.hist.open<Tangential, Rolling, Energy>(k, ctx_.dt, [&] {
+    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
+    const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
+    return OpeningMotion{n, p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n), p_.w[i] - p_.w[j]};
+  });
+}
+
+void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
+  overlap_excess_ = fold.excess;
+  if (fused) {
+    end_walls(fold);
+    end_drift(fold);
+  }
+}
+
+template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
+std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
+  const PairKernel<Tangential, Rolling, Energy, Uniform> kernel(*this);
+  // Range r in two parts: its particles' records from the ranges below and its pairs up to its
+  // first cross pair; then, with the records of its cross pairs at hand (PairState), its other pairs
+  // and, fused (fused_contacts), its walls and its drift. With one range the first part is all pairs.
+  auto range_head = [&](std::size_t r, double travel, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+    for (std::uint32_t e = ps_.j_side_range[r]; e < ps_.j_side_range[r + 1]; ++e)
+      kernel.add_record(ps_.j_side[e].particle, 2 * std::size_t{ps_.j_side[e].cross} + 1);
+    kernel.span(ps_.pairs.begin[ps_.range_first[r]], ps_.records_from[r], travel, fold.excess);
+  };
+  auto range_tail = [&](std::size_t r, double travel, const WallMotion& cavity, StageFold& fold) BAGDEM_INLINE_LAMBDA {
+    const std::uint32_t b0 = ps_.range_first[r], b1 = ps_.range_first[r + 1];
+    kernel.span(ps_.records_from[r], ps_.pairs.begin[b1], travel, fold.excess);
+    if (drift != nullptr) {
+      (this->*walls)(b0, b1, cavity, fold);
+      (this->*drift)(b0, b1, cavity, fold);
+    }
+  };
+  const std::size_t ranges = ps_.ranges;
+  if (ranges == 1) {
+    StageFold fold;
+    const double travel = travel_;
+    const WallMotion cavity = rigid_motion();
+    auto one_range = [&](std::size_t r, StageFold& f) BAGDEM_INLINE_LAMBDA {
+      range_head(r, travel, f);
+      range_tail(r, travel, cavity, f);
+    };
+    run_items(one_range, 0, 1, fold);
+    end_pair_stage(fold, drift != nullptr);
+    return 0;
+  }
+  // On several threads, range r's part of a step in two: first the cross pairs into it (their
+  // records; PairState), stamped when done; then the range, which waits for the stamps of the
+  // ranges above that its cross pairs reach only when its pairs reach the first of them. Each
+  // thread does the first part of all its ranges before the second (one range each; the loops
+  // cover them all for any team size), so every stamp comes. `stamp` is the step's own value.
+  auto cross_part = [&](std::size_t r, double travel, std::uint64_t stamp, StageFold& f) BAGDEM_INLINE_LAMBDA {
+    const double start = omp_get_wtime();
+    auto cross_into = [&](std::size_t q, double& excess) BAGDEM_INLINE_LAMBDA {
+      const std::uint32_t *cs = ps_.cross_into.data() + ps_.cross_into_range[q], *end = ps_.cross_into.data() + ps_.cross_into_range[q + 1];
+      for (; cs < end; cs += kBlock) kernel.cross_block(cs, std::min<std::size_t>(kBlock, static_cast<std::size_t>(end - cs)), travel, excess);
+    };
+    run_items(cross_into, r, r + 1, f.excess);
+    cross_done_[r].region.store(stamp, std::memory_order_release);
+    balance_.add(r, omp_get_wtime() - start);
+  };
+  // false: given up waiting (give_up(); the range is left half done).
+  auto range_part = [&](std::size_t r, double travel, const WallMotion& cavity, std::uint64_t stamp, StageFold& f,
+                        const auto& give_up) BAGDEM_INLINE_LAMBDA {
+    const double start = omp_get_wtime();
+    auto head = [&](std::size_t q, StageFold& g) BAGDEM_INLINE_LAMBDA { range_head(q, travel, g); };
+    run_items(head, r, r + 1, f);
+    const double paused = omp_get_wtime();
+    for (std::size_t c = r + 1; c <= ps_.records_upto[r]; ++c)
+      if (!spin_until([&] { return cross_done_[c].region.load(std::memory_order_acquire) >= stamp; }, give_up)) return false;
+    const double resumed = omp_get_wtime();
+    auto tail = [&](std::size_t q, StageFold& g) BAGDEM_INLINE_LAMBDA { range_tail(q, travel, cavity, g); };
+    run_items(tail, r, r + 1, f);
+    balance_.add(r, (paused - start) + (omp_get_wtime() - resumed));  // its work, not its wait
+    return true;
+  };
+  if (pipelined == 0) {
+    StageFold fold;
+    const std::uint64_t region = ++pair_regions_;
+    const double travel = travel_;
+    const WallMotion cavity = rigid_motion();
+#pragma omp parallel
+    {
+      StageFold mine;
+      const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+      for (std::size_t r = me; r < ranges; r += team) cross_part(r, travel, region, mine);
+      for (std::size_t r = me; r < ranges; r += team) range_part(r, travel, cavity, region, mine, [] { return false; });
+#pragma omp critical(bagdem_pair_excess)
+      fold.merge(mine);
+    }
+    end_pair_stage(fold, drift != nullptr);
+    return 0;
+  }
+  // Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
+  // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
+  // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
+  // positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:
+  // each goes on only up to that step (stop_before_), so the first failing step is found.
+  const std::uint64_t base = pair_regions_;
+  const std::size_t nr = ranges;
+  RangeProgress* progress = progress_.data();
+  auto at_least = [progress](std::size_t q0, std::size_t q1, std::uint64_t steps) {
+    for (std::size_t q = q0; q < q1; ++q)
+      if (progress[q].done.load(std::memory_order_acquire) < steps) return false;
+    return true;
+  };
+#pragma omp parallel
+  {
+    const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+    for (std::uint64_t s = 0;; ++s) {
+      auto give_up = [this, s] { return stop_before_.load(std::memory_order_acquire) <= s; };
+      if (s >= 2 && !spin_until([&] { return at_least(0, nr, s - 1); }, give_up)) break;
+      if (give_up()) break;
+      bool going = true;
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = spin_until([&] { return at_least(ps_.cross_from[r], r, s); }, give_up);
+        if (going) {
+          progress[r].fold = StageFold{};
+          progress[r].cross = cross_travel(r, s);
+          cross_part(r, progress[r].cross, base + s + 1, progress[r].fold);
+        }
+      }
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = range_part(r, progress[r].travel[s % 4], wall_path_[s], base + s + 1, progress[r].fold, give_up);
+        if (going) end_range_step(r, s);
+      }
+      if (!going) break;
+    }
+  }
+  return progress[0].done.load(std::memory_order_relaxed);
+}
+
+}  // namespace bagdem

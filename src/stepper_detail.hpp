@@ -10,6 +10,8 @@
 
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
+#include "bagdem/float_rounding.hpp"
+#include "bagdem/memory_hints.hpp"
 #include "bagdem/stepper.hpp"
 #include "bagdem/vec3.hpp"
 

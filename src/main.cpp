@@ -10,12 +10,12 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/compare.hpp"
-#include "bagdem/reduce/drop_test.hpp"
+#include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/export.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
 
@@ -33,6 +33,229 @@ void warn_threads_above_cores(const std::vector<int>& threads) {
                 << "share the cores and run slower than " << cores << " would; use --threads " << cores << " or fewer\n";
 }
 
+// What the subcommands read from the command line.
+struct Args {
+  std::string case_dir, out_dir;
+  std::vector<std::string> sets;
+  std::string fidelity;  // --fidelity: a preset's overrides, appended to sets (study/trade.hpp)
+  int threads = 0;
+  bool quiet = false, resume = false;
+  int seeds = 1;
+  std::string form = "consistent";
+  double drop_speed = 0;
+  std::vector<std::string> formats = {"csv", "json", "h5"};
+  std::string export_to;
+  BenchOptions bench;
+  study::SweepArgs sweep;
+  study::TradeArgs trade;
+  // The output directory: --out, or CASE_DIR/out.
+  std::string out() const { return out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir; }
+};
+
+void add_fidelity(CLI::App* sub, std::string& fidelity) {
+  sub->add_option("--fidelity", fidelity,
+                  "A preset of the speed/accuracy trade: fast, balanced (the case as written) or reference (see bagdem trade)")
+      ->check(CLI::IsMember({"fast", "balanced", "reference"}));
+}
+
+CLI::App* add_check(CLI::App& app, Args& a) {
+  CLI::App* check = app.add_subcommand("check", "Validate a case and print the resolved scene: what is modelled, N, dt and how it was chosen, steps, memory; for a bag its size, fill, film resolution and strings.");
+  check->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  check->add_option("--set", a.sets, "Override a key of case.toml: --set simulation.duration=\"0.5 s\" (repeatable)");
+  add_fidelity(check, a.fidelity);
+  return check;
+}
+
+CLI::App* add_run(CLI::App& app, Args& a) {
+  CLI::App* run = app.add_subcommand("run", "Run a case: writes results.h5 (+ results.xmf for ParaView) and, when complete, summary.json. "
+                                      "A case with a primary structure ([primary]: sdof, beam, fe-beam) driven by a stepped-sine "
+                                      "[excitation] runs a frequency sweep instead: sweep.csv, the table /sweep in results.h5, and "
+                                      "each mode's peak reduction (dB, %) against the bare structure in summary.json.");
+  run->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  run->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
+  run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; 1.3-1.9x from 1 to 2 threads at 10 000 balls on the PD-box bed of a shared 2-core machine)")->check(CLI::Range(1, 1024));
+  run->add_option("--set", a.sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
+  add_fidelity(run, a.fidelity);
+  run->add_flag("--quiet", a.quiet, "No progress line");
+  run->add_flag("--resume", a.resume, "Continue an interrupted run from OUT/checkpoint.bin (left by output.checkpoint_interval > 0, and by SIGINT or SIGTERM, which stop a run with exit code 130 or 143)");
+  run->add_option("--seeds", a.seeds,
+                  "An ensemble of N perturbed starts (simulation.seed = 1..N, each in OUT/point-NNN, resumable, as bagdem sweep runs "
+                  "them; --threads is then per start): every table with its mean and 95% interval over the starts "
+                  "(OUT/<table>_ensemble.csv), the peak reduction among them. A chaotic bed's figure from one start is not a measurement")
+      ->check(CLI::Range(1, 100000));
+  return run;
+}
+
+CLI::App* add_reduce(CLI::App& app, Args& a) {
+  CLI::App* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
+                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles, energy per cycle, "
+                                            "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
+                                            "restitution e (per impact between free flights, else Eq. 19a, else the drop test; e_method says which), "
+                                            "each with its standard error and 95% interval over the correlated cycles, and steady = 0 for a window "
+                                            "whose energy balance is off by more than 1%. Writes OUT/reduced.csv (columns: docs/outputs.md).");
+  reduce->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  reduce->add_option("--out", a.out_dir, "Output directory of the run (default CASE_DIR/out)");
+  reduce->add_option("--set", a.sets, "The --set overrides the run was made with (repeatable)");
+  add_fidelity(reduce, a.fidelity);
+  return reduce;
+}
+
+CLI::App* add_compare(CLI::App& app, Args& a) {
+  CLI::App* compare = app.add_subcommand("compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
+                                              "continuum model's prediction from the DEM-derived C_b, M_b and e (the modal model with the bag's "
+                                              "impedance, the study's SDOF Eq. 7 and Eq. 20), with the errors. Writes OUT/compare.csv (also done at "
+                                              "the end of a sweep).");
+  compare->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  compare->add_option("--out", a.out_dir, "Output directory of the sweep (default CASE_DIR/out)");
+  compare->add_option("--set", a.sets, "The --set overrides the sweep was run with (repeatable)");
+  add_fidelity(compare, a.fidelity);
+  compare->add_option("--form", a.form, "Eq. (7)/(20) form: consistent (default) or printed (the study's as-printed equations)")
+      ->check(CLI::IsMember({"consistent", "printed"}));
+  return compare;
+}
+
+CLI::App* add_drop(CLI::App& app, Args& a) {
+  CLI::App* drop = app.add_subcommand("drop", "Drop test of the case's bag: its contents, settled as in the case, are launched against a wall of the "
+                                        "resting cavity along the excitation direction; prints e_drop = rebound / approach speed of their "
+                                        "centre of mass (in [0, 1], or an error that says why) and writes OUT/drop.csv and OUT/drop_result.csv; "
+                                        "`bagdem reduce` then reports it beside the other two estimates (a run does the same by itself when a "
+                                        "row has neither of the others).");
+  drop->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  drop->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
+  drop->add_option("--set", a.sets, "Override a key of case.toml (repeatable)");
+  add_fidelity(drop, a.fidelity);
+  drop->add_option("--speed", a.drop_speed, "Launch speed in m/s (default: the case's expected impact speed)");
+  drop->add_option("--threads", a.threads, "OpenMP threads")->check(CLI::Range(1, 1024));
+  return drop;
+}
+
+CLI::App* add_export(CLI::App& app, Args& a) {
+  CLI::App* exporter = app.add_subcommand("export", "Export the reduced-parameter table of a run or a study (C_b, M_b, e, loss factor against "
+                                               "frequency, amplitude and Gamma, with the swept design parameters) as CSV, JSON and HDF5 with "
+                                               "units, for FE and continuum codes (columns: docs/outputs.md).");
+  exporter->add_option("dir", a.out_dir, "A run's output directory or a study's (holds reduced.csv)")->required();
+  exporter->add_option("--formats", a.formats, "Any of csv json h5 (default all)")->check(CLI::IsMember({"csv", "json", "h5"}));
+  exporter->add_option("--to", a.export_to, "Path of the exported files without extension (default DIR/export)");
+  return exporter;
+}
+
+CLI::App* add_bench(CLI::App& app, Args& a) {
+  CLI::App* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers), the candidate pairs per ball (and the share of them across the threads' ranges), the contacts per ball and the stages' shares of the step (clocked on the staged step: a run with its stages clocked runs them one after the other, not in the one parallel region of an untimed step).");
+  bench->add_option("--sizes", a.bench.sizes, "Particle counts (default 100 1000 10000)");
+  bench->add_option("--threads", a.bench.threads, "Thread counts (default 1 2)");
+  bench->add_option("--methods", a.bench.methods, "Broad phases (default hash kdtree)");
+  bench->add_option("--repeats", a.bench.repeats, "Runs per point; the median is reported (default 3)");
+  bench->add_option("--steps", a.bench.step_scale, "Scale of the timed step counts (default 1)");
+  bench->add_option("--energy", a.bench.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
+  bench->add_flag("--bag", a.bench.bag, "The bagged scene (cases/box-beanbag) instead: cost per step, its split between balls and film, and the film's cost against its node count");
+  bench->add_option("--film-triangles", a.bench.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
+  bench->add_flag("--growth", a.bench.growth,
+                  "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
+                  "cost per particle-step, one neighbour build of each broad phase and peak memory against N, and their fitted exponents; "
+                  "the --repeats run in rounds over the sizes, so that the machine's drifting speed weighs on every size alike");
+  bench->add_option("--tiles", a.bench.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
+  bench->add_option("--peers", a.bench.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
+  bench->add_option("--case", a.bench.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
+  return bench;
+}
+
+// `bagdem run` of a case with a stepped-sine excitation: the frequency sweep.
+int sweep_case(const Args& a, const Scene& s, const RunOptions& o) {
+  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
+                        << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
+  const SweepReport r = run_sweep(s, o);
+  if (r.signal) {
+    std::cerr << "interrupted: " << r.message << "\n";
+    return 128 + r.signal;
+  }
+  if (!r.complete) {
+    std::cerr << "error: " << r.message << "\n";
+    return kExitRunError;
+  }
+  std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
+  for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
+  std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
+  std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
+  return 0;
+}
+
+// `bagdem run` of any other case.
+int run_case(const Args& a, const Scene& s, const RunOptions& o) {
+  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
+                        << " s, " << s.total_steps() << " steps -> " << o.out_dir << "\n";
+  const RunReport r = run_scene(s, o);
+  if (r.signal) {
+    std::cerr << "interrupted: " << r.message << "\n";
+    return 128 + r.signal;
+  }
+  if (!r.complete) {
+    std::cerr << "error: " << r.message << "\n";
+    return kExitRunError;
+  }
+  if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
+  if (!r.reduce_message.empty())
+    std::fprintf(stderr, "%s%s\n", r.reduced.empty() ? "reduction skipped: " : "note: ", r.reduce_message.c_str());
+  if (s.models.energy)
+    std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n", r.wall_seconds,
+                r.ns_per_particle_step, r.energy_balance_error);
+  else
+    std::printf("run complete: %.2f s wall, %.1f ns per particle-step (energy budget off: output.energy = false)\n",
+                r.wall_seconds, r.ns_per_particle_step);
+  if (r.cycles > 0)
+    std::printf("energy dissipated per cycle: %.4e J (over %.1f measured cycles)\n", r.dissipated_per_cycle, r.cycles);
+  if (r.structure) {
+    std::printf("structure: RMS response %.4e m, RMS acceleration %.4e m/s^2 at response_at\n", r.response_rms,
+                r.acceleration_rms);
+    if (r.decay_time > 0)
+      std::printf("decay: damping ratio %.4g, time to fall by 20 dB %.4g s\n", r.decay_zeta, r.decay_time);
+  }
+  return 0;
+}
+
+int run_command(const Args& a) {
+  if (a.seeds > 1) {
+    if (a.resume) throw InputError("--resume", "", "", "an ensemble resumes by itself: run the same command again (done starts are kept)");
+    return study::run_ensemble(a.case_dir, a.sets, a.seeds, a.out_dir, a.threads);
+  }
+  const Scene s = load_case(a.case_dir, a.sets);
+  for (const auto& w : s.warnings) std::cerr << "warning: " << w << "\n";
+  RunOptions o;
+  o.out_dir = a.out();
+  o.threads = a.threads;
+  o.quiet = a.quiet;
+  o.resume = a.resume;
+  return s.primary && s.primary->sweep ? sweep_case(a, s, o) : run_case(a, s, o);
+}
+
+int reduce_command(const Args& a) {
+  const Scene s = load_case(a.case_dir, a.sets);
+  std::vector<ReducedRow> rows = reduce_run(s, a.out());
+  attach_drop_result(rows, a.out());
+  std::printf("%s%s", describe_reduced(rows).c_str(), describe_restitution(rows).c_str());
+  return 0;
+}
+
+int compare_command(const Args& a) {
+  const Scene s = load_case(a.case_dir, a.sets);
+  if (!s.primary || !s.primary->sweep)
+    throw InputError(s.case_file, "excitation.kind", "", "compare needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
+  const continuum::Form f = a.form == "printed" ? continuum::Form::printed : continuum::Form::consistent;
+  const std::vector<CompareRow> rows = compare_with_continuum(*s.primary, s.primary->amplitude, reduce_run(s, a.out()), f);
+  write_compare_csv(std::filesystem::path(a.out()) / "compare.csv", rows);
+  std::printf("%s", describe_compare(rows, f).c_str());
+  return 0;
+}
+
+int drop_command(const Args& a) {
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  const Scene s = load_case(a.case_dir, a.sets);
+  const DropResult d = run_drop_test(s, a.drop_speed, a.out(), false);
+  write_drop_result(std::filesystem::path(a.out()) / "drop_result.csv", d);
+  std::printf("e_drop = %.4f (approach %.4g m/s, rebound %.4g m/s, peak force %.4g N, contact %.4g ms)\n", d.restitution,
+              d.v_before, d.v_after, d.peak_force, 1e3 * d.duration);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,110 +267,18 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 
-  std::string case_dir, out_dir;
-  std::vector<std::string> sets;
-  std::string fidelity;  // --fidelity: a preset's overrides, appended to sets (study/trade.hpp)
-  auto add_fidelity = [&fidelity](CLI::App* sub) {
-    sub->add_option("--fidelity", fidelity,
-                    "A preset of the speed/accuracy trade: fast, balanced (the case as written) or reference (see bagdem trade)")
-        ->check(CLI::IsMember({"fast", "balanced", "reference"}));
-  };
-  int threads = 0;
-  bool quiet = false, resume = false;
-
-  auto* check = app.add_subcommand("check", "Validate a case and print the resolved scene: what is modelled, N, dt and how it was chosen, steps, memory; for a bag its size, fill, film resolution and strings.");
-  check->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
-  check->add_option("--set", sets, "Override a key of case.toml: --set simulation.duration=\"0.5 s\" (repeatable)");
-  add_fidelity(check);
-
-  auto* run = app.add_subcommand("run", "Run a case: writes results.h5 (+ results.xmf for ParaView) and, when complete, summary.json. "
-                                      "A case with a primary structure ([primary]: sdof, beam, fe-beam) driven by a stepped-sine "
-                                      "[excitation] runs a frequency sweep instead: sweep.csv, the table /sweep in results.h5, and "
-                                      "each mode's peak reduction (dB, %) against the bare structure in summary.json.");
-  run->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
-  run->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
-  run->add_option("--threads", threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; 1.3-1.9x from 1 to 2 threads at 10 000 balls on the PD-box bed of a shared 2-core machine)")->check(CLI::Range(1, 1024));
-  run->add_option("--set", sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
-  add_fidelity(run);
-  run->add_flag("--quiet", quiet, "No progress line");
-  run->add_flag("--resume", resume, "Continue an interrupted run from OUT/checkpoint.bin (left by output.checkpoint_interval > 0, and by SIGINT or SIGTERM, which stop a run with exit code 130 or 143)");
-  int seeds = 1;
-  run->add_option("--seeds", seeds,
-                  "An ensemble of N perturbed starts (simulation.seed = 1..N, each in OUT/point-NNN, resumable, as bagdem sweep runs "
-                  "them; --threads is then per start): every table with its mean and 95% interval over the starts "
-                  "(OUT/<table>_ensemble.csv), the peak reduction among them. A chaotic bed's figure from one start is not a measurement")
-      ->check(CLI::Range(1, 100000));
-
-  auto* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
-                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles, energy per cycle, "
-                                            "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
-                                            "restitution e (per impact between free flights, else Eq. 19a, else the drop test; e_method says which), "
-                                            "each with its standard error and 95% interval over the correlated cycles, and steady = 0 for a window "
-                                            "whose energy balance is off by more than 1%. Writes OUT/reduced.csv (columns: docs/outputs.md).");
-  reduce->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
-  reduce->add_option("--out", out_dir, "Output directory of the run (default CASE_DIR/out)");
-  reduce->add_option("--set", sets, "The --set overrides the run was made with (repeatable)");
-  add_fidelity(reduce);
-
-  std::string form = "consistent";
-  auto* compare = app.add_subcommand("compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
-                                              "continuum model's prediction from the DEM-derived C_b, M_b and e (the modal model with the bag's "
-                                              "impedance, the study's SDOF Eq. 7 and Eq. 20), with the errors. Writes OUT/compare.csv (also done at "
-                                              "the end of a sweep).");
-  compare->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
-  compare->add_option("--out", out_dir, "Output directory of the sweep (default CASE_DIR/out)");
-  compare->add_option("--set", sets, "The --set overrides the sweep was run with (repeatable)");
-  add_fidelity(compare);
-  compare->add_option("--form", form, "Eq. (7)/(20) form: consistent (default) or printed (the study's as-printed equations)")
-      ->check(CLI::IsMember({"consistent", "printed"}));
-
-  double drop_speed = 0;
-  auto* drop = app.add_subcommand("drop", "Drop test of the case's bag: its contents, settled as in the case, are launched against a wall of the "
-                                        "resting cavity along the excitation direction; prints e_drop = rebound / approach speed of their "
-                                        "centre of mass (in [0, 1], or an error that says why) and writes OUT/drop.csv and OUT/drop_result.csv; "
-                                        "`bagdem reduce` then reports it beside the other two estimates (a run does the same by itself when a "
-                                        "row has neither of the others).");
-  drop->add_option("case_dir", case_dir, "Case directory (holds case.toml)")->required();
-  drop->add_option("--out", out_dir, "Output directory (default CASE_DIR/out)");
-  drop->add_option("--set", sets, "Override a key of case.toml (repeatable)");
-  add_fidelity(drop);
-  drop->add_option("--speed", drop_speed, "Launch speed in m/s (default: the case's expected impact speed)");
-  drop->add_option("--threads", threads, "OpenMP threads")->check(CLI::Range(1, 1024));
-
-  std::vector<std::string> formats = {"csv", "json", "h5"};
-  std::string export_to;
-  auto* exporter = app.add_subcommand("export", "Export the reduced-parameter table of a run or a study (C_b, M_b, e, loss factor against "
-                                               "frequency, amplitude and Gamma, with the swept design parameters) as CSV, JSON and HDF5 with "
-                                               "units, for FE and continuum codes (columns: docs/outputs.md).");
-  exporter->add_option("dir", out_dir, "A run's output directory or a study's (holds reduced.csv)")->required();
-  exporter->add_option("--formats", formats, "Any of csv json h5 (default all)")->check(CLI::IsMember({"csv", "json", "h5"}));
-  exporter->add_option("--to", export_to, "Path of the exported files without extension (default DIR/export)");
-
-  BenchOptions bench_opt;
-  auto* bench = app.add_subcommand("bench", "Benchmark: ns per particle-step on the PD-box vibrating bed (the scene of LIGGGHTS/LAMMPS peers), the candidate pairs per ball (and the share of them across the threads' ranges), the contacts per ball and the stages' shares of the step (clocked on the staged step: a run with its stages clocked runs them one after the other, not in the one parallel region of an untimed step).");
-  bench->add_option("--sizes", bench_opt.sizes, "Particle counts (default 100 1000 10000)");
-  bench->add_option("--threads", bench_opt.threads, "Thread counts (default 1 2)");
-  bench->add_option("--methods", bench_opt.methods, "Broad phases (default hash kdtree)");
-  bench->add_option("--repeats", bench_opt.repeats, "Runs per point; the median is reported (default 3)");
-  bench->add_option("--steps", bench_opt.step_scale, "Scale of the timed step counts (default 1)");
-  bench->add_option("--energy", bench_opt.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
-  bench->add_flag("--bag", bench_opt.bag, "The bagged scene (cases/box-beanbag) instead: cost per step, its split between balls and film, and the film's cost against its node count");
-  bench->add_option("--film-triangles", bench_opt.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");
-  bench->add_flag("--growth", bench_opt.growth,
-                  "Growth instead: the settled N = 1000 bed tiled k x k (N = 1000 k^2), 10000 steps each (x --steps); "
-                  "cost per particle-step, one neighbour build of each broad phase and peak memory against N, and their fitted exponents; "
-                  "the --repeats run in rounds over the sizes, so that the machine's drifting speed weighs on every size alike");
-  bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
-  bench->add_option("--peers", bench_opt.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
-  bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
-
+  Args a;
+  CLI::App* check = add_check(app, a);
+  CLI::App* run = add_run(app, a);
+  CLI::App* reduce = add_reduce(app, a);
+  CLI::App* compare = add_compare(app, a);
+  CLI::App* drop = add_drop(app, a);
+  CLI::App* exporter = add_export(app, a);
+  CLI::App* bench = add_bench(app, a);
   // sweep: parameter studies over a case (src/study; MPI starts there, and only there).
-  study::SweepArgs sweep_args;
-  CLI::App* sweep = study::add_sweep_command(app, sweep_args);
-
+  CLI::App* sweep = study::add_sweep_command(app, a.sweep);
   // trade: the speed/accuracy trade of a case (src/study/trade.cpp).
-  study::TradeArgs trade_args;
-  CLI::App* trade = study::add_trade_command(app, trade_args);
+  CLI::App* trade = study::add_trade_command(app, a.trade);
 
   try {
     app.parse(argc, argv);
@@ -156,114 +287,31 @@ int main(int argc, char** argv) {
     // bad input like any other: exit code 2, not CLI11's own codes.
     return app.exit(e) == 0 ? 0 : kExitInputError;
   }
-  if ((run->parsed() || drop->parsed()) && threads > 0) warn_threads_above_cores({threads});
-  if (bench->parsed()) warn_threads_above_cores(bench_opt.threads);
-  if (sweep->parsed()) return study::sweep_command(sweep_args);
-  if (trade->parsed()) return study::trade_command(trade_args);
+  if ((run->parsed() || drop->parsed()) && a.threads > 0) warn_threads_above_cores({a.threads});
+  if (bench->parsed()) warn_threads_above_cores(a.bench.threads);
+  if (sweep->parsed()) return study::sweep_command(a.sweep);
+  if (trade->parsed()) return study::trade_command(a.trade);
   try {
-    if (!fidelity.empty()) {
-      const auto more = study::fidelity_sets(case_dir, sets, fidelity);
-      sets.insert(sets.end(), more.begin(), more.end());
+    if (!a.fidelity.empty()) {
+      const auto more = study::fidelity_sets(a.case_dir, a.sets, a.fidelity);
+      a.sets.insert(a.sets.end(), more.begin(), more.end());
     }
     if (check->parsed()) {
-      const Scene s = load_case(case_dir, sets);
+      const Scene s = load_case(a.case_dir, a.sets);
       std::cout << describe_scene(s);
       for (const auto& w : s.warnings) std::cout << "warning: " << w << "\n";
       return 0;
     }
-    if (run->parsed() && seeds > 1) {
-      if (resume) throw InputError("--resume", "", "", "an ensemble resumes by itself: run the same command again (done starts are kept)");
-      return study::run_ensemble(case_dir, sets, seeds, out_dir, threads);
-    }
-    if (run->parsed()) {
-      const Scene s = load_case(case_dir, sets);
-      for (const auto& w : s.warnings) std::cerr << "warning: " << w << "\n";
-      RunOptions o;
-      o.out_dir = out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir;
-      o.threads = threads;
-      o.quiet = quiet;
-      o.resume = resume;
-      if (s.primary && s.primary->sweep) {
-        if (!quiet) std::cerr << "bagdem run " << case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
-                              << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
-        const SweepReport r = run_sweep(s, o);
-        if (r.signal) {
-          std::cerr << "interrupted: " << r.message << "\n";
-          return 128 + r.signal;
-        }
-        if (!r.complete) {
-          std::cerr << "error: " << r.message << "\n";
-          return kExitRunError;
-        }
-        std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
-        for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
-        std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
-        std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
-        return 0;
-      }
-      if (!quiet) std::cerr << "bagdem run " << case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
-                            << " s, " << s.total_steps() << " steps -> " << o.out_dir << "\n";
-      const RunReport r = run_scene(s, o);
-      if (r.signal) {
-        std::cerr << "interrupted: " << r.message << "\n";
-        return 128 + r.signal;
-      }
-      if (!r.complete) {
-        std::cerr << "error: " << r.message << "\n";
-        return kExitRunError;
-      }
-      if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
-      if (!r.reduce_message.empty())
-        std::fprintf(stderr, "%s%s\n", r.reduced.empty() ? "reduction skipped: " : "note: ", r.reduce_message.c_str());
-      if (s.models.energy)
-        std::printf("run complete: %.2f s wall, %.1f ns per particle-step, energy balance error %.2e\n", r.wall_seconds,
-                    r.ns_per_particle_step, r.energy_balance_error);
-      else
-        std::printf("run complete: %.2f s wall, %.1f ns per particle-step (energy budget off: output.energy = false)\n",
-                    r.wall_seconds, r.ns_per_particle_step);
-      if (r.cycles > 0)
-        std::printf("energy dissipated per cycle: %.4e J (over %.1f measured cycles)\n", r.dissipated_per_cycle, r.cycles);
-      if (r.structure) {
-        std::printf("structure: RMS response %.4e m, RMS acceleration %.4e m/s^2 at response_at\n", r.response_rms,
-                    r.acceleration_rms);
-        if (r.decay_time > 0)
-          std::printf("decay: damping ratio %.4g, time to fall by 20 dB %.4g s\n", r.decay_zeta, r.decay_time);
-      }
-      return 0;
-    }
-    const std::string out = out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir;
-    if (reduce->parsed()) {
-      const Scene s = load_case(case_dir, sets);
-      std::vector<ReducedRow> rows = reduce_run(s, out);
-      attach_drop_result(rows, out);
-      std::printf("%s%s", describe_reduced(rows).c_str(), describe_restitution(rows).c_str());
-      return 0;
-    }
-    if (compare->parsed()) {
-      const Scene s = load_case(case_dir, sets);
-      if (!s.primary || !s.primary->sweep)
-        throw InputError(s.case_file, "excitation.kind", "", "compare needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
-      const continuum::Form f = form == "printed" ? continuum::Form::printed : continuum::Form::consistent;
-      const std::vector<CompareRow> rows = compare_with_continuum(*s.primary, s.primary->amplitude, reduce_run(s, out), f);
-      write_compare_csv(std::filesystem::path(out) / "compare.csv", rows);
-      std::printf("%s", describe_compare(rows, f).c_str());
-      return 0;
-    }
-    if (drop->parsed()) {
-      if (threads > 0) omp_set_num_threads(threads);
-      const Scene s = load_case(case_dir, sets);
-      const DropResult d = run_drop_test(s, drop_speed, out, false);
-      write_drop_result(std::filesystem::path(out) / "drop_result.csv", d);
-      std::printf("e_drop = %.4f (approach %.4g m/s, rebound %.4g m/s, peak force %.4g N, contact %.4g ms)\n", d.restitution,
-                  d.v_before, d.v_after, d.peak_force, 1e3 * d.duration);
-      return 0;
-    }
+    if (run->parsed()) return run_command(a);
+    if (reduce->parsed()) return reduce_command(a);
+    if (compare->parsed()) return compare_command(a);
+    if (drop->parsed()) return drop_command(a);
     if (exporter->parsed()) {
-      for (const std::string& p : export_reduced(out_dir, export_to, formats)) std::printf("wrote %s\n", p.c_str());
+      for (const std::string& p : export_reduced(a.out_dir, a.export_to, a.formats)) std::printf("wrote %s\n", p.c_str());
       return 0;
     }
     if (bench->parsed())
-      return bench_opt.growth ? run_growth_bench(bench_opt) : bench_opt.bag ? run_bag_bench(bench_opt) : run_bench(bench_opt);
+      return a.bench.growth ? run_growth_bench(a.bench) : a.bench.bag ? run_bag_bench(a.bench) : run_bench(a.bench);
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitInputError;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
 

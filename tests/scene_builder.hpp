@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 

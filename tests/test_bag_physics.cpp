@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "bag_support.hpp"
-#include "bagdem/bag/bag_report.hpp"
+#include "bagdem/run/bag_report.hpp"
 #include "bagdem/io/bag_file.hpp"
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"

@@ -14,6 +14,7 @@
 #include "bagdem/contact/lanes.hpp"
 #include "bagdem/contact/restitution.hpp"
 #include "bagdem/contact/surface_law.hpp"
+#include "bagdem/float_rounding.hpp"
 #include "rng.hpp"
 
 using namespace bagdem;

@@ -1,5 +1,5 @@
 // The reduction of runs to effective parameters (reduce/reduce.hpp), the drop test
-// (reduce/drop_test.hpp), the comparison with the continuum model (reduce/compare.hpp) and the
+// (run/drop_test.hpp), the comparison with the continuum model (reduce/compare.hpp) and the
 // export (reduce/export.hpp), through real runs:
 //  - a rigid mass glued to the cavity (a steel ball squeezed 10 um between two walls, so that it
 //    follows the cavity far below its contact resonance): M_eff equals its mass and C_eff is zero;
@@ -21,11 +21,11 @@
 #include "bagdem/contact/restitution.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/compare.hpp"
-#include "bagdem/reduce/drop_test.hpp"
+#include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/export.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
 

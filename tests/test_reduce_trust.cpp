@@ -18,9 +18,9 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/io/table_csv.hpp"
-#include "bagdem/reduce/drop_test.hpp"
+#include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "support.hpp"
 
 using namespace bagdem;

@@ -1,5 +1,5 @@
 // The primary structure carrying the cavity (structure/primary.hpp, src/step/structure.cpp,
-// run/sweep.hpp), through case files:
+// run/frequency_sweep.hpp), through case files:
 //  - case keys and refusals;
 //  - an SDOF without contents (one ball that never touches a wall): the swept receptance against
 //    the analytic one, 1/(K - w^2 M + i w C), within 0.5% across the band;
@@ -22,7 +22,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/modes.hpp"
 #include "bagdem/structure/response.hpp"

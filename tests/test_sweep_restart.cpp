@@ -12,7 +12,7 @@
 #include <string>
 
 #include "bagdem/case/load_case.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "results_compare.hpp"
 #include "support.hpp"
 #include "sweep_support.hpp"

@@ -42,8 +42,4 @@ struct PairLawTable {
 double effective_youngs(const Material& a, const Material& b);
 double effective_shear(const Material& a, const Material& b);
 
-// Builds the table from materials and the interaction of each pair (interactions[a*n+b]).
-PairLawTable make_pair_laws(const std::vector<Material>& materials,
-                            const std::vector<Interaction>& interactions);
-
 }  // namespace bagdem

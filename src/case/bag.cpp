@@ -159,14 +159,8 @@ void resolve_strings(const CaseReader& in, Bag& bag, const Scene& s) {
   }
 }
 
-}  // namespace
-
-void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>& names) {
-  if (!in.has("bag")) return;
-  auto bag = std::make_shared<Bag>();
-  Bag& b = *bag;
-
-  // The film.
+// [bag.film]: the film's material, thickness, bending, damping and mass scaling.
+void read_film(const CaseReader& in, const Scene& s, const std::vector<std::string>& names, Bag& b) {
   b.material = material_index(in, "bag.film.material", names);
   const Material& fm = s.materials[static_cast<std::size_t>(b.material)];
   b.film.youngs_modulus = fm.youngs_modulus;
@@ -183,6 +177,100 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   if (!(b.damping_ratio >= 0 && b.damping_ratio < 1)) in.fail("bag.film.damping_ratio", "must be in [0, 1)");
   b.mass_scaling = in.quantity("bag.film.mass_scaling", dim::none, 1.0);
   if (!(b.mass_scaling >= 1)) in.fail("bag.film.mass_scaling", "must be >= 1 (film node masses x this)");
+}
+
+// Where and what the balls of a saved bag are.
+struct SavedBagPlacement {
+  Vec3 centre;        // bag.centre (or the cavity's centre), in the world at rest (m)
+  Vec3 rest_cavity;   // the cavity's position at rest (m)
+  double r, d;        // the balls' radius and diameter (m)
+  int ball_material;
+};
+
+// bag.from: the saved bag's film and balls, placed so its balls' centroid sits at bag.centre when
+// given, else where it was saved.
+void place_saved_bag(const CaseReader& in, Scene& s, const SavedBagPlacement& at, Bag& b) {
+  const std::string path = (std::filesystem::path(s.case_dir) / in.string("bag.from")).string();
+  SavedBag saved = load_bag(path);
+  b.rest = std::move(saved.rest);
+  build_topology(b.rest);
+  // Placed so its balls' centroid sits at bag.centre when given, else where it was saved.
+  Vec3 shift = at.rest_cavity;
+  if (in.has("bag.centre")) {
+    Vec3 c(0, 0, 0);
+    for (const Vec3& x : saved.ball_position) c += x;
+    shift = at.centre - c / static_cast<double>(saved.ball_position.size());
+  }
+  for (Vec3& v : b.rest.vertices) v += shift;
+  b.x0 = saved.film_position;
+  for (Vec3& v : b.x0) v += shift;
+  b.ball_first = s.particles.size();
+  b.balls = saved.ball_position.size();
+  for (std::size_t k = 0; k < saved.ball_position.size(); ++k) {
+    if (std::abs(saved.ball_radius[k] - at.r) > 1e-9 * at.r)
+      in.fail("bag.from", "holds balls of diameter " + std::to_string(2 * saved.ball_radius[k]) +
+                              " m, but bag.balls.diameter is " + std::to_string(at.d) + " m");
+    s.particles.push_back({saved.ball_position[k] + shift, Vec3::Zero(), Vec3::Zero(), at.r, at.ball_material});
+  }
+  b.shape = saved.shape;
+  b.axis = saved.axis;
+  b.side = saved.side;
+  b.size = saved.size;
+  b.fill_fraction = saved.fill_fraction;
+  b.source = "from " + path;
+  // The count, mass or ratio and the seed of the saved case are not used (but are not unknown).
+  for (const char* k : {"count", "mass", "mass_ratio", "primary_mass", "seed"}) in.has(std::string("bag.balls.") + k);
+  for (const char* k : {"radius", "length", "size", "aspect", "exponent", "fill_fraction", "triangles", "shape", "axis", "side"})
+    in.has(std::string("bag.") + k);
+}
+
+// The film at rest must fit the cavity: every node inside its bounds and clear of its walls.
+void check_fits_cavity(const CaseReader& in, const Scene& s, const Bag& b, const Vec3& rest_cavity) {
+  const double t = b.film.thickness;
+  for (const Vec3& v : b.x0) {
+    const Vec3 local = v - rest_cavity;
+    bool inside = (local - s.cavity_lo).minCoeff() >= 0 && (s.cavity_hi - local).minCoeff() >= 0;
+    for (const Wall& w : s.walls) {
+      Vec3 n;
+      inside = inside && wall_distance(w, local, n) >= 0.5 * t;
+    }
+    for (const MeshWall& w : s.mesh_walls) inside = inside && winding_number(w.mesh, w.mesh.vertices, local) > 0.5;
+    if (!inside) {
+      std::ostringstream m;
+      m << "the bag (" << 1e3 * b.size.x() << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z()
+        << " mm at rest) does not fit the cavity: its film reaches (" << 1e3 * local.x() << ", " << 1e3 * local.y()
+        << ", " << 1e3 * local.z() << ") mm. Give a smaller bag (bag.radius, bag.length, bag.size, fewer balls), move "
+        << "it (bag.centre), or enlarge the cavity";
+      in.fail("bag", m.str());
+    }
+  }
+}
+
+// The film's time and length scales: the Kelvin-Voigt damping time, the lightest node, the top
+// frequency, and the film-wall contact radius.
+void set_film_scales(const CaseReader& in, Bag& b) {
+  // Damping time of the Kelvin-Voigt stress: ratio zeta at the film's highest frequency.
+  Membrane probe(b.rest, b.film);
+  b.min_node_mass = *std::min_element(probe.node_mass().begin(), probe.node_mass().end()) * b.mass_scaling;
+  b.max_frequency = probe.max_frequency() / std::sqrt(b.mass_scaling);
+  b.film.damping_time = 2 * b.damping_ratio / b.max_frequency;
+  // Film-wall contact radius: half the mean edge length (the patch a node stands for).
+  double edges = 0;
+  for (const auto& e : b.rest.edge_vertices) edges += (b.rest.vertices[e[0]] - b.rest.vertices[e[1]]).norm();
+  b.mean_edge = edges / static_cast<double>(b.rest.edge_vertices.size());
+  b.contact_radius = in.quantity_or_auto("bag.film.contact_radius", dim::length).value_or(0.5 * b.mean_edge);
+  if (!(b.contact_radius > 0)) in.fail("bag.film.contact_radius", "must be > 0 or \"auto\"");
+}
+
+}  // namespace
+
+void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>& names) {
+  if (!in.has("bag")) return;
+  auto bag = std::make_shared<Bag>();
+  Bag& b = *bag;
+
+  read_film(in, s, names, b);
+  const double t = b.film.thickness;
 
   // The balls.
   const int ball_material = material_index(in, "bag.balls.material", names);
@@ -207,38 +295,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   if (triangles < 20 || triangles > 2000000) in.fail("bag.triangles", "must be in [20, 2e6] (the film's resolution)");
 
   if (in.has("bag.from")) {
-    const std::string path = (std::filesystem::path(s.case_dir) / in.string("bag.from")).string();
-    SavedBag saved = load_bag(path);
-    b.rest = std::move(saved.rest);
-    build_topology(b.rest);
-    // Placed so its balls' centroid sits at bag.centre when given, else where it was saved.
-    Vec3 shift = rest_cavity;
-    if (in.has("bag.centre")) {
-      Vec3 c(0, 0, 0);
-      for (const Vec3& x : saved.ball_position) c += x;
-      shift = centre - c / static_cast<double>(saved.ball_position.size());
-    }
-    for (Vec3& v : b.rest.vertices) v += shift;
-    b.x0 = saved.film_position;
-    for (Vec3& v : b.x0) v += shift;
-    b.ball_first = s.particles.size();
-    b.balls = saved.ball_position.size();
-    for (std::size_t k = 0; k < saved.ball_position.size(); ++k) {
-      if (std::abs(saved.ball_radius[k] - r) > 1e-9 * r)
-        in.fail("bag.from", "holds balls of diameter " + std::to_string(2 * saved.ball_radius[k]) +
-                                " m, but bag.balls.diameter is " + std::to_string(d) + " m");
-      s.particles.push_back({saved.ball_position[k] + shift, Vec3::Zero(), Vec3::Zero(), r, ball_material});
-    }
-    b.shape = saved.shape;
-    b.axis = saved.axis;
-    b.side = saved.side;
-    b.size = saved.size;
-    b.fill_fraction = saved.fill_fraction;
-    b.source = "from " + path;
-    // The count, mass or ratio and the seed of the saved case are not used (but are not unknown).
-    for (const char* k : {"count", "mass", "mass_ratio", "primary_mass", "seed"}) in.has(std::string("bag.balls.") + k);
-    for (const char* k : {"radius", "length", "size", "aspect", "exponent", "fill_fraction", "triangles", "shape", "axis", "side"})
-      in.has(std::string("bag.") + k);
+    place_saved_bag(in, s, {centre, rest_cavity, r, d, ball_material}, b);
   } else {
     const std::size_t n = ball_count(in, ball_mass, s.primary ? s.primary->structure_mass : 0.0);
     const double ball_volume = static_cast<double>(n) * 4.0 / 3.0 * kPi * r * r * r;
@@ -326,36 +383,9 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
       if ((s.particles[k].x - s.particles[j].x).norm() < s.particles[k].radius + s.particles[j].radius)
         in.fail("bag", "a ball of the bag overlaps particle " + std::to_string(j) + " of [particles]; move the bag (bag.centre) or the particles");
 
-  // The film at rest must fit the cavity: every node inside its bounds and clear of its walls.
-  for (const Vec3& v : b.x0) {
-    const Vec3 local = v - rest_cavity;
-    bool inside = (local - s.cavity_lo).minCoeff() >= 0 && (s.cavity_hi - local).minCoeff() >= 0;
-    for (const Wall& w : s.walls) {
-      Vec3 n;
-      inside = inside && wall_distance(w, local, n) >= 0.5 * t;
-    }
-    for (const MeshWall& w : s.mesh_walls) inside = inside && winding_number(w.mesh, w.mesh.vertices, local) > 0.5;
-    if (!inside) {
-      std::ostringstream m;
-      m << "the bag (" << 1e3 * b.size.x() << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z()
-        << " mm at rest) does not fit the cavity: its film reaches (" << 1e3 * local.x() << ", " << 1e3 * local.y()
-        << ", " << 1e3 * local.z() << ") mm. Give a smaller bag (bag.radius, bag.length, bag.size, fewer balls), move "
-        << "it (bag.centre), or enlarge the cavity";
-      in.fail("bag", m.str());
-    }
-  }
+  check_fits_cavity(in, s, b, rest_cavity);
 
-  // Damping time of the Kelvin-Voigt stress: ratio zeta at the film's highest frequency.
-  Membrane probe(b.rest, b.film);
-  b.min_node_mass = *std::min_element(probe.node_mass().begin(), probe.node_mass().end()) * b.mass_scaling;
-  b.max_frequency = probe.max_frequency() / std::sqrt(b.mass_scaling);
-  b.film.damping_time = 2 * b.damping_ratio / b.max_frequency;
-  // Film-wall contact radius: half the mean edge length (the patch a node stands for).
-  double edges = 0;
-  for (const auto& e : b.rest.edge_vertices) edges += (b.rest.vertices[e[0]] - b.rest.vertices[e[1]]).norm();
-  b.mean_edge = edges / static_cast<double>(b.rest.edge_vertices.size());
-  b.contact_radius = in.quantity_or_auto("bag.film.contact_radius", dim::length).value_or(0.5 * b.mean_edge);
-  if (!(b.contact_radius > 0)) in.fail("bag.film.contact_radius", "must be > 0 or \"auto\"");
+  set_film_scales(in, b);
   resolve_strings(in, b, s);
   s.bag = std::move(bag);
 }

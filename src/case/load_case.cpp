@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
 

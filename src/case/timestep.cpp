@@ -17,12 +17,16 @@
 
 namespace bagdem {
 
-void resolve_timestep(const CaseReader& in, Scene& s) {
-  const double safety = in.quantity("simulation.timestep_safety", dim::none, 0.2);
-  if (!(safety > 0 && safety <= 1)) in.fail("simulation.timestep_safety", "must be in (0, 1]");
-  const double per_contact = in.quantity("simulation.steps_per_contact", dim::none, 40);
-  if (!(per_contact >= 10)) in.fail("simulation.steps_per_contact", "must be >= 10 (30 or more recommended)");
+namespace {
 
+// The step limits, each the smallest over what it concerns (s); 1e300 where nothing limits.
+struct StepLimits {
+  double rayleigh = 1e300, contact = 1e300, critical = 1e300, film = 1e300, structure = 1e300;
+};
+
+// simulation.expected_speed, or (auto) 2 x the cavity's peak speed + the free-fall speed over the
+// cavity's extent along gravity + the largest initial particle speed (m/s).
+double expected_speed(const CaseReader& in, const Scene& s) {
   double v = 0;
   if (auto given = in.quantity_or_auto("simulation.expected_speed", dim::speed)) {
     if (!(*given > 0)) in.fail("simulation.expected_speed", "must be > 0");
@@ -40,8 +44,11 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     v = 2 * cavity_speed + std::sqrt(2 * s.gravity.norm() * height) + v0;
     v = std::max(v, 0.01);
   }
-  s.expected_speed = v;
+  return v;
+}
 
+// The smallest particle radius of each material (0 for a material of no particle).
+std::vector<double> smallest_radius(const Scene& s) {
   // Smallest particle of each material, against every material it can touch (particles and walls).
   const int nm = static_cast<int>(s.materials.size());
   std::vector<double> rmin(static_cast<std::size_t>(nm), 0.0);
@@ -49,7 +56,14 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
     double& r = rmin[static_cast<std::size_t>(p.material)];
     r = r == 0 ? p.radius : std::min(r, p.radius);
   }
-  double dt_rayleigh = 1e300, dt_contact = 1e300, dt_crit = 1e300;
+  return rmin;
+}
+
+// The balls' limits: Rayleigh time, resolved contact time and critical step, against every material
+// each can touch (particles and walls).
+void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, double per_contact, StepLimits& L) {
+  const int nm = static_cast<int>(s.materials.size());
+  double &dt_rayleigh = L.rayleigh, &dt_contact = L.contact, &dt_crit = L.critical;
   for (int a = 0; a < nm; ++a) {
     const double r = rmin[static_cast<std::size_t>(a)];
     if (r == 0) continue;
@@ -84,61 +98,69 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       if (wall_material) consider(r, m);
     }
   }
-  // The bag: the critical steps of its balls against the film (m* down to a film node's mass), of
-  // the film's nodes against the walls (R* = contact radius), of the membrane's highest frequency,
-  // and of the strings on their ties. Its light nodes ring at these frequencies for the whole run
-  // (a ball's contact ends), so `auto` keeps timestep_safety x their smallest, as for the Rayleigh
-  // time: at half of it (omega dt = 1) the energy budget of an undamped bag drifted by 1e-2, at
-  // 0.2 x by 4e-5 (tests/test_bag_physics.cpp, BagEnergy).
-  double dt_film = 1e300;
-  if (s.bag) {
-    const Bag& bag = *s.bag;
-    const int fm = bag.material;
-    const double mn = bag.min_node_mass;
-    // Stability only: a film node's own bounce need not be resolved (its mass is a small fraction
-    // of a ball's); the ball's contact with the film is resolved by the balls' limits above.
-    auto consider_film = [&](int a, double R_eff, double m_eff) {
-      const PairLaw& law = s.laws(a, fm);
-      const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
-      const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
-      dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
-      if (s.models.tangential) {
-        const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
-        dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
-      }
-    };
-    for (int a = 0; a < nm; ++a) {
-      const double r = rmin[static_cast<std::size_t>(a)];
-      if (r == 0) continue;
-      const double m = sphere_mass(s.materials[static_cast<std::size_t>(a)].density, r);
-      consider_film(a, r, m * mn / (m + mn));
-    }
-    for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
-    for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn);
-    // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
-    dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
-    for (const BagString& st : bag.strings) {
-      const double m_tie = mn * static_cast<double>(st.nodes.size());
-      const double w = std::sqrt(st.stiffness / m_tie), zeta = st.damping / (2 * std::sqrt(st.stiffness * m_tie));
-      dt_film = std::min(dt_film, hertz::critical_step(w, zeta));  // spring and damper on the tie
-    }
-    dt_crit = std::min(dt_crit, dt_film);
-  }
-  // The primary structure: velocity Verlet is stable for omega_max dt < 2 and its frequency error
-  // is (omega dt)^2 / 24; `auto` keeps omega_max dt <= 0.2 (0.17% at the highest mode kept).
-  double dt_structure = 1e300;
-  if (s.primary) {
-    const double w = s.primary->omega_max();
-    if (w > 0) {
-      dt_structure = 0.2 / w;
-      dt_crit = std::min(dt_crit, 2.0 / w);
-    }
-    // The force itself: 20 steps over a hammer blow, 20 per period of the highest random line.
-    if (s.primary->force_time_scale > 0) dt_structure = std::min(dt_structure, s.primary->force_time_scale / 20);
-  }
-  s.dt_critical = dt_crit;
+}
 
-  std::ostringstream why;
+// The bag: the critical steps of its balls against the film (m* down to a film node's mass), of
+// the film's nodes against the walls (R* = contact radius), of the membrane's highest frequency,
+// and of the strings on their ties. Its light nodes ring at these frequencies for the whole run
+// (a ball's contact ends), so `auto` keeps timestep_safety x their smallest, as for the Rayleigh
+// time: at half of it (omega dt = 1) the energy budget of an undamped bag drifted by 1e-2, at
+// 0.2 x by 4e-5 (tests/test_bag_physics.cpp, BagEnergy).
+void film_limits(const Scene& s, const std::vector<double>& rmin, double v, StepLimits& L) {
+  const int nm = static_cast<int>(s.materials.size());
+  double &dt_film = L.film, &dt_crit = L.critical;
+  const Bag& bag = *s.bag;
+  const int fm = bag.material;
+  const double mn = bag.min_node_mass;
+  // Stability only: a film node's own bounce need not be resolved (its mass is a small fraction
+  // of a ball's); the ball's contact with the film is resolved by the balls' limits above.
+  auto consider_film = [&](int a, double R_eff, double m_eff) {
+    const PairLaw& law = s.laws(a, fm);
+    const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
+    const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
+    dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
+    if (s.models.tangential) {
+      const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
+      dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
+    }
+  };
+  for (int a = 0; a < nm; ++a) {
+    const double r = rmin[static_cast<std::size_t>(a)];
+    if (r == 0) continue;
+    const double m = sphere_mass(s.materials[static_cast<std::size_t>(a)].density, r);
+    consider_film(a, r, m * mn / (m + mn));
+  }
+  for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
+  for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn);
+  // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
+  dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
+  for (const BagString& st : bag.strings) {
+    const double m_tie = mn * static_cast<double>(st.nodes.size());
+    const double w = std::sqrt(st.stiffness / m_tie), zeta = st.damping / (2 * std::sqrt(st.stiffness * m_tie));
+    dt_film = std::min(dt_film, hertz::critical_step(w, zeta));  // spring and damper on the tie
+  }
+  dt_crit = std::min(dt_crit, dt_film);
+}
+
+// The primary structure: velocity Verlet is stable for omega_max dt < 2 and its frequency error
+// is (omega dt)^2 / 24; `auto` keeps omega_max dt <= 0.2 (0.17% at the highest mode kept).
+void structure_limits(const Scene& s, StepLimits& L) {
+  double &dt_structure = L.structure, &dt_crit = L.critical;
+  const double w = s.primary->omega_max();
+  if (w > 0) {
+    dt_structure = 0.2 / w;
+    dt_crit = std::min(dt_crit, 2.0 / w);
+  }
+  // The force itself: 20 steps over a hammer blow, 20 per period of the highest random line.
+  if (s.primary->force_time_scale > 0) dt_structure = std::min(dt_structure, s.primary->force_time_scale / 20);
+}
+
+// The step: explicit (refused above the critical step unless forced; a warning when coarser than
+// the contact's resolution) or auto (the smallest limit); why it is what it is goes to `why`.
+void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double safety, double per_contact, double v,
+                 std::ostringstream& why) {
+  const double dt_rayleigh = L.rayleigh, dt_contact = L.contact, dt_crit = L.critical, dt_film = L.film,
+               dt_structure = L.structure;
   if (auto given = in.quantity_or_auto("simulation.timestep", dim::time)) {
     s.dt = *given;
     if (!(s.dt > 0)) in.fail("simulation.timestep", "must be > 0 or \"auto\"");
@@ -171,6 +193,10 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
         << " limits";
     in.boolean("simulation.force_timestep", false);
   }
+}
+
+// The drive and the force must be resolved by the chosen step.
+void check_drive(const CaseReader& in, Scene& s) {
   if (s.primary) {
     // The drive and the force must be resolved by the chosen step.
     if (s.primary->harmonic) {
@@ -205,7 +231,29 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
       s.warnings.push_back(w.str());
     }
   }
-  why << "; expected impact speed " << v << " m/s; critical step " << dt_crit << " s";
+}
+
+}  // namespace
+
+void resolve_timestep(const CaseReader& in, Scene& s) {
+  const double safety = in.quantity("simulation.timestep_safety", dim::none, 0.2);
+  if (!(safety > 0 && safety <= 1)) in.fail("simulation.timestep_safety", "must be in (0, 1]");
+  const double per_contact = in.quantity("simulation.steps_per_contact", dim::none, 40);
+  if (!(per_contact >= 10)) in.fail("simulation.steps_per_contact", "must be >= 10 (30 or more recommended)");
+  const double v = expected_speed(in, s);
+  s.expected_speed = v;
+
+  const std::vector<double> rmin = smallest_radius(s);
+  StepLimits L;
+  contact_limits(s, rmin, v, per_contact, L);
+  if (s.bag) film_limits(s, rmin, v, L);
+  if (s.primary) structure_limits(s, L);
+  s.dt_critical = L.critical;
+
+  std::ostringstream why;
+  choose_step(in, s, L, safety, per_contact, v, why);
+  check_drive(in, s);
+  why << "; expected impact speed " << v << " m/s; critical step " << L.critical << " s";
   s.dt_reason = why.str();
 }
 

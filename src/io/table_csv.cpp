@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "bagdem/error.hpp"
-#include "../run/output_files.hpp"
+#include "bagdem/io/atomic_file.hpp"
 
 namespace bagdem {
 

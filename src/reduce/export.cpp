@@ -10,9 +10,10 @@
 #include <sstream>
 
 #include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "../io/h5.hpp"
-#include "../run/output_files.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;

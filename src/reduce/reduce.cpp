@@ -19,7 +19,6 @@
 #include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/particles.hpp"
-#include "bagdem/step/simulation.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "../io/h5.hpp"
 
@@ -30,23 +29,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Distance from c along the unit direction u to a wall (in the cavity frame), +inf if the ray
-// does not meet it.
-double ray_to_wall(const Wall& w, const Vec3& c, const Vec3& u) {
-  const double inf = std::numeric_limits<double>::infinity();
-  if (w.kind == WallKind::Plane) {
-    const double s = (c - w.point).dot(w.direction), approach = -u.dot(w.direction);
-    return approach > 1e-12 ? std::max(0.0, s / approach) : inf;
-  }
-  // Inside a bore: |q + t u_perp| = R, the positive root.
-  const Vec3 a = w.direction, d = c - w.point;
-  const Vec3 q = d - d.dot(a) * a, up = u - u.dot(a) * a;
-  const double A = up.squaredNorm(), B = q.dot(up), C = q.squaredNorm() - w.radius * w.radius;
-  if (A < 1e-24) return inf;
-  const double disc = B * B - A * C;
-  return disc < 0 ? inf : std::max(0.0, (-B + std::sqrt(disc)) / A);
-}
 
 // Circular mean of axial data (angles defined modulo pi), in [0, pi).
 double axial_mean(const std::vector<double>& angles) {
@@ -104,35 +86,6 @@ const std::vector<TableColumn> kColumns = [] {
 
 }  // namespace
 
-ContentsGaps contents_gaps(const Scene& scene, const Simulation& sim, const Vec3& e) {
-  if (!scene.mesh_walls.empty() || scene.walls.empty()) return {kNaN, kNaN};
-  const Particles& p = sim.particles();
-  const FilmNodes& film = sim.film();
-  const Vec3 shift = sim.cavity().position;  // walls are in the cavity frame
-  Vec3 m = Vec3::Zero();
-  double mass = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    m += p.mass[i] * p.x[i], mass += p.mass[i];
-    lo = std::min(lo, p.x[i].dot(e) - p.radius[i]), hi = std::max(hi, p.x[i].dot(e) + p.radius[i]);
-  }
-  for (std::size_t k = 0; k < film.size(); ++k) {
-    m += film.mass[k] * film.x[k], mass += film.mass[k];
-    lo = std::min(lo, film.x[k].dot(e)), hi = std::max(hi, film.x[k].dot(e));
-  }
-  if (!(mass > 0)) return {kNaN, kNaN};
-  const Vec3 c = m / mass - shift;
-  double plus = std::numeric_limits<double>::infinity(), minus = plus;
-  for (const Wall& w : scene.walls) plus = std::min(plus, ray_to_wall(w, c, e)), minus = std::min(minus, ray_to_wall(w, c, -e));
-  if (!std::isfinite(plus + minus)) return {kNaN, kNaN};
-  const double ce = (m / mass).dot(e);
-  return {std::max(0.0, plus - (hi - ce)), std::max(0.0, minus - (ce - lo))};
-}
-
-double contents_clearance(const Scene& scene, const Simulation& sim, const Vec3& e) {
-  const ContentsGaps g = contents_gaps(scene, sim, e);
-  return g.plus + g.minus;
-}
-
 Vec3 excitation_direction(const Scene& scene) {
   if (scene.primary) return scene.primary->direction;
   const double f = scene.motion ? scene.motion->frequency() : 0.0;
@@ -143,7 +96,7 @@ Vec3 excitation_direction(const Scene& scene) {
   return e.norm() > 0 ? Vec3(e.normalized()) : Vec3::Zero();
 }
 
-ReductionContext reduction_context(const Scene& scene, const Simulation* sim, const Vec3& direction) {
+ReductionContext reduction_context(const Scene& scene, const Vec3& direction) {
   ReductionContext c;
   c.direction = direction.normalized();
   const double g = scene.gravity.norm();
@@ -158,7 +111,7 @@ ReductionContext reduction_context(const Scene& scene, const Simulation* sim, co
   if (scene.bag) mass += scene.bag->film_mass();
   c.bag_mass = mass;
   c.primary_mass = scene.primary ? scene.primary->structure_mass : 0;
-  c.clearance = sim ? contents_clearance(scene, *sim, c.direction) : kNaN;
+  c.clearance = kNaN;  // measured on the live contents by the run (run/clearance.hpp)
   return c;
 }
 
@@ -410,7 +363,7 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
     const Vec3 v(vrel[3 * k], vrel[3 * k + 1], vrel[3 * k + 2]);
     s.t.push_back(t[k] + 0.5 * interval), s.x.push_back(x.dot(e)), s.force.push_back(F.dot(e)), s.v_rel.push_back(v.dot(e));
   }
-  ReductionContext ctx = reduction_context(scene, nullptr, e);
+  ReductionContext ctx = reduction_context(scene, e);
   ctx.clearance = clearance;
   const double t_skip = scene.settle + scene.motion->ramp_time() + scene.output.skip_cycles / f;
   std::vector<ReducedRow> rows;

@@ -8,7 +8,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
-#include "output_files.hpp"
+#include "bagdem/io/atomic_file.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;

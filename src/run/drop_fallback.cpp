@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "bagdem/error.hpp"
-#include "bagdem/reduce/drop_test.hpp"
+#include "bagdem/run/drop_test.hpp"
 
 namespace bagdem {
 

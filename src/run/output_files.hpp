@@ -1,11 +1,7 @@
-// Internal to src/run: writing the small result files (summary.json, sweep.csv) so that a reader
-// never sees half of one, and the balls' data in results.h5 in the scene's order.
+// Internal to src/run: the balls' data in results.h5 in the scene's order, and the derived tables
+// a new run removes. (Atomic writes of the small files: io/atomic_file.hpp.)
 #pragma once
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,19 +24,6 @@ inline void append_ball_frame(ResultsFile& file, double t, const Simulation& sim
   file.append_frame(t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w));
 }
 
-// Writes `text` to `path` atomically (temporary name, then rename); std::runtime_error naming the
-// file and the system's reason when it cannot be written (a full disk).
-inline void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.close();  // the last bytes reach the disk here, or fail here
-    if (!f) throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
-  }
-  std::filesystem::rename(tmp, path);
-}
-
 // The tables a run, a sweep, `reduce`, `compare`, `drop` and `export` derive in an output
 // directory: a new run (or a resumed one) removes them first, so that none of an earlier run is
 // left beside its results. results.h5 is not among them: it is replaced when the new one is
@@ -51,20 +34,6 @@ inline constexpr const char* kDerivedTables[] = {"summary.json", "reduced.csv", 
 
 inline void remove_derived_tables(const std::filesystem::path& out) {
   for (const char* name : kDerivedTables) std::filesystem::remove(out / name);
-}
-
-// A string for a JSON document: quotes, backslashes and newlines escaped.
-inline std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') {
-      o += "\\n";
-      continue;
-    }
-    o += c;
-  }
-  return o;
 }
 
 }  // namespace bagdem

@@ -15,11 +15,14 @@
 #include <sstream>
 #include <type_traits>
 
-#include "bagdem/bag/bag_report.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/io/results_file.hpp"
-#include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/run/bag_report.hpp"
+#include "bagdem/run/clearance.hpp"
+#include "bagdem/run/drop_fallback.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 #include "checkpoint_file.hpp"
@@ -182,241 +185,313 @@ std::string summary_json(const Scene& scene, const Simulation& sim, RunReport& r
   return j.str();
 }
 
+// When a run records, checks and reports, in steps.
+struct RunSchedule {
+  std::uint64_t total, n_frame, n_cavity, n_energy, n_ckpt;
+  double f_drive;             // the motion's frequency (Hz; 0 without harmonic motion)
+  std::uint64_t measure_step;  // the per-cycle figures start here
+  std::uint64_t settle_step;
+};
+
+RunSchedule schedule_of(const Scene& scene) {
+  RunSchedule r;
+  r.total = scene.total_steps();
+  r.n_frame = every(scene.output.frame_interval, scene.dt);
+  r.n_cavity = every(scene.output.cavity_interval, scene.dt);
+  r.n_energy = every(scene.output.energy_interval, scene.dt);
+  r.n_ckpt = scene.output.checkpoint_interval > 0 ? every(scene.output.checkpoint_interval, scene.dt) : 0;
+  // Per-cycle figures are taken over whole cycles after settling, the motion's ramp, and
+  // output.skip_cycles of start-up.
+  r.f_drive = scene.motion->frequency();
+  const double skip = scene.motion->ramp_time() + (r.f_drive > 0 ? scene.output.skip_cycles / r.f_drive : 0.0);
+  r.measure_step = static_cast<std::uint64_t>(std::llround((scene.settle + skip) / scene.dt));
+  r.settle_step = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
+  return r;
+}
+
+double total_dissipation(const EnergySample& e) { return e.dissipated(); }
+
+// One run of a scene: its simulation, its results file and what it records on the way.
+class RunLoop {
+ public:
+  RunLoop(const Scene& scene, const RunOptions& opt)
+      : scene_(scene), opt_(opt), out_(opt.out_dir), sim_(scene), at_(schedule_of(scene)) {}
+
+  // Restores an interrupted run (--resume) or starts a new one: results.h5.part open.
+  void open() {
+    if (opt_.resume) resume();
+    else start();
+  }
+  // Runs the steps; false when the run stopped early (a signal, a failure, the testing aid), with
+  // the report as it stands.
+  bool step_all();
+  // The headline figures, results.h5 in place, summary.json and the reduction of a complete run.
+  void finish();
+  RunReport& report() { return rep_; }
+
+ private:
+  void resume();
+  void start();
+  void bag_settled();
+  void record_clearance() {
+    if (excitation_.norm() > 0) file_->set_attribute("clearance", contents_clearance(scene_, sim_, excitation_));
+  }
+  void structure_row();
+  void film_frame() {
+    if (scene_.bag) file_->append_film_frame(sim_.film().x);
+  }
+  std::uint64_t next_event(std::uint64_t s) const;
+  void record(std::uint64_t s);
+  void check_bag(double t) const;
+  void save() {
+    file_->flush();
+    run_.lengths = file_->lengths();
+    save_checkpoint(ckpt(), sim_, run_);
+  }
+  void interrupted(int sig);
+  void close_results(const std::string& status) {
+    file_->set_attribute("status", status);
+    file_->close();
+    fs::rename(out_ / "results.h5.part", out_ / "results.h5");
+    write_xdmf((out_ / "results.xmf").string(), "results.h5", sim_.particles().size(), frame_times_, sim_.film().size(),
+               scene_.bag ? scene_.bag->rest.triangles.size() : 0);
+  }
+  fs::path part() const { return out_ / "results.h5.part"; }
+  fs::path ckpt() const { return out_ / "checkpoint.bin"; }
+
+  const Scene& scene_;
+  const RunOptions& opt_;
+  const fs::path out_;
+  Simulation sim_;
+  const RunSchedule at_;
+  RunReport rep_;
+  RunTallies run_;
+  // The primary structure's response at x_a after release, for the summary's RMS and decay figures.
+  std::vector<double> response_, response_acc_;
+  std::vector<double> frame_times_;
+  std::optional<ResultsFile> file_;
+  // The contents' free travel along the excitation when settling ends (reduce/reduce.hpp: d/X).
+  const Vec3 excitation_ = excitation_direction(scene_);
+  std::uint64_t first_step_ = 0;
+  double wall_ = 0;
+};
+
+// When settling ends: the bag's packing and size, and the settled bag saved for reuse (bag.from).
+void RunLoop::bag_settled() {
+  const BagReport b = measure_bag(scene_, sim_);
+  run_.bag_packing = b.packing_fraction;
+  for (int k = 0; k < 3; ++k) run_.bag_outer[k] = b.outer[k];
+  rep_.bag = true;
+  rep_.bag_packing = b.packing_fraction;
+  rep_.bag_outer = b.outer;
+  if (scene_.settle > 0) save_bag((out_ / "bag.h5").string(), saved_bag(scene_, sim_));
+  if (!opt_.quiet) {
+    std::ostringstream m;
+    m << std::setprecision(3) << "bag at t = " << sim_.time() << " s: packing fraction " << b.packing_fraction
+      << ", outer " << 1e3 * b.outer.x() << " x " << 1e3 * b.outer.y() << " x " << 1e3 * b.outer.z() << " mm"
+      << (scene_.settle > 0 ? "; settled bag saved to " + (out_ / "bag.h5").string() : std::string()) << "\n";
+    std::fputs(m.str().c_str(), stderr);
+  }
+}
+
+// The primary structure at each cavity sample (instantaneous values at the sample's end).
+void RunLoop::structure_row() {
+  if (!scene_.primary) return;
+  const StructureResponse r = sim_.structure_response();
+  const auto& S = sim_.structure().scalars;
+  file_->append_table_row("structure", kStructureColumns,
+                          {sim_.time(), r.displacement, r.velocity, r.acceleration, r.force, r.cavity, r.load,
+                           S.work_external, S.work_contents, S.dissipated, sim_.structure_energy()});
+  if (S.released) response_.push_back(r.displacement), response_acc_.push_back(r.acceleration);
+}
+
+void RunLoop::resume() {
+  Checkpoint c = load_checkpoint(ckpt(), scene_);
+  if (!fs::exists(part())) throw InputError(part().string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
+  try {
+    sim_.load_state(c.state);
+  } catch (const std::exception& e) {
+    throw InputError(ckpt().string(), "", "", std::string(e.what()) + "; run again without --resume");
+  }
+  run_ = c.tallies;
+  if (run_.bag_packing >= 0) {  // settled before the interruption
+    rep_.bag = true;
+    rep_.bag_packing = run_.bag_packing;
+    rep_.bag_outer = Vec3(run_.bag_outer[0], run_.bag_outer[1], run_.bag_outer[2]);
+  }
+  remove_derived_tables(out_);  // a run in progress is not complete
+  file_.emplace(ResultsFile::reopen(part().string(), run_.lengths));
+  file_->set_attribute("status", "running");
+  if (scene_.primary && run_.lengths.structure > 0) {
+    // The response before the interruption, for the summary's RMS and decay over the whole run:
+    // the rows after release (the structure is released at the start of the step after settling).
+    const std::vector<double> t = file_->read_series("/structure/time");
+    const std::vector<double> y = file_->read_series("/structure/displacement");
+    const std::vector<double> a = file_->read_series("/structure/acceleration");
+    for (std::size_t k = 0; k < t.size(); ++k)
+      if (t[k] > scene_.settle + 0.5 * scene_.dt) response_.push_back(y[k]), response_acc_.push_back(a[k]);
+  }
+  for (std::size_t k = 0; k < run_.lengths.frames; ++k) {
+    const std::uint64_t s = std::min<std::uint64_t>(k * at_.n_frame, at_.total);
+    frame_times_.push_back(static_cast<double>(s) * scene_.dt);
+  }
+}
+
+void RunLoop::start() {
+  // The tables of an earlier run go; its results.h5 stays until this run's replaces it.
+  remove_derived_tables(out_);
+  fs::remove(ckpt());
+  std::vector<std::string> mats;
+  for (const auto& m : scene_.materials) mats.push_back(m.name);
+  file_.emplace(open_results(part().string(), sim_, mats, at_.n_cavity * scene_.dt));
+  file_->set_attribute("case_file", scene_.case_file);
+  file_->set_attribute("resolved_config", scene_.resolved);
+  file_->set_attribute("settle_end", scene_.settle);
+  file_->set_attribute("timestep", scene_.dt);
+  file_->set_attribute("status", "running");
+  if (scene_.bag) file_->write_film(scene_.bag->rest.triangles, scene_.bag->rest.vertices.size());
+  append_ball_frame(*file_, 0, sim_);
+  film_frame();
+  if (scene_.models.energy) file_->append_energy(0, sim_.energy().terms());
+  frame_times_.push_back(0);
+}
+
+// The next step after s at which something is recorded or checked: the steps up to it run as one
+// advance (Simulation::advance, the same bits as step by step, one pass over the balls fewer).
+std::uint64_t RunLoop::next_event(std::uint64_t s) const {
+  const bool energy = scene_.models.energy;
+  std::uint64_t e = at_.total;
+  for (std::uint64_t every : {at_.n_cavity, energy ? at_.n_energy : 0, at_.n_frame, at_.n_ckpt, std::uint64_t{1024}})
+    if (every > 0) e = std::min(e, (s / every + 1) * every);
+  for (std::uint64_t at : {at_.settle_step, energy ? at_.measure_step : 0})
+    if (at > s) e = std::min(e, at);
+  if (opt_.stop_after_steps >= 0) e = std::min(e, std::max(s + 1, first_step_ + static_cast<std::uint64_t>(opt_.stop_after_steps)));
+  return e;
+}
+
+// Behind the per-step guard (a ball beyond the film's mid-surface), a global check at each frame:
+// every ball of the bag is inside its film (winding number).
+void RunLoop::check_bag(double t) const {
+  if (!scene_.bag) return;
+  const std::vector<std::size_t> out_of_bag = sim_.balls_outside_bag();
+  if (!out_of_bag.empty())
+    throw RunError("run stopped at t = " + std::to_string(t) + " s: " + std::to_string(out_of_bag.size()) +
+                   " ball(s) of the bag (first: " + std::to_string(out_of_bag.front()) +
+                   ") are outside its film. The film let them through: raise the film material's "
+                   "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
+}
+
+// What is due at step s (just done).
+void RunLoop::record(std::uint64_t s) {
+  const bool energy = scene_.models.energy;
+  const double t = sim_.time();
+  if (s == at_.settle_step) {
+    if (scene_.bag) bag_settled();
+    record_clearance();
+  }
+  if (energy && s == at_.measure_step) run_.dissipated_at_measure = total_dissipation(sim_.energy());
+  if (s % at_.n_cavity == 0 || s == at_.total) {
+    const CavitySample c = sim_.take_cavity_sample();
+    file_->append_cavity(c.time, c.position, c.velocity, c.force, c.torque, c.contents_velocity);
+    structure_row();
+  }
+  if (energy && (s % at_.n_energy == 0 || s == at_.total)) file_->append_energy(t, sim_.energy().terms());
+  if (s % at_.n_frame == 0 || s == at_.total) {
+    check_bag(t);
+    append_ball_frame(*file_, t, sim_);
+    film_frame();
+    frame_times_.push_back(t);
+  }
+  if (at_.n_ckpt && s % at_.n_ckpt == 0 && s != at_.total) save();
+}
+
+// SIGINT/SIGTERM: the state after a whole step as a checkpoint, results.h5.part kept.
+void RunLoop::interrupted(int sig) {
+  save();
+  file_->set_attribute("status", "interrupted");
+  file_->close();
+  rep_.signal = sig;
+  std::ostringstream m;
+  m << signal_name(sig) << " at t = " << sim_.time() << " s (step " << sim_.steps_done() << " of " << at_.total
+    << "): " << part().string() << " and " << ckpt().string() << " kept; continue with --resume";
+  rep_.message = m.str();
+}
+
+bool RunLoop::step_all() {
+  if (at_.settle_step == 0 && sim_.steps_done() == 0) {
+    if (scene_.bag) bag_settled();
+    record_clearance();
+  }
+  Progress progress(opt_.quiet, sim_.steps_done());
+  const auto t0 = std::chrono::steady_clock::now();
+  first_step_ = sim_.steps_done();
+  try {
+    while (sim_.steps_done() < at_.total) {
+      if (const int sig = pending_interrupt()) {
+        interrupted(sig);
+        return false;
+      }
+      if (opt_.stop_after_steps >= 0 && sim_.steps_done() - first_step_ >= static_cast<std::uint64_t>(opt_.stop_after_steps)) {
+        file_->flush();
+        return false;  // simulated kill: nothing finalised
+      }
+      sim_.advance(next_event(sim_.steps_done()) - sim_.steps_done());
+      record(sim_.steps_done());
+      progress.update(sim_.steps_done(), at_.total, sim_.time());
+    }
+  } catch (const RunError& e) {
+    rep_.message = e.what();
+    close_results(std::string("failed: ") + e.what());
+    return false;
+  }
+  wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return true;
+}
+
+void RunLoop::finish() {
+  // Headline numbers.
+  const EnergySample e = sim_.energy();
+  rep_.complete = true;
+  rep_.wall_seconds = wall_;
+  const double psteps = static_cast<double>(sim_.particles().size()) * static_cast<double>(at_.total - first_step_);
+  rep_.ns_per_particle_step = psteps > 0 ? 1e9 * wall_ / psteps : 0;
+  const double cycles = at_.f_drive > 0 && at_.total > at_.measure_step
+                            ? static_cast<double>(at_.total - at_.measure_step) * scene_.dt * at_.f_drive : 0.0;
+  if (scene_.models.energy) {
+    rep_.energy_balance_error = balance_error(e, sim_.initial_stored_energy());
+    if (cycles >= 1) {  // less than a cycle measured gives no per-cycle figure
+      rep_.cycles = cycles;
+      rep_.dissipated_per_cycle = (total_dissipation(e) - run_.dissipated_at_measure) / rep_.cycles;
+    }
+  }
+  close_results("complete");
+  fs::remove(ckpt());
+
+  const double ds = static_cast<double>(at_.n_cavity) * scene_.dt;
+  write_atomically(out_ / "summary.json", summary_json(scene_, sim_, rep_, psteps, response_, response_acc_, ds));
+  // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
+  if (!scene_.primary && at_.f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
+    try {
+      rep_.reduced = reduce_run(scene_, out_.string());
+      const std::string why = drop_where_no_restitution(scene_, rep_.reduced, out_, opt_.quiet);
+      if (!why.empty()) rep_.reduce_message = "no restitution: the drop test could not run: " + why;
+      write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
+    } catch (const InputError& e) {
+      rep_.reduce_message = e.what();
+    }
+  }
+}
+
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  const fs::path out = opt.out_dir;
-  fs::create_directories(out);
-  const fs::path part = out / "results.h5.part", final_h5 = out / "results.h5";
-  const fs::path ckpt = out / "checkpoint.bin", summary = out / "summary.json";
-
-  Simulation sim(scene);
-  const std::uint64_t total = scene.total_steps();
-  const std::uint64_t n_frame = every(scene.output.frame_interval, scene.dt);
-  const std::uint64_t n_cavity = every(scene.output.cavity_interval, scene.dt);
-  const std::uint64_t n_energy = every(scene.output.energy_interval, scene.dt);
-  const std::uint64_t n_ckpt = scene.output.checkpoint_interval > 0 ? every(scene.output.checkpoint_interval, scene.dt) : 0;
-  // Per-cycle figures are taken over whole cycles after settling, the motion's ramp, and
-  // output.skip_cycles of start-up.
-  const double f_drive = scene.motion->frequency();
-  const double skip = scene.motion->ramp_time() + (f_drive > 0 ? scene.output.skip_cycles / f_drive : 0.0);
-  const std::uint64_t measure_step = static_cast<std::uint64_t>(std::llround((scene.settle + skip) / scene.dt));
-  const bool energy = scene.models.energy;
-  const std::uint64_t settle_step = static_cast<std::uint64_t>(std::llround(scene.settle / scene.dt));
-  // When settling ends: the bag's packing and size, and the settled bag saved for reuse (bag.from).
-  RunReport rep;
-  RunTallies run;
-  auto bag_settled = [&] {
-    const BagReport b = measure_bag(scene, sim);
-    run.bag_packing = b.packing_fraction;
-    for (int k = 0; k < 3; ++k) run.bag_outer[k] = b.outer[k];
-    rep.bag = true;
-    rep.bag_packing = b.packing_fraction;
-    rep.bag_outer = b.outer;
-    if (scene.settle > 0) save_bag((out / "bag.h5").string(), saved_bag(scene, sim));
-    if (!opt.quiet) {
-      std::ostringstream m;
-      m << std::setprecision(3) << "bag at t = " << sim.time() << " s: packing fraction " << b.packing_fraction
-        << ", outer " << 1e3 * b.outer.x() << " x " << 1e3 * b.outer.y() << " x " << 1e3 * b.outer.z() << " mm"
-        << (scene.settle > 0 ? "; settled bag saved to " + (out / "bag.h5").string() : std::string()) << "\n";
-      std::fputs(m.str().c_str(), stderr);
-    }
-  };
-  // The primary structure at each cavity sample (instantaneous values at the sample's end), and the
-  // response at x_a kept for the summary's RMS and decay figures.
-  std::vector<double> response, response_acc;
-  auto structure_row = [&](std::optional<ResultsFile>& f) {
-    if (!scene.primary) return;
-    const StructureResponse r = sim.structure_response();
-    const auto& S = sim.structure().scalars;
-    f->append_table_row("structure", kStructureColumns,
-                        {sim.time(), r.displacement, r.velocity, r.acceleration, r.force, r.cavity, r.load,
-                         S.work_external, S.work_contents, S.dissipated, sim.structure_energy()});
-    if (S.released) response.push_back(r.displacement), response_acc.push_back(r.acceleration);
-  };
-  auto film_frame = [&](std::optional<ResultsFile>& f) {
-    if (scene.bag) f->append_film_frame(sim.film().x);
-  };
-
-  std::vector<double> frame_times;
-  std::optional<ResultsFile> file;
-  auto total_dissipation = [](const EnergySample& e) { return e.dissipated(); };
-  if (opt.resume) {
-    Checkpoint c = load_checkpoint(ckpt, scene);
-    if (!fs::exists(part)) throw InputError(part.string(), "", "", "the partial results file of the interrupted run is missing; run again without --resume");
-    try {
-      sim.load_state(c.state);
-    } catch (const std::exception& e) {
-      throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
-    }
-    run = c.tallies;
-    if (run.bag_packing >= 0) {  // settled before the interruption
-      rep.bag = true;
-      rep.bag_packing = run.bag_packing;
-      rep.bag_outer = Vec3(run.bag_outer[0], run.bag_outer[1], run.bag_outer[2]);
-    }
-    remove_derived_tables(out);  // a run in progress is not complete
-    file.emplace(ResultsFile::reopen(part.string(), run.lengths));
-    file->set_attribute("status", "running");
-    if (scene.primary && run.lengths.structure > 0) {
-      // The response before the interruption, for the summary's RMS and decay over the whole run:
-      // the rows after release (the structure is released at the start of the step after settling).
-      const std::vector<double> t = file->read_series("/structure/time");
-      const std::vector<double> y = file->read_series("/structure/displacement");
-      const std::vector<double> a = file->read_series("/structure/acceleration");
-      for (std::size_t k = 0; k < t.size(); ++k)
-        if (t[k] > scene.settle + 0.5 * scene.dt) response.push_back(y[k]), response_acc.push_back(a[k]);
-    }
-    for (std::size_t k = 0; k < run.lengths.frames; ++k) {
-      const std::uint64_t s = std::min<std::uint64_t>(k * n_frame, total);
-      frame_times.push_back(static_cast<double>(s) * scene.dt);
-    }
-  } else {
-    // The tables of an earlier run go; its results.h5 stays until this run's replaces it.
-    remove_derived_tables(out);
-    fs::remove(ckpt);
-    std::vector<std::string> mats;
-    for (const auto& m : scene.materials) mats.push_back(m.name);
-    file.emplace(open_results(part.string(), sim, mats, n_cavity * scene.dt));
-    file->set_attribute("case_file", scene.case_file);
-    file->set_attribute("resolved_config", scene.resolved);
-    file->set_attribute("settle_end", scene.settle);
-    file->set_attribute("timestep", scene.dt);
-    file->set_attribute("status", "running");
-    if (scene.bag) file->write_film(scene.bag->rest.triangles, scene.bag->rest.vertices.size());
-    append_ball_frame(*file, 0, sim);
-    film_frame(file);
-    if (energy) file->append_energy(0, sim.energy().terms());
-    frame_times.push_back(0);
-  }
-
-  // The contents' free travel along the excitation when settling ends (reduce/reduce.hpp: d/X).
-  const Vec3 excitation = excitation_direction(scene);
-  auto record_clearance = [&] {
-    if (excitation.norm() > 0) file->set_attribute("clearance", contents_clearance(scene, sim, excitation));
-  };
-  if (settle_step == 0 && sim.steps_done() == 0) {
-    if (scene.bag) bag_settled();
-    record_clearance();
-  }
-  Progress progress(opt.quiet, sim.steps_done());
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::uint64_t first_step = sim.steps_done();
-
-  // The next step after s at which something is recorded or checked: the steps up to it run as one
-  // advance (Simulation::advance, the same bits as step by step, one pass over the balls fewer).
-  auto next_event = [&](std::uint64_t s) {
-    std::uint64_t e = total;
-    for (std::uint64_t every : {n_cavity, energy ? n_energy : 0, n_frame, n_ckpt, std::uint64_t{1024}})
-      if (every > 0) e = std::min(e, (s / every + 1) * every);
-    for (std::uint64_t at : {settle_step, energy ? measure_step : 0})
-      if (at > s) e = std::min(e, at);
-    if (opt.stop_after_steps >= 0) e = std::min(e, std::max(s + 1, first_step + static_cast<std::uint64_t>(opt.stop_after_steps)));
-    return e;
-  };
-  try {
-    while (sim.steps_done() < total) {
-      if (const int sig = pending_interrupt()) {  // the state after a whole step: a checkpoint
-        file->flush();
-        run.lengths = file->lengths();
-        save_checkpoint(ckpt, sim, run);
-        file->set_attribute("status", "interrupted");
-        file->close();
-        rep.signal = sig;
-        std::ostringstream m;
-        m << signal_name(sig) << " at t = " << sim.time() << " s (step " << sim.steps_done() << " of " << total
-          << "): " << part.string() << " and " << ckpt.string() << " kept; continue with --resume";
-        rep.message = m.str();
-        return rep;
-      }
-      if (opt.stop_after_steps >= 0 && sim.steps_done() - first_step >= static_cast<std::uint64_t>(opt.stop_after_steps)) {
-        file->flush();
-        return rep;  // simulated kill: nothing finalised
-      }
-      sim.advance(next_event(sim.steps_done()) - sim.steps_done());
-      const std::uint64_t s = sim.steps_done();
-      const double t = sim.time();
-      if (s == settle_step) {
-        if (scene.bag) bag_settled();
-        record_clearance();
-      }
-      if (energy && s == measure_step) run.dissipated_at_measure = total_dissipation(sim.energy());
-      if (s % n_cavity == 0 || s == total) {
-        const CavitySample c = sim.take_cavity_sample();
-        file->append_cavity(c.time, c.position, c.velocity, c.force, c.torque, c.contents_velocity);
-        structure_row(file);
-      }
-      if (energy && (s % n_energy == 0 || s == total)) file->append_energy(t, sim.energy().terms());
-      if (s % n_frame == 0 || s == total) {
-        // Behind the per-step guard (a ball beyond the film's mid-surface), a global check at each
-        // frame: every ball of the bag is inside its film (winding number).
-        if (scene.bag) {
-          const std::vector<std::size_t> out_of_bag = sim.balls_outside_bag();
-          if (!out_of_bag.empty())
-            throw RunError("run stopped at t = " + std::to_string(t) + " s: " + std::to_string(out_of_bag.size()) +
-                           " ball(s) of the bag (first: " + std::to_string(out_of_bag.front()) +
-                           ") are outside its film. The film let them through: raise the film material's "
-                           "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
-        }
-        append_ball_frame(*file, t, sim);
-        film_frame(file);
-        frame_times.push_back(t);
-      }
-      if (n_ckpt && s % n_ckpt == 0 && s != total) {
-        file->flush();
-        run.lengths = file->lengths();
-        save_checkpoint(ckpt, sim, run);
-      }
-      progress.update(s, total, t);
-    }
-  } catch (const RunError& e) {
-    rep.message = e.what();
-    file->set_attribute("status", std::string("failed: ") + e.what());
-    file->close();
-    fs::rename(part, final_h5);
-    write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
-               scene.bag ? scene.bag->rest.triangles.size() : 0);
-    return rep;
-  }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  // Headline numbers.
-  const EnergySample e = sim.energy();
-  rep.complete = true;
-  rep.wall_seconds = wall;
-  const double psteps = static_cast<double>(sim.particles().size()) * static_cast<double>(total - first_step);
-  rep.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
-  const double cycles = f_drive > 0 && total > measure_step ? static_cast<double>(total - measure_step) * scene.dt * f_drive : 0.0;
-  if (energy) {
-    rep.energy_balance_error = balance_error(e, sim.initial_stored_energy());
-    if (cycles >= 1) {  // less than a cycle measured gives no per-cycle figure
-      rep.cycles = cycles;
-      rep.dissipated_per_cycle = (total_dissipation(e) - run.dissipated_at_measure) / rep.cycles;
-    }
-  }
-  file->set_attribute("status", "complete");
-  file->close();
-  fs::rename(part, final_h5);
-  write_xdmf((out / "results.xmf").string(), "results.h5", sim.particles().size(), frame_times, sim.film().size(),
-               scene.bag ? scene.bag->rest.triangles.size() : 0);
-  fs::remove(ckpt);
-
-  const double ds = static_cast<double>(n_cavity) * scene.dt;
-  write_atomically(summary, summary_json(scene, sim, rep, psteps, response, response_acc, ds));
-  // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
-  if (!scene.primary && f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
-    try {
-      rep.reduced = reduce_run(scene, out.string());
-      const std::string why = drop_where_no_restitution(scene, rep.reduced, out, opt.quiet);
-      if (!why.empty()) rep.reduce_message = "no restitution: the drop test could not run: " + why;
-      write_reduced_csv(out / "reduced.csv", rep.reduced);
-    } catch (const InputError& e) {
-      rep.reduce_message = e.what();
-    }
-  }
-  return rep;
+  fs::create_directories(opt.out_dir);
+  RunLoop run(scene, opt);
+  run.open();
+  if (run.step_all()) run.finish();
+  return run.report();
 }
 
 }  // namespace bagdem

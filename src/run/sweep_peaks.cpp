@@ -1,4 +1,4 @@
-// The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/sweep.hpp).
+// The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/frequency_sweep.hpp).
 #include "sweep_peaks.hpp"
 
 #include <algorithm>

@@ -1,11 +1,11 @@
-// Internal to src/run: the peaks of a stepped-sine sweep (run/sweep.hpp): the points grouped by
+// Internal to src/run: the peaks of a stepped-sine sweep (run/frequency_sweep.hpp): the points grouped by
 // the mode they are nearest to, the peak refinement's next frequency, and peaks.csv / summary.json.
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {

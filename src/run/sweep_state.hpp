@@ -9,7 +9,7 @@
 
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/run/sweep.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/step/simulation.hpp"
 
 namespace bagdem {

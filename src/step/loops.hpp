@@ -8,6 +8,8 @@
 #include <memory>
 #include <thread>
 
+#include "bagdem/float_rounding.hpp"
+#include "bagdem/memory_hints.hpp"
 #include "stepper.hpp"
 #include "bagdem/vec3.hpp"
 

@@ -25,7 +25,7 @@
 #include <system_error>
 #include <thread>
 
-#include "../run/output_files.hpp"
+#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/study/study.hpp"
 
 namespace bagdem::study {

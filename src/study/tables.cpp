@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "../run/output_files.hpp"
+#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/study/study.hpp"

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <toml++/toml.h>
 
-#include "../run/output_files.hpp"
+#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/error.hpp"

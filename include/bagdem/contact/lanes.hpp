@@ -145,25 +145,4 @@ BAGDEM_INLINE void to_rows(const Lanes3& v, Lanes w, double* const* to) {
 
 BAGDEM_INLINE Vec3 lane(const Lanes3& v, int l) { return {v.x[l], v.y[l], v.z[l]}; }
 
-// The largest float not above v (for v within the floats' range): a bound kept in single
-// precision that must not grow by its rounding (PairState::wake). NaN stays NaN.
-BAGDEM_INLINE float round_down_to_float(double v) {
-#if defined(__AVX512F__)
-  return _mm_cvtss_f32(_mm_cvt_roundsd_ss(_mm_setzero_ps(), _mm_set_sd(v), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
-#else
-  const float f = static_cast<float>(v);
-  return static_cast<double>(f) > v ? std::nextafter(f, -HUGE_VALF) : f;
-#endif
-}
-
-// Asks for the cache lines of the first `bytes` bytes at p (default: all of *p), for writing, ahead
-// of their use: for data that a loop reaches in an order the hardware prefetchers do not follow (a
-// sparse subset of an array). A hint: no effect on any result.
-template <class T>
-BAGDEM_INLINE void prefetch_object(const T* p, std::size_t bytes = sizeof(T)) {
-  const char* c = reinterpret_cast<const char*>(p);
-  __builtin_prefetch(c, 1);
-  __builtin_prefetch(c + bytes - 1, 1);  // they may straddle two lines
-}
-
 }  // namespace bagdem

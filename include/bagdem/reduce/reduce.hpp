@@ -29,8 +29,6 @@
 
 namespace bagdem {
 
-class Simulation;
-
 // What the reduction needs to know of the scene (SI units).
 struct ReductionContext {
   Vec3 direction = Vec3::UnitX();   // excitation direction e (unit)
@@ -45,18 +43,9 @@ struct ReductionContext {
 // (its displacement a quarter period in); zero when the scene has neither.
 Vec3 excitation_direction(const Scene& scene);
 
-// The context of a scene; the clearance is measured on `sim` (its current state) when given.
-ReductionContext reduction_context(const Scene& scene, const Simulation* sim, const Vec3& direction);
-
-// Gaps between the contents and the cavity's walls along +e and -e: the distances from the contents'
-// centre of mass to the walls along the line through it (planes and bores; NaN with triangulated
-// walls) less the contents' extent on that side (balls with their radius, film nodes).
-struct ContentsGaps {
-  double plus = 0, minus = 0;  // (m)
-};
-ContentsGaps contents_gaps(const Scene& scene, const Simulation& sim, const Vec3& e);
-// Free travel d of the contents along e: the sum of the two gaps.
-double contents_clearance(const Scene& scene, const Simulation& sim, const Vec3& e);
+// The context of a scene. Its clearance is NaN (unknown): the run measures it on the live contents
+// (run/clearance.hpp) and sets it.
+ReductionContext reduction_context(const Scene& scene, const Vec3& direction);
 
 // Samples along e over a run or one frequency point. t: the end of each sample interval (s);
 // x, force: means over [t - interval, t] (m, N); v_rel: point samples at t (m/s).
@@ -134,7 +123,7 @@ std::vector<ReducedRow> read_reduced_csv(const std::filesystem::path& path);
 // (complete), reduces the cycles after settling, the ramp and output.skip_cycles, writes
 // out_dir/reduced.csv and returns the row. InputError when the run is not reducible (no harmonic
 // motion, incomplete, fewer than 2 measured cycles). A coupled sweep reduces itself point by point
-// (run/sweep.cpp); reduce then rereads its reduced.csv.
+// (run/frequency_sweep.cpp); reduce then rereads its reduced.csv.
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir);
 
 // A terminal table of the rows.

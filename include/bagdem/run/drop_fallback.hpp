@@ -1,5 +1,5 @@
 // The restitution of rows that have no other estimate: the drop test of the same contents
-// (reduce/drop_test.hpp), run once per run or sweep and shared by its rows (the contents and the
+// (run/drop_test.hpp), run once per run or sweep and shared by its rows (the contents and the
 // launch speed, the case's expected impact speed, are the same for every row).
 #pragma once
 #include <filesystem>

@@ -92,7 +92,7 @@ struct Primary {
                                      // structure), for the time step and impact checks (unit: m/s)
 
   // Stepped-sine sweep (excitation.kind = "stepped-sine"): the drive frequencies in order, each
-  // held until the response is steady (run/sweep.hpp).
+  // held until the response is steady (run/frequency_sweep.hpp).
   struct Sweep {
     std::vector<double> frequencies;   // requested (unit: Hz); the run rounds each to a whole number of steps per cycle
     std::vector<std::size_t> modes;    // DOF indices whose peaks are evaluated (around_modes), may be empty

@@ -1,5 +1,5 @@
-// Bag measurements and the saved-bag state (bag/bag_report.hpp).
-#include "bagdem/bag/bag_report.hpp"
+// Bag measurements and the saved-bag state (run/bag_report.hpp).
+#include "bagdem/run/bag_report.hpp"
 
 #include <algorithm>
 #include <numbers>

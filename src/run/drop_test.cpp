@@ -1,5 +1,5 @@
-// Drop test of the bag (reduce/drop_test.hpp).
-#include "bagdem/reduce/drop_test.hpp"
+// Drop test of the bag (run/drop_test.hpp).
+#include "bagdem/run/drop_test.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include "bagdem/motion/motion.hpp"
 #include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/run/clearance.hpp"
 #include "bagdem/step/simulation.hpp"
 
 namespace bagdem {

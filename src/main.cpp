@@ -140,6 +140,11 @@ int main(int argc, char** argv) {
   bench->add_option("--tiles", bench_opt.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
   bench->add_option("--peers", bench_opt.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
   bench->add_option("--case", bench_opt.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
+  bench->add_option("--format", bench_opt.format,
+                    "Output: table (default: a Markdown table with a title and notes) or csv (on stdout a header row of "
+                    "`name [unit]` entries, e.g. `ns_per_particle_step [ns]`, then one row per measured configuration with the "
+                    "table's figures at full precision; the title and notes on stderr)")
+      ->check(CLI::IsMember({"table", "csv"}));
 
   // sweep: parameter studies over a case (src/study; MPI starts there, and only there).
   study::SweepArgs sweep_args;

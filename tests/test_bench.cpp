@@ -1,7 +1,7 @@
 // The growth benchmark's fit (run/bench.hpp): the exponent of y ~ x^a by least squares in log-log;
-// bagdem bench --format csv;
-// tools/growth_peers.py, the tiling and fit of tools/growth-peers; and tools/compare_peers.py, the
-// jittered starts and the intervals of tools/compare-peers --starts K.
+// bagdem bench --format csv, and its reader in the peers' scripts (tools/peers/bench_csv.py);
+// tools/peers/growth.py, the tiling and fit of tools/peers/growth; and tools/peers/compare.py, the
+// jittered starts and the intervals of tools/peers/compare --starts K.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -175,7 +175,38 @@ TEST(Bench, FormatOtherThanTableOrCsvIsBadInput) {
   EXPECT_NE(help.out.find("csv"), std::string::npos) << help.out;
 }
 
-// tools/growth_peers.py, the helper of tools/growth-peers (growth side by side with LIGGGHTS and
+// The peers' scripts read bagdem's figures by column name from the CSV (tools/peers/prologue.sh,
+// bench_ns): bench_csv.py picks the ns per particle-step of the one row that matches.
+TEST(BenchPeers, ReadsTheNsPerParticleStepOfBagdemBenchCsvByColumnName) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const CmdResult r = tiny_bench(dir, {"--format", "csv", "--methods", "hash", "kdtree"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  dir.write("bench.csv", r.out);
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/bench_csv.py");
+  const auto pick = [&](const std::string& where, int* code) {
+    const int st = std::system((tool + " ns_per_particle_step " + where + " < " + shell_quote(dir.str() + "/bench.csv") + " > " +
+                                shell_quote(dir.str() + "/picked.txt") + " 2> " + shell_quote(dir.str() + "/said.txt"))
+                                   .c_str());
+    *code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return slurp(dir.path / "picked.txt");
+  };
+  int code = -1;
+  EXPECT_EQ(std::stod(pick("particles=8 method=kdtree", &code)), cell(rows, 2, "ns_per_particle_step [ns]"));
+  EXPECT_EQ(code, 0) << slurp(dir.path / "said.txt");
+  EXPECT_EQ(std::stod(pick("particles=8.0 method=hash threads=1", &code)), cell(rows, 1, "ns_per_particle_step [ns]"));
+  EXPECT_EQ(code, 0) << slurp(dir.path / "said.txt");
+  // No row, two rows, or a column the table does not have: exit code 2 and a message, no figure.
+  for (const std::string where : {"particles=100", "particles=8", "size=8"}) {
+    EXPECT_EQ(pick(where, &code), "") << where;
+    EXPECT_EQ(code, 2) << where;
+    EXPECT_NE(slurp(dir.path / "said.txt").find("bench_csv.py: "), std::string::npos) << where;
+  }
+}
+
+// tools/peers/growth.py, the helper of tools/peers/growth (growth side by side with LIGGGHTS and
 // LAMMPS): its tiling of the peers' N = 1000 bed and its fit of each code's exponent, on a
 // synthetic bed and synthetic timings.
 TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
@@ -190,7 +221,7 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
   for (int i = 1; i <= 1000; ++i) bed << i << " 0.1 0 0 0 0 " << i << "\n";
   dir.write("peers/runs/N1000.vib1.data", bed.str());
   dir.write("peers/inputs/box.N1000.stl", "solid box\n vertex 0 0.063 0\n vertex 0.063 0 0.048\nendsolid\n");
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/growth_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/growth.py");
   ASSERT_EQ(std::system((tool + " tile " + shell_quote(dir.str() + "/peers") + " " + shell_quote(dir.str() + "/out") + " 2").c_str()), 0);
   const std::string data = slurp(dir.path / "out/data.k2");
   EXPECT_NE(data.find("\n4000 atoms\n"), std::string::npos);
@@ -235,7 +266,7 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
   EXPECT_NE(report.find("| 1000 | 27.5 (25.0-30.0) | 99.0 (90.0-108.0) | 3.60 |"), std::string::npos) << report;
 }
 
-// tools/compare_peers.py, the helper of tools/compare-peers --starts K (what bagdem and LIGGGHTS
+// tools/peers/compare.py, the helper of tools/peers/compare --starts K (what bagdem and LIGGGHTS
 // compute on PD-box, as an ensemble of jittered starts): the jittered bed of start k, and the
 // ensemble's intervals on synthetic starts.
 namespace {
@@ -268,7 +299,7 @@ TEST(ComparePeers, JittersEveryVelocityBy1e6InADirectionDrawnFromTheSeed) {
   bed << "\nVelocities\n\n";
   for (int i = 1; i <= 1000; ++i) bed << (1001 - i) << " " << 1e-3 * i << " -2e-5 0 " << 0.5 * i << " 0.25 -3\n";
   dir.write("bed.data", bed.str());
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/compare.py");
   const auto jitter = [&](int seed, const std::string& name) {
     EXPECT_EQ(std::system((tool + " jitter " + shell_quote(dir.str() + "/bed.data") + " " + shell_quote(dir.str() + "/" + name) + " " + std::to_string(seed)).c_str()), 0);
     return slurp(dir.path / name);
@@ -308,7 +339,7 @@ TEST(ComparePeers, JittersEveryVelocityBy1e6InADirectionDrawnFromTheSeed) {
 TEST(ComparePeers, EnsembleIsEachCodesMeanWithAStudentTIntervalAndThePairedDifference) {
   using namespace bagdem::testing;
   const TempDir dir;
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/compare.py");
   // Start k: offset o = k - 4.5 (sample sd over 8 starts sqrt(6)). LIGGGHTS C = 10 + o, bagdem
   // C = 13 + 2 o, so the paired difference 3 + o; M = 0.005 + 0.001 o and 0.006 - 0.001 o.
   std::string starts;

@@ -156,6 +156,11 @@ CLI::App* add_bench(CLI::App& app, Args& a) {
   bench->add_option("--tiles", a.bench.tiles, "Tiles k per side of the growth benchmark (default 1 2 4 7 10: N = 1e3 to 1e5)");
   bench->add_option("--peers", a.bench.peers_dir, "The peers' directory with runs/N*.vib1.data (default: ../shared/peers beside the source)");
   bench->add_option("--case", a.bench.case_dir, "Case of the benchmark (default cases/pdbox, or cases/box-beanbag with --bag)");
+  bench->add_option("--format", a.bench.format,
+                    "Output: table (default: a Markdown table with a title and notes) or csv (on stdout a header row of "
+                    "`name [unit]` entries, e.g. `ns_per_particle_step [ns]`, then one row per measured configuration with the "
+                    "table's figures at full precision; the title and notes on stderr)")
+      ->check(CLI::IsMember({"table", "csv"}));
   return bench;
 }
 

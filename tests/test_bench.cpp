@@ -1,11 +1,15 @@
 // The growth benchmark's fit (run/bench.hpp): the exponent of y ~ x^a by least squares in log-log;
-// tools/growth_peers.py, the tiling and fit of tools/growth-peers; and tools/compare_peers.py, the
-// jittered starts and the intervals of tools/compare-peers --starts K.
+// bagdem bench --format csv, and its reader in the peers' scripts (tools/peers/bench_csv.py);
+// tools/peers/growth.py, the tiling and fit of tools/peers/growth; and tools/peers/compare.py, the
+// jittered starts and the intervals of tools/peers/compare --starts K.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,7 +32,181 @@ TEST(Bench, LogLogSlopeRecoversAPowerLaw) {
   EXPECT_LT(bagdem::log_log_slope(n, with_overhead), 0.95);
 }
 
-// tools/growth_peers.py, the helper of tools/growth-peers (growth side by side with LIGGGHTS and
+// bagdem bench --format csv on tiny runs: a bed of `n` balls of 4 mm on a lattice 4.2 mm apart,
+// `per_row` a row, in the peers' layout (PEERS/runs/N<n>.vib1.data, a LAMMPS data file), so that
+// no bed is generated and settled, and 100 steps are timed.
+namespace {
+void write_lattice_bed(const std::filesystem::path& peers, int n, int per_row) {
+  std::filesystem::create_directories(peers / "runs");
+  std::ostringstream bed;
+  bed.precision(17);
+  bed << "lattice\n\n" << n << " atoms\n1 atom types\n\nAtoms\n\n";
+  for (int i = 0; i < n; ++i)
+    bed << i + 1 << " 1 0.004 7800 " << 0.0021 + 0.0042 * (i % per_row) << " " << 0.0021 + 0.0042 * (i / per_row % per_row) << " "
+        << 0.0021 + 0.0042 * (i / (per_row * per_row)) << " 0 0 0\n";
+  std::ofstream(peers / "runs" / ("N" + std::to_string(n) + ".vib1.data")) << bed.str();
+}
+
+// bagdem bench on a bed of 8 balls in DIR/peers (written here): 100 timed steps, one thread, one
+// repeat, and `args` (--format, --methods).
+bagdem::testing::CmdResult tiny_bench(const bagdem::testing::TempDir& dir, const std::vector<std::string>& args) {
+  write_lattice_bed(dir.path / "peers", 8, 2);
+  std::vector<std::string> all = {"bench", "--sizes", "8", "--threads", "1", "--repeats", "1", "--steps", "1e-9", "--peers", dir.str() + "/peers"};
+  all.insert(all.end(), args.begin(), args.end());
+  return bagdem::testing::run_bagdem(all, dir.path);
+}
+
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::istringstream f(line);
+    std::string cell;
+    while (std::getline(f, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// Every cell of the rows a number, but those of the columns named in `text`.
+void expect_numbers(const std::vector<std::vector<std::string>>& rows, const std::vector<std::string>& text = {}) {
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), rows[0].size()) << "row " << i;
+    for (std::size_t k = 0; k < rows[i].size(); ++k) {
+      if (std::find(text.begin(), text.end(), rows[0][k]) != text.end()) continue;
+      std::size_t used = 0;
+      double v = NAN;
+      EXPECT_NO_THROW(v = std::stod(rows[i][k], &used)) << rows[0][k] << " = '" << rows[i][k] << "'";
+      EXPECT_EQ(used, rows[i][k].size()) << rows[0][k] << " = '" << rows[i][k] << "'";
+      EXPECT_TRUE(std::isfinite(v)) << rows[0][k] << " = '" << rows[i][k] << "'";
+    }
+  }
+}
+
+double cell(const std::vector<std::vector<std::string>>& rows, std::size_t row, const std::string& column) {
+  const auto at = std::find(rows[0].begin(), rows[0].end(), column);
+  if (at == rows[0].end()) ADD_FAILURE() << "no column " << column;
+  return at == rows[0].end() ? NAN : std::stod(rows[row][static_cast<std::size_t>(at - rows[0].begin())]);
+}
+}  // namespace
+
+TEST(Bench, CsvFormatNamesEachColumnWithItsUnitAndHasARowPerConfiguration) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const CmdResult r = tiny_bench(dir, {"--format", "csv", "--methods", "hash", "kdtree"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;  // the header, then hash and kdtree
+  const std::vector<std::string> header = {
+      "particles [1]", "steps [1]", "method [text]", "threads [1]", "ns_per_particle_step [ns]", "ns_per_particle_step_min [ns]",
+      "ns_per_particle_step_max [ns]", "neighbour_builds [1]", "pairs_per_particle [1]", "pairs_across_threads [%]",
+      "pair_contacts_per_particle [1]", "wall_contacts_per_particle [1]", "integration_share [%]", "neighbours_share [%]",
+      "pairs_share [%]", "walls_share [%]"};
+  EXPECT_EQ(rows[0], header);
+  expect_numbers(rows, {"method [text]"});
+  EXPECT_EQ(rows[1][2], "hash");
+  EXPECT_EQ(rows[2][2], "kdtree");
+  for (std::size_t i : {1u, 2u}) {
+    EXPECT_EQ(cell(rows, i, "particles [1]"), 8);
+    EXPECT_EQ(cell(rows, i, "steps [1]"), 100);  // 1e-9 of the default, at least 100
+    EXPECT_EQ(cell(rows, i, "threads [1]"), 1);
+    const double ns = cell(rows, i, "ns_per_particle_step [ns]");
+    EXPECT_GT(ns, 0);
+    // One repeat: its median, least and greatest are the one run.
+    EXPECT_EQ(cell(rows, i, "ns_per_particle_step_min [ns]"), ns);
+    EXPECT_EQ(cell(rows, i, "ns_per_particle_step_max [ns]"), ns);
+    const double shares = cell(rows, i, "integration_share [%]") + cell(rows, i, "neighbours_share [%]") +
+                          cell(rows, i, "pairs_share [%]") + cell(rows, i, "walls_share [%]");
+    EXPECT_GT(shares, 0);
+    EXPECT_LE(shares, 100 + 1e-9);
+  }
+  // stdout holds the CSV alone: the title goes to stderr.
+  EXPECT_EQ(r.out.find('|'), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("PD-box benchmark"), std::string::npos) << r.err;
+
+  // The default is the Markdown table, with the same figures.
+  const CmdResult t = tiny_bench(dir, {"--methods", "hash"});
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(t.out.rfind("PD-box benchmark", 0), 0u) << t.out;
+  EXPECT_NE(t.out.find("\n| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds |"), std::string::npos) << t.out;
+  // Its row: the counts as the CSV's (the times differ from run to run).
+  char counts[96];
+  std::snprintf(counts, sizeof counts, " | %.0f | %.2f | ", cell(rows, 1, "neighbour_builds [1]"), cell(rows, 1, "pairs_per_particle [1]"));
+  const auto row = t.out.find("\n| 8 | 100 | hash | 1 | ");
+  ASSERT_NE(row, std::string::npos) << t.out;
+  EXPECT_NE(t.out.substr(row, t.out.find('\n', row + 1) - row).find(counts), std::string::npos) << counts << " not in\n" << t.out;
+}
+
+TEST(Bench, GrowthCsvHasARowPerSize) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  write_lattice_bed(dir.path / "peers", 1000, 15);  // 15 x 15 a layer, as the peers' box of 63 mm
+  const CmdResult r = run_bagdem({"bench", "--growth", "--format", "csv", "--tiles", "1", "2", "--threads", "1", "--methods", "hash",
+                                  "--repeats", "1", "--steps", "1e-9", "--peers", dir.str() + "/peers"},
+                                 dir.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;
+  const std::vector<std::string> header = {
+      "particles [1]", "tiles [1]", "method [text]", "threads [1]", "ns_per_particle_step [ns]", "ns_per_particle_step_min [ns]",
+      "ns_per_particle_step_max [ns]", "neighbour_builds [1]", "build_time [ms]", "peak_memory [MiB]", "memory_per_particle [B]"};
+  EXPECT_EQ(rows[0], header);
+  expect_numbers(rows, {"method [text]"});
+  EXPECT_EQ(cell(rows, 1, "particles [1]"), 1000);
+  EXPECT_EQ(cell(rows, 2, "particles [1]"), 4000);
+  EXPECT_EQ(cell(rows, 2, "tiles [1]"), 2);
+  // The fitted exponents are prose: on stderr with the title.
+  EXPECT_NE(r.err.find("Fitted exponents"), std::string::npos) << r.err;
+}
+
+TEST(Bench, FormatOtherThanTableOrCsvIsBadInput) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const CmdResult r = run_bagdem({"bench", "--format", "json", "--sizes", "8"}, dir.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--format"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("json"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  const CmdResult help = run_bagdem({"bench", "--help"}, dir.path);
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("--format"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("csv"), std::string::npos) << help.out;
+}
+
+// The peers' scripts read bagdem's figures by column name from the CSV (tools/peers/prologue.sh,
+// bench_ns): bench_csv.py picks the ns per particle-step of the one row that matches.
+TEST(BenchPeers, ReadsTheNsPerParticleStepOfBagdemBenchCsvByColumnName) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const CmdResult r = tiny_bench(dir, {"--format", "csv", "--methods", "hash", "kdtree"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  dir.write("bench.csv", r.out);
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/bench_csv.py");
+  const auto pick = [&](const std::string& where, int* code) {
+    const int st = std::system((tool + " ns_per_particle_step " + where + " < " + shell_quote(dir.str() + "/bench.csv") + " > " +
+                                shell_quote(dir.str() + "/picked.txt") + " 2> " + shell_quote(dir.str() + "/said.txt"))
+                                   .c_str());
+    *code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return slurp(dir.path / "picked.txt");
+  };
+  int code = -1;
+  EXPECT_EQ(std::stod(pick("particles=8 method=kdtree", &code)), cell(rows, 2, "ns_per_particle_step [ns]"));
+  EXPECT_EQ(code, 0) << slurp(dir.path / "said.txt");
+  EXPECT_EQ(std::stod(pick("particles=8.0 method=hash threads=1", &code)), cell(rows, 1, "ns_per_particle_step [ns]"));
+  EXPECT_EQ(code, 0) << slurp(dir.path / "said.txt");
+  // No row, two rows, or a column the table does not have: exit code 2 and a message, no figure.
+  for (const std::string where : {"particles=100", "particles=8", "size=8"}) {
+    EXPECT_EQ(pick(where, &code), "") << where;
+    EXPECT_EQ(code, 2) << where;
+    EXPECT_NE(slurp(dir.path / "said.txt").find("bench_csv.py: "), std::string::npos) << where;
+  }
+}
+
+// tools/peers/growth.py, the helper of tools/peers/growth (growth side by side with LIGGGHTS and
 // LAMMPS): its tiling of the peers' N = 1000 bed and its fit of each code's exponent, on a
 // synthetic bed and synthetic timings.
 TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
@@ -43,7 +221,7 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
   for (int i = 1; i <= 1000; ++i) bed << i << " 0.1 0 0 0 0 " << i << "\n";
   dir.write("peers/runs/N1000.vib1.data", bed.str());
   dir.write("peers/inputs/box.N1000.stl", "solid box\n vertex 0 0.063 0\n vertex 0.063 0 0.048\nendsolid\n");
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/growth_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/growth.py");
   ASSERT_EQ(std::system((tool + " tile " + shell_quote(dir.str() + "/peers") + " " + shell_quote(dir.str() + "/out") + " 2").c_str()), 0);
   const std::string data = slurp(dir.path / "out/data.k2");
   EXPECT_NE(data.find("\n4000 atoms\n"), std::string::npos);
@@ -88,7 +266,7 @@ TEST(GrowthPeers, TilesTheBedAndFitsEachCodesExponent) {
   EXPECT_NE(report.find("| 1000 | 27.5 (25.0-30.0) | 99.0 (90.0-108.0) | 3.60 |"), std::string::npos) << report;
 }
 
-// tools/compare_peers.py, the helper of tools/compare-peers --starts K (what bagdem and LIGGGHTS
+// tools/peers/compare.py, the helper of tools/peers/compare --starts K (what bagdem and LIGGGHTS
 // compute on PD-box, as an ensemble of jittered starts): the jittered bed of start k, and the
 // ensemble's intervals on synthetic starts.
 namespace {
@@ -121,7 +299,7 @@ TEST(ComparePeers, JittersEveryVelocityBy1e6InADirectionDrawnFromTheSeed) {
   bed << "\nVelocities\n\n";
   for (int i = 1; i <= 1000; ++i) bed << (1001 - i) << " " << 1e-3 * i << " -2e-5 0 " << 0.5 * i << " 0.25 -3\n";
   dir.write("bed.data", bed.str());
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/compare.py");
   const auto jitter = [&](int seed, const std::string& name) {
     EXPECT_EQ(std::system((tool + " jitter " + shell_quote(dir.str() + "/bed.data") + " " + shell_quote(dir.str() + "/" + name) + " " + std::to_string(seed)).c_str()), 0);
     return slurp(dir.path / name);
@@ -161,7 +339,7 @@ TEST(ComparePeers, JittersEveryVelocityBy1e6InADirectionDrawnFromTheSeed) {
 TEST(ComparePeers, EnsembleIsEachCodesMeanWithAStudentTIntervalAndThePairedDifference) {
   using namespace bagdem::testing;
   const TempDir dir;
-  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/compare_peers.py");
+  const std::string tool = shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/peers/compare.py");
   // Start k: offset o = k - 4.5 (sample sd over 8 starts sqrt(6)). LIGGGHTS C = 10 + o, bagdem
   // C = 13 + 2 o, so the paired difference 3 + o; M = 0.005 + 0.001 o and 0.006 - 0.001 o.
   std::string starts;

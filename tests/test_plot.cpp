@@ -371,8 +371,8 @@ TEST(Plot, BadInputExitsWithTwoAndSaysWhy) {
 }
 
 // The response figure's label of a peak carries its interval, and says when the peak is at the
-// edge of the swept band (its reduction is then only a bound): tools/plot's peak_text on a
-// peaks.csv as a sweep writes it.
+// edge of the swept band (its reduction is then only a bound): peak_text of tools/bagdem_plot/response.py
+// on a peaks.csv as a sweep writes it.
 TEST(Plot, PeakLabelCarriesTheIntervalAndTheBandEdge) {
   TempDir d;
   std::ofstream(d.path / "peaks.csv")
@@ -381,17 +381,16 @@ TEST(Plot, PeakLabelCarriesTheIntervalAndTheBandEdge) {
          "1,85.5,0.001,84,0.0003,84,0.0003,1e-5,10.46,0.29,70,1,0\n"
          "3,462,0.0001,460,0.00005,460,0.00005,1e-6,6.02,0.17,50,0,0\n";
   const std::string script =
-      "import importlib.machinery, importlib.util, sys\n"
-      "loader = importlib.machinery.SourceFileLoader('plot', sys.argv[1])\n"
-      "spec = importlib.util.spec_from_loader('plot', loader)\n"
-      "plot = importlib.util.module_from_spec(spec)\n"
-      "loader.exec_module(plot)\n"
-      "t = plot.read_table(sys.argv[2], 'peaks.csv')\n"
-      "print(plot.peak_text(t, 0))\n"
-      "print(plot.peak_text(t, 1))\n";
+      "import sys\n"
+      "sys.path.insert(0, sys.argv[1])\n"
+      "from bagdem_plot.response import peak_text\n"
+      "from bagdem_plot.tables import read_table\n"
+      "t = read_table(sys.argv[2], 'peaks.csv')\n"
+      "print(peak_text(t, 0))\n"
+      "print(peak_text(t, 1))\n";
   std::ofstream(d.path / "labels.py") << script;
   const std::string cmd = "MPLBACKEND=Agg /usr/bin/python3 " + shell_quote((d.path / "labels.py").string()) + " " +
-                          shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools/plot") + " " + shell_quote(d.str()) + " > " +
+                          shell_quote(std::string(BAGDEM_SOURCE_DIR) + "/tools") + " " + shell_quote(d.str()) + " > " +
                           shell_quote((d.path / "labels.txt").string()) + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(d.path / "labels.txt");
   const std::vector<std::string> labels = lines_of(slurp(d.path / "labels.txt"));

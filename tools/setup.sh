@@ -1,6 +1,6 @@
-# Shared by tools/demo, tools/test, tools/validate, tools/extremes and tools/bench-peers (sourced,
-# not run): installs the Debian packages bagdem needs if any is missing, then configures and builds
-# build/ (Release).
+# Shared by tools/demo, tools/test, tools/validate, tools/extremes and tools/peers/prologue.sh
+# (sourced, not run): installs the Debian packages bagdem needs if any is missing, then configures
+# and builds build/ (Release).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BAGDEM_BUILD_DIR:-$ROOT/build}"

@@ -11,17 +11,12 @@
 
 namespace bagdem {
 
-namespace {
-
-// A cell as RFC 4180 wants it: quoted when it holds a comma, a quote or a line break.
 std::string csv_cell(const std::string& v) {
   if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
   std::string q = "\"";
   for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
   return q + "\"";
 }
-
-}  // namespace
 
 void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
                      const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns,

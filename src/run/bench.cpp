@@ -10,9 +10,11 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <variant>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/table_csv.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/step/simulation.hpp"
 
@@ -20,6 +22,71 @@ namespace bagdem {
 namespace fs = std::filesystem;
 
 namespace {
+
+// A column of a benchmark's table: its heading in the Markdown table (nullptr: the figure joins the
+// previous column's cell after a '-', as in "min-max"), its name and unit in the CSV ("text": a
+// string), and the printf format of its figure in the Markdown table.
+struct BenchColumn {
+  const char* heading;
+  const char* name;
+  const char* unit;
+  const char* format;
+};
+
+// Prints a benchmark's rows as they are measured: the Markdown table, or with --format csv a header
+// row of `name [unit]` entries and one row per measured configuration, numbers at full precision.
+// The prose around the table (title, notes, fits) goes to `prose()`: stdout with the table, stderr
+// with the CSV, so that stdout holds the CSV alone.
+class BenchTable {
+ public:
+  using Cell = std::variant<double, std::string>;
+
+  BenchTable(const BenchOptions& opt, std::vector<BenchColumn> columns) : csv_(opt.format == "csv"), columns_(std::move(columns)) {}
+
+  std::FILE* prose() const { return csv_ ? stderr : stdout; }
+
+  void header() const {
+    std::string line, rule;
+    for (const BenchColumn& c : columns_) {
+      if (csv_) {
+        line += (line.empty() ? "" : ",") + std::string(c.name) + " [" + c.unit + "]";
+      } else if (c.heading) {
+        line += std::string("| ") + c.heading + " ";
+        rule += "|---";
+      }
+    }
+    std::printf("%s\n", csv_ ? line.c_str() : (line + "|\n" + rule + "|").c_str());
+  }
+
+  void row(const std::vector<Cell>& cells) const {
+    std::string line;
+    char figure[64];
+    for (std::size_t k = 0; k < columns_.size(); ++k) {
+      const BenchColumn& c = columns_[k];
+      std::string text;
+      if (const auto* v = std::get_if<double>(&cells.at(k))) {
+        std::snprintf(figure, sizeof figure, csv_ ? "%.12g" : c.format, *v);
+        text = figure;
+      } else {
+        text = csv_ ? csv_cell(std::get<std::string>(cells[k])) : std::get<std::string>(cells[k]);
+      }
+      if (csv_) line += (k ? "," : "") + text;
+      else line += (c.heading ? (k ? " | " : "| ") : "-") + text;
+    }
+    std::printf("%s%s\n", line.c_str(), csv_ ? "" : " |");
+    std::fflush(stdout);
+  }
+
+ private:
+  bool csv_;
+  std::vector<BenchColumn> columns_;
+};
+
+// The columns the PD-box and growth benchmarks share.
+constexpr BenchColumn kParticles{"N", "particles", "1", "%.0f"}, kMethod{"method", "method", "text", ""},
+    kThreads{"threads", "threads", "1", "%.0f"}, kNs{"ns/particle-step (median)", "ns_per_particle_step", "ns", "%.1f"},
+    kNsMin{"min-max", "ns_per_particle_step_min", "ns", "%.1f"}, kNsMax{nullptr, "ns_per_particle_step_max", "ns", "%.1f"},
+    kBuilds{"neighbour builds", "neighbour_builds", "1", "%.0f"};
 
 // PD-box geometry rule of gen_pdbox.py: n = round(sqrt(N/4.5)) sites a row, L = 1.05 d n, H = 12 d.
 std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
@@ -176,9 +243,15 @@ int run_growth_bench(const BenchOptions& opt) {
     return kExitInputError;
   }
   const long long steps = std::max(100LL, static_cast<long long>(10000 * opt.step_scale));
-  std::printf("Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "
-              "tallies %s; median of %d runs, run in rounds over the sizes; wall clock\n",
-              steps, opt.energy ? "on" : "off", opt.repeats);
+  const BenchTable table(opt, {kParticles,
+                               {"k", "tiles", "1", "%.0f"},
+                               kMethod, kThreads, kNs, kNsMin, kNsMax, kBuilds,
+                               {"one build (ms)", "build_time", "ms", "%.2f"},
+                               {"peak memory (MB)", "peak_memory", "MiB", "%.1f"},
+                               {"bytes/particle", "memory_per_particle", "B", "%.0f"}});
+  std::fprintf(table.prose(), "Growth benchmark: the settled PD-box bed of 1000 balls tiled k x k (N = 1000 k^2), %lld steps each; energy "
+               "tallies %s; median of %d runs, run in rounds over the sizes; wall clock\n",
+               steps, opt.energy ? "on" : "off", opt.repeats);
   const Scene one = load_case(src + "/cases/pdbox-peers", pdbox_overrides(1000, data));
   const Vec3 L = one.cavity_hi - one.cavity_lo;
   // The box widened k times in x and y (its walls are planes through cavity_lo and cavity_hi).
@@ -230,8 +303,7 @@ int run_growth_bench(const BenchOptions& opt) {
     }
     std::fprintf(stderr, "growth: round %d of %d done\n", round + 1, opt.repeats);
   }
-  std::printf("| N | k | method | threads | ns/particle-step (median) | min-max | neighbour builds | one build (ms) | peak memory (MB) | bytes/particle |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  table.header();
   std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
   std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> builds;  // (method, threads) -> (N, ms/build)
   std::map<double, double> size_peak;  // N -> the peak memory of its runs
@@ -241,29 +313,28 @@ int run_growth_bench(const BenchOptions& opt) {
     const double median = p.ns[p.ns.size() / 2];
     fits[{p.method, p.threads}].emplace_back(p.N, median * 1e-9 * p.N);
     builds[{p.method, p.threads}].emplace_back(p.N, p.build_ms);
-    std::printf("| %.0f | %d | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.0f |\n", p.N, p.k, p.method.c_str(), p.threads, median,
-                p.ns.front(), p.ns.back(), static_cast<unsigned long long>(p.builds), p.build_ms, size_peak[p.N] / 1048576,
-                (size_peak[p.N] - base_memory) / p.N);
+    table.row({p.N, static_cast<double>(p.k), p.method, static_cast<double>(p.threads), median, p.ns.front(), p.ns.back(),
+               static_cast<double>(p.builds), p.build_ms, size_peak[p.N] / 1048576, (size_peak[p.N] - base_memory) / p.N});
   }
   std::vector<std::pair<double, double>> memory;
   for (const auto& [n, peak] : size_peak) memory.emplace_back(n, peak - base_memory);
   if (tiles.size() >= 2) {
-    std::printf("\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
+    std::fprintf(table.prose(), "\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
     for (const auto& [key, pts] : fits) {
       std::vector<double> x, y;
       for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
-      std::printf("  wall time per step, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second, key.second > 1 ? "s" : "",
-                  log_log_slope(x, y));
+      std::fprintf(table.prose(), "  wall time per step, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second,
+                   key.second > 1 ? "s" : "", log_log_slope(x, y));
     }
     for (const auto& [key, pts] : builds) {
       std::vector<double> x, y;
       for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
-      std::printf("  one neighbour build, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second, key.second > 1 ? "s" : "",
-                  log_log_slope(x, y));
+      std::fprintf(table.prose(), "  one neighbour build, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second,
+                   key.second > 1 ? "s" : "", log_log_slope(x, y));
     }
     std::vector<double> x, y;
     for (const auto& [n, m] : memory) x.push_back(n), y.push_back(m);
-    std::printf("  peak memory above the process's start: a = %.3f\n", log_log_slope(x, y));
+    std::fprintf(table.prose(), "  peak memory above the process's start: a = %.3f\n", log_log_slope(x, y));
   }
   return 0;
 }
@@ -272,11 +343,20 @@ int run_bench(const BenchOptions& opt) {
   const std::string src = BAGDEM_SOURCE_DIR;
   const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
   const std::string case_dir = opt.case_dir.empty() ? src + "/cases/pdbox" : opt.case_dir;
-  std::printf("PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
-              opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| N | steps | method | threads | ns/particle-step (median) | min-max | neighbour builds | pairs/particle | "
-              "pairs across threads %% | pair contacts/particle | wall contacts/particle | integration (both half-kicks) %% | neighbours %% | pairs %% | walls %% |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const BenchTable table(opt, {kParticles,
+                               {"steps", "steps", "1", "%.0f"},
+                               kMethod, kThreads, kNs, kNsMin, kNsMax, kBuilds,
+                               {"pairs/particle", "pairs_per_particle", "1", "%.2f"},
+                               {"pairs across threads %", "pairs_across_threads", "%", "%.1f"},
+                               {"pair contacts/particle", "pair_contacts_per_particle", "1", "%.2f"},
+                               {"wall contacts/particle", "wall_contacts_per_particle", "1", "%.2f"},
+                               {"integration (both half-kicks) %", "integration_share", "%", "%.0f"},
+                               {"neighbours %", "neighbours_share", "%", "%.0f"},
+                               {"pairs %", "pairs_share", "%", "%.0f"},
+                               {"walls %", "walls_share", "%", "%.0f"}});
+  std::fprintf(table.prose(), "PD-box benchmark (steel 4 mm, 1 mm at 30 Hz, dt 2e-7 s); energy tallies %s; median of %d runs; wall clock\n",
+               opt.energy ? "on" : "off", opt.repeats);
+  table.header();
   for (int N : opt.sizes) {
     const std::string data = peers_bed(peers, N);
     if (data.empty())
@@ -290,16 +370,14 @@ int run_bench(const BenchOptions& opt) {
       const Scene sc = with_method(scene, method, opt.energy);
       for (int th : opt.threads) {
         const Timing t = time_repeats(sc, steps, th, opt.repeats, true);
-        std::printf("| %zu | %lld | %s | %d | %.1f | %.1f-%.1f | %llu | %.2f | %.1f | %.2f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
-                    sc.particles.size(), steps, method.c_str(), th, t.median, t.lo, t.hi,
-                    static_cast<unsigned long long>(t.builds), t.load.pairs, 100 * t.load.crossing, t.load.pair_contacts,
-                    t.load.wall_contacts,
-                    100 * t.load.integrate, 100 * t.load.neighbours, 100 * t.load.pair_stage, 100 * t.load.wall_stage);
-        std::fflush(stdout);
+        table.row({static_cast<double>(sc.particles.size()), static_cast<double>(steps), method, static_cast<double>(th), t.median,
+                   t.lo, t.hi, static_cast<double>(t.builds), t.load.pairs, 100 * t.load.crossing, t.load.pair_contacts,
+                   t.load.wall_contacts, 100 * t.load.integrate, 100 * t.load.neighbours, 100 * t.load.pair_stage,
+                   100 * t.load.wall_stage});
       }
     }
   }
-  std::printf("\nPeers on this machine (../shared/peers/README.md, 1 rank): LIGGGHTS 115.7 / 95.7 / 126.9, "
+  std::fprintf(table.prose(), "\nPeers on this machine (../shared/peers/README.md, 1 rank): LIGGGHTS 115.7 / 95.7 / 126.9, "
               "LAMMPS 83.3 / 87.9 / 113.9 ns per particle-step at N = 100 / 1000 / 10000.\n");
   return 0;
 }
@@ -310,10 +388,20 @@ int run_bench(const BenchOptions& opt) {
 // walls), the ball-film contacts, and the film (membrane, strings, film-wall contacts).
 int run_bag_bench(const BenchOptions& opt) {
   const std::string case_dir = opt.case_dir.empty() ? std::string(BAGDEM_SOURCE_DIR) + "/cases/box-beanbag" : opt.case_dir;
-  std::printf("Bagged-scene benchmark (%s); energy tallies %s; median of %d runs; wall clock\n", case_dir.c_str(),
-              opt.energy ? "on" : "off", opt.repeats);
-  std::printf("| film triangles | nodes | balls | dt (s) | steps | threads | us/step (median) | balls %% | ball-film contacts %% | film %% | neighbour builds |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const BenchTable table(opt, {{"film triangles", "film_triangles", "1", "%.0f"},
+                               {"nodes", "film_nodes", "1", "%.0f"},
+                               {"balls", "balls", "1", "%.0f"},
+                               {"dt (s)", "dt", "s", "%.3g"},
+                               {"steps", "steps", "1", "%.0f"},
+                               {"threads", "threads", "1", "%.0f"},
+                               {"us/step (median)", "time_per_step", "us", "%.2f"},
+                               {"balls %", "balls_share", "%", "%.0f"},
+                               {"ball-film contacts %", "ball_film_contacts_share", "%", "%.0f"},
+                               {"film %", "film_share", "%", "%.0f"},
+                               {"neighbour builds", "neighbour_builds", "1", "%.0f"}});
+  std::fprintf(table.prose(), "Bagged-scene benchmark (%s); energy tallies %s; median of %d runs; wall clock\n", case_dir.c_str(),
+               opt.energy ? "on" : "off", opt.repeats);
+  table.header();
   std::map<int, std::vector<std::pair<double, double>>> fits;  // threads -> (film nodes, film us/step)
   for (int tri : opt.film_triangles) {
     const Scene scene = load_case(case_dir, {"bag.triangles=" + std::to_string(tri)});
@@ -341,11 +429,10 @@ int run_bag_bench(const BenchOptions& opt) {
       std::sort(sorted.begin(), sorted.end());
       const StageTimes& t = last;
       const double total = t.integrate + t.neighbours + t.pairs + t.walls + t.triangles + t.film + t.guards;
-      std::printf("| %zu | %zu | %zu | %.3g | %lld | %d | %.2f | %.0f | %.0f | %.0f | %llu |\n", sc.bag->rest.triangles.size(),
-                  sc.bag->rest.vertices.size(), sc.bag->balls, sc.dt, steps, th, sorted[sorted.size() / 2],
-                  100 * (t.integrate + t.neighbours + t.pairs + t.walls + t.guards) / total, 100 * t.triangles / total,
-                  100 * t.film / total, static_cast<unsigned long long>(builds));
-      std::fflush(stdout);
+      table.row({static_cast<double>(sc.bag->rest.triangles.size()), static_cast<double>(sc.bag->rest.vertices.size()),
+                 static_cast<double>(sc.bag->balls), sc.dt, static_cast<double>(steps), static_cast<double>(th),
+                 sorted[sorted.size() / 2], 100 * (t.integrate + t.neighbours + t.pairs + t.walls + t.guards) / total,
+                 100 * t.triangles / total, 100 * t.film / total, static_cast<double>(builds)});
       // The film's own cost per step (ball-film contacts and film stages), against its node count.
       fits[th].emplace_back(static_cast<double>(sc.bag->rest.vertices.size()),
                             sorted[sorted.size() / 2] * (t.triangles + t.film) / total);
@@ -355,10 +442,10 @@ int run_bag_bench(const BenchOptions& opt) {
     if (pts.size() < 2) continue;
     std::vector<double> x, y;
     for (const auto& [n, us] : pts) x.push_back(n), y.push_back(us);
-    std::printf("%d thread(s): the film's cost per step (ball-film contacts + film) grows as nodes^a, a = %.3f\n", th,
-                log_log_slope(x, y));
+    std::fprintf(table.prose(), "%d thread(s): the film's cost per step (ball-film contacts + film) grows as nodes^a, a = %.3f\n", th,
+                 log_log_slope(x, y));
   }
-  std::printf("\nShares are of the timed stages of the last run (integration of balls and film nodes and the neighbour\n"
+  std::fprintf(table.prose(), "\nShares are of the timed stages of the last run (integration of balls and film nodes and the neighbour\n"
               "lists are counted with the balls).\n");
   return 0;
 }

@@ -16,6 +16,9 @@ void write_table_csv(const std::filesystem::path& path, const std::vector<TableC
                      const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns = {},
                      const std::vector<std::vector<std::string>>& text_rows = {});
 
+// A cell as RFC 4180 wants it: quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const std::string& value);
+
 // Reads the given columns (by name, any order and extra columns in the file allowed) of a table;
 // throws InputError naming the file and the column when one is missing or a value is not a number.
 std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns);

@@ -17,6 +17,10 @@ struct BenchOptions {
   double step_scale = 1.0;  // multiplies the default timed step counts (1e6, 3e5, 4e4 for 1e2, 1e3, 1e4)
   std::string peers_dir;    // default: <source>/../shared/peers
   std::string case_dir;     // default: <source>/cases/pdbox
+  // "table": the Markdown table with its title and notes (the default); "csv": the same figures as
+  // CSV on stdout (a header row of `name [unit]` entries, then one row per measured configuration),
+  // the title and notes on stderr.
+  std::string format = "table";
   // The bagged scene instead (cases/box-beanbag at each film resolution): time per step and how it
   // splits between the balls and the film.
   bool bag = false;

@@ -1,11 +1,11 @@
 #!/usr/bin/python3
-"""Helper of tools/growth-peers.
+"""Helper of tools/peers/growth.
 
-  growth_peers.py tile PEERS OUT k...   writes the peers' settled N = 1000 bed (runs/N1000.vib1.data)
-                                        tiled k x k as OUT/data.k<k>, with the widened box for
-                                        LIGGGHTS (OUT/inputs/box.Nk<k>.stl) and LAMMPS
-                                        (OUT/inputs/geom.Nk<k>.in)
-  growth_peers.py report RESULTS         the table and the fitted exponents from lines "code N ns"
+  growth.py tile PEERS OUT k...   writes the peers' settled N = 1000 bed (runs/N1000.vib1.data)
+                                  tiled k x k as OUT/data.k<k>, with the widened box for
+                                  LIGGGHTS (OUT/inputs/box.Nk<k>.stl) and LAMMPS
+                                  (OUT/inputs/geom.Nk<k>.in)
+  growth.py report RESULTS        the table and the fitted exponents from lines "code N ns"
 
 The tiling is bagdem bench --growth's (src/run/bench.cpp, run_growth_bench): copy (i, j) of the bed
 shifted by (i L, j L, 0), L = 63 mm the box's inner side, and the box widened to k L x k L x 48 mm.

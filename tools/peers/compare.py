@@ -1,18 +1,18 @@
 #!/usr/bin/python3
-"""Helper of tools/compare-peers.
+"""Helper of tools/peers/compare.
 
-  compare_peers.py jitter SRC DST SEED [DV]   writes the LAMMPS data file SRC as DST with every ball's
-                                             velocity changed by DV m/s (default 1e-6) in a random
-                                             direction drawn by numpy's default_rng(SEED); positions,
-                                             angular velocities and everything else are copied as is
-  compare_peers.py table LIG_JSON CSV N       one start: each code's M_eff and C_eff with its
-                                             cycle-to-cycle standard error, and their differences
-  compare_peers.py record DIR                 one start of an ensemble: DIR/lig.json (analyze_force.py),
-                                             DIR/bagdem/reduced.csv and the codes' run times
-                                             (DIR/lig.seconds, DIR/bagdem.seconds) into DIR/result.json
-  compare_peers.py ensemble N DIR...          the ensemble of the starts' result.json: each code's mean
-                                             with a 95% interval, the difference of the codes and its
-                                             interval, the run time
+  compare.py jitter SRC DST SEED [DV]   writes the LAMMPS data file SRC as DST with every ball's
+                                        velocity changed by DV m/s (default 1e-6) in a random
+                                        direction drawn by numpy's default_rng(SEED); positions,
+                                        angular velocities and everything else are copied as is
+  compare.py table LIG_JSON CSV N       one start: each code's M_eff and C_eff with its
+                                        cycle-to-cycle standard error, and their differences
+  compare.py record DIR                 one start of an ensemble: DIR/lig.json (analyze_force.py),
+                                        DIR/bagdem/reduced.csv and the codes' run times
+                                        (DIR/lig.seconds, DIR/bagdem.seconds) into DIR/result.json
+  compare.py ensemble N DIR...          the ensemble of the starts' result.json: each code's mean
+                                        with a 95% interval, the difference of the codes and its
+                                        interval, the run time
 
 The interval of a mean over n starts is Student's t: mean +- t(0.975, n - 1) sd / sqrt(n), with sd
 the sample standard deviation (n - 1) of the starts' figures. The difference is paired (the codes
@@ -103,7 +103,7 @@ def ensemble(n_balls, dirs):
     res = [json.load(open(f"{d}/result.json")) for d in dirs]
     n = len(res)
     if n < 2:
-        sys.exit("compare_peers.py ensemble: an interval needs at least 2 starts")
+        sys.exit("compare.py ensemble: an interval needs at least 2 starts")
     print(f"PD-box, N = {n_balls}: {n} starts (the settled bed, velocities jittered by 1e-6 m/s), "
           f"first harmonic over {res[0]['cycles']} periods after {res[0]['skip_cycles']:g}; "
           f"mean +- half-width of the 95% interval (t({0.975}, {n - 1}) = {t975(n - 1):.3f})")

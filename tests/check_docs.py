@@ -4,7 +4,7 @@
 Run by ctest (DocsLinks, tests/CMakeLists.txt) as `check_docs.py SOURCE_DIR`. Fails, naming the file
 and line, when
   - a relative markdown link or image ([text](path), ![alt](path)) points at a file or directory
-    that does not exist, or outside the repository;
+    that does not exist, or outside the repository, or at a #heading a markdown page does not have;
   - a backticked repository path (`docs/commands.md`, `src/...`, `include/...`, `tests/...`, `tools/...`,
     `cases/...`) outside code blocks names nothing that exists;
   - a source comment (src/, include/, tests/, tools/, cases/) cites a docs/*.md page that does not
@@ -28,6 +28,21 @@ ISSUE = re.compile(r"\bissues?\s+#?\d+|\(#\d+\)|\bPR\s+#?\d+", re.IGNORECASE)
 DOC_CITE = re.compile(r"\bdocs/[A-Za-z0-9_-]+\.md\b")
 
 
+def anchors(md: pathlib.Path) -> set:
+    """The #anchors of a markdown page's headings, as GitHub makes them."""
+    found, seen, fenced = set(), {}, False
+    for line in md.read_text(encoding="utf-8").splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+        if fenced or not line.startswith("#"):
+            continue
+        slug = re.sub(r"[^a-z0-9 _-]", "", line.lstrip("#").strip().lower()).replace(" ", "-")
+        k = seen.get(slug, 0)
+        seen[slug] = k + 1
+        found.add(slug if k == 0 else f"{slug}-{k}")
+    return found
+
+
 def inside(root: pathlib.Path, p: pathlib.Path) -> bool:
     try:
         p.resolve().relative_to(root.resolve())
@@ -47,14 +62,20 @@ def check_markdown(root: pathlib.Path, md: pathlib.Path, errors: list) -> None:
             continue
         for m in LINK.finditer(line):
             target = m.group(1)
-            if re.match(r"^[a-z][a-z0-9+.-]*:", target) or target.startswith("#"):
-                continue  # a URL, or an anchor in the same page
-            path = target.split("#", 1)[0]
+            if re.match(r"^[a-z][a-z0-9+.-]*:", target):
+                continue  # a URL
+            if target.startswith("#"):
+                if target[1:] not in anchors(md):
+                    errors.append(f"{rel}:{n}: link {target!r}: no such heading in this page")
+                continue
+            path, _, anchor = target.partition("#")
             p = (md.parent / path)
             if not inside(root, p):
                 errors.append(f"{rel}:{n}: link {target!r} points outside the repository")
             elif not p.exists():
                 errors.append(f"{rel}:{n}: link {target!r}: no such file")
+            elif anchor and p.suffix == ".md" and anchor not in anchors(p):
+                errors.append(f"{rel}:{n}: link {target!r}: {path} has no heading #{anchor}")
         for m in CODE.finditer(line):
             token = m.group(1).strip()
             if not REPO_PATH.match(token) or PLACEHOLDER.search(token):

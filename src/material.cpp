@@ -1,4 +1,4 @@
-// Effective moduli per physics brief section 4 (Johnson, Contact Mechanics, 1985, ch. 4 and 7).
+// Effective moduli per docs/reference-study.md, section 4 (Johnson, Contact Mechanics, 1985, ch. 4 and 7).
 #include "bagdem/material.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Physics of the bag (physics brief section 6; docs/case-schema.md [bag]): energy budget with the
+// Physics of the bag (docs/reference-study.md, section 6; docs/case-schema.md [bag]): energy budget with the
 // film and strings, the bag's restitution against a single ball's, the strings (static extension,
 // tension only), balls kept inside under strong shaking, the film-crossing guard, and the ball-film
 // law reducing to the ball-wall law for a stiff, heavy film.
@@ -132,7 +132,7 @@ BudgetRun run_budget(const Scene& s) {
 // Energy budget of a bag (film kinetic and elastic energy, strings, film-wall and ball-film
 // contacts): W_cavity + W_gravity = (K + U) - (K0 + U0) + D, as the run loop checks it
 // (runner.cpp balance_error). Reference: exact closure of velocity Verlet's discrete work tallies
-// (README, Energy budget), ~1e-4 on the default case. Measure: the largest residual over samples
+// (docs/contact-model.md, Energy budget), ~1e-4 on the default case. Measure: the largest residual over samples
 // every 100 steps divided by the largest scale over the run, and the final balance_error.
 // Undamped (the check): every restitution 1, no friction, no film damping, no string
 // damping, linear membrane (tension field off).
@@ -350,7 +350,7 @@ positions = [[0, 0, "12 mm"]]
 // downward velocity at the step before; e_ball likewise for one ball from the same height.
 // Requirement: e_bag <= 0.5 e_ball. Also checked: the bag's impact speed is the free-fall speed over
 // 10 mm (sqrt(2 g h) = 0.443 m/s, +-0.02 m/s: the film's lowest node sags a little before the
-// contact), and e_ball is the requested 0.8 within 2% (README: the restitution is returned within 1%).
+// contact), and e_ball is the requested 0.8 within 2% (docs/contact-model.md: the restitution is returned within 1%).
 // Measured (this build): v_down 0.442 m/s, v_up 0.265 m/s, e_bag = 0.598; e_ball = 0.801;
 // e_bag / e_ball = 0.75: FAILS the requirement (the bag's balls hit the floor through the film
 // together, see the next test).
@@ -882,7 +882,7 @@ const StiffFilmResult& stiff_film_result() {
 // the centroid of a face, the midpoint of a convex edge (ridge) and a vertex (the one-contact-per-
 // feature rule must give one contact each); another hits the box's ceiling (same material pair).
 // Normal restitution e = -(v1 . n) / (v0 . n), n the direction of the velocity change (no friction:
-// the impulse is normal). Reference: the requested 0.7 (README: the clamped law returns e within 1%)
+// the impulse is normal). Reference: the requested 0.7 (docs/contact-model.md: the clamped law returns e within 1%)
 // and the measured ball-wall value. Tolerance 2% for each. Also: one film contact per ball, and the
 // film barely moves (largest node speed < 1% of the impact speed).
 // Measured (this build): face 0.6982, ridge 0.6981, vertex 0.6979, wall 0.6986 (film / wall 0.9991

@@ -1,4 +1,4 @@
-// The force the contents exert on the cavity (physics brief section 5): every wall contact force,
+// The force the contents exert on the cavity (docs/reference-study.md, section 5): every wall contact force,
 // no gravity, recorded as the mean over each sample interval (impulse / interval).
 #include <gtest/gtest.h>
 

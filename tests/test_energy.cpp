@@ -1,4 +1,4 @@
-// Energy conservation and the energy budget of the stepper (src/step/, physics brief section 4).
+// Energy conservation and the energy budget of the stepper (src/step/, docs/reference-study.md, section 4).
 //
 //  * ElasticGasConservesEnergy: e = 1, no friction, no gravity, closed fixed box. Velocity Verlet is
 //    symplectic (Swope et al. 1982), and the undamped Hertz law is conservative, so kinetic + elastic

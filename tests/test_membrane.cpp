@@ -23,7 +23,7 @@ using bagdem::testing::Rng;
 
 namespace {
 
-// The film of the brief: 50 um polyethylene (E = 0.25 GPa, nu = 0.4, 920 kg/m^3), plate bending
+// The film of docs/reference-study.md (section 6): 50 um polyethylene (E = 0.25 GPa, nu = 0.4, 920 kg/m^3), plate bending
 // stiffness D = E t^3 / (12 (1 - nu^2)).
 MembraneProperties film(bool tension_field = true, double damping_time = 0) {
   MembraneProperties p;

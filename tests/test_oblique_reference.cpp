@@ -2,7 +2,7 @@
 // integration of the same Hertz-Mindlin model (test_oblique_impact.cpp checks this range only
 // qualitatively, after Maw, Barber & Fawcett 1976).
 //
-// Model integrated here (physics brief sec. 4; hertz.hpp, mindlin.hpp, geometry.hpp), typed again
+// Model integrated here (docs/reference-study.md, section 4; hertz.hpp, mindlin.hpp, geometry.hpp), typed again
 // from the formulas; of the engine only bagdem::clamped_beta is used:
 //   F_el = 4/3 E* sqrt(R*) d^(3/2), S_n = 2 E* sqrt(R* d), gamma_n = 2 sqrt(5/6)|beta| sqrt(S_n m*),
 //   F_n  = max(0, F_el + gamma_n d'),                                  |beta| = clamped_beta(e)
@@ -55,7 +55,7 @@ constexpr double kRho = 7800, kE = 2e9, kNu = 0.3, kR = 5e-3, kVn = 1.0;
 constexpr double kTolRatio = 0.02;  // absolute, on v_c'/v_c
 constexpr double kTolSpin = 0.02;   // relative to the reference spin
 
-// Effective moduli of two equal materials (physics brief sec. 4), typed again.
+// Effective moduli of two equal materials (docs/reference-study.md, section 4), typed again.
 double e_star() { return 1.0 / (2 * (1 - kNu * kNu) / kE); }
 double g_star() { return 1.0 / (2 * 2 * (2 - kNu) * (1 + kNu) / kE); }
 double mass() { return sphere_mass(kRho, kR); }

@@ -6,7 +6,7 @@
 // must end with exit code 2 and a message naming the file, the column and the value, and write no
 // figure.
 //
-// The synthetic sets are shaped like the pipe experiment (physics brief, section 3): mode 1 at
+// The synthetic sets are shaped like the pipe experiment (docs/reference-study.md, section 3): mode 1 at
 // 85.56 Hz as a single degree of freedom, bare peak 1.088e-3 m/N (zeta = 0.5%), with a bag of 8%
 // of the modal mass and C_b/(M_b w) = 0.33 a peak near 3.2e-4 m/N. Receptance of the linear
 // system (3) of the study: H = 1 / (K - (M + M_b) w^2 + i w (C_p + C_b)); accelerance w^2 |H|.

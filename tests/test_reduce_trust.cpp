@@ -138,7 +138,7 @@ TEST(DropTest, BallBetweenClosePlatesReturnsTheLawsRestitution) {
 }
 
 // The contact time does not shrink with the step: the same impact with steps 4x apart, against
-// Hertz's duration t_c = 2.87 (m*^2 / (R* E*^2 v))^(1/5) (physics brief section 4) for a nearly
+// Hertz's duration t_c = 2.87 (m*^2 / (R* E*^2 v))^(1/5) (docs/reference-study.md, section 4) for a nearly
 // elastic impact (e = 0.99: the damping lengthens it by well under 1%).
 TEST(DropTest, ContactTimeDoesNotDependOnTheStep) {
   const double v = 0.2, R = 2e-3, m = 7800 * 4.0 / 3.0 * std::numbers::pi * R * R * R;

@@ -1,5 +1,5 @@
 // The damping calibration against its own definition and against the published overshoot of the
-// clamped Tsuji law (physics brief section 4: asking 0.1/0.3/0.5/0.7/0.9 gives ~0.25/0.40/0.55/0.72/0.90).
+// clamped Tsuji law (docs/reference-study.md, section 4: asking 0.1/0.3/0.5/0.7/0.9 gives ~0.25/0.40/0.55/0.72/0.90).
 #include <gtest/gtest.h>
 
 #include <cmath>

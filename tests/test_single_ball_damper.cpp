@@ -398,7 +398,7 @@ ShakenRun run_shaken_box(double d, double u0, int cycles, int skip, double expec
   }
   const double n = cycles - skip, span = n / kDriveF;
   run.cavity_work_per_cycle = work / n;
-  run.c_eff = -2 / (span * kDriveW * kDriveX) * cos_sum;  // physics brief, section 5
+  run.c_eff = -2 / (span * kDriveW * kDriveX) * cos_sum;  // docs/reference-study.md, section 5
   run.m_eff = 2 / (span * kDriveW * kDriveW * kDriveX) * sin_sum;
   return run;
 }

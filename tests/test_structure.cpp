@@ -342,7 +342,7 @@ TEST(PrimaryCase, FeBeamAgreesWithTheAnalyticBeamAndReadsMasses) {
               b.primary->natural_frequency[0], a.primary->natural_frequency[0], c.primary->natural_frequency[0]);
 }
 
-// The shipped pipe case: the bare pipe's first three frequencies (physics brief, section 3) and
+// The shipped pipe case: the bare pipe's first three frequencies (docs/reference-study.md, section 3) and
 // the bag's ball count at 8% of its mass.
 TEST(PipeCase, BarePipeFrequenciesAndBagMassRatio) {
   const Scene s = load_case(std::string(BAGDEM_CASES_DIR) + "/pipe-beanbag");

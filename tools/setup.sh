@@ -8,7 +8,7 @@ PACKAGES=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools 
           libgtest-dev libtomlplusplus-dev libcli11-dev python3-numpy python3-h5py python3-matplotlib
           libopenmpi-dev openmpi-bin clang-19 libomp-19-dev)
 # The compiler: clang 19 (Debian 12's clang-19), whose code runs the step 10-12% faster than GCC 12's
-# on the PD-box beds (README, Performance); the results are the same bits. BAGDEM_COMPILER=gcc
+# on the PD-box beds (docs/performance.md); the results are the same bits. BAGDEM_COMPILER=gcc
 # builds with GCC 12 instead (build-essential).
 case "${BAGDEM_COMPILER:-clang}" in
   clang) CC_BIN=clang-19 CXX_BIN=clang++-19 ;;

@@ -1,5 +1,5 @@
 // Materials, pairwise interaction parameters, and the per-material-pair table
-// the contact kernel reads (effective moduli per physics brief section 4).
+// the contact kernel reads (effective moduli per docs/reference-study.md, section 4).
 #pragma once
 #include <string>
 #include <vector>
@@ -38,7 +38,7 @@ struct PairLawTable {
   const PairLaw& operator()(int a, int b) const { return laws[static_cast<size_t>(a * n + b)]; }
 };
 
-// E* and G* of two materials (physics brief section 4; Johnson, Contact Mechanics, 1985).
+// E* and G* of two materials (docs/reference-study.md, section 4; Johnson, Contact Mechanics, 1985).
 double effective_youngs(const Material& a, const Material& b);
 double effective_shear(const Material& a, const Material& b);
 

@@ -1,7 +1,7 @@
 // Loops over items on the OpenMP threads, or as a plain loop when the items are few or there is one
-// thread. An OpenMP parallel region costs 1.2-1.3 us on this machine even when its if() clause is
-// false (libgomp still starts a team of one), as much as a whole step of 20 balls; so a region is
-// entered only when it runs on several threads.
+// thread. An OpenMP parallel region costs about a microsecond even when its if() clause is false
+// (libgomp still starts a team of one), as much as a whole step of a few tens of balls; so a region
+// is entered only when it runs on several threads.
 #pragma once
 #include <omp.h>
 
@@ -12,12 +12,10 @@ namespace bagdem {
 // Parallel loops below this many items run on one thread (fork/join costs more than the work).
 inline constexpr std::size_t kParallelMin = 512;
 
-// Below this many balls the step's ball stages (drift, pairs, walls) run on one thread. Their three
-// parallel regions a step cost about 7 us of fork, join and imbalance on two threads, the work of
-// some 200 balls: on the PD-box bed two threads were 0.8x of one at 1000 balls and 1.15-1.5x at
-// 4000 (bagdem bench --growth --tiles 1 2 --threads 1 / 2, 2026-11-25). With one region a step
-// (Stepper::fused_contacts, session 14), still 0.86-0.98x at 1000 balls and 1.33-1.57x at 4000
-// with the threshold at 512 (3 rounds), so it stays here.
+// Below this many balls the step's ball stages (drift, pairs, walls) run on one thread: below it the
+// fork, join and imbalance of the parallel region cost more than the second thread saves (on the
+// PD-box bed two threads are slower than one at 1000 balls and faster at 4000; the measurements are
+// in docs/performance.md).
 inline constexpr std::size_t kParallelBalls = 2048;
 
 // Whether a loop over n items runs on several threads.

@@ -2,8 +2,8 @@
 // thread. The spans start equal and their cuts move by the clock: each thread times its own span,
 // and every `window` steps the cuts are moved so that each thread gets items in proportion to the
 // speed it showed (items per second). Equal cuts are not enough because
-//  - the cores of a shared machine do not run equally fast: on the 2-core benchmark machine one
-//    core ran 35-45% slower than the other while both were busy, and which one varied between runs;
+//  - the cores of a shared machine do not run equally fast: one core can run a third slower than the
+//    other while both are busy, and which one varies between runs;
 //  - the work per item is uneven: balls at the walls, touching pairs, the dense bottom of a bed.
 // Every item writes only its own slots and the pair stage's records keep its sums in one order
 // (PairState), so where the cuts lie changes no result: moving them by the clock keeps every run

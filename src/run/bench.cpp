@@ -229,8 +229,8 @@ double log_log_slope(const std::vector<double>& x, const std::vector<double>& y)
 
 // Growth: the N = 1000 bed tiled k x k. Every size runs the same steps, so that neighbour-list
 // rebuilds (driven by the motion, not by N) weigh alike. The repeats run in rounds, each round every
-// size once in ascending order: a slow minute of the machine (its speed drifts by a third from
-// minute to minute) then weighs on every size alike instead of on one size's repeats, which would
+// size once in ascending order: a slow minute of a shared machine (its speed can drift by a third
+// from minute to minute) then weighs on every size alike instead of on one size's repeats, which would
 // tilt the fitted exponent. The peak memory is read in the first round, after each size's runs:
 // sizes ascend and each run frees its simulation, so it is that size's.
 int run_growth_bench(const BenchOptions& opt) {

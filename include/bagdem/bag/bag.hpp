@@ -1,6 +1,6 @@
 // The resolved bag of a scene ([bag] in case.toml, src/case/bag.cpp): the film's rest shape and
 // initial node positions, its membrane properties and contact parameters, the strings that hold it,
-// and which of the scene's particles are its balls. Physics brief, section 6.
+// and which of the scene's particles are its balls. docs/reference-study.md, section 6.
 #pragma once
 #include <cstdint>
 #include <string>

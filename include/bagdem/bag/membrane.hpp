@@ -1,5 +1,5 @@
 // The film of a bag: a membrane of constant-strain triangles with a tension field, a small bending
-// stiffness across edges, and Kelvin-Voigt material damping. Physics brief, section 6.
+// stiffness across edges, and Kelvin-Voigt material damping. docs/reference-study.md, section 6.
 //
 // Membrane (per triangle, reference area A0, thickness t): Green-Lagrange strain Eg = (F^T F - I)/2
 // of the in-plane deformation gradient F (3x2, from the rest shape's 2-D frame), plane-stress St.

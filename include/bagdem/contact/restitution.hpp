@@ -17,7 +17,7 @@
 
 namespace bagdem {
 
-// Classic Tsuji beta (negative), physics brief section 4.
+// Classic Tsuji beta (negative), docs/reference-study.md, section 4.
 double tsuji_beta(double e);
 
 // Restitution of the dimensionless Hertz impact with damping parameter a = sqrt(5)|beta|.

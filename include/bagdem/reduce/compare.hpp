@@ -1,4 +1,4 @@
-// The continuum model against the full simulation (physics brief section 2): for each frequency of a
+// The continuum model against the full simulation (docs/reference-study.md, section 2): for each frequency of a
 // coupled sweep, the response amplitude at x_a that the DEM produced next to what the linear
 // models predict with the DEM-derived bag parameters of that frequency (reduced.csv):
 //   model:  the structure's whole modal model with the bag as a point mass M_eff and dashpot C_eff
@@ -6,7 +6,7 @@
 //           impedance; its error shows what the linearisation (one harmonic, one point) leaves out;
 //   eq7:    the study's SDOF, Eq. (3)/(7), of the mode nearest the frequency seen at the bag
 //           (M_p = M_r / phi_r(x_b)^2, continuum::modal_sdof), mu = M_bag / M_p with the bag's real
-//           mass and C_b / (M_b w) from the DEM (brief conventions), mapped back to x_a by
+//           mass and C_b / (M_b w) from the DEM (docs/reference-study.md, section 2), mapped back to x_a by
 //           phi_r(x_a) / phi_r(x_b);
 //   eq20:   the same SDOF with C_b / (M_b w) from the impact restitution e and phase phi through
 //           Eq. (19a), i.e. the study's Eq. (20), in the form chosen (consistent by default).

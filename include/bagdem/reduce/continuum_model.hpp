@@ -1,8 +1,8 @@
 // The continuum (single-degree-of-freedom) model of the bean-bag damper study, and the exact linear
 // systems it approximates (pure math: no dependency on the DEM stepper).
 //
-// Source: the study "The effective design of bean bag as a vibroimpact damper", as condensed in the
-// physics brief, section 2 (equation numbers are the study's). The bag is reduced to an equivalent
+// Source: the study "The effective design of bean bag as a vibroimpact damper", as summarised in
+// docs/reference-study.md, section 2 (equation numbers are the study's). The bag is reduced to an equivalent
 // mass M_b and viscous damping C_b acting on a primary (M_p, K_p, C_p) driven by F sin(w t):
 //   (M_p + M_b) x'' + (C_p + C_b) x' + K_p x = F sin(w t)                              (3)
 // Symbols: w drive circular frequency (rad/s), w_n = sqrt(K_p / M_p) (rad/s), lambda = w / w_n,
@@ -27,7 +27,7 @@
 //             below 1); the exact peak of (3) beside them: with a = 1 + mu and
 //             2 zeta = (C_b + C_p) / (M_p w_n), X/X_st = 1 / (1 - a lambda^2 + i 2 zeta lambda),
 //             lambda_peak^2 = (a - 2 zeta^2) / a^2, |X/X_st|max = a / (2 zeta sqrt(a - zeta^2)).
-//   Beam mode r at the bag (physics brief, section 2 conventions; standard modal superposition,
+//   Beam mode r at the bag (docs/reference-study.md, section 2 conventions; standard modal superposition,
 //             e.g. Ewins, Modal Testing, 2nd ed., 2000, ch. 2): with a mass-normalised shape phi_r,
 //             M_p = 1 / phi_r(x_b)^2, K_p = omega_r^2 M_p, C_p = 2 zeta_r omega_r M_p, and a force F
 //             at x_f acts at the bag as F phi_r(x_f) / phi_r(x_b). Exact for one mode.

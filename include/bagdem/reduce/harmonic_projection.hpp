@@ -5,7 +5,7 @@
 // Delta and come in two kinds (results.h5, io/results_file.hpp):
 //   Sampling::point          y_k = y(t_k)                          (the cavity position)
 //   Sampling::interval_mean  y_k = (1/Delta) integral_{t_k - Delta}^{t_k} y dt   (the contents' force:
-//                            impulse / interval, so impacts are not aliased; physics brief section 5)
+//                            impulse / interval, so impacts are not aliased; docs/reference-study.md, section 5)
 //
 // The fit. Each whole cycle is fitted by linear least squares on the basis {1, c_k, s_k}:
 //   point:          c_k + i s_k = e^{i w t_k}
@@ -37,12 +37,12 @@
 // effective parameters below take batch means instead (reduce/interval.hpp): a granular bed carries
 // its state from cycle to cycle.
 //
-// Effective parameters (physics brief section 5; the study's Eq. (3) with the contents as M_b, C_b):
+// Effective parameters (docs/reference-study.md, section 5; the study's Eq. (3) with the contents as M_b, C_b):
 // the contents' force on the cavity F ~ -M_eff x'' - C_eff x', so for each cycle
 //     F_j = (w^2 M_eff - i w C_eff) X_j,  M_eff = Re(F_j / X_j) / w^2,  C_eff = -Im(F_j / X_j) / w,
 // the energy the contents dissipate per cycle E = -integral F x' dt = -pi Im(F_j conj X_j)
 // = pi C_eff w |X_j|^2, and the loss factor C_eff / (M_eff w). For a prescribed x = X sin(w t) these
-// are the brief's projections M_eff = (2/(nT w^2 X)) integral F sin(wt) dt and
+// are the projections of docs/reference-study.md, section 5: M_eff = (2/(nT w^2 X)) integral F sin(wt) dt and
 // C_eff = -(2/(nT w X)) integral F cos(wt) dt.
 #pragma once
 #include <complex>
@@ -96,7 +96,7 @@ EffectiveParameters effective_parameters(const std::vector<double>& t, const std
                                          const std::vector<double>& force, double f, double t_skip,
                                          Sampling displacement_sampling = Sampling::point);
 
-// Phase theta of a cavity motion written |X| cos(theta) (physics brief section 2: the study's phase of
+// Phase theta of a cavity motion written |X| cos(theta) (docs/reference-study.md, section 2: the study's phase of
 // impact phi is theta at the impact): for x = Re(X_hat e^{i w t}), theta = w t + arg(X_hat), wrapped
 // to [0, 2 pi) (unit: rad).
 double motion_phase(std::complex<double> X_hat, double w, double t);

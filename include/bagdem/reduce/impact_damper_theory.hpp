@@ -1,6 +1,6 @@
 // The classic single-ball impact damper: the symmetric two-impacts-per-cycle motion of one ball in a
 // cavity under prescribed harmonic motion, its energy dissipation and its stability. A reference for
-// the DEM (tests/test_single_ball_damper.cpp) and for the study's continuum model (physics brief,
+// the DEM (tests/test_single_ball_damper.cpp) and for the study's continuum model (docs/reference-study.md,
 // section 2).
 //
 // Sources: S. F. Masri & T. K. Caughey, "On the stability of the impact damper", J. Appl. Mech. 33
@@ -30,7 +30,7 @@
 //      cos(theta) = U. It fails below a threshold of D (the wall the ball left catches it again:
 //      D < 0.50 at e = 0.6, < 1.21 at e = 0.2), which lies below the stable range of section 4
 //      unless e < 0.087 (then it cuts the lower part of that range: from 1.69 to 2.08 at e = 0.05).
-// 2. Correspondence with the study (x = X cos(theta), physics brief section 2): theta = w t - pi/2,
+// 2. Correspondence with the study (x = X cos(theta), docs/reference-study.md, section 2): theta = w t - pi/2,
 //    so the left-wall impact is at theta = alpha - pi/2 and the right-wall one at alpha + pi/2. The
 //    study's phi is taken as the latter, phi = alpha + pi/2 in (0, pi), where the cavity speed is
 //    w X sin(phi) = w X cos(alpha) > 0 in magnitude (Eq. 11a). Then sin(phi) = cos(alpha),
@@ -44,7 +44,7 @@
 //    Equivalent viscous damping (energy per cycle of a dashpot at amplitude X is pi C w X^2):
 //      C_eq = E_cycle / (pi w X^2) = (4/pi) m w r cos^2(alpha),
 //    i.e. C_eq/(m w) = (4/pi) r sin^2(phi): the study's Eq. (19a) with M_b = m. The impulse train's
-//    in-phase fundamental (physics brief section 5: M_eff = (2/(T w^2 X)) int F sin(w t) dt over a
+//    in-phase fundamental (docs/reference-study.md, section 5: M_eff = (2/(T w^2 X)) int F sin(w t) dt over a
 //    cycle, F = force on the cavity: -2 m u at alpha, +2 m u at alpha + pi) gives
 //      M_eff = -(4/pi) m r sin(alpha) cos(alpha) = (4/pi) m r sin(phi) cos(phi),
 //    the right-hand side of the study's Eq. (19b) with m for M_b (the study writes M_b/M_p there).

@@ -3,7 +3,7 @@
 //
 // Conventions: SI units. The force F is the component along the excitation axis of the force the
 // contents exert on the cavity, recorded as interval means F_k = (1/Delta) integral over
-// [t_k - Delta, t_k] (physics brief section 5; io/results_file.hpp), at uniform times t_k. Contents
+// [t_k - Delta, t_k] (docs/reference-study.md, section 5; io/results_file.hpp), at uniform times t_k. Contents
 // moving in +x hit the +x wall and push the cavity in +x: F > 0, side = +1.
 //
 // An impact is a maximal run of samples with |F_k| > threshold and one sign (a run is split where F
@@ -37,7 +37,7 @@
 //  * Centroid: exact for a pulse symmetric about an interval boundary or midpoint; otherwise off by
 //    a fraction of Delta (a pulse inside one interval is put at the interval's midpoint).
 //
-// Restitution (physics brief section 5 (i); the study's Eq. (9)): from the contents' centre-of-mass
+// Restitution (docs/reference-study.md, section 5 (i); the study's Eq. (9)): from the contents' centre-of-mass
 // velocity relative to the cavity, v (point samples at the same times), e = -v_after / v_before, with
 // v_before the sample at t_foot_start (the last sample before any of the pulse's force) and v_after
 // the sample at t_foot_end (the first sample after all of it), so the whole velocity change counts.

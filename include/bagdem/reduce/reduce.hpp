@@ -1,4 +1,4 @@
-// Reduction of a run to the damper's effective parameters (physics brief section 5): the rows of
+// Reduction of a run to the damper's effective parameters (docs/reference-study.md, section 5): the rows of
 // reduced.csv, one per driven frequency.
 //
 // Input: the cavity's displacement x along the excitation direction e, the force F the contents
@@ -8,13 +8,13 @@
 //   - M_eff, C_eff by first-harmonic projection, F_hat = (w^2 M_eff - i w C_eff) X_hat, per cycle and
 //     averaged, with standard errors over cycles (reduce/harmonic_projection.hpp);
 //   - energy per cycle pi C_eff w |X|^2, loss factor C_eff / (M_eff w), M_eff / M_bag,
-//     C_b / (M_b w) = C_eff / (M_bag w) (the brief's convention: the bag's real mass), Gamma = |X| w^2 / g,
+//     C_b / (M_b w) = C_eff / (M_bag w) (docs/reference-study.md, section 2: the bag's real mass), Gamma = |X| w^2 / g,
 //     d / |X| with d the free clearance of the contents along e when settling ended;
 //   - the impacts (reduce/impacts.hpp): their phase phi in the study's convention (x = |X| cos theta,
 //     phi = theta at the impact modulo pi, so that the cavity speed at impact is w |X| sin phi, Eq. 11a),
 //     impacts per cycle, mean peak force and duration (resolved to about one sample interval), and the
 //     restitution e of each impact from the contents' centre-of-mass velocity normal to the wall
-//     (brief Eq. 9: -v_after / v_before); e inverted from C_b/(M_b w) and phi with Eq. (19a).
+//     (the study's Eq. (9): -v_after / v_before); e inverted from C_b/(M_b w) and phi with Eq. (19a).
 // Column names and units: reduced_columns() (documented in docs/outputs.md).
 #pragma once
 #include <complex>

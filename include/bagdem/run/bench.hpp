@@ -1,5 +1,6 @@
-// `bagdem bench`: ns per particle-step on the PD-box scene of ../shared/peers (steel balls of 4 mm in
-// a closed box shaken at 1 mm, 30 Hz, dt = 2e-7 s), so the figures compare with LIGGGHTS and LAMMPS.
+// `bagdem bench`: ns per particle-step on the peers' PD-box scene (steel balls of 4 mm in a closed box
+// shaken at 1 mm, 30 Hz, dt = 2e-7 s), so the figures compare with LIGGGHTS and LAMMPS
+// (docs/performance.md, Method).
 // The start state is the peers' settled bed after one vibration period (runs/N*.vib1.data) when
 // present; otherwise the bed is generated on a lattice and settled first (slower; said so).
 #pragma once

@@ -1,7 +1,7 @@
-// The bag's restitution from a drop test (physics brief section 5, method ii): the case's contents,
+// The bag's restitution from a drop test (docs/reference-study.md, section 5, method ii): the case's contents,
 // settled as in the case, are launched at speed V against a wall of the resting cavity (the one
 // across the larger gap along the excitation direction e), and e_drop = -v_after / v_before of
-// their centre of mass along e (brief Eq. 9). The impact is the force on the wall ahead, every wave
+// their centre of mass along e (the study's Eq. (9)). The impact is the force on the wall ahead, every wave
 // of it, foot to foot (reduce/impacts.hpp, merged): v_before is the velocity before its first foot,
 // v_after the fastest rebound from the pulse's centroid on (a bag's contents leave in waves; once
 // free, only friction slows them; a single ball's rebound speed is constant after its contact). The pulse is found above a quarter of its peak (sliding friction on

@@ -21,7 +21,7 @@
 // cycles: work of the external force W, dissipation in the structure D_s and in the contents
 // (the damper) D_c, and the closure (W - D_s - D_c - change of stored energy) / W.
 // Per mode (excitation.around_modes, or every elastic mode inside the band): the bare and the
-// damped peak of |H| and the reduction in dB and percent (physics brief section 3). A lightly
+// damped peak of |H| and the reduction in dB and percent (docs/reference-study.md, section 3). A lightly
 // damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
 // planned frequencies the sweep adds `excitation.refine` points per mode, each halfway between
 // the largest |H| and its larger neighbour; the damped peak is then the parabola through the

@@ -47,7 +47,7 @@ class SteadyStateDetector {
 std::complex<double> sdof_receptance(double M, double C, double K, double w);
 
 // Peak reduction: dB = 20 log10(bare_peak / damped_peak); percent = 100 (1 - 10^(-dB/20))
-// (physics brief, section 3).
+// (docs/reference-study.md, section 3).
 double reduction_db(double bare_peak, double damped_peak);
 double reduction_percent(double db);
 

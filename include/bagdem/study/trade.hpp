@@ -27,7 +27,7 @@
 //   reference   every knob at its reference setting (the trade's reference run)
 //   balanced    the case as written
 //   fast        timestep x2 (safety at most 1), film x0.5, steady tolerance x2
-// Their measured speed and error on the shipped cases are in README ("The speed/accuracy trade").
+// Their measured speed and error on the shipped cases are in docs/trade.md.
 #pragma once
 #include <string>
 #include <vector>

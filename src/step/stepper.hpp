@@ -146,6 +146,8 @@ class Stepper {
  private:
   template <bool, bool, bool, bool>
   friend struct PairKernel;  // pair_kernel.hpp: the pairs stage's work, on the stepper's arrays
+  template <bool, bool, bool>
+  friend struct WallKernel;  // walls.cpp: the walls stage's work
   // One row of the step's table of stages (stages()): what it runs, the clock that times it.
   struct StageEntry {
     Stage stage;

@@ -1,5 +1,5 @@
 // The walls stage (stage.hpp): the balls against the cavity's walls (planes, cylinders), in batches of
-// contacts through the same lane-wise law as the pairs (pair_kernel.cpp), with the balls' kick
+// contacts through the same lane-wise law as the pairs (pair_kernel.hpp), with the balls' kick
 // where no later stage adds to their forces. Each configuration of the model switches is compiled
 // as its own loop (with_flags).
 #include "stepper.hpp"
@@ -14,7 +14,7 @@
 
 namespace bagdem {
 
-// ---- 5. wall_contacts ---------------------------------------------------------------------------
+// ---- wall_contacts ---------------------------------------------------------------------------
 void Stepper::wall_contacts() {
   StageFold fold;
   fold.excess = overlap_excess_;  // the pair stage's
@@ -35,25 +35,14 @@ void Stepper::end_walls(const StageFold& fold) {
   balls_finite_ = fold.kicked_finite;
 }
 
-// Balls [b0, b1) against the walls.
+// The walls stage's work on a span of balls. A ball whose wall contacts are closed waits in `held`
+// while the law runs on the contacts of a batch of balls, kLanes at a time (surface_contact_lanes);
+// the others are done at once. Each ball's sums are then added in wall order, as one contact at a
+// time adds them, so the results are the same bits (a lane gives the scalar law's bits,
+// ContactLanes). Every piece is inlined into wall_span.
 template <bool Tangential, bool Rolling, bool Energy>
-void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
-  const double dt = ctx_.dt;
-  const Vec3 lo = scene_.cavity_lo, hi = scene_.cavity_hi;
-  const PairLawTable& laws = scene_.laws;
-  const double frac = scene_.max_overlap_fraction;
-  // The kick stage's kick of the balls, done here while the ball's force and torque are at hand when no
-  // later stage adds to them (kick_balls_here; the same operations as kick()).
-  const bool kick = kick_balls_here() && !ctx_.defer_kick, rotation = scene_.models.rotation;
-  // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
-  // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
-  const bool near_only = ctx_.defer_kick && !Energy;
-  const double h = 0.5 * dt;
-  // A ball whose wall contacts are closed waits in `held` while the law runs on the contacts of a
-  // batch of balls, kLanes at a time (surface_contact_lanes); the others are done at once. Each
-  // ball's sums are then added in wall order, as one contact at a time adds them, so the results
-  // are the same bits (a lane gives the scalar law's bits, ContactLanes).
-  constexpr std::size_t kBatch = 64;  // wall contacts per batch
+struct WallKernel {
+  static constexpr std::size_t kBatch = 64;  // wall contacts per batch
   struct Held {
     Vec3 F, T, diss, x_local, c_step;
     double d_min, d_bounds;
@@ -68,41 +57,57 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
   struct alignas(32) Out {
     double F[4], nxFt[4], roll[4], diss[4];
   };
-  // The rest of ball b's wall stage, once its wall contacts are in b.F, b.T and b.diss: F_wall and
-  // T_cavity are their force on the ball and torque on the cavity, load their load_moments.
-  auto complete = [this, dt, frac, kick, rotation, h](const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load,
-                                                       StageFold& ext) BAGDEM_INLINE_LAMBDA {
-    const std::size_t p = b.p;
-    const Vec3 &F = b.F, &T = b.T;
-    if (couple_) cavity_load_[p] = load;
-    p_.f[p] = F;
-    p_.t[p] = T;
-    wall_touch_[p] = b.touched;
-    ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
-    ext.excess = std::max(ext.excess, p_.radius[p] - b.d_min - frac * p_.radius[p]);  // the deepest wall contact
-    if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
-    // Tallies: the load on the cavity (always) and the energy budget (when asked). A ball with no
-    // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
-    // changes no bit): skipped, as for the balls far from the walls.
-    if (b.touched != 0) {
-      tally_.wall_impulse[p] -= dt * F_wall;
-      tally_.wall_ang_impulse[p] += dt * T_cavity;
-    }
-    if constexpr (Energy) {
-      // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
-      tally_.work_cavity[p] += 0.5 * (F_wall + tally_.wall_force_prev[p]).dot(b.c_step);
-      tally_.wall_force_prev[p] = F_wall;
-      tally_.diss_normal[p] += b.diss.x();
-      tally_.diss_tangential[p] += b.diss.y();
-      tally_.diss_rolling[p] += b.diss.z();
-    }
-  };
+
+  Stepper& s;
+  const Stepper::WallMotion& rigid;  // the walls' motion over the step (per ball with a slope: motion_at)
+  Stepper::StageFold& ext;
+  const double dt, frac, h;
+  const Vec3 lo, hi;  // the cavity's bounds
+  const PairLawTable& laws;
+  // The kick stage's kick of the balls, done here while the ball's force and torque are at hand
+  // when no later stage adds to them (kick_balls_here; the same operations as kick()).
+  const bool kick, rotation;
   Held held[kBatch];
   Contact list[kBatch];
   Out out[kBatch + kLanes];
   std::size_t nh = 0, nc = 0;
+
+  WallKernel(Stepper& st, const Stepper::WallMotion& motion, Stepper::StageFold& fold)
+      : s(st), rigid(motion), ext(fold), dt(st.ctx_.dt), frac(st.scene_.max_overlap_fraction), h(0.5 * st.ctx_.dt),
+        lo(st.scene_.cavity_lo), hi(st.scene_.cavity_hi), laws(st.scene_.laws),
+        kick(st.kick_balls_here() && !st.ctx_.defer_kick), rotation(st.scene_.models.rotation) {}
+
+  // The rest of ball b's wall stage, once its wall contacts are in b.F, b.T and b.diss: F_wall and
+  // T_cavity are their force on the ball and torque on the cavity, load their load_moments.
+  BAGDEM_INLINE void complete(const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load) {
+    const std::size_t p = b.p;
+    const Vec3 &F = b.F, &T = b.T;
+    if (s.couple_) s.cavity_load_[p] = load;
+    s.p_.f[p] = F;
+    s.p_.t[p] = T;
+    s.wall_touch_[p] = b.touched;
+    ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
+    ext.excess = std::max(ext.excess, s.p_.radius[p] - b.d_min - frac * s.p_.radius[p]);  // the deepest wall contact
+    if (kick) ext.kicked_finite = s.kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
+    // Tallies: the load on the cavity (always) and the energy budget (when asked). A ball with no
+    // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
+    // changes no bit): skipped, as for the balls far from the walls.
+    if (b.touched != 0) {
+      s.tally_.wall_impulse[p] -= dt * F_wall;
+      s.tally_.wall_ang_impulse[p] += dt * T_cavity;
+    }
+    if constexpr (Energy) {
+      // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
+      s.tally_.work_cavity[p] += 0.5 * (F_wall + s.tally_.wall_force_prev[p]).dot(b.c_step);
+      s.tally_.wall_force_prev[p] = F_wall;
+      s.tally_.diss_normal[p] += b.diss.x();
+      s.tally_.diss_tangential[p] += b.diss.y();
+      s.tally_.diss_rolling[p] += b.diss.z();
+    }
+  }
+
   // The law on the batch's contacts, then the held balls done.
-  auto flush = [&]() BAGDEM_INLINE_LAMBDA {
+  BAGDEM_INLINE void flush() {
     for (std::size_t a = 0; a < nc; a += kLanes) {
       const Contact* e[kLanes];
       for (std::size_t l = 0; l < kLanes; ++l) e[l] = &list[std::min(a + l, nc - 1)];
@@ -121,9 +126,9 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
       TangentialHistory* th[kLanes];
       RollingHistory* rh[kLanes];
       for (std::size_t l = 0; l < kLanes; ++l) {
-        damping[l] = Energy ? &wall_hist_.damping_prev[e[l]->slot] : nullptr;
-        th[l] = Tangential ? &wall_hist_.tangential[e[l]->slot] : nullptr;
-        rh[l] = Rolling ? &wall_hist_.rolling[e[l]->slot] : nullptr;
+        damping[l] = Energy ? &s.wall_hist_.damping_prev[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &s.wall_hist_.tangential[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &s.wall_hist_.rolling[e[l]->slot] : nullptr;
       }
       auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
         const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
@@ -158,54 +163,56 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
         F_wall += Fc;
         // Torque on the cavity about its reference point, from the contact point on the wall.
         const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
-        T_cavity -= cross(Vec3(at - scene_.cavity_reference), Fc);
-        if (couple_) load += load_moments(at, -Fc);
+        T_cavity -= cross(Vec3(at - s.scene_.cavity_reference), Fc);
+        if (s.couple_) load += s.load_moments(at, -Fc);
       }
-      complete(b, F_wall, T_cavity, load, ext);
+      complete(b, F_wall, T_cavity, load);
     }
     nh = nc = 0;
-  };
-  auto fetch_ball = [this](std::size_t p) BAGDEM_INLINE_LAMBDA {
-    for (const Vec3* a : {&p_.x[p], &p_.v[p], &p_.w[p], &p_.f[p], &p_.t[p]}) prefetch_object(a);
-    prefetch_object(&wall_near_[p]);
-  };
-  auto ball = [&](std::size_t p) BAGDEM_INLINE_LAMBDA {
+  }
+
+  BAGDEM_INLINE void fetch_ball(std::size_t p) const {
+    for (const Vec3* a : {&s.p_.x[p], &s.p_.v[p], &s.p_.w[p], &s.p_.f[p], &s.p_.t[p]}) prefetch_object(a);
+    prefetch_object(&s.wall_near_[p]);
+  }
+
+  BAGDEM_INLINE void ball(std::size_t p) {
     // Gravity (kick_drift) and the pairs (pair_contacts).
-    Vec3 F = p_.f[p];
-    Vec3 T = p_.t[p];
+    Vec3 F = s.p_.f[p];
+    Vec3 T = s.p_.t[p];
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss = tally_.step_dissipation[p];
+    if constexpr (Energy) diss = s.tally_.step_dissipation[p];
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
-    const WallMotion wm = tilt_ ? motion_at(p_.x[p]) : rigid;
+    const Stepper::WallMotion wm = s.tilt_ ? s.motion_at(s.p_.x[p]) : rigid;
     const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
-    const Vec3 x_local = p_.x[p] - wm.pos;
-    const double r = p_.radius[p];
+    const Vec3 x_local = s.p_.x[p] - wm.pos;
+    const double r = s.p_.radius[p];
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
-    const std::uint32_t near = wall_near_[p];
+    const std::uint32_t near = s.wall_near_[p];
     if (near == 0) {
       // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
       // to its tallies this step is zero and is skipped (its last wall force was zero too).
-      if (couple_) cavity_load_[p].setZero();
+      if (s.couple_) s.cavity_load_[p].setZero();
       if constexpr (Energy) {
-        tally_.diss_normal[p] += diss.x();
-        tally_.diss_tangential[p] += diss.y();
-        tally_.diss_rolling[p] += diss.z();
+        s.tally_.diss_normal[p] += diss.x();
+        s.tally_.diss_tangential[p] += diss.y();
+        s.tally_.diss_rolling[p] += diss.z();
       }
       ext.min_dist = std::min(ext.min_dist, d_bounds);
-      if (kick) ext.kicked_finite = kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
+      if (kick) ext.kicked_finite = s.kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
       return;
     }
     if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
     double d_min = 1e300;  // nearest wall
-    const std::uint32_t touched_before = wall_touch_[p];
+    const std::uint32_t touched_before = s.wall_touch_[p];
     std::uint32_t touched = 0;
     const std::size_t first = nc;
     for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
       const auto w = static_cast<std::size_t>(std::countr_zero(bits));
-      const Wall& wall = scene_.walls[w];
+      const Wall& wall = s.scene_.walls[w];
       ContactGeometry g;
       const double d = wall_distance(wall, x_local, g.n);
       d_min = std::min(d_min, d);
@@ -214,8 +221,8 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
         // A contact that just opened: tally what it still held, clear its history (walls not
         // touched cost no memory access).
         if (touched_before & (1u << w)) {
-          const Vec3 d = wall_hist_.open<Tangential, Rolling, Energy>(wall_slot(p, w), dt, [&] {
-            return OpeningMotion{g.n, p_.v[p] - c_half - r * p_.w[p].cross(g.n), p_.w[p]};
+          const Vec3 d = s.wall_hist_.open<Tangential, Rolling, Energy>(s.wall_slot(p, w), dt, [&] {
+            return OpeningMotion{g.n, s.p_.v[p] - c_half - r * s.p_.w[p].cross(g.n), s.p_.w[p]};
           });
           if constexpr (Energy) diss += d;
         }
@@ -223,12 +230,12 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
       }
       touched |= 1u << w;
       g.R_eff = wall_effective_radius(wall, r);
-      g.m_eff = p_.mass[p];
+      g.m_eff = s.p_.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
       g.arm_j = 0;
       // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
       // the mean over the step.
-      motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
+      s.motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
       Contact& ct = list[nc++];
       auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
         ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;
@@ -238,34 +245,42 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
       put(2, g.v_half, g.m_eff);
       put(3, g.w_half, g.arm_i);
       ct.d = d;
-      ct.slot = wall_slot(p, w);
+      ct.slot = s.wall_slot(p, w);
       // Its histories fetched now, to be in cache when the batch's law reads them (flush).
-      if constexpr (Tangential) prefetch_object(&wall_hist_.tangential[ct.slot], kTangentialBytes<Energy>);
-      if constexpr (Rolling) prefetch_object(&wall_hist_.rolling[ct.slot]);
-      ct.law = &laws(p_.material[p], wall.material);
+      if constexpr (Tangential) prefetch_object(&s.wall_hist_.tangential[ct.slot], kTangentialBytes<Energy>);
+      if constexpr (Rolling) prefetch_object(&s.wall_hist_.rolling[ct.slot]);
+      ct.law = &laws(s.p_.material[p], wall.material);
     }
     const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
     if (nc == first) {
       const Vec3 zero(0, 0, 0);
-      complete(b, zero, zero, zero, ext);  // no wall contact closed
+      complete(b, zero, zero, zero);  // no wall contact closed
     } else {
       held[nh++] = b;
     }
-  };
-  if (near_only) {
+  }
+};
+
+// Balls [b0, b1) against the walls.
+template <bool Tangential, bool Rolling, bool Energy>
+void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid, StageFold& ext) {
+  WallKernel<Tangential, Rolling, Energy> kernel(*this, rigid, ext);
+  // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
+  // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
+  if (ctx_.defer_kick && !Energy) {
     const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
     // The near balls are a sparse subset, whose state the hardware prefetchers do not follow:
     // the state of the ball kAhead places on is fetched while this one is done.
     constexpr std::ptrdiff_t kAhead = 8;
     const auto* end = near_balls_.data() + near_balls_.size();
     for (; it != end && *it < b1; ++it) {
-      if (end - it > kAhead) fetch_ball(it[kAhead]);
-      ball(*it);
+      if (end - it > kAhead) kernel.fetch_ball(it[kAhead]);
+      kernel.ball(*it);
     }
   } else {
-    for (std::size_t p = b0; p < b1; ++p) ball(p);
+    for (std::size_t p = b0; p < b1; ++p) kernel.ball(p);
   }
-  flush();
+  kernel.flush();
 }
 
 }  // namespace bagdem

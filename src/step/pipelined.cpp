@@ -1,10 +1,9 @@
 // Pipelined steps: advance() on several threads without a meeting at every step.
 //
 // In the fused step (fused_contacts) each thread does its range's pairs, walls and next drift, and
-// the threads meet at the end of every step. On this 2-core machine the host interrupts a core for
-// 30-60 us about once a millisecond, at random; whichever thread is hit, the other waits for it at
-// the meeting, some 10 us a step of 210 us at N = 10000. Here the threads stay in one parallel
-// region for many steps and wait only for what they read:
+// the threads meet at the end of every step: when the host interrupts one core (a shared machine
+// does, at random), the other waits for it at the meeting. Pipelined steps are many fused steps
+// in one parallel region, where the threads wait only for what they read:
 //  - the thread of range r computes the cross pairs into r at step s once the ranges below whose
 //    balls they reach are at step s (RangeProgress::done); the ranges wait for the records of their
 //    own cross pairs as in the fused step (PairState), so a range drifts its balls on only after

@@ -99,6 +99,79 @@ void keep_patches(std::vector<Found>& hits) {
   hits.resize(kept);
 }
 
+// The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:
+// where it is in surface s's frame, the vertices there, its reach and its side (-1: against the
+// triangles' normals).
+struct PointView {
+  Vec3 x;
+  const std::vector<Vec3>* vertices;
+  double reach, side;
+};
+
+// Step 1 of a point's surface contacts, one feature finder for balls and film nodes: the features
+// it touches now. The closest points of its candidate triangles (cand[s], entries of point i)
+// within reach, one per feature (select_mesh_contacts), oriented, one per patch (keep_patches);
+// at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
+// overlap, reach, own_side) sees each contact found; full() is told when one did not fit.
+template <std::size_t kMax, class Surfaces, class View, class Touched, class Full>
+std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandidates>& cand, std::size_t i,
+                          const View& view, const Touched& touched, const Full& full, Found* found) {
+  thread_local std::vector<MeshHit> hits;
+  thread_local std::vector<Found> patch;
+  std::size_t nf = 0;
+  for (std::uint32_t s = 0; s < surfaces.size(); ++s) {
+    const MeshCandidates& c = cand[s];
+    if (c.begin.empty() || c.begin[i] == c.begin[i + 1]) continue;  // empty: no candidate list for this surface
+    const PointView pv = view(s);
+    const auto& mesh = *surfaces[s].mesh;
+    const std::vector<Vec3>& vx = *pv.vertices;
+    hits.clear();
+    for (std::uint32_t e = c.begin[i]; e < c.begin[i + 1]; ++e) {
+      const std::uint32_t t = c.triangle[e];
+      const auto& tri = mesh.triangles[t];
+      const TriangleHit h = closest_point_on_triangle(pv.x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
+      if (h.distance2 < pv.reach * pv.reach) hits.push_back({t, 0, h});
+    }
+    if (hits.empty()) continue;
+    select_mesh_contacts(mesh, hits);
+    patch.clear();
+    for (const MeshHit& mh : hits) {
+      Vec3 n;
+      double overlap;
+      const bool own_side = oriented(pv.x, vx, mesh.triangles[mh.triangle], mh.hit, pv.side, pv.reach, n, overlap);
+      touched(s, overlap, pv.reach, own_side);
+      patch.push_back({s, mh, n, overlap, -1});
+    }
+    keep_patches(patch);
+    for (const Found& fd : patch) {
+      if (nf == kMax) {
+        full();
+        break;
+      }
+      found[nf++] = fd;
+    }
+  }
+  return nf;
+}
+
+// Step 2: the contacts found take their slots' histories (match_slots); prev: the slots as they
+// were (n_prev of them), taken: which of them go on.
+void carry_slots(MeshSlot* slot, std::size_t n_prev, Found* found, std::size_t nf, MeshSlot* prev, bool* taken) {
+  match_slots(slot, n_prev, found, nf, taken);
+  std::copy(slot, slot + n_prev, prev);
+}
+
+// Step 3's start: slot f continues its history (or starts afresh) at the contact found.
+MeshSlot& renew_slot(MeshSlot* slot, std::size_t f, const Found& fd, const MeshSlot* prev) {
+  MeshSlot& s = slot[f];
+  s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
+  s.surface = fd.surface;
+  s.key = fd.hit.key;
+  s.n = fd.n;
+  s.overlap = fd.overlap;
+  return s;
+}
+
 }  // namespace
 
 void Stepper::set_up_meshes() {
@@ -214,58 +287,32 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
 
   // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
   Found found[K];
-  std::size_t nf = 0;
-  thread_local std::vector<MeshHit> hits;
-  thread_local std::vector<Found> patch;
-  for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
+  auto view = [&](std::uint32_t s) {
     const Surface& sf = surfaces_[s];
-    const MeshCandidates& cand = mesh_cand_[s];
-    if (cand.begin[p] == cand.begin[p + 1]) continue;
-    const std::vector<Vec3>& vx = sf.film ? film_.x : sf.mesh->vertices;
-    const Vec3 x = sf.film ? p_.x[p] : Vec3(p_.x[p] - c_pos);
-    const double reach = r + sf.reach;
-    hits.clear();
-    for (std::uint32_t e = cand.begin[p]; e < cand.begin[p + 1]; ++e) {
-      const std::uint32_t t = cand.triangle[e];
-      const auto& tri = sf.mesh->triangles[t];
-      const TriangleHit h = closest_point_on_triangle(x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
-      if (h.distance2 < reach * reach) hits.push_back({t, 0, h});
-    }
-    if (hits.empty()) continue;
-    select_mesh_contacts(*sf.mesh, hits);
-    const double side = sf.film ? side_[p] : -1.0;
-    patch.clear();
-    for (const MeshHit& mh : hits) {
-      Vec3 n;
-      double overlap;
-      if (!oriented(x, vx, sf.mesh->triangles[mh.triangle], mh.hit, side, reach, n, overlap)) {
+    return PointView{sf.film ? p_.x[p] : Vec3(p_.x[p] - c_pos), sf.film ? &film_.x : &sf.mesh->vertices, r + sf.reach,
+                     sf.film ? static_cast<double>(side_[p]) : -1.0};
+  };
+  auto crossed = [&](std::uint32_t s, double overlap, double reach, bool own_side) {
+    if (own_side) return;
 #pragma omp critical(bagdem_crossed)
-        if (crossed_ == static_cast<std::size_t>(-1) || overlap - reach > crossed_depth_) {
-          crossed_ = p;
-          crossed_depth_ = overlap - reach;
-          crossed_surface_ = s;
-        }
-      }
-      patch.push_back({s, mh, n, overlap, -1});
+    if (crossed_ == static_cast<std::size_t>(-1) || overlap - reach > crossed_depth_) {
+      crossed_ = p;
+      crossed_depth_ = overlap - reach;
+      crossed_surface_ = s;
     }
-    keep_patches(patch);
-    for (const Found& fd : patch) {
-      if (nf == K) {
+  };
+  auto overflow = [&] {
 #pragma omp critical(bagdem_crossed)
-        mesh_overflow_ = p;
-        break;
-      }
-      found[nf++] = fd;
-    }
-  }
+    mesh_overflow_ = p;
+  };
+  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found);
 
   // 2. Histories (match_slots).
   MeshSlot* slot = &slots_[p * K];
   const std::size_t n_prev = slot_count_[p];
   bool taken[K] = {};
-  match_slots(slot, n_prev, found, nf, taken);
   MeshSlot prev[K];
-  std::copy(slot, slot + n_prev, prev);
+  carry_slots(slot, n_prev, found, nf, prev, taken);
   // Slots closed for good: tally what they still held.
   if constexpr (Energy) {
     for (std::size_t k = 0; k < n_prev; ++k) {
@@ -282,12 +329,7 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const Surface& sf = surfaces_[fd.surface];
-    MeshSlot& s = slot[f];
-    s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
-    s.surface = fd.surface;
-    s.key = fd.hit.key;
-    s.n = fd.n;
-    s.overlap = fd.overlap;
+    MeshSlot& s = renew_slot(slot, f, fd, prev);
     ContactGeometry g;
     g.n = fd.n;
     g.overlap = fd.overlap;
@@ -336,40 +378,17 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   const double reach = node_reach_[k];
   const Vec3 x = film_.x[k] - c_pos;
   Found found[K];
-  std::size_t nf = 0;
-  thread_local std::vector<MeshHit> hits;
-  thread_local std::vector<Found> patch;
-  for (std::uint32_t s = 0; s < surfaces_.size(); ++s) {
+  auto view = [&](std::uint32_t s) {
     const Surface& sf = surfaces_[s];
-    const MeshCandidates& cand = node_cand_[s];
-    if (sf.film || cand.begin[k] == cand.begin[k + 1]) continue;
-    hits.clear();
-    for (std::uint32_t e = cand.begin[k]; e < cand.begin[k + 1]; ++e) {
-      const auto& tri = sf.mesh->triangles[cand.triangle[e]];
-      const TriangleHit h = closest_point_on_triangle(x, sf.mesh->vertices[tri[0]], sf.mesh->vertices[tri[1]],
-                                                      sf.mesh->vertices[tri[2]]);
-      if (h.distance2 < reach * reach) hits.push_back({cand.triangle[e], 0, h});
-    }
-    if (hits.empty()) continue;
-    select_mesh_contacts(*sf.mesh, hits);
-    patch.clear();
-    for (const MeshHit& mh : hits) {
-      Vec3 n;
-      double overlap;
-      oriented(x, sf.mesh->vertices, sf.mesh->triangles[mh.triangle], mh.hit, -1.0, reach, n, overlap);
-      deepest = std::min(deepest, reach - overlap);
-      patch.push_back({s, mh, n, overlap, -1});
-    }
-    keep_patches(patch);
-    for (const Found& fd : patch)
-      if (nf < K) found[nf++] = fd;
-  }
+    return PointView{x, &sf.mesh->vertices, reach, -1.0};  // STL walls only: the film has no candidate list
+  };
+  auto deepest_of = [&](std::uint32_t, double overlap, double, bool) { deepest = std::min(deepest, reach - overlap); };
+  const std::size_t nf = find_features<K>(surfaces_, node_cand_, k, view, deepest_of, [] {}, found);
   MeshSlot* slot = &node_slots_[k * K];
   const std::size_t n_prev = node_slot_count_[k];
   bool taken[K] = {};
-  match_slots(slot, n_prev, found, nf, taken);
   MeshSlot prev[K];
-  std::copy(slot, slot + n_prev, prev);
+  carry_slots(slot, n_prev, found, nf, prev, taken);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
@@ -380,12 +399,7 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   }
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
-    MeshSlot& s = slot[f];
-    s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
-    s.surface = fd.surface;
-    s.key = fd.hit.key;
-    s.n = fd.n;
-    s.overlap = fd.overlap;
+    MeshSlot& s = renew_slot(slot, f, fd, prev);
     s.surface_velocity = c_half;
     ContactGeometry g;
     g.n = fd.n;

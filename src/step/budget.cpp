@@ -44,10 +44,11 @@ void Stepper::for_each_contact(Fn&& fn) const {
     }
     // Triangulated surfaces (film, STL walls): the slots of the last step.
     for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {
-      const MeshSlot& m = slots_[p * kMaxMeshContacts + s];
+      const std::size_t at = p * kMaxMeshContacts + s;
+      const MeshSlot& m = slots_[at];
       fn(m.overlap, p_.radius[p], scene_.laws(p_.material[p], surfaces_[m.surface].material),
-         scene_.models.tangential ? &m.tangential : nullptr, scene_.models.rolling ? &m.rolling : nullptr,
-         p_.radius[p]);
+         scene_.models.tangential ? &slot_hist_.tangential[at] : nullptr,
+         scene_.models.rolling ? &slot_hist_.rolling[at] : nullptr, p_.radius[p]);
     }
   }
 }

@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3035ULL;  // "bagdem05": format 5 (the film-wall histories with a rolling slice)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3035ULL;  // "bagdem05": format 5 (contact histories in role slices, ContactHistories)
 
 struct Writer {
   std::vector<char> out;
@@ -95,8 +95,11 @@ void Stepper::state_fields(IO& io) {
   film_wall_hist_.fields(io);
   io.vec(film_wall_touch_);
   io.vec(strings_), io.pod(film_tally_);
-  io.vec(slots_), io.vec(slot_count_), io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
+  io.vec(slots_), io.vec(slot_count_);
+  slot_hist_.fields(io);
+  io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
   io.vec(mesh_force_prev_), io.vec(node_slots_), io.vec(node_slot_count_);
+  node_slot_hist_.fields(io);
   fields(io, structure_);
   io.vec(cavity_load_), io.pod(film_load_moments_);
   io.pod(cavity_pos_at_build_), io.pod(cavity_shear_at_build_);

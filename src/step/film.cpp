@@ -199,9 +199,10 @@ double Stepper::film_elastic_energy() const {
   }
   for (std::size_t k = 0; k < node_slot_count_.size(); ++k)
     for (std::size_t j = 0; j < node_slot_count_[k]; ++j) {
-      const MeshSlot& m = node_slots_[k * kMaxMeshContacts + j];
+      const std::size_t at = k * kMaxMeshContacts + j;
+      const MeshSlot& m = node_slots_[at];
       u += hertz_energy(scene_.laws(bag.material, surfaces_[m.surface].material), bag.contact_radius, m.overlap);
-      if (scene_.models.tangential) u += mindlin_energy(m.tangential);
+      if (scene_.models.tangential) u += mindlin_energy(node_slot_hist_.tangential[at]);
     }
   const std::size_t nw = scene_.walls.size();
   for (std::size_t k = 0; k < film_.size(); ++k)

@@ -1,5 +1,5 @@
-// Contact histories: one layout for every kind of contact the stepper keeps (ball pairs, ball-wall
-// and film node-wall contacts): a slice per role, each indexed by the contact's slot, and empty when
+// Contact histories: one layout for every kind of contact the stepper keeps (ball pairs, ball-wall,
+// ball-triangle and film node-wall and node-triangle contacts): a slice per role, each indexed by the contact's slot, and empty when
 // the scene does not model the role.
 #pragma once
 #include <cstddef>
@@ -30,6 +30,13 @@ Vec3 closing_tally(const Vec3& n, const Vec3& v_c, const Vec3& w_rel, double dt,
 template <bool Energy>
 constexpr std::size_t kTangentialBytes = Energy ? sizeof(TangentialHistory) : 4 * sizeof(double);
 
+// One contact's histories, copied out of their slices (a slot that moves: surfaces.cpp).
+struct ContactHistory {
+  TangentialHistory tangential;
+  RollingHistory rolling;
+  double damping_prev = 0;
+};
+
 // The half-step relative motion of an opening contact (closing_tally's n, v_c, w_rel).
 struct OpeningMotion {
   Vec3 n, v_c, w_rel;
@@ -51,6 +58,19 @@ struct ContactHistories {
   bool holds(std::size_t k) const {
     return (!tangential.empty() && tangential[k].stiffness != 0) || (!rolling.empty() && rolling[k].stiffness != 0) ||
            (!damping_prev.empty() && damping_prev[k] != 0);
+  }
+  // Slot k's histories (the roles not modelled as a fresh contact's), and slot k set to h.
+  ContactHistory get(std::size_t k) const {
+    ContactHistory h;
+    if (!tangential.empty()) h.tangential = tangential[k];
+    if (!rolling.empty()) h.rolling = rolling[k];
+    if (!damping_prev.empty()) h.damping_prev = damping_prev[k];
+    return h;
+  }
+  void set(std::size_t k, const ContactHistory& h) {
+    if (!tangential.empty()) tangential[k] = h.tangential;
+    if (!rolling.empty()) rolling[k] = h.rolling;
+    if (!damping_prev.empty()) damping_prev[k] = h.damping_prev;
   }
   // Slot `to` takes slot `at` of `from` (a contact carried over to a new list).
   void carry(std::size_t to, const ContactHistories& from, std::size_t at) {

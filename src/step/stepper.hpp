@@ -26,16 +26,14 @@
 
 namespace bagdem {
 
-// One ball's contact with a feature of a triangulated surface (film or STL wall), with its history.
+// One ball's (or film node's) contact with a feature of a triangulated surface (film or STL wall);
+// its histories are in the slot's place of the stepper's ContactHistories (slot_hist_, node_slot_hist_).
 struct MeshSlot {
   std::uint32_t surface = 0;          // 0 = the film when there is a bag, then the STL walls
   std::uint32_t key = 0;              // feature_key of the feature touched
   Vec3 n = Vec3::Zero();              // contact normal at the last step (towards the ball)
   Vec3 surface_velocity = Vec3::Zero();  // half-step velocity of the surface point (unit: m/s)
   double overlap = 0;                 // at the last step (unit: m)
-  double damping_prev = 0;            // normal damping force at the last step (unit: N)
-  TangentialHistory tangential;
-  RollingHistory rolling;
 };
 // What a ball's film contact puts on the film's nodes: -force split by the barycentric weights.
 struct FilmLoad {
@@ -372,6 +370,7 @@ class Stepper {
   std::vector<Surface> surfaces_;
   std::vector<MeshCandidates> mesh_cand_;     // per surface
   std::vector<MeshSlot> slots_;               // per ball: kMaxMeshContacts slots
+  ContactHistories slot_hist_;                // their histories
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
   std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
@@ -384,6 +383,7 @@ class Stepper {
   std::vector<MeshCandidates> node_cand_;     // per surface: film nodes' candidate triangles (STL walls)
   std::vector<double> node_reach_;            // per film node: half the film thickness (unit: m)
   std::vector<MeshSlot> node_slots_;          // per film node: kMaxMeshContacts slots on STL walls
+  ContactHistories node_slot_hist_;           // their histories (no rolling: a node does not turn)
   std::vector<std::uint8_t> node_slot_count_;
   std::size_t mesh_overflow_ = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
   // ---- the bag's film (film.cpp) ----

@@ -154,17 +154,23 @@ std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandid
   return nf;
 }
 
-// Step 2: the contacts found take their slots' histories (match_slots); prev: the slots as they
-// were (n_prev of them), taken: which of them go on.
-void carry_slots(MeshSlot* slot, std::size_t n_prev, Found* found, std::size_t nf, MeshSlot* prev, bool* taken) {
+// Step 2: the contacts found take over the slots they continue (match_slots). The point's slots
+// start at `first` of slot and hist; prev and prev_hist: the slots as they were (n_prev of them),
+// taken: which of them go on.
+void carry_slots(MeshSlot* slot, const ContactHistories& hist, std::size_t first, std::size_t n_prev, Found* found,
+                 std::size_t nf, MeshSlot* prev, ContactHistory* prev_hist, bool* taken) {
   match_slots(slot, n_prev, found, nf, taken);
   std::copy(slot, slot + n_prev, prev);
+  for (std::size_t k = 0; k < n_prev; ++k) prev_hist[k] = hist.get(first + k);
 }
 
-// Step 3's start: slot f continues its history (or starts afresh) at the contact found.
-MeshSlot& renew_slot(MeshSlot* slot, std::size_t f, const Found& fd, const MeshSlot* prev) {
+// Step 3's start: slot f, at `at` in hist, continues its contact's history (or starts afresh) at
+// the contact found.
+MeshSlot& renew_slot(MeshSlot* slot, ContactHistories& hist, std::size_t at, std::size_t f, const Found& fd,
+                     const MeshSlot* prev, const ContactHistory* prev_hist) {
   MeshSlot& s = slot[f];
   s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
+  hist.set(at, fd.from >= 0 ? prev_hist[fd.from] : ContactHistory{});
   s.surface = fd.surface;
   s.key = fd.hit.key;
   s.n = fd.n;
@@ -181,6 +187,7 @@ void Stepper::set_up_meshes() {
   if (surfaces_.empty()) return;
   const std::size_t n = p_.size();
   slots_.assign(n * kMaxMeshContacts, MeshSlot{});
+  slot_hist_.assign(n * kMaxMeshContacts, scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
   slot_count_.assign(n, 0);
   film_load_.assign(n * kMaxMeshContacts, FilmLoad{});
   side_.assign(n, -1);
@@ -198,6 +205,7 @@ void Stepper::set_up_meshes() {
   if (scene_.bag && !scene_.mesh_walls.empty()) {
     node_reach_.assign(film_.size(), 0.5 * scene_.bag->film.thickness);
     node_slots_.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
+    node_slot_hist_.assign(film_.size() * kMaxMeshContacts, scene_.models.tangential, false, scene_.models.energy);
     node_slot_count_.assign(film_.size(), 0);
   }
 }
@@ -312,15 +320,16 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   const std::size_t n_prev = slot_count_[p];
   bool taken[K] = {};
   MeshSlot prev[K];
-  carry_slots(slot, n_prev, found, nf, prev, taken);
+  ContactHistory prev_hist[K];
+  carry_slots(slot, slot_hist_, p * K, n_prev, found, nf, prev, prev_hist, taken);
   // Slots closed for good: tally what they still held.
   if constexpr (Energy) {
     for (std::size_t k = 0; k < n_prev; ++k) {
       if (taken[k]) continue;
       const Vec3 v_c = p_.v[p] - prev[k].surface_velocity - r * p_.w[p].cross(prev[k].n);
-      diss += closing_tally<Tangential, Rolling>(prev[k].n, v_c, p_.w[p], dt, prev[k].damping_prev,
-                                                 Tangential ? &prev[k].tangential : nullptr,
-                                                 Rolling ? &prev[k].rolling : nullptr);
+      diss += closing_tally<Tangential, Rolling>(prev[k].n, v_c, p_.w[p], dt, prev_hist[k].damping_prev,
+                                                 Tangential ? &prev_hist[k].tangential : nullptr,
+                                                 Rolling ? &prev_hist[k].rolling : nullptr);
     }
   }
 
@@ -329,7 +338,8 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const Surface& sf = surfaces_[fd.surface];
-    MeshSlot& s = renew_slot(slot, f, fd, prev);
+    const std::size_t at = p * K + f;
+    MeshSlot& s = renew_slot(slot, slot_hist_, at, f, fd, prev, prev_hist);
     ContactGeometry g;
     g.n = fd.n;
     g.overlap = fd.overlap;
@@ -349,8 +359,10 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
     motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
-    const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(g, laws(p_.material[p], sf.material), dt, s.damping_prev,
-                                                                 &s.tangential, &s.rolling, T, diss);
+    [[maybe_unused]] double no_tally = 0;
+    const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
+        g, laws(p_.material[p], sf.material), dt, Energy ? slot_hist_.damping_prev[at] : no_tally,
+        Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss);
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
     if (sf.film) {
@@ -388,18 +400,21 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   const std::size_t n_prev = node_slot_count_[k];
   bool taken[K] = {};
   MeshSlot prev[K];
-  carry_slots(slot, n_prev, found, nf, prev, taken);
+  ContactHistory prev_hist[K];
+  carry_slots(slot, node_slot_hist_, k * K, n_prev, found, nf, prev, prev_hist, taken);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
       const Vec3 d = closing_tally<Tangential, false>(prev[j].n, film_.v[k] - prev[j].surface_velocity, Vec3::Zero(), dt,
-                                                      prev[j].damping_prev, Tangential ? &prev[j].tangential : nullptr, nullptr);
+                                                      prev_hist[j].damping_prev, Tangential ? &prev_hist[j].tangential : nullptr,
+                                                      nullptr);
       dn += d.x(), dtg += d.y();
     }
   }
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
-    MeshSlot& s = renew_slot(slot, f, fd, prev);
+    const std::size_t at = k * K + f;
+    MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
     ContactGeometry g;
     g.n = fd.n;
@@ -411,8 +426,10 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     g.v_half = film_.v[k] - c_half;
     g.w_half.setZero();
     Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
-    const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, scene_.laws(bag.material, surfaces_[fd.surface].material),
-                                                               dt, s.damping_prev, &s.tangential, nullptr, no_torque, diss);
+    [[maybe_unused]] double no_tally = 0;
+    const Vec3 Fc = surface_contact<Tangential, false, Energy>(
+        g, scene_.laws(bag.material, surfaces_[fd.surface].material), dt, Energy ? node_slot_hist_.damping_prev[at] : no_tally,
+        Tangential ? &node_slot_hist_.tangential[at] : nullptr, nullptr, no_torque, diss);
     if constexpr (Energy) dn += diss.x(), dtg += diss.y();
     F_wall += Fc;
     L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);

@@ -13,22 +13,17 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/step/simulation.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 namespace bagdem::testing {
 
-// The materials of the bag suites' cases: bearing steel softened to 2 GPa (balls, walls) and the
-// LDPE film, as case.toml tables.
-inline constexpr const char* kSteelAndFilm = R"([materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.ldpe]
-density = "920 kg/m^3"
-youngs_modulus = "0.25 GPa"
-poisson_ratio = 0.4
-)";
+// The start of the bag suites' cases: [simulation] with `duration`, gravity down and `seed`, their
+// materials (steel softened to 2 GPa for balls and walls, the LDPE film) and the default
+// interaction (e 0.5, mu 0.3).
+inline CaseText bag_scene(const Value& duration, int seed) {
+  return CaseText().simulation(duration).set("simulation", "seed", seed).steel_and_film().interactions(0.5, 0.3);
+}
 
 // case.toml written into a fresh temporary directory, then loaded with `overrides` (--set syntax).
 struct LoadedCase {

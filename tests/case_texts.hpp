@@ -1,49 +1,259 @@
-// Test support: case texts several suites share.
+// Test support: case.toml texts built from named pieces, and the case texts several suites share.
+//
+// CaseText is an ordered set of TOML tables: a scene is written as a chain of pieces
+// (simulation, materials, interactions, cavity, motion, particles, bag, primary, output), and a
+// test's variant as "this scene, but with X changed" (set, erase, or one more piece). The pieces
+// take TOML values (see Value): "4 mm" is written quoted (a quantity with its unit), 0.3 or "0.3"
+// bare, "[1, 0, 0]" as it is. Tables keep the order in which they were first set (the order of
+// [materials] and [particles] tables is the engine's material and particle order), keys theirs.
+// (scene_builder.hpp builds a Scene in code instead, without a case file.)
 #pragma once
+#include <cstdio>
+#include <cstdlib>
+#include <initializer_list>
+#include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace bagdem::testing {
+
+// `v` with `digits` significant digits (%.*g); by default the fewest that give the double back.
+inline std::string num(double v, int digits = 0) {
+  char b[64];
+  for (int d = digits > 0 ? digits : 1; d <= 17; ++d) {
+    std::snprintf(b, sizeof b, "%.*g", d, v);
+    if (digits > 0 || std::strtod(b, nullptr) == v) break;
+  }
+  return b;
+}
+
+// A TOML string: quoted("capsule") is "\"capsule\"".
+inline std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+// A TOML value as written in case.toml: text holding a space ("4 mm", "-9.81 m/s^2") is a quantity
+// and written quoted, unless it is an array or a string already ("[1, 0, 0]", "\"steady\"");
+// other text ("0.3", "200e9", "true") is written as it is; numbers with num().
+struct Value {
+  std::string toml;
+  Value(const char* s) : Value(std::string(s)) {}
+  Value(const std::string& s)
+      : toml(!s.empty() && s[0] != '[' && s[0] != '"' && s.find(' ') != std::string::npos ? quoted(s) : s) {}
+  Value(double v) : toml(num(v)) {}
+  Value(int v) : toml(std::to_string(v)) {}
+};
+
+// A TOML array of three values: vec("-20 mm", 0, "12 mm") is ["-20 mm", 0, "12 mm"].
+inline std::string vec(const Value& x, const Value& y, const Value& z) {
+  return "[" + x.toml + ", " + y.toml + ", " + z.toml + "]";
+}
+
+// Gravity along -z, and none.
+inline const char* const kGravityDown = "[0, 0, \"-9.81 m/s^2\"]";
+inline const char* const kNoGravity = "[0, 0, 0]";
+
+class CaseText {
+ public:
+  using Keys = std::vector<std::pair<std::string, Value>>;
+
+  // ---- the general operations ----
+  // `key = value` in [table]: replaced where it is when the key is there, else added to the table
+  // (the table is added at the end when new).
+  CaseText& set(const std::string& table, const std::string& key, const Value& value) {
+    return set_toml(table, key, value.toml);
+  }
+  CaseText& set(const std::string& table, const Keys& keys) {
+    table_named(table);  // the table exists even when `keys` is empty
+    for (const auto& [k, v] : keys) set(table, k, v);
+    return *this;
+  }
+  // One more [[table]] entry (an array of tables: cavity.planes, bag.strings).
+  CaseText& add(const std::string& table, const Keys& keys) {
+    Table t{table, true, {}};
+    for (const auto& [k, v] : keys) t.keys.emplace_back(k, v.toml);
+    tables_.push_back(std::move(t));
+    return *this;
+  }
+  // Without `key` in [table]; without the whole table (or every [[table]] entry).
+  CaseText& erase(const std::string& table, const std::string& key) {
+    for (Table& t : tables_)
+      if (t.name == table && !t.array)
+        for (auto it = t.keys.begin(); it != t.keys.end(); ++it)
+          if (it->first == key) {
+            t.keys.erase(it);
+            return *this;
+          }
+    return *this;
+  }
+  CaseText& erase(const std::string& table) {
+    std::erase_if(tables_, [&](const Table& t) { return t.name == table; });
+    return *this;
+  }
+  // `other`'s keys set here, its [[table]] entries added.
+  CaseText& merge(const CaseText& other) {
+    for (const Table& t : other.tables_) {
+      if (t.array) {
+        tables_.push_back(t);
+        continue;
+      }
+      table_named(t.name);
+      for (const auto& [k, v] : t.keys) set_toml(t.name, k, v);
+    }
+    return *this;
+  }
+
+  // ---- the pieces ----
+  CaseText& simulation(const Value& duration, const Value& gravity = kGravityDown) {
+    return set("simulation", {{"duration", duration}, {"gravity", gravity}});
+  }
+  CaseText& material(const std::string& name, const Value& density, const Value& youngs_modulus,
+                     const Value& poisson_ratio) {
+    return set("materials." + name,
+               {{"density", density}, {"youngs_modulus", youngs_modulus}, {"poisson_ratio", poisson_ratio}});
+  }
+  // Bearing steel (7800 kg/m^3, nu 0.3), 200 GPa unless softened.
+  CaseText& steel(const Value& youngs_modulus = "200 GPa") {
+    return material("steel", "7800 kg/m^3", youngs_modulus, "0.3");
+  }
+  // The bag film: LDPE (920 kg/m^3, 0.25 GPa, nu 0.4).
+  CaseText& ldpe() { return material("ldpe", "920 kg/m^3", "0.25 GPa", "0.4"); }
+  // The bag suites' materials: steel softened to 2 GPa (balls, walls) and the LDPE film.
+  CaseText& steel_and_film() { return steel("2 GPa").ldpe(); }
+  // The soft rubber of the shaken boxes (1200 kg/m^3, 5 MPa, nu 0.45).
+  CaseText& rubber() { return material("rubber", "1200 kg/m^3", "5 MPa", "0.45"); }
+  // [interactions.default] (friction left out when empty); interactions("steel-ldpe", ...) for a pair.
+  CaseText& interactions(const Value& restitution, const Value& friction = "") {
+    return interactions("default", restitution, friction);
+  }
+  CaseText& interactions(const std::string& pair, const Value& restitution, const Value& friction) {
+    set("interactions." + pair, "restitution", restitution);
+    if (!friction.toml.empty()) set("interactions." + pair, "friction", friction);
+    return *this;
+  }
+  // [cavity] of a kind with bounds min, max (arrays); box() is kind "box".
+  CaseText& cavity(const std::string& kind, const std::string& material, const Value& min, const Value& max) {
+    return set("cavity", {{"kind", quoted(kind)}, {"material", quoted(material)}, {"min", min}, {"max", max}});
+  }
+  CaseText& box(const std::string& material, const Value& min, const Value& max) {
+    return cavity("box", material, min, max);
+  }
+  // One more wall of a "planes" cavity.
+  CaseText& plane(const Value& point, const Value& normal) {
+    return add("cavity.planes", {{"point", point}, {"normal", normal}});
+  }
+  // [cavity] of kind "stl" read from `file`, with `scale` (none when empty).
+  CaseText& stl(const std::string& material, const std::string& file, const Value& scale = "") {
+    set("cavity", {{"kind", quoted("stl")}, {"material", quoted(material)}, {"file", quoted(file)}});
+    if (!scale.toml.empty()) set("cavity", "scale", scale);
+    return *this;
+  }
+  // [cavity.motion] harmonic.
+  CaseText& harmonic(const Value& amplitude, const Value& frequency, const Value& direction) {
+    return set("cavity.motion", {{"kind", quoted("harmonic")}, {"amplitude", amplitude}, {"frequency", frequency},
+                                 {"direction", direction}});
+  }
+  // [particles.<group>]: `count` balls (the fill's default placement); placed(): at `positions`,
+  // with `velocities` (none when empty).
+  CaseText& balls(const std::string& group, const std::string& material, const Value& diameter, const Value& count) {
+    return set("particles." + group, {{"material", quoted(material)}, {"diameter", diameter}, {"count", count}});
+  }
+  CaseText& placed(const std::string& group, const std::string& material, const Value& diameter,
+                   const Value& positions, const Value& velocities = "") {
+    set("particles." + group, {{"material", quoted(material)}, {"diameter", diameter}, {"positions", positions}});
+    if (!velocities.toml.empty()) set("particles." + group, "velocities", velocities);
+    return *this;
+  }
+  // A capsule bag along x of `radius` with `triangles`: [bag], [bag.balls] (4 mm steel, `count`),
+  // [bag.film] (50 um LDPE).
+  CaseText& capsule_bag(const Value& radius, const Value& triangles, const Value& count) {
+    set("bag", {{"shape", quoted("capsule")}, {"axis", "[1, 0, 0]"}, {"radius", radius}, {"triangles", triangles}});
+    set("bag.balls", {{"material", quoted("steel")}, {"diameter", "4 mm"}, {"count", count}});
+    return set("bag.film", {{"material", quoted("ldpe")}, {"thickness", "50 um"}});
+  }
+  // One more [[bag.strings]] entry.
+  CaseText& bag_string(const std::string& at, const Value& anchor, const Value& stiffness, const Value& damping) {
+    return add("bag.strings", {{"at", quoted(at)}, {"anchor", anchor}, {"stiffness", stiffness}, {"damping", damping}});
+  }
+  // [primary] of kind "sdof".
+  CaseText& sdof(const Value& mass, const Value& stiffness, const Value& damping_ratio) {
+    return set("primary", {{"kind", quoted("sdof")}, {"mass", mass}, {"stiffness", stiffness}, {"damping_ratio", damping_ratio}});
+  }
+  // A key of [output].
+  CaseText& output(const std::string& key, const Value& value) { return set("output", key, value); }
+
+  // ---- the text ----
+  std::string str() const {
+    std::string s;
+    for (const Table& t : tables_) {
+      if (!s.empty()) s += "\n";
+      s += t.array ? "[[" + t.name + "]]\n" : "[" + t.name + "]\n";
+      for (const auto& [k, v] : t.keys) s += k + " = " + v + "\n";
+    }
+    return s;
+  }
+  operator std::string() const { return str(); }
+
+ private:
+  struct Table {
+    std::string name;
+    bool array = false;
+    std::vector<std::pair<std::string, std::string>> keys;
+  };
+  CaseText& set_toml(const std::string& table, const std::string& key, const std::string& toml) {
+    Table& t = table_named(table);
+    for (auto& kv : t.keys)
+      if (kv.first == key) {
+        kv.second = toml;
+        return *this;
+      }
+    t.keys.emplace_back(key, toml);
+    return *this;
+  }
+  Table& table_named(const std::string& name) {
+    for (Table& t : tables_)
+      if (t.name == name && !t.array) return t;
+    tables_.push_back({name, false, {}});
+    return tables_.back();
+  }
+  std::vector<Table> tables_;
+};
+
+inline std::ostream& operator<<(std::ostream& o, const CaseText& c) { return o << c.str(); }
+
+// ---- scenes several suites share ----
 
 // 30 soft rubber balls (6 mm) with friction in a 40 x 40 x 50 mm box shaken at 2 mm, 25 Hz along
 // (1, 0, 1), gravity, a settle of 0.02 s, for `duration`; frames every 5 ms, and checkpoints every
 // `checkpoint_interval` when one is given (~1.3e-5 s steps).
 inline std::string shaken_box(const std::string& duration, const std::string& checkpoint_interval = "") {
-  return R"([simulation]
-duration = ")" + duration + R"("
-settle = "0.02 s"
-gravity = [0, 0, "-9.81 m/s^2"]
+  CaseText c = CaseText()
+                   .simulation(duration)
+                   .set("simulation", "settle", "0.02 s")
+                   .rubber()
+                   .interactions(0.6, 0.4)
+                   .box("rubber", "[0, 0, 0]", vec("40 mm", "40 mm", "50 mm"))
+                   .harmonic("2 mm", "25 Hz", "[1, 0, 1]")
+                   .balls("balls", "rubber", "6 mm", 30)
+                   .set("particles.balls", {{"fill", quoted("random")}, {"seed", 7}})
+                   .output("frame_interval", "5 ms");
+  if (!checkpoint_interval.empty()) c.output("checkpoint_interval", checkpoint_interval);
+  return c;
+}
 
-[materials.rubber]
-density = "1200 kg/m^3"
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.45
+// The start of the steel scenes: [simulation] with `duration` under `gravity`, 200 GPa steel, and
+// e 0.5, mu 0.3 for every pair.
+inline CaseText steel_scene(const Value& duration, const Value& gravity = kGravityDown) {
+  return CaseText().simulation(duration, gravity).steel().interactions(0.5, 0.3);
+}
 
-[interactions.default]
-restitution = 0.6
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "rubber"
-min = [0, 0, 0]
-max = ["40 mm", "40 mm", "50 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "25 Hz"
-direction = [1, 0, 1]
-
-[particles.balls]
-material = "rubber"
-diameter = "6 mm"
-count = 30
-fill = "random"
-seed = 7
-
-[output]
-frame_interval = "5 ms"
-)" + (checkpoint_interval.empty() ? std::string() : "checkpoint_interval = \"" + checkpoint_interval + "\"\n");
+// A steel ball of `diameter` at the centre of a "planes" cavity (bounds +-10 mm) between two walls
+// normal to x at -x_wall and x_wall (written with `digits`, see num()), no gravity, e 0.5, mu 0.3.
+inline CaseText steel_ball_between_planes(const Value& duration, double x_wall, const Value& diameter, int digits = 0) {
+  return steel_scene(duration, kNoGravity)
+      .cavity("planes", "steel", "[-0.01, -0.01, -0.01]", "[0.01, 0.01, 0.01]")
+      .plane(vec(num(-x_wall, digits), 0, 0), "[1, 0, 0]")
+      .plane(vec(num(x_wall, digits), 0, 0), "[-1, 0, 0]")
+      .placed("ball", "steel", diameter, "[[0, 0, 0]]");
 }
 
 }  // namespace bagdem::testing

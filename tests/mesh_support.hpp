@@ -10,6 +10,7 @@
 #include "bagdem/mesh/shapes.hpp"
 #include "bagdem/mesh/triangle_mesh.hpp"
 #include "bagdem/vec3.hpp"
+#include "case_texts.hpp"
 
 namespace bagdem::testing {
 
@@ -76,6 +77,17 @@ inline std::string ascii_stl(const Soup& s, double factor = 1.0, const std::stri
     out += "    endloop\n  endfacet\n";
   }
   return out + "endsolid " + name + "\n";
+}
+
+// 10 steel balls (2 GPa, 4 mm) in a cavity read from the STL file `file` with `scale` (none when
+// empty), for 1 ms without gravity; e 0.5.
+inline std::string stl_case(const std::string& file, const Value& scale = "1 mm") {
+  return CaseText()
+      .set("simulation", "duration", "1 ms")
+      .steel("2 GPa")
+      .interactions(0.5)
+      .stl("steel", file, scale)
+      .balls("balls", "steel", "4 mm", 10);
 }
 
 }  // namespace bagdem::testing

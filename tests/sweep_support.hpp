@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "case_texts.hpp"
 #include "results_compare.hpp"
 #include "support.hpp"
 
@@ -15,57 +16,13 @@ namespace bagdem::testing {
 // A 10-mm steel ball rattling (0.2 mm each side) in the cavity of a 30-Hz SDOF primary, settled
 // for 2 ms, swept at three frequencies and refined once at the peak.
 inline std::string rattling_ball_sweep() {
-  return R"([simulation]
-duration = "0.1 s"
-settle = "2 ms"
-gravity = [0, 0, 0]
-
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[cavity]
-kind = "planes"
-material = "steel"
-min = [-0.01, -0.01, -0.01]
-max = [0.01, 0.01, 0.01]
-
-[[cavity.planes]]
-point = [-0.0052, 0, 0]
-normal = [1, 0, 0]
-
-[[cavity.planes]]
-point = [0.0052, 0, 0]
-normal = [-1, 0, 0]
-
-[particles.ball]
-material = "steel"
-diameter = 0.01
-positions = [[0.0001, 0, 0]]
-velocities = [[0.05, 0, 0]]
-
-[primary]
-kind = "sdof"
-mass = 0.5
-stiffness = 17765.287921960843
-damping_ratio = 0.05
-direction = [1, 0, 0]
-axis = [0, 1, 0]
-
-[excitation]
-kind = "stepped-sine"
-amplitude = "0.5 N"
-frequencies = [26, 30, 34]
-refine = 1
-min_cycles = 4
-reduce_cycles = 4
-max_cycles = 8
-)";
+  return steel_ball_between_planes("0.1 s", 0.0052, "0.01")
+      .set("simulation", "settle", "2 ms")
+      .placed("ball", "steel", "0.01", "[[0.0001, 0, 0]]", "[[0.05, 0, 0]]")
+      .sdof(0.5, "17765.287921960843", 0.05)
+      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.5 N"}, {"frequencies", "[26, 30, 34]"},
+                          {"refine", 1}, {"min_cycles", 4}, {"reduce_cycles", 4}, {"max_cycles", 8}});
 }
 
 // sweep.csv without its last column (wall_time: the machine's, not the sweep's).

@@ -35,68 +35,26 @@ namespace {
 
 // A small bag case: 2 GPa steel balls of 4 mm in an LDPE film (50 um, 200 triangles), tied by two
 // strings to the end walls of a box shaken along the bag's axis (1 mm, 30 Hz, phase pi/2 so that the
-// cavity's rest position is 1 mm along x, not the origin); `bag_extra` is added to [bag] (shape keys,
-// balls), `extra` at the end.
-std::string bag_case(const std::string& bag_extra, const std::string& balls = "count = 30\n",
-                     const std::string& extra = "") {
-  return R"([simulation]
-duration = "0.004 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 4
+// cavity's rest position is 1 mm along x, not the origin); `shape` are the [bag] shape keys, `balls`
+// the [bag.balls] keys beside material and diameter.
+const CaseText::Keys kCapsule = {{"shape", quoted("capsule")}, {"axis", "[1, 0, 0]"}, {"radius", "7 mm"}};
+const CaseText::Keys kPillow = {{"shape", quoted("pillow")}, {"axis", "[1, 0, 0]"}, {"aspect", "[2.5, 1.2, 1]"}, {"exponent", 4}};
 
-)" + std::string(kSteelAndFilm) + R"(
-
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[interactions.steel-ldpe]
-restitution = 0.3
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-25 mm", "-12 mm", "-12 mm"]
-max = ["25 mm", "12 mm", "12 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "30 Hz"
-direction = [1, 0, 0]
-phase = 1.5707963267948966
-
-[bag]
-triangles = 200
-)" + bag_extra + R"(
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-)" + balls + R"(
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-
-[[bag.strings]]
-at = "tail"
-anchor = ["-25 mm", 0, 0]
-stiffness = "200 N/m"
-damping = "0.01 N s/m"
-
-[[bag.strings]]
-at = "head"
-anchor = ["25 mm", 0, 0]
-stiffness = "200 N/m"
-damping = "0.01 N s/m"
-
-[output]
-frame_interval = "1 ms"
-)" + extra;
+CaseText bag_case(const CaseText::Keys& shape, const CaseText::Keys& balls = {{"count", 30}}) {
+  return bag_scene("0.004 s", 4)
+      .interactions("steel-ldpe", 0.3, 0.4)
+      .box("steel", vec("-25 mm", "-12 mm", "-12 mm"), vec("25 mm", "12 mm", "12 mm"))
+      .harmonic("1 mm", "30 Hz", "[1, 0, 0]")
+      .set("cavity.motion", "phase", "1.5707963267948966")
+      .set("bag", "triangles", 200)
+      .set("bag", shape)
+      .set("bag.balls", {{"material", quoted("steel")}, {"diameter", "4 mm"}})
+      .set("bag.balls", balls)
+      .set("bag.film", {{"material", quoted("ldpe")}, {"thickness", "50 um"}})
+      .bag_string("tail", vec("-25 mm", 0, 0), "200 N/m", "0.01 N s/m")
+      .bag_string("head", vec("25 mm", 0, 0), "200 N/m", "0.01 N s/m")
+      .output("frame_interval", "1 ms");
 }
-
-const char* kCapsule = "shape = \"capsule\"\naxis = [1, 0, 0]\nradius = \"7 mm\"\n";
-const char* kPillow = "shape = \"pillow\"\naxis = [1, 0, 0]\naspect = [2.5, 1.2, 1]\nexponent = 4\n";
 
 std::vector<Vec3> positions(const Scene& s) {
   std::vector<Vec3> x;
@@ -130,8 +88,8 @@ double json_number(const std::string& text, const std::string& key, const std::s
 // half thickness (src/case/bag.cpp lattice_sites: r + t/2 + 2% of r); the bag's balls are the last
 // N particles and N is the count asked for.
 TEST(BagFill, DeterministicInsideAndClear) {
-  for (const char* shape : {kCapsule, kPillow}) {
-    SCOPED_TRACE(shape);
+  for (const CaseText::Keys& shape : {kCapsule, kPillow}) {
+    SCOPED_TRACE(shape[0].second.toml);
     LoadedCase a(bag_case(shape)), b(bag_case(shape)), other(bag_case(shape), {"bag.balls.seed=99"});
     const Scene& s = a.scene;
     ASSERT_TRUE(s.bag);
@@ -170,20 +128,16 @@ TEST(BagFill, DeterministicInsideAndClear) {
 // mass_ratio 0.05 with primary_mass = 20.2 m / 0.05 gives 20. Exactly one of the three is allowed.
 TEST(BagFill, CountMassAndMassRatio) {
   const double m = sphere_mass(7800, 0.002);
-  auto n_for = [&](const std::string& balls) {
+  auto n_for = [&](const CaseText::Keys& balls) {
     LoadedCase c(bag_case(kCapsule, balls));
     return c.scene.bag->balls;
   };
-  char b1[128], b2[128], b3[128];
-  std::snprintf(b1, sizeof b1, "mass = %.17g\n", 23.4 * m);
-  std::snprintf(b2, sizeof b2, "mass = %.17g\n", 23.6 * m);
-  std::snprintf(b3, sizeof b3, "mass_ratio = 0.05\nprimary_mass = %.17g\n", 20.2 * m / 0.05);
-  EXPECT_EQ(n_for("count = 17\n"), 17u);
-  EXPECT_EQ(n_for(b1), 23u);
-  EXPECT_EQ(n_for(b2), 24u);
-  EXPECT_EQ(n_for(b3), 20u);
-  EXPECT_THROW(n_for("count = 17\n" + std::string(b1)), InputError);
-  EXPECT_THROW(n_for(""), InputError);
+  EXPECT_EQ(n_for({{"count", 17}}), 17u);
+  EXPECT_EQ(n_for({{"mass", 23.4 * m}}), 23u);
+  EXPECT_EQ(n_for({{"mass", 23.6 * m}}), 24u);
+  EXPECT_EQ(n_for({{"mass_ratio", 0.05}, {"primary_mass", 20.2 * m / 0.05}}), 20u);
+  EXPECT_THROW(n_for({{"count", 17}, {"mass", 23.4 * m}}), InputError);
+  EXPECT_THROW(n_for({}), InputError);
 }
 
 // A bag of fixed size (bag.radius and bag.length given) asked for more balls than its lattice holds
@@ -191,7 +145,7 @@ TEST(BagFill, CountMassAndMassRatio) {
 // Capsule radius 7 mm, length 20 mm (about 2.6 cm^3): 200 balls of 4 mm (6.7 cm^3) cannot fit.
 TEST(BagFill, FixedSizeBagWithTooManyBallsIsRefused) {
   TempDir dir;
-  dir.write("case.toml", bag_case(std::string(kCapsule) + "length = \"20 mm\"\n", "count = 200\n"));
+  dir.write("case.toml", bag_case(kCapsule, {{"count", 200}}).set("bag", "length", "20 mm"));
   const CmdResult r = run_bagdem({"check", dir.str()}, dir.path);
   std::printf("BagFill: check of an overfull fixed bag: exit %d, stderr: %s", r.code, r.err.c_str());
   EXPECT_EQ(r.code, 2);
@@ -289,10 +243,10 @@ TEST(BagSettledReuse, BagFromLoadsTheSavedBag) {
   const fs::path second = dir.path / "second";
   fs::create_directories(second);
   fs::copy_file(saved_path, second / "settled.h5");
-  const std::string relative = std::string(kCapsule) + "from = \"settled.h5\"\n";
-  const std::string absolute = std::string(kCapsule) + "from = \"" + saved_path.string() + "\"\n";
-  for (const std::string& bag_keys : {relative, absolute}) {
-    std::ofstream(second / "case.toml") << bag_case(bag_keys);
+  const CaseText relative = bag_case(kCapsule).set("bag", "from", quoted("settled.h5"));
+  const CaseText absolute = bag_case(kCapsule).set("bag", "from", quoted(saved_path.string()));
+  for (const std::string& bag_text : {relative.str(), absolute.str()}) {
+    std::ofstream(second / "case.toml") << bag_text;
     const Scene s = load_case(second.string());
     const Vec3 rest = s.motion->at(0.0).position;
     ASSERT_NEAR(rest.x(), 1e-3, 1e-15);
@@ -301,11 +255,11 @@ TEST(BagSettledReuse, BagFromLoadsTheSavedBag) {
     std::size_t differ = 0;
     for (std::size_t k = 0; k < bag.balls; ++k) differ += !(s.particles[bag.ball_first + k].x == saved.ball_position[k] + rest);
     for (std::size_t k = 0; k < bag.x0.size(); ++k) differ += !(bag.x0[k] == saved.film_position[k] + rest);
-    EXPECT_EQ(differ, 0u) << (bag_keys == relative ? "relative" : "absolute") << " bag.from";
+    EXPECT_EQ(differ, 0u) << (bag_text == relative.str() ? "relative" : "absolute") << " bag.from";
     EXPECT_EQ(bag.x0.size(), saved.film_position.size());
   }
   // With bag.centre.
-  std::ofstream(second / "case.toml") << bag_case(relative + "centre = [\"2 mm\", \"-1 mm\", \"-3 mm\"]\n");
+  std::ofstream(second / "case.toml") << CaseText(relative).set("bag", "centre", vec("2 mm", "-1 mm", "-3 mm"));
   {
     const Scene s = load_case(second.string());
     const Bag& bag = *s.bag;
@@ -324,7 +278,7 @@ TEST(BagSettledReuse, BagFromLoadsTheSavedBag) {
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir.path / "second-out" / "summary.json"));
   // Balls of another diameter: refused.
-  std::ofstream(second / "case.toml") << bag_case(relative);
+  std::ofstream(second / "case.toml") << relative;
   const CmdResult wrong = run_bagdem({"check", second.string(), "--set", "bag.balls.diameter=\"3 mm\""}, dir.path);
   std::printf("BagSettledReuse: bag.from with 3 mm balls: exit %d, %s", wrong.code, wrong.err.c_str());
   EXPECT_EQ(wrong.code, 2);
@@ -418,7 +372,7 @@ void expect_same(const Snapshot& a, const Snapshot& b) {
 // film's parallel loops engage above kParallelMin = 512 nodes: bag.triangles = 1200 (~600 nodes),
 // 40 balls, the box shaken (strings, friction, film damping), 3000 steps.
 TEST(BagDeterminism, FilmParallelPathsMatchOneThread) {
-  LoadedCase c(bag_case(kCapsule, "count = 40\n"), {"bag.triangles=1200"});
+  LoadedCase c(bag_case(kCapsule, {{"count", 40}}), {"bag.triangles=1200"});
   ASSERT_GT(c.scene.bag->x0.size(), kParallelMin);
   const Snapshot one = run_threads(c.scene, 1, 3000), two = run_threads(c.scene, 2, 3000);
   std::printf("BagDeterminism: film %zu nodes, %zu balls, 3000 steps of %.3g s\n", one.film_x.size(), one.x.size(), c.scene.dt);
@@ -428,7 +382,7 @@ TEST(BagDeterminism, FilmParallelPathsMatchOneThread) {
 
 // The same with the balls' parallel paths: 600 balls (above 512) in a coarse film, 1000 steps.
 TEST(BagDeterminism, BallParallelPathsMatchOneThread) {
-  LoadedCase c(bag_case("shape = \"capsule\"\naxis = [1, 0, 0]\nradius = \"15 mm\"\n", "count = 600\n"),
+  LoadedCase c(bag_case(kCapsule, {{"count", 600}}).set("bag", "radius", "15 mm"),
                {"cavity.min=[-0.06, -0.02, -0.02]", "cavity.max=[0.06, 0.02, 0.02]", "bag.strings.0.anchor=[-0.06, 0, 0]",
                 "bag.strings.1.anchor=[0.06, 0, 0]", "bag.triangles=300"});
   ASSERT_GT(c.scene.bag->balls, kParallelMin);

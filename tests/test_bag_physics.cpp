@@ -32,59 +32,14 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // box shaken along the bag's axis (2 mm, 40 Hz: 13 g; 0.5 mm of clearance at each end, so the bag
 // hits the end walls), gravity on (the bag falls 5 mm onto the floor first); 75 ms = 3 cycles.
 std::string shaken_bag_toml(double restitution, double friction, double film_damping, double string_damping) {
-  char buf[4096];
-  std::snprintf(buf, sizeof buf, R"([simulation]
-duration = "0.075 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 3
-
-%s
-[interactions.default]
-restitution = %.17g
-friction = %.17g
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-18.5 mm", "-12 mm", "-12 mm"]
-max = ["18.5 mm", "12 mm", "12 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "40 Hz"
-direction = [1, 0, 0]
-
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-triangles = 200
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 40
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-damping_ratio = %.17g
-
-[[bag.strings]]
-at = "tail"
-anchor = ["-18.5 mm", 0, 0]
-stiffness = "20 N/m"
-damping = %.17g
-
-[[bag.strings]]
-at = "head"
-anchor = ["18.5 mm", 0, 0]
-stiffness = "20 N/m"
-damping = %.17g
-)",
-                kSteelAndFilm, restitution, friction, film_damping, string_damping, string_damping);
-  return buf;
+  return bag_scene("0.075 s", 3)
+      .interactions(restitution, friction)
+      .box("steel", vec("-18.5 mm", "-12 mm", "-12 mm"), vec("18.5 mm", "12 mm", "12 mm"))
+      .harmonic("2 mm", "40 Hz", "[1, 0, 0]")
+      .capsule_bag("7 mm", 200, 40)
+      .set("bag.film", "damping_ratio", film_damping)
+      .bag_string("tail", vec("-18.5 mm", 0, 0), "20 N/m", string_damping)
+      .bag_string("head", vec("18.5 mm", 0, 0), "20 N/m", string_damping);
 }
 
 struct BudgetRun {
@@ -195,26 +150,11 @@ TEST(BagEnergy, BudgetClosesWithDampingAndFriction) {
 namespace {
 
 // A box 60 x 40 x 60 mm (floor at z = 0) with steel (2 GPa) walls; `contents` adds the bag or the
-// single ball. Every pair has restitution `e` and friction 0.3.
-std::string drop_toml(double e, const std::string& contents) {
-  char buf[1024];
-  std::snprintf(buf, sizeof buf, R"([simulation]
-duration = "0.1 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 5
-
-%s
-[interactions.default]
-restitution = %.17g
-friction = 0.3
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-30 mm", "-20 mm", 0]
-max = ["30 mm", "20 mm", "60 mm"]
-)", kSteelAndFilm, e);
-  return buf + contents;
+// single ball (added by the caller). Every pair has restitution `e` and friction 0.3.
+CaseText drop_toml(double e) {
+  return bag_scene("0.1 s", 5)
+      .interactions(e, 0.3)
+      .box("steel", vec("-30 mm", "-20 mm", 0), vec("30 mm", "20 mm", "60 mm"));
 }
 
 struct Bounce {
@@ -242,28 +182,13 @@ const DropResult& drop_result() {
     const double e = 0.8;
     // A bean bag is a settled pack: the bag first settles for 60 ms on the floor (its bottom 0.2 mm
     // above it), is saved (bag.h5) and reloaded 9.8 mm higher (bag.from, bag.centre), then dropped.
-    const std::string bag_section = R"(
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-triangles = 200
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 50
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-)";
-    LoadedCase settle_case(drop_toml(e, bag_section), {"bag.centre=[0, 0, 0.0072]"});
+    const std::string bag_drop = drop_toml(e).capsule_bag("7 mm", 200, 50);
+    LoadedCase settle_case(bag_drop, {"bag.centre=[0, 0, 0.0072]"});
     Simulation settling(settle_case.scene);
     while (settling.time() < 0.06) settling.step();
     const std::string saved = (settle_case.dir.path / "bag.h5").string();
     save_bag(saved, saved_bag(settle_case.scene, settling));
-    LoadedCase bag_case(drop_toml(e, bag_section), {"bag.from=\"" + saved + "\"", "bag.centre=[0, 0, 0.017]"});
+    LoadedCase bag_case(bag_drop, {"bag.from=\"" + saved + "\"", "bag.centre=[0, 0, 0.017]"});
     const Scene& s = bag_case.scene;
     const Bag& bag = *s.bag;
     Simulation sim(s);
@@ -306,12 +231,7 @@ thickness = "50 um"
       throw std::runtime_error("the bag did not reach the floor in time for the rebound window");
     out.wall_s = seconds_since(t0);
 
-    LoadedCase ball_case(drop_toml(e, R"(
-[particles.ball]
-material = "steel"
-diameter = "4 mm"
-positions = [[0, 0, "12 mm"]]
-)"));
+    LoadedCase ball_case(drop_toml(e).placed("ball", "steel", "4 mm", "[" + vec(0, 0, "12 mm") + "]"));
     Simulation one(ball_case.scene);
     double v_prev = 0;
     bool touched = false;
@@ -388,23 +308,7 @@ TEST(BagDrop, BallsDoNotTouchTheFloorThroughTheFilm) {
 // which is about (0, 0, -M g) as the bag comes to rest. Tolerance 1% of M g (the impulse is
 // tallied with the step's end forces, the velocities change with the mean of two steps' forces).
 TEST(BagDrop, ForceOnTheCavityBalancesTheBagsMomentum) {
-  LoadedCase c(drop_toml(0.8, R"(
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-triangles = 200
-centre = [0, 0, "7.2 mm"]
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 50
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-)"));
+  LoadedCase c(drop_toml(0.8).capsule_bag("7 mm", 200, 50).set("bag", "centre", vec(0, 0, "7.2 mm")));
   Simulation sim(c.scene);
   auto momentum = [&] {
     Vec3 p(0, 0, 0);
@@ -431,50 +335,15 @@ namespace {
 // A capsule bag (40 balls of 4 mm, 2 GPa steel; LDPE film 50 um, 200 triangles) with its axis
 // vertical, head up, hanging from one string tied at the head to the ceiling of a tall box
 // (anchor ~8 mm above the head, rest length auto = the initial distance), gravity on, nothing else
-// touching. `extra` is appended (more strings, overrides of [simulation]).
-std::string hanging_toml(const std::string& extra) {
-  return R"([simulation]
-duration = "0.12 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 11
-
-)" + std::string(kSteelAndFilm) + R"(
-
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-20 mm", "-20 mm", "-60 mm"]
-max = ["20 mm", "20 mm", "25 mm"]
-
-[bag]
-shape = "capsule"
-axis = [0, 0, 1]
-radius = "7 mm"
-centre = [0, 0, 0]
-triangles = 200
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 40
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-damping_ratio = 0.05
-mass_scaling = 3
-
-[[bag.strings]]
-at = "head"
-tie_radius = "4.5 mm"
-anchor = [0, 0, "25 mm"]
-stiffness = "500 N/m"
-damping = "3 N s/m"
-)" + extra;
+// touching.
+CaseText hanging_toml() {
+  return bag_scene("0.12 s", 11)
+      .box("steel", vec("-20 mm", "-20 mm", "-60 mm"), vec("20 mm", "20 mm", "25 mm"))
+      .capsule_bag("7 mm", 200, 40)
+      .set("bag", {{"axis", "[0, 0, 1]"}, {"centre", "[0, 0, 0]"}})
+      .set("bag.film", {{"damping_ratio", 0.05}, {"mass_scaling", 3}})
+      .add("bag.strings", {{"at", quoted("head")}, {"tie_radius", "4.5 mm"}, {"anchor", vec(0, 0, "25 mm")},
+                           {"stiffness", "500 N/m"}, {"damping", "3 N s/m"}});
 }
 
 double string_length(const Simulation& sim, const BagString& st) {
@@ -497,7 +366,7 @@ double string_length(const Simulation& sim, const BagString& st) {
 // 20 ms of the 120 ms run. Tolerance 2% of M g / k. Also: no wall is touched (the bag hangs free).
 // Measured (this build): M g / k = 0.2091 mm, mean extension 0.2097 mm (+0.31%).
 TEST(BagStrings, HangingBagStretchesTheStringByItsWeight) {
-  LoadedCase c(hanging_toml(""));
+  LoadedCase c(hanging_toml());
   const Scene& s = c.scene;
   ASSERT_EQ(s.bag->strings.size(), 1u);
   const BagString& st = s.bag->strings[0];
@@ -544,17 +413,11 @@ TEST(BagStrings, HangingBagStretchesTheStringByItsWeight) {
 // every ball and film node position and velocity after 6000 steps (a push of k (L - L0) ~ 11 N on
 // the tail would move the bag at once).
 TEST(BagStrings, SlackStringExertsNoForce) {
-  const std::string slack = R"(
-[[bag.strings]]
-at = "tail"
-tie_radius = "4.5 mm"
-anchor = [0, 0, 0]
-stiffness = "500 N/m"
-damping = "2 N s/m"
-rest_length = "40 mm"
-)";
-  LoadedCase one(hanging_toml(""), {"simulation.timestep=1.2e-6", "simulation.duration=0.0072"});
-  LoadedCase two(hanging_toml(slack), {"simulation.timestep=1.2e-6", "simulation.duration=0.0072"});
+  const std::string slack = hanging_toml().add("bag.strings", {{"at", quoted("tail")}, {"tie_radius", "4.5 mm"}, {"anchor", "[0, 0, 0]"},
+                                                                {"stiffness", "500 N/m"}, {"damping", "2 N s/m"},
+                                                                {"rest_length", "40 mm"}});
+  LoadedCase one(hanging_toml(), {"simulation.timestep=1.2e-6", "simulation.duration=0.0072"});
+  LoadedCase two(slack, {"simulation.timestep=1.2e-6", "simulation.duration=0.0072"});
   ASSERT_EQ(two.scene.bag->strings.size(), 2u);
   const BagString& st = two.scene.bag->strings[1];
   Simulation a(one.scene), b(two.scene);
@@ -586,7 +449,7 @@ rest_length = "40 mm"
 // 6.8 mm up and the run stops at 7.5 ms ("a node of the bag's film is pressed 0.000668 m into a
 // cavity wall"): FAILS. With c = 1.0 N s/m (c dt / m_tie = 1.7) it is stable, with 1.2 (2.1) not.
 TEST(BagStrings, StringDampingIsStableAtTheAutoStep) {
-  LoadedCase c(hanging_toml(""), {"bag.strings.0.tie_radius=\"auto\"", "bag.strings.0.damping=2", "bag.film.mass_scaling=1",
+  LoadedCase c(hanging_toml(), {"bag.strings.0.tie_radius=\"auto\"", "bag.strings.0.damping=2", "bag.film.mass_scaling=1",
                                   "simulation.duration=0.012"});
   const Scene& s = c.scene;
   const BagString& st = s.bag->strings[0];
@@ -624,43 +487,10 @@ TEST(BagStrings, StringDampingIsStableAtTheAutoStep) {
 // 8.9 cycles) in ~3.8 s on one thread.
 TEST(BagEscape, FullBagHoldsItsBallsAt50g) {
   const double w = 2 * 3.14159265358979323846 * 100.0, X = 50 * 9.81 / (w * w);
-  char motion[256];
-  std::snprintf(motion, sizeof motion, "amplitude = %.17g\nfrequency = \"100 Hz\"\ndirection = [1, 0, 1]\n", X);
-  const std::string toml = std::string(R"([simulation]
-duration = "1 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 17
-
-)" + std::string(kSteelAndFilm) + R"(
-
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-32 mm", "-11 mm", "-11 mm"]
-max = ["32 mm", "11 mm", "11 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-)") + motion + R"(
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-triangles = 150
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 60
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-)";
+  const std::string toml = bag_scene("1 s", 17)
+                               .box("steel", vec("-32 mm", "-11 mm", "-11 mm"), vec("32 mm", "11 mm", "11 mm"))
+                               .harmonic(X, "100 Hz", "[1, 0, 1]")
+                               .capsule_bag("7 mm", 150, 60);
   LoadedCase c(toml);
   const Scene& s = c.scene;
   ASSERT_NEAR(s.motion->max_speed() * w / 9.81, 50.0, 1e-9 * 50);  // peak acceleration X w^2 = 50 g
@@ -705,50 +535,19 @@ namespace {
 // material; ball-film (= ball-wall) restitution 0.7, no friction. `positions`, `velocities`: the
 // [particles.probe] balls (none when empty).
 std::string stiff_film_toml(const std::string& positions, const std::string& velocities) {
-  return R"([simulation]
-duration = "0.006 s"
-gravity = [0, 0, 0]
-seed = 2
-
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[materials.heavy]
-density = "1e9 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-
-[interactions.default]
-restitution = 0.5
-
-[interactions.steel-heavy]
-restitution = 0.7
-
-[cavity]
-kind = "box"
-material = "heavy"
-min = ["-30 mm", "-20 mm", "-20 mm"]
-max = ["30 mm", "20 mm", "20 mm"]
-
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-length = "40 mm"
-centre = [0, 0, "-5 mm"]
-triangles = 200
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 1
-
-[bag.film]
-material = "heavy"
-thickness = "50 um"
-)" + (positions.empty() ? std::string() : "\n[particles.probe]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = [" + positions + "]\nvelocities = [" + velocities + "]\n");
+  CaseText c = CaseText()
+                   .simulation("0.006 s", kNoGravity)
+                   .set("simulation", "seed", 2)
+                   .steel("2 GPa")
+                   .material("heavy", "1e9 kg/m^3", "2 GPa", 0.3)
+                   .interactions(0.5)
+                   .interactions("steel-heavy", 0.7, "")
+                   .box("heavy", vec("-30 mm", "-20 mm", "-20 mm"), vec("30 mm", "20 mm", "20 mm"))
+                   .capsule_bag("7 mm", 200, 1)
+                   .set("bag", {{"length", "40 mm"}, {"centre", vec(0, 0, "-5 mm")}})
+                   .set("bag.film", "material", quoted("heavy"));
+  if (!positions.empty()) c.placed("probe", "steel", "4 mm", "[" + positions + "]", "[" + velocities + "]");
+  return c;
 }
 
 std::string vec_toml(const Vec3& v) {
@@ -918,48 +717,16 @@ namespace {
 
 // Zero gravity; a capsule bag (radius 7 mm, length 40 mm, 200 triangles, LDPE 50 um, one 4 mm ball
 // of its own) and a 4 mm probe ball inside the bag at (10 mm, y0, 0) moving along +y at `speed`,
-// towards the film; `simulation_extra` goes into [simulation].
-std::string guard_toml(double y0, double speed, const std::string& simulation_extra) {
-  char buf[2048];
-  std::snprintf(buf, sizeof buf, R"([simulation]
-duration = "0.002 s"
-gravity = [0, 0, 0]
-%s
-
-%s
-[interactions.default]
-restitution = 0.5
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-30 mm", "-15 mm", "-15 mm"]
-max = ["30 mm", "15 mm", "15 mm"]
-
-[particles.probe]
-material = "steel"
-diameter = "4 mm"
-positions = [["10 mm", %.17g, 0]]
-velocities = [[0, %.17g, 0]]
-
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-length = "40 mm"
-triangles = 200
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 1
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-)",
-                simulation_extra.c_str(), kSteelAndFilm, y0, speed);
-  return buf;
+// towards the film.
+CaseText guard_toml(double y0, double speed) {
+  return CaseText()
+      .simulation("0.002 s", kNoGravity)
+      .steel_and_film()
+      .interactions(0.5)
+      .box("steel", vec("-30 mm", "-15 mm", "-15 mm"), vec("30 mm", "15 mm", "15 mm"))
+      .placed("probe", "steel", "4 mm", "[" + vec("10 mm", y0, 0) + "]", "[" + vec(0, speed, 0) + "]")
+      .capsule_bag("7 mm", 200, 1)
+      .set("bag", "length", "40 mm");
 }
 
 // Edges of the film crossing one of its triangles (not sharing a vertex): the film passing through
@@ -1003,7 +770,7 @@ std::size_t film_self_intersections(const TriangleMesh& mesh, const std::vector<
 // gone through the film. With a 100 m/s ball, or a 1 MPa film at 20 m/s, the overlap guard
 // ("a contact overlap reached 10.5% of a particle radius") fires first instead.
 TEST(BagGuard, FastBallThroughTheFilmStopsTheRun) {
-  LoadedCase c(guard_toml(0.0, 20.0, ""));
+  LoadedCase c(guard_toml(0.0, 20.0));
   const Scene& s = c.scene;
   Simulation sim(s);
   std::string error;
@@ -1029,7 +796,7 @@ TEST(BagGuard, FastBallThroughTheFilmStopsTheRun) {
 // beyond the mid-surface, winding number 0.000.
 TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   // The film's mid-surface along +y from (10 mm, 0, 0): where the winding number drops below 1/2.
-  LoadedCase rest(guard_toml(0.0, 0.0, ""));
+  LoadedCase rest(guard_toml(0.0, 0.0));
   double lo = 0, hi = 0.0069;
   for (int it = 0; it < 60; ++it) {
     const double m = 0.5 * (lo + hi);
@@ -1039,7 +806,8 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   const double y0 = y_film - 2.025e-3 - 1e-3, y1 = y_film + 0.5e-3;
   // A skin of 16 mm: the list, renewed a step ahead, allows a quarter of it (4 mm) in one step
   // (Simulation::kSkinStep); this step is 3.5 mm.
-  LoadedCase c(guard_toml(y0, (y1 - y0) / dt, "timestep = 1e-6\nforce_timestep = true\nskin = \"16 mm\""));
+  LoadedCase c(guard_toml(y0, (y1 - y0) / dt)
+                   .set("simulation", {{"timestep", "1e-6"}, {"force_timestep", "true"}, {"skin", "16 mm"}}));
   const Scene& s = c.scene;
   ASSERT_EQ(s.dt, dt);
   Simulation sim(s);

@@ -120,48 +120,13 @@ std::string without_timings(const std::string& json) {
 
 TEST(RunOutputs, ResumedBagRunKeepsItsSummary) {
   // A bag of 20 steel balls settled for 1 ms, then shaken; checkpoints every 1 ms.
-  const std::string toml = R"([simulation]
-duration = "0.004 s"
-settle = "0.001 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 4
-
-)" + std::string(bagdem::testing::kSteelAndFilm) + R"(
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-25 mm", "-12 mm", "-12 mm"]
-max = ["25 mm", "12 mm", "12 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "30 Hz"
-direction = [1, 0, 0]
-
-[bag]
-triangles = 200
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "7 mm"
-
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 20
-
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-
-[output]
-frame_interval = "1 ms"
-checkpoint_interval = "1 ms"
-)";
+  using bagdem::testing::vec;
+  const std::string toml = bagdem::testing::bag_scene("0.004 s", 4)
+                               .set("simulation", "settle", "0.001 s")
+                               .box("steel", vec("-25 mm", "-12 mm", "-12 mm"), vec("25 mm", "12 mm", "12 mm"))
+                               .harmonic("1 mm", "30 Hz", "[1, 0, 0]")
+                               .capsule_bag("7 mm", 200, 20)
+                               .set("output", {{"frame_interval", "1 ms"}, {"checkpoint_interval", "1 ms"}});
   bagdem::testing::LoadedCase c(toml);
   ASSERT_TRUE(c.scene.bag);
   const std::uint64_t total = c.scene.total_steps(), settle = static_cast<std::uint64_t>(c.scene.settle / c.scene.dt);

@@ -319,39 +319,18 @@ TEST(BadInput, UnknownKeyNamesTheNearestKey) {
   EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
 }
 
-// A 40 mm box as an STL file in millimetres, with 10 balls of 4 mm.
-std::string stl_case(const std::string& scale_line) {
-  return R"([simulation]
-duration = "1 ms"
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-[cavity]
-kind = "stl"
-material = "steel"
-file = "box.stl"
-)" + scale_line + R"(
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 10
-)";
-}
-
 TEST(BadInput, CavityFarLargerThanItsContentsWarns) {
   TempDir tmp;
   tmp.write("box.stl", bagdem::testing::ascii_stl(bagdem::testing::box_soup(bagdem::Vec3(0, 0, 0), bagdem::Vec3(40, 40, 40), 1)));
+  // A 40 mm box as an STL file in millimetres, with 10 balls of 4 mm (mesh_support.hpp, stl_case).
   // Without scale the file's 40 is 40 m: a cavity 1000 times the size of 10 balls of 4 mm.
-  tmp.write("case.toml", stl_case(""));
+  tmp.write("case.toml", bagdem::testing::stl_case("box.stl", ""));
   CmdResult r = run_bagdem({"check", tmp.str()}, tmp.path);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("warning: the cavity (40 x 40 x 40 m)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("STL file in millimetres? Set cavity.scale = \"1 mm\""), std::string::npos) << r.out;
   // With the scale, no warning.
-  tmp.write("case.toml", stl_case("scale = \"1 mm\""));
+  tmp.write("case.toml", bagdem::testing::stl_case("box.stl"));
   r = run_bagdem({"check", tmp.str()}, tmp.path);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;

@@ -7,10 +7,12 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/step/simulation.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
 using bagdem::testing::TempDir;
+using namespace bagdem::testing;
 
 namespace {
 // A temporary case directory holding `toml` as case.toml.
@@ -21,26 +23,8 @@ struct CaseDir : TempDir {
 
 namespace {
 
-const char* kHead = R"(
-[simulation]
-duration = "1 ms"
-gravity = [0, 0, "-9.81 m/s^2"]
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-)";
-
-const char* kBox = R"(
-[cavity]
-kind = "box"
-material = "steel"
-min = [0, 0, 0]
-max = ["21 mm", "21 mm", "48 mm"]
-)";
+// 1 ms of steel balls in a 21 x 21 x 48 mm steel box under gravity (the particles are the test's).
+CaseText in_box() { return steel_scene("1 ms").box("steel", "[0, 0, 0]", vec("21 mm", "21 mm", "48 mm")); }
 
 double min_gap(const Scene& s) {  // smallest surface gap between two particles (brute force)
   double g = 1e300;
@@ -56,19 +40,10 @@ TEST(CaseFeatures, CappedCylinderHoldsItsBalls) {
   // A bore along x (radius 6 mm, length 40 mm) with 8 random balls of 4 mm (one layer fits on the
   // bottom); under gravity they fall to the bottom of the bore and none leaves (the run would stop
   // with exit 3 otherwise).
-  CaseDir c(std::string(kHead) + R"(
-[cavity]
-kind = "cylinder"
-material = "steel"
-center = [0, 0, 0]
-axis = "x"
-radius = "6 mm"
-length = "40 mm"
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 8
-)");
+  CaseDir c(steel_scene("1 ms")
+                .set("cavity", {{"kind", quoted("cylinder")}, {"material", quoted("steel")}, {"center", "[0, 0, 0]"},
+                                {"axis", quoted("x")}, {"radius", "6 mm"}, {"length", "40 mm"}})
+                .balls("balls", "steel", "4 mm", 8));
   const Scene s = load_case(c.str(), {"simulation.duration=\"60 ms\""});
   ASSERT_EQ(s.walls.size(), 3u);
   for (const auto& p : s.particles) {
@@ -94,15 +69,9 @@ TEST(CaseFeatures, TableMotionFollowsTheTabulatedCurve) {
     std::snprintf(row, sizeof row, "%.17g,%.17g,0,0\n", t, A * std::sin(w * t));
     csv += row;
   }
-  CaseDir c(std::string(kHead) + kBox + R"(
-[cavity.motion]
-kind = "table"
-file = "motion.csv"
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 5
-)");
+  CaseDir c(in_box()
+                .set("cavity.motion", {{"kind", quoted("table")}, {"file", quoted("motion.csv")}})
+                .balls("balls", "steel", "4 mm", 5));
   c.write("motion.csv", csv);
   const Scene s = load_case(c.str());
   for (double t = 0.001; t < 0.06; t += 0.0007) {
@@ -117,13 +86,8 @@ count = 5
 
 TEST(CaseFeatures, TotalMassGivesTheNearestCount) {
   // 4-mm steel balls weigh 0.26138 g; 26.6 g is 101.77 balls -> 102.
-  CaseDir c(std::string(kHead) + kBox + R"(
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-total_mass = "26.6 g"
-fill = "lattice"
-)");
+  CaseDir c(in_box().set("particles.balls", {{"material", quoted("steel")}, {"diameter", "4 mm"}, {"total_mass", "26.6 g"},
+                                            {"fill", quoted("lattice")}}));
   const Scene s = load_case(c.str());
   const double m = 7800 * std::numbers::pi / 6 * std::pow(4e-3, 3);
   EXPECT_EQ(s.particles.size(), static_cast<std::size_t>(std::lround(26.6e-3 / m)));
@@ -131,15 +95,10 @@ fill = "lattice"
 }
 
 TEST(CaseFeatures, SizeDistributionIsReproducibleAndOverlapFree) {
-  const std::string toml = std::string(kHead) + kBox + R"(
-[particles.balls]
-material = "steel"
-count = 150
-[particles.balls.diameter_distribution]
-kind = "uniform"
-min = "3 mm"
-max = "5 mm"
-)";
+  const std::string toml = in_box()
+                               .set("particles.balls", {{"material", quoted("steel")}, {"count", 150}})
+                               .set("particles.balls.diameter_distribution",
+                                    {{"kind", quoted("uniform")}, {"min", "3 mm"}, {"max", "5 mm"}});
   CaseDir c(toml);
   const Scene a = load_case(c.str()), b = load_case(c.str());
   const Scene other = load_case(c.str(), {"particles.balls.seed=99"});
@@ -157,11 +116,7 @@ max = "5 mm"
 }
 
 TEST(CaseFeatures, CsvParticlesAreReadExactly) {
-  CaseDir c(std::string(kHead) + kBox + R"(
-[particles.balls]
-material = "steel"
-file = "balls.csv"
-)");
+  CaseDir c(in_box().set("particles.balls", {{"material", quoted("steel")}, {"file", quoted("balls.csv")}}));
   c.write("balls.csv", "x,y,z,diameter,vx,vy,vz\n0.005,0.005,0.005,0.004,0.1,0,-0.2\n0.015,0.005,0.005,0.004,0,0,0\n");
   const Scene s = load_case(c.str());
   ASSERT_EQ(s.particles.size(), 2u);

@@ -33,133 +33,46 @@ using bagdem::testing::CmdResult;
 using bagdem::testing::run_bagdem;
 using bagdem::testing::slurp;
 using bagdem::testing::TempDir;
+using namespace bagdem::testing;
 
 namespace {
 
 // A box of 4-mm steel balls shaken along x at 1 mm, 30 Hz (Gamma 3.6) under gravity: the PD-box
-// scene, small.
-const char* kBoxScene = R"([simulation]
-duration = "0.02 s"
-settle = "0.01 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 7
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity]
-kind = "box"
-material = "steel"
-min = ["0 mm", "0 mm", "0 mm"]
-max = ["21 mm", "21 mm", "30 mm"]
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "30 Hz"
-direction = [1, 0, 0]
-[output]
-frame_interval = "5 ms"
-energy = true
-)";
-const std::string kBox = std::string(kBoxScene) + "[particles.balls]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\ncount = 8\nfill = \"lattice\"\n";
-// The box with balls at given positions ([particles.balls] positions = ...).
-std::string box_with(const std::string& positions) {
-  return std::string(kBoxScene) + "[particles.balls]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = " + positions + "\n";
+// scene, small; `balls` are the [particles.balls] keys beside material and diameter.
+CaseText box_scene(const CaseText::Keys& balls) {
+  return steel_scene("0.02 s")
+      .set("simulation", {{"settle", "0.01 s"}, {"seed", 7}})
+      .box("steel", vec("0 mm", "0 mm", "0 mm"), vec("21 mm", "21 mm", "30 mm"))
+      .harmonic("1 mm", "30 Hz", "[1, 0, 0]")
+      .set("output", {{"frame_interval", "5 ms"}, {"energy", "true"}})
+      .set("particles.balls", {{"material", quoted("steel")}, {"diameter", "4 mm"}})
+      .set("particles.balls", balls);
 }
+const std::string kBox = box_scene({{"count", 8}, {"fill", quoted("lattice")}});
+// The box with balls at given positions ([particles.balls] positions = ...).
+std::string box_with(const std::string& positions) { return box_scene({{"positions", positions}}); }
 
-// The same balls on a mass-spring primary (20 Hz, 0.1 kg) driven at resonance.
-const char* kSdof = R"([simulation]
-duration = "0.05 s"
-settle = "0.01 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 7
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "20 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity]
-kind = "box"
-material = "steel"
-min = ["0 mm", "0 mm", "0 mm"]
-max = ["21 mm", "21 mm", "30 mm"]
-[primary]
-kind = "sdof"
-mass = "0.1 kg"
-stiffness = "1579 N/m"
-damping_ratio = 0.02
-direction = [1, 0, 0]
-axis = [0, 1, 0]
-[excitation]
-kind = "harmonic"
-amplitude = "1 N"
-frequency = "20 Hz"
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 8
-fill = "lattice"
-[output]
-frame_interval = "5 ms"
-energy = true
-)";
+// The same balls (20 GPa) on a mass-spring primary (20 Hz, 0.1 kg) driven at resonance.
+const std::string kSdof = box_scene({{"count", 8}, {"fill", quoted("lattice")}})
+                              .set("simulation", "duration", "0.05 s")
+                              .steel("20 GPa")
+                              .erase("cavity.motion")
+                              .sdof("0.1 kg", "1579 N/m", 0.02)
+                              .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+                              .set("excitation", {{"kind", quoted("harmonic")}, {"amplitude", "1 N"}, {"frequency", "20 Hz"}});
 
 // A bag of 20 balls in a box shaken at 2 mm, 20 Hz (cases/box-beanbag, small), with the bag
 // suites' materials.
-const std::string kBag = std::string(R"([simulation]
-duration = "0.02 s"
-settle = "0.01 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 7
-)") + bagdem::testing::kSteelAndFilm + R"([interactions.default]
-restitution = 0.5
-friction = 0.3
-[interactions.steel-ldpe]
-restitution = 0.3
-friction = 0.4
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-20 mm", "-12 mm", "-12 mm"]
-max = ["20 mm", "12 mm", "12 mm"]
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "20 Hz"
-direction = [0, 1, 0]
-[bag]
-shape = "capsule"
-axis = [1, 0, 0]
-radius = "9 mm"
-triangles = 200
-[bag.balls]
-material = "steel"
-diameter = "4 mm"
-count = 20
-[bag.film]
-material = "ldpe"
-thickness = "50 um"
-damping_ratio = 0.05
-mass_scaling = 10
-[[bag.strings]]
-at = "tail"
-anchor = ["-20 mm", "0 mm", "0 mm"]
-stiffness = "200 N/m"
-damping = "0.05 N s/m"
-[[bag.strings]]
-at = "head"
-anchor = ["20 mm", "0 mm", "0 mm"]
-stiffness = "200 N/m"
-damping = "0.05 N s/m"
-[output]
-frame_interval = "5 ms"
-energy = true
-)";
+const std::string kBag = bagdem::testing::bag_scene("0.02 s", 7)
+                             .set("simulation", "settle", "0.01 s")
+                             .interactions("steel-ldpe", 0.3, 0.4)
+                             .box("steel", vec("-20 mm", "-12 mm", "-12 mm"), vec("20 mm", "12 mm", "12 mm"))
+                             .harmonic("2 mm", "20 Hz", "[0, 1, 0]")
+                             .capsule_bag("9 mm", 200, 20)
+                             .set("bag.film", {{"damping_ratio", 0.05}, {"mass_scaling", 10}})
+                             .bag_string("tail", vec("-20 mm", "0 mm", "0 mm"), "200 N/m", "0.05 N s/m")
+                             .bag_string("head", vec("20 mm", "0 mm", "0 mm"), "200 N/m", "0.05 N s/m")
+                             .set("output", {{"frame_interval", "5 ms"}, {"energy", "true"}});
 
 struct Summary {
   double dt = NAN, balance = NAN, work = NAN, dissipated = NAN;

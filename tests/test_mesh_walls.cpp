@@ -47,6 +47,9 @@
 
 using namespace bagdem;
 using bagdem::testing::box_soup;
+using bagdem::testing::CaseText;
+using bagdem::testing::steel_scene;
+using bagdem::testing::vec;
 using bagdem::testing::floor_mesh;
 using bagdem::testing::SceneBuilder;
 using bagdem::testing::sphere_mass;
@@ -386,32 +389,18 @@ namespace {
 // Eight 4 mm balls (2 GPa steel) with speeds up to 0.9 m/s in a 20 x 16 x 16 mm box shaken 1 mm at
 // 40 Hz along (1, 0.6, 0.4) (peak acceleration 6.5 g) under gravity; 30 ms. Two balls head into
 // opposite corners (three walls at once).
-const char* kShakenHead = R"(
-[simulation]
-duration = "30 ms"
-gravity = [0, 0, "-9.81 m/s^2"]
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "40 Hz"
-direction = [1, 0.6, 0.4]
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-positions = [["-6 mm", "-4 mm", "-5 mm"], ["-1 mm", "3 mm", "-4 mm"], ["3 mm", "-3 mm", "-5.5 mm"],
+CaseText shaken_head() {
+  return steel_scene("30 ms")
+      .steel("2 GPa")
+      .harmonic("1 mm", "40 Hz", "[1, 0.6, 0.4]")
+      .placed("balls", "steel", "4 mm",
+              R"([["-6 mm", "-4 mm", "-5 mm"], ["-1 mm", "3 mm", "-4 mm"], ["3 mm", "-3 mm", "-5.5 mm"],
              ["6 mm", "4 mm", "2 mm"], ["-5 mm", "2 mm", "4 mm"], ["1 mm", "-2 mm", "3 mm"],
-             ["6.5 mm", "4.5 mm", "-4.5 mm"], ["-6.5 mm", "-4.5 mm", "4.5 mm"]]
-velocities = [[0.3, -0.2, 0.1], [-0.4, 0.1, 0.2], [0.1, 0.35, -0.3],
+             ["6.5 mm", "4.5 mm", "-4.5 mm"], ["-6.5 mm", "-4.5 mm", "4.5 mm"]])",
+              R"([[0.3, -0.2, 0.1], [-0.4, 0.1, 0.2], [0.1, 0.35, -0.3],
               [-0.2, -0.3, 0.25], [0.45, 0.05, -0.1], [-0.1, -0.4, 0.3],
-              [0.5, 0.5, -0.5], [-0.5, -0.5, 0.5]]
-)";
+              [0.5, 0.5, -0.5], [-0.5, -0.5, 0.5]])");
+}
 
 struct ShakenRun {
   double max_dx = 0;          // largest |x_stl - x_box| over balls and steps (unit: m)
@@ -428,22 +417,10 @@ struct ShakenRun {
 
 ShakenRun shaken_box_vs_stl(int cells) {
   TempDir box_dir, stl_dir;
-  box_dir.write("case.toml", std::string(kShakenHead) + R"(
-[cavity]
-kind = "box"
-material = "steel"
-min = ["-10 mm", "-8 mm", "-8 mm"]
-max = ["10 mm", "8 mm", "8 mm"]
-)");
+  box_dir.write("case.toml", shaken_head().box("steel", vec("-10 mm", "-8 mm", "-8 mm"), vec("10 mm", "8 mm", "8 mm")));
   // The same box as an STL file in millimetres.
   stl_dir.write("box.stl", bagdem::testing::ascii_stl(box_soup(Vec3(-10, -8, -8), Vec3(10, 8, 8), cells), 1.0, "box"));
-  stl_dir.write("case.toml", std::string(kShakenHead) + R"(
-[cavity]
-kind = "stl"
-material = "steel"
-file = "box.stl"
-scale = "1 mm"
-)");
+  stl_dir.write("case.toml", shaken_head().stl("steel", "box.stl", "1 mm"));
   Scene a = load_case(box_dir.str()), b = load_case(stl_dir.str());
   EXPECT_EQ(b.mesh_walls.size(), 1u);
   EXPECT_TRUE(b.walls.empty());
@@ -677,31 +654,9 @@ TEST(MeshWallCoarse, BallRestsOnLargeTrianglesIndefinitely) {
 
 namespace {
 
-std::string stl_case(const std::string& file) {
-  return R"(
-[simulation]
-duration = "1 ms"
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-[cavity]
-kind = "stl"
-material = "steel"
-file = ")" + file + R"("
-scale = "1 mm"
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 10
-)";
-}
-
 // `bagdem check` on a case whose STL file is `stl` (none when empty): exit code and all output.
 bagdem::testing::CmdResult check_stl_case(const TempDir& dir, const std::string& name, const std::string& stl) {
-  dir.write("case.toml", stl_case(name));
+  dir.write("case.toml", bagdem::testing::stl_case(name));
   if (!stl.empty()) dir.write(name, stl);
   return bagdem::testing::run_bagdem({"check", dir.str()}, dir.path);
 }

@@ -11,6 +11,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/motion/motion.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
@@ -114,39 +115,21 @@ struct CaseDir : TempDir {
   explicit CaseDir(const std::string& toml) { write("case.toml", toml); }
 };
 
-std::string harmonic_case(const std::string& motion_extra) {
-  return R"(
-[simulation]
-duration = "1 ms"
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity]
-kind = "box"
-material = "steel"
-min = [0, 0, 0]
-max = ["21 mm", "21 mm", "48 mm"]
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "30 Hz"
-direction = [1, 2, 2]
-phase = 0.7
-)" + motion_extra + R"(
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 5
-)";
+// 5 steel balls in a 21 x 21 x 48 mm box, no gravity, the box moving 1 mm at 30 Hz along (1, 2, 2)
+// from phase 0.7; `motion` are more [cavity.motion] keys.
+std::string harmonic_case(const bagdem::testing::CaseText::Keys& motion) {
+  return bagdem::testing::steel_scene("1 ms")
+      .erase("simulation", "gravity")
+      .box("steel", "[0, 0, 0]", bagdem::testing::vec("21 mm", "21 mm", "48 mm"))
+      .harmonic("1 mm", "30 Hz", "[1, 2, 2]")
+      .set("cavity.motion", "phase", 0.7)
+      .set("cavity.motion", motion)
+      .balls("balls", "steel", "4 mm", 5);
 }
 }  // namespace
 
 TEST(MotionRamp, CaseKeyAppliesTheRamp) {
-  CaseDir c(harmonic_case("ramp = \"50 ms\"\n"));
+  CaseDir c(harmonic_case({{"ramp", "50 ms"}}));
   const Scene s = load_case(c.str());
   for (double t : {0.0, 0.004, 0.021, 0.049, 0.05, 0.08}) {
     const CavityState got = s.motion->at(t), want = analytic(t);
@@ -156,8 +139,8 @@ TEST(MotionRamp, CaseKeyAppliesTheRamp) {
   EXPECT_NE(s.motion->describe().find(", ramped in over 0.05 s"), std::string::npos) << s.motion->describe();
   EXPECT_DOUBLE_EQ(s.motion->frequency(), kF);
   // Without the key (or with 0) the motion starts at once: at t = 0 it is at X sin(0.7), speed X w cos(0.7).
-  for (const char* extra : {"", "ramp = 0\n"}) {
-    CaseDir plain(harmonic_case(extra));
+  for (const char* extra : {"", "0"}) {  // no ramp key; ramp = 0
+    CaseDir plain(harmonic_case(*extra ? bagdem::testing::CaseText::Keys{{"ramp", extra}} : bagdem::testing::CaseText::Keys{}));
     const Scene p = load_case(plain.str());
     EXPECT_NEAR(p.motion->at(0.0).velocity.norm(), kX * kW * std::cos(kPhase), 1e-12 * kX * kW) << extra;
     EXPECT_EQ(p.motion->describe().find("ramped"), std::string::npos) << extra;
@@ -165,7 +148,7 @@ TEST(MotionRamp, CaseKeyAppliesTheRamp) {
 }
 
 TEST(MotionRamp, NegativeRampIsRefused) {
-  CaseDir c(harmonic_case("ramp = \"-5 ms\"\n"));
+  CaseDir c(harmonic_case({{"ramp", "-5 ms"}}));
   try {
     load_case(c.str());
     FAIL() << "a negative ramp was accepted";
@@ -176,6 +159,6 @@ TEST(MotionRamp, NegativeRampIsRefused) {
     EXPECT_NE(m.find("must be >= 0"), std::string::npos) << m;
   }
   // The same through --set.
-  CaseDir ok(harmonic_case(""));
+  CaseDir ok(harmonic_case({}));
   EXPECT_THROW(load_case(ok.str(), {"cavity.motion.ramp=-0.01"}), InputError);
 }

@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <initializer_list>
 #include <ostream>
 #include <string>
@@ -18,9 +19,15 @@
 
 namespace bagdem::testing {
 
-// `v` with `digits` significant digits (%.*g); by default the fewest that give the double back.
+// `v` with `digits` significant digits (%.*g); by default the fewest that give the double back,
+// and a whole number as %.17g writes it ("20", a TOML integer; not "2e+01", which TOML reads as a
+// float).
 inline std::string num(double v, int digits = 0) {
   char b[64];
+  if (digits == 0) {
+    std::snprintf(b, sizeof b, "%.17g", v);
+    if (!std::strpbrk(b, ".eEin")) return b;
+  }
   for (int d = digits > 0 ? digits : 1; d <= 17; ++d) {
     std::snprintf(b, sizeof b, "%.*g", d, v);
     if (digits > 0 || std::strtod(b, nullptr) == v) break;

@@ -14,28 +14,33 @@
 #include <string>
 #include <vector>
 
+#include "case_texts.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;
 using bagdem::testing::TempDir;
+using bagdem::testing::CaseText;
+using bagdem::testing::kNoGravity;
+using bagdem::testing::Value;
+using bagdem::testing::vec;
 using bagdem::testing::CmdResult;
 using bagdem::testing::slurp;
 using bagdem::testing::run_bagdem;
 
 namespace {
 
-// One steel ball of 4 mm in a 20 mm box without gravity, at `position` with `velocity`;
-// `simulation_extra` and `material_extra` are added to [simulation] and [materials.steel].
+// One steel ball of 4 mm in a 20 mm box without gravity, at `position` with `velocity` (arrays of
+// one point); `simulation` are more [simulation] keys; the steel's Young's modulus is `youngs`.
 std::string one_ball_case(const std::string& position, const std::string& velocity,
-                          const std::string& simulation_extra, const std::string& youngs = "\"200 GPa\"",
-                          const std::string& duration = "\"0.01 s\"") {
-  return "[simulation]\nduration = " + duration + "\ngravity = [0, 0, 0]\n" + simulation_extra +
-         "\n[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = " + youngs +
-         "\npoisson_ratio = 0.3\n"
-         "\n[interactions.default]\nrestitution = 0.5\nfriction = 0.2\n"
-         "\n[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [0, 0, 0]\nmax = [\"20 mm\", \"20 mm\", \"20 mm\"]\n"
-         "\n[particles.balls]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = [" + position +
-         "]\nvelocities = [" + velocity + "]\n";
+                          const CaseText::Keys& simulation, const Value& youngs = "200 GPa",
+                          const Value& duration = "0.01 s") {
+  return CaseText()
+      .simulation(duration, kNoGravity)
+      .set("simulation", simulation)
+      .steel(youngs)
+      .interactions(0.5, 0.2)
+      .box("steel", "[0, 0, 0]", vec("20 mm", "20 mm", "20 mm"))
+      .placed("balls", "steel", "4 mm", "[" + position + "]", "[" + velocity + "]");
 }
 
 std::string read_string_attribute(hid_t obj, const std::string& name) {
@@ -99,7 +104,7 @@ void run_and_expect_failure(const std::string& toml, const std::vector<std::stri
 TEST(RunGuards, OverlapOfSoftContactStops) {
   // A 1 MPa ball at 5 m/s into a wall overlaps ~85% of its radius in Hertz theory, whatever dt.
   run_and_expect_failure(
-      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[5, 0, 0]", "", "\"1 MPa\""),
+      one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[5, 0, 0]", {}, "1 MPa"),
       {"contact overlap reached", "limit 10%", "simulation.max_overlap", "reduce simulation.timestep",
        "Young's modulus"});
 }
@@ -107,7 +112,7 @@ TEST(RunGuards, OverlapOfSoftContactStops) {
 TEST(RunGuards, OverlapBeyondTinyMaxOverlapStops) {
   // Steel at 1 m/s: Hertz overlap ~0.24% of the radius, above a 0.1% limit.
   run_and_expect_failure(
-      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[1, 0, 0]", "max_overlap = 0.001\n"),
+      one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[1, 0, 0]", {{"max_overlap", "0.001"}}),
       {"contact overlap reached", "limit 0.1%", "simulation.max_overlap"});
 }
 
@@ -115,50 +120,29 @@ TEST(RunGuards, ParticleTunnellingThroughWallStops) {
   // dt = 1 ms (forced) at 10 m/s: the ball jumps from x = 16 mm to 26 mm, past the +x wall at
   // 20 mm, in one step. The message must say that it left the cavity, through which wall.
   run_and_expect_failure(
-      one_ball_case("[\"16 mm\", \"10 mm\", \"10 mm\"]", "[10, 0, 0]",
-                    "timestep = \"1 ms\"\nforce_timestep = true\n"),
+      one_ball_case(vec("16 mm", "10 mm", "10 mm"), "[10, 0, 0]",
+                    {{"timestep", "1 ms"}, {"force_timestep", "true"}}),
       {"left the cavity", "box +x", "reduce simulation.timestep"});
 }
 
 TEST(RunGuards, ParticleLeavingPlanesCavityBoundsStops) {
   // A "planes" cavity with a floor only: its bounds [cavity.min, cavity.max] are the box the
   // particles must stay in. A ball thrown up at 10 m/s leaves them after ~1 ms.
-  const std::string toml = R"([simulation]
-duration = "0.02 s"
-gravity = [0, 0, 0]
-
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-
-[interactions.default]
-restitution = 0.5
-
-[cavity]
-kind = "planes"
-material = "steel"
-min = [0, 0, 0]
-max = ["20 mm", "20 mm", "20 mm"]
-
-[[cavity.planes]]
-point = [0, 0, 0]
-normal = [0, 0, 1]
-
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-positions = [["10 mm", "10 mm", "10 mm"]]
-velocities = [[0, 0, 10]]
-)";
+  const std::string toml = CaseText()
+                               .simulation("0.02 s", kNoGravity)
+                               .steel()
+                               .interactions(0.5)
+                               .cavity("planes", "steel", "[0, 0, 0]", vec("20 mm", "20 mm", "20 mm"))
+                               .plane("[0, 0, 0]", "[0, 0, 1]")
+                               .placed("balls", "steel", "4 mm", "[" + vec("10 mm", "10 mm", "10 mm") + "]", "[[0, 0, 10]]");
   run_and_expect_failure(toml, {"left the cavity"});
 }
 
 TEST(RunGuards, NotANumberStops) {
   // 1e308 m/s over a forced 10 s step: the position overflows in the first step.
   run_and_expect_failure(
-      one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[1e308, 0, 0]",
-                    "timestep = \"10 s\"\nforce_timestep = true\n", "\"200 GPa\"", "\"100 s\""),
+      one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[1e308, 0, 0]",
+                    {{"timestep", "10 s"}, {"force_timestep", "true"}}, "200 GPa", "100 s"),
       {"not a number", "reduce simulation.timestep"});
 }
 
@@ -168,7 +152,7 @@ TEST(RunGuards, StableRunCompletes) {
   TempDir tmp;
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << one_ball_case("[\"10 mm\", \"10 mm\", \"10 mm\"]", "[0.5, 0, 0]", "");
+  std::ofstream(dir / "case.toml") << one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[0.5, 0, 0]", {});
   const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out / "summary.json"));

@@ -19,6 +19,7 @@
 #include "bagdem/run/runner.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "step/stepper.hpp"
+#include "case_texts.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
 
@@ -35,46 +36,17 @@ namespace {
 
 // 700 soft balls of two sizes on an FCC lattice in a long box (60 x 20 mm), shaken along x. The
 // lattice fill lists them layer by layer from the bottom.
-const std::string kCase = R"([simulation]
-duration = "3 ms"
-gravity = [0, 0, "-9.81 m/s^2"]
-
-[materials.rubber]
-density = "1200 kg/m^3"
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.45
-
-[interactions.default]
-restitution = 0.6
-friction = 0.4
-
-[cavity]
-kind = "box"
-material = "rubber"
-min = [0, 0, 0]
-max = ["60 mm", "20 mm", "60 mm"]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1 mm"
-frequency = "30 Hz"
-direction = [1, 0, 0]
-
-[particles.small]
-material = "rubber"
-diameter = "3.6 mm"
-count = 350
-fill = "lattice"
-
-[particles.large]
-material = "rubber"
-diameter = "4 mm"
-count = 350
-fill = "lattice"
-
-[output]
-frame_interval = "1 ms"
-)";
+const std::string kCase = bagdem::testing::CaseText()
+                              .simulation("3 ms")
+                              .rubber()
+                              .interactions(0.6, 0.4)
+                              .box("rubber", "[0, 0, 0]", bagdem::testing::vec("60 mm", "20 mm", "60 mm"))
+                              .harmonic("1 mm", "30 Hz", "[1, 0, 0]")
+                              .balls("small", "rubber", "3.6 mm", 350)
+                              .set("particles.small", "fill", bagdem::testing::quoted("lattice"))
+                              .balls("large", "rubber", "4 mm", 350)
+                              .set("particles.large", "fill", bagdem::testing::quoted("lattice"))
+                              .output("frame_interval", "1 ms");
 
 Scene load(const TempDir& tmp) {
   const fs::path dir = tmp.path / "case";

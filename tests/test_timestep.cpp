@@ -27,9 +27,11 @@
 #include "bagdem/contact/restitution.hpp"
 #include "bagdem/error.hpp"
 
+#include "case_texts.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;
+using bagdem::testing::CaseText;
 using bagdem::testing::TempDir;
 
 namespace {
@@ -237,37 +239,14 @@ TEST(Timestep, CriticalStepLimitsWithFrictionAndHeavyDamping) {
 
 TEST(Timestep, AutoExpectedSpeedSumsMotionFallAndInitialSpeed) {
   // Harmonic motion 1.5 mm at 40 Hz, a 30 mm tall box, one ball thrown at (0.3, 0.4, 0) m/s.
-  const std::string toml = R"([simulation]
-duration = 0.01
-gravity = [0, 0, -9.81]
-
-[materials.steel]
-density = 7800
-youngs_modulus = 200e9
-poisson_ratio = 0.3
-
-[interactions.default]
-restitution = 0.7
-friction = 0.2
-
-[cavity]
-kind = "box"
-material = "steel"
-min = [0, 0, 0]
-max = [0.02, 0.02, 0.03]
-
-[cavity.motion]
-kind = "harmonic"
-amplitude = "1.5 mm"
-frequency = "40 Hz"
-direction = [0, 0, 1]
-
-[particles.balls]
-material = "steel"
-diameter = 0.004
-positions = [[0.01, 0.01, 0.01], [0.005, 0.005, 0.02]]
-velocities = [[0.3, 0.4, 0], [0, 0, 0.1]]
-)";
+  const std::string toml = CaseText()
+                               .simulation("0.01", "[0, 0, -9.81]")
+                               .material("steel", 7800, "200e9", 0.3)
+                               .interactions(0.7, 0.2)
+                               .box("steel", "[0, 0, 0]", "[0.02, 0.02, 0.03]")
+                               .harmonic("1.5 mm", "40 Hz", "[0, 0, 1]")
+                               .placed("balls", "steel", "0.004", "[[0.01, 0.01, 0.01], [0.005, 0.005, 0.02]]",
+                                       "[[0.3, 0.4, 0], [0, 0, 0.1]]");
   const bagdem::Scene s = load(toml);
   const double v = 2 * 1.5e-3 * 2 * kPi * 40 + std::sqrt(2 * 9.81 * 0.03) + 0.5;
   expect_rel(s.expected_speed, v, "expected speed");
@@ -278,47 +257,17 @@ velocities = [[0.3, 0.4, 0], [0, 0, 0.1]]
 
 TEST(Timestep, SeveralMaterialsTakeTheSmallestOverPairs) {
   // Steel balls of 4 mm, glass balls of 3 mm, an aluminium box (a material only walls use).
-  const std::string toml = R"([simulation]
-duration = 0.01
-gravity = [0, 0, -9.81]
-
-[materials.steel]
-density = 7800
-youngs_modulus = 200e9
-poisson_ratio = 0.3
-
-[materials.glass]
-density = 2500
-youngs_modulus = 63e9
-poisson_ratio = 0.22
-
-[materials.alu]
-density = 2700
-youngs_modulus = 70e9
-poisson_ratio = 0.33
-
-[interactions.default]
-restitution = 0.6
-friction = 0.25
-
-[cavity]
-kind = "box"
-material = "alu"
-min = [0, 0, 0]
-max = [0.03, 0.03, 0.03]
-
-[particles.big]
-material = "steel"
-diameter = 0.004
-count = 4
-seed = 3
-
-[particles.small]
-material = "glass"
-diameter = 0.003
-count = 4
-seed = 4
-)";
+  const std::string toml = CaseText()
+                               .simulation("0.01", "[0, 0, -9.81]")
+                               .material("steel", 7800, "200e9", 0.3)
+                               .material("glass", 2500, "63e9", 0.22)
+                               .material("alu", 2700, "70e9", 0.33)
+                               .interactions(0.6, 0.25)
+                               .box("alu", "[0, 0, 0]", "[0.03, 0.03, 0.03]")
+                               .balls("big", "steel", "0.004", 4)
+                               .set("particles.big", "seed", 3)
+                               .balls("small", "glass", "0.003", 4)
+                               .set("particles.small", "seed", 4);
   const bagdem::Scene s = load(toml);
   ASSERT_EQ(s.materials.size(), 3u);
   // The material index order is the engine's (it need not be the file's): look each up by name.

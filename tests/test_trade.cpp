@@ -21,6 +21,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/study/trade.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
@@ -33,36 +34,13 @@ namespace {
 
 // One 4-mm steel ball in a 10-mm box shaken at 2 mm, 30 Hz under gravity: it hits the side walls
 // twice a cycle. Three whole cycles are reduced.
-const char* kOneBall = R"([simulation]
-duration = "0.1 s"
-settle = "0.01 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-seed = 3
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity]
-kind = "box"
-material = "steel"
-min = ["0 mm", "0 mm", "0 mm"]
-max = ["10 mm", "10 mm", "10 mm"]
-[cavity.motion]
-kind = "harmonic"
-amplitude = "2 mm"
-frequency = "30 Hz"
-direction = [1, 0, 0]
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-positions = [[0.005, 0.005, 0.002]]
-[output]
-frame_interval = "10 ms"
-cavity_interval = "0.1 ms"
-)";
+const std::string kOneBall = bagdem::testing::steel_scene("0.1 s")
+                                .set("simulation", {{"settle", "0.01 s"}, {"seed", 3}})
+                                .box("steel", bagdem::testing::vec("0 mm", "0 mm", "0 mm"),
+                                     bagdem::testing::vec("10 mm", "10 mm", "10 mm"))
+                                .harmonic("2 mm", "30 Hz", "[1, 0, 0]")
+                                .placed("balls", "steel", "4 mm", "[[0.005, 0.005, 0.002]]")
+                                .set("output", {{"frame_interval", "10 ms"}, {"cavity_interval", "0.1 ms"}});
 
 std::string write_case(const TempDir& t) {
   const fs::path dir = t.path / "case";

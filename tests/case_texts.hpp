@@ -263,4 +263,25 @@ inline CaseText steel_ball_between_planes(const Value& duration, double x_wall, 
       .placed("ball", "steel", diameter, "[[0, 0, 0]]");
 }
 
+// A 10-mm steel ball squeezed 10 um into each of two walls normal to x (so it follows the cavity),
+// no gravity, initial overlaps allowed (1%), energy tallied; for `duration`. Written with 12 digits.
+inline CaseText squeezed_ball(const Value& duration) {
+  const double r = 5e-3, squeeze = 10e-6;
+  return steel_ball_between_planes(duration, r - squeeze, num(2 * r, 12), 12)
+      .set("simulation", "initial_overlap", 0.01)
+      .output("energy", "true");
+}
+
+// An SDOF primary along x (mass, stiffness and damping ratio written with 12 digits) driven by a
+// stepped sine of 0.5 N started steady (no refinement, steady within 1e-5, 8 cycles at least);
+// `frequencies` are the excitation's frequency keys (frequencies, or around_modes, span, points).
+inline CaseText steady_sdof_sweep(double mass, double stiffness, double damping_ratio, const CaseText::Keys& frequencies) {
+  return CaseText()
+      .sdof(num(mass, 12), num(stiffness, 12), num(damping_ratio, 12))
+      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.5 N"}})
+      .set("excitation", frequencies)
+      .set("excitation", {{"start", quoted("steady")}, {"refine", 0}, {"steady_tolerance", "1e-5"}, {"min_cycles", 8}});
+}
+
 }  // namespace bagdem::testing

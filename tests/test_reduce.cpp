@@ -14,8 +14,6 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
-#include <iomanip>
-#include <sstream>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/restitution.hpp"
@@ -26,33 +24,30 @@
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/frequency_sweep.hpp"
+#include "case_texts.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
+using bagdem::testing::CaseText;
+using bagdem::testing::kNoGravity;
+using bagdem::testing::quoted;
+using bagdem::testing::steady_sdof_sweep;
+using bagdem::testing::steel_scene;
 using bagdem::testing::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kRadius = 5e-3, kSqueeze = 10e-6;  // a 10-mm steel ball, 10 um into each x wall
+constexpr double kRadius = 5e-3;  // the squeezed ball (case_texts.hpp): 10 mm, 10 um into each x wall
 
 double ball_mass() { return 7800 * 4.0 / 3.0 * kPi * std::pow(kRadius, 3); }
 
-// One steel ball squeezed between two walls normal to x (free in y and z), no gravity; `more` adds
-// the motion or the primary.
-std::string squeezed_ball(const std::string& more, const std::string& duration) {
-  std::ostringstream s;
-  s << std::setprecision(12) << "[simulation]\nduration = \"" << duration << "\"\ngravity = [0, 0, 0]\ninitial_overlap = 0.01\n\n"
-    << "[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"200 GPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = 0.5\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"planes\"\nmaterial = \"steel\"\nmin = [-0.01, -0.01, -0.01]\nmax = [0.01, 0.01, 0.01]\n\n"
-    << "[[cavity.planes]]\npoint = [" << -(kRadius - kSqueeze) << ", 0, 0]\nnormal = [1, 0, 0]\n\n"
-    << "[[cavity.planes]]\npoint = [" << kRadius - kSqueeze << ", 0, 0]\nnormal = [-1, 0, 0]\n\n"
-    << "[particles.ball]\nmaterial = \"steel\"\ndiameter = " << 2 * kRadius << "\npositions = [[0, 0, 0]]\n\n" << more
-    << "\n[output]\nenergy = true\n";
-  return s.str();
+// One steel ball squeezed between two walls normal to x (free in y and z), no gravity (case_texts.hpp);
+// `more` adds the motion or the primary.
+std::string squeezed_ball(const CaseText& more, const std::string& duration) {
+  return bagdem::testing::squeezed_ball(duration).merge(more);
 }
 
 // Run options writing to d/out, without progress output.
@@ -67,8 +62,7 @@ RunOptions quiet_in(const TempDir& d) {
 
 TEST(Reduce, RigidMassGluedToTheCavityHasItsMassAndNoDamping) {
   TempDir d;
-  d.write("case.toml", squeezed_ball("[cavity.motion]\nkind = \"harmonic\"\namplitude = \"0.1 mm\"\nfrequency = \"20 Hz\"\ndirection = [1, 0, 0]\n",
-                                     "0.25 s"));
+  d.write("case.toml", squeezed_ball(CaseText().harmonic("0.1 mm", "20 Hz", "[1, 0, 0]"), "0.25 s"));
   const Scene s = load_case(d.str());
   const RunOptions o = quiet_in(d);
   const RunReport r = run_scene(s, o);
@@ -106,11 +100,7 @@ TEST(Reduce, RigidMassGluedToTheCavityHasItsMassAndNoDamping) {
 TEST(Reduce, SweepReducesAGluedMassAndTheModelReproducesTheResponse) {
   TempDir d;
   const double M = 0.5, fn = 30, zeta = 0.2, K = M * std::pow(2 * kPi * fn, 2);
-  std::ostringstream p;
-  p << std::setprecision(12) << "[primary]\nkind = \"sdof\"\nmass = " << M << "\nstiffness = " << K << "\ndamping_ratio = " << zeta
-    << "\ndirection = [1, 0, 0]\naxis = [0, 1, 0]\n\n[excitation]\nkind = \"stepped-sine\"\namplitude = \"0.5 N\"\nfrequencies = [25, 30, 35]\n"
-    << "start = \"steady\"\nrefine = 0\nsteady_tolerance = 1e-5\nmin_cycles = 8\n";
-  d.write("case.toml", squeezed_ball(p.str(), "0.1 s"));
+  d.write("case.toml", squeezed_ball(steady_sdof_sweep(M, K, zeta, {{"frequencies", "[25, 30, 35]"}}), "0.1 s"));
   const Scene s = load_case(d.str());
   const RunOptions o = quiet_in(d);
   const SweepReport r = run_sweep(s, o);
@@ -139,14 +129,11 @@ TEST(Reduce, SweepReducesAGluedMassAndTheModelReproducesTheResponse) {
 // A single ball launched at a wall: the drop test returns the pair law's restitution at that speed.
 TEST(Reduce, DropTestOfOneBallGivesTheContactRestitution) {
   TempDir d;
-  std::ostringstream c;
-  c << "[simulation]\nduration = \"0.1 s\"\ngravity = [0, 0, 0]\n\n"
-    << "[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"200 GPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = 0.6\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [-0.01, -0.01, -0.01]\nmax = [0.01, 0.01, 0.01]\n\n"
-    << "[cavity.motion]\nkind = \"harmonic\"\namplitude = \"1 mm\"\nfrequency = \"20 Hz\"\ndirection = [1, 0, 0]\n\n"
-    << "[particles.ball]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = [[-0.002, 0, 0]]\n";
-  d.write("case.toml", c.str());
+  d.write("case.toml", steel_scene("0.1 s", kNoGravity)
+                           .interactions(0.6, 0.3)
+                           .box("steel", "[-0.01, -0.01, -0.01]", "[0.01, 0.01, 0.01]")
+                           .harmonic("1 mm", "20 Hz", "[1, 0, 0]")
+                           .placed("ball", "steel", "4 mm", "[[-0.002, 0, 0]]"));
   const Scene s = load_case(d.str());
   const DropResult r = run_drop_test(s, 0.2, d.path / "out", true);
   std::printf("  drop: %.4f m/s -> %.4f m/s, e_drop %.5f (requested 0.6), contact %.3g us, gap %.3g mm\n", r.v_before, r.v_after,
@@ -199,7 +186,8 @@ TEST(Reduce, ExportRoundTripAndRefusals) {
   const auto none = bagdem::testing::run_bagdem({"export", (d.path / "nothing").string()}, d.path);
   EXPECT_EQ(none.code, 2);
   EXPECT_NE(none.err.find("reduced.csv"), std::string::npos) << none.err;
-  d.write("case.toml", squeezed_ball("[cavity.motion]\nkind = \"harmonic\"\namplitude = \"0.1 mm\"\nfrequency = \"20 Hz\"\n", "0.1 s"));
+  d.write("case.toml", squeezed_ball(CaseText().set("cavity.motion", {{"kind", quoted("harmonic")}, {"amplitude", "0.1 mm"}, {"frequency", "20 Hz"}}),
+                                     "0.1 s"));
   const auto unreduced = bagdem::testing::run_bagdem({"reduce", d.str()}, d.path);
   EXPECT_EQ(unreduced.code, 2);
   EXPECT_NE(unreduced.err.find("results.h5"), std::string::npos) << unreduced.err;

@@ -11,9 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
 #include <numbers>
-#include <sstream>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
@@ -21,10 +19,18 @@
 #include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/frequency_sweep.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
+using bagdem::testing::CaseText;
+using bagdem::testing::kNoGravity;
+using bagdem::testing::num;
+using bagdem::testing::squeezed_ball;
+using bagdem::testing::steady_sdof_sweep;
+using bagdem::testing::steel_scene;
 using bagdem::testing::TempDir;
+using bagdem::testing::vec;
 namespace fs = std::filesystem;
 
 namespace {
@@ -104,15 +110,13 @@ namespace {
 // One 4-mm steel ball (E = 200 GPa) at the centre of a box whose x walls leave it a gap of `gap`
 // in all (half on each side); no gravity; ball-wall restitution e.
 std::string ball_between_plates(double gap, double e, double safety) {
-  std::ostringstream c;
   const double half = 2e-3 + 0.5 * gap;
-  c << std::setprecision(12) << "[simulation]\nduration = \"0.1 s\"\ngravity = [0, 0, 0]\ntimestep_safety = " << safety << "\n\n"
-    << "[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"200 GPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = " << e << "\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [" << -half << ", -0.01, -0.01]\nmax = [" << half << ", 0.01, 0.01]\n\n"
-    << "[cavity.motion]\nkind = \"harmonic\"\namplitude = \"1 mm\"\nfrequency = \"20 Hz\"\ndirection = [1, 0, 0]\n\n"
-    << "[particles.ball]\nmaterial = \"steel\"\ndiameter = \"4 mm\"\npositions = [[0, 0, 0]]\n";
-  return c.str();
+  return steel_scene("0.1 s", kNoGravity)
+      .set("simulation", "timestep_safety", num(safety, 12))
+      .interactions(num(e, 12), 0.3)
+      .box("steel", vec(num(-half, 12), -0.01, -0.01), vec(num(half, 12), 0.01, 0.01))
+      .harmonic("1 mm", "20 Hz", "[1, 0, 0]")
+      .placed("ball", "steel", "4 mm", "[[0, 0, 0]]");
 }
 
 DropResult drop(const std::string& toml, double speed) {
@@ -171,20 +175,9 @@ namespace {
 
 // A steel ball squeezed 10 um between two walls normal to x (it follows the cavity) in the cavity
 // of an SDOF primary (f_n = 30 Hz), swept with `sweep` (the excitation's frequency keys).
-std::string glued_ball_sweep(const std::string& sweep) {
-  const double M = 0.5, fn = 30, K = M * std::pow(2 * std::numbers::pi * fn, 2), r = 5e-3, squeeze = 10e-6;
-  std::ostringstream s;
-  s << std::setprecision(12) << "[simulation]\nduration = \"0.1 s\"\ngravity = [0, 0, 0]\ninitial_overlap = 0.01\n\n"
-    << "[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"200 GPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = 0.5\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"planes\"\nmaterial = \"steel\"\nmin = [-0.01, -0.01, -0.01]\nmax = [0.01, 0.01, 0.01]\n\n"
-    << "[[cavity.planes]]\npoint = [" << -(r - squeeze) << ", 0, 0]\nnormal = [1, 0, 0]\n\n"
-    << "[[cavity.planes]]\npoint = [" << r - squeeze << ", 0, 0]\nnormal = [-1, 0, 0]\n\n"
-    << "[particles.ball]\nmaterial = \"steel\"\ndiameter = " << 2 * r << "\npositions = [[0, 0, 0]]\n\n"
-    << "[primary]\nkind = \"sdof\"\nmass = " << M << "\nstiffness = " << K << "\ndamping_ratio = 0.2\n"
-    << "direction = [1, 0, 0]\naxis = [0, 1, 0]\n\n[excitation]\nkind = \"stepped-sine\"\namplitude = \"0.5 N\"\n"
-    << sweep << "\nstart = \"steady\"\nrefine = 0\nsteady_tolerance = 1e-5\nmin_cycles = 8\n\n[output]\nenergy = true\n";
-  return s.str();
+std::string glued_ball_sweep(const CaseText::Keys& sweep) {
+  const double M = 0.5, fn = 30, K = M * std::pow(2 * std::numbers::pi * fn, 2);
+  return squeezed_ball("0.1 s").merge(steady_sdof_sweep(M, K, 0.2, sweep));
 }
 
 }  // namespace
@@ -193,7 +186,7 @@ TEST(SweepPeak, MarkedAtTheBandEdgeAndReducedWithIntervals) {
   // Two points at 30 (1 -/+ 0.12) Hz: the larger response is at an edge; a third at 30 Hz is the peak.
   for (const auto& [points, edge] : {std::pair<std::string, bool>{"2", true}, {"3", false}}) {
     TempDir d;
-    d.write("case.toml", glued_ball_sweep("around_modes = [1]\nspan = 0.12\npoints = " + points));
+    d.write("case.toml", glued_ball_sweep({{"around_modes", "[1]"}, {"span", 0.12}, {"points", points}}));
     const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--quiet"}, d.path);
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string summary = bagdem::testing::slurp(d.path / "out" / "summary.json");
@@ -218,7 +211,7 @@ TEST(SweepPeak, MarkedAtTheBandEdgeAndReducedWithIntervals) {
 // point ("[k/n] f Hz: ..."), a run one line per tenth.
 TEST(Logs, OneLinePerPointWhenStderrIsNotATerminal) {
   TempDir d;
-  d.write("case.toml", glued_ball_sweep("frequencies = [25, 29, 33]"));
+  d.write("case.toml", glued_ball_sweep({{"frequencies", "[25, 29, 33]"}}));
   const auto r = bagdem::testing::run_bagdem({"run", d.str()}, d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
@@ -242,7 +235,7 @@ TEST(Logs, OneLinePerPointWhenStderrIsNotATerminal) {
 // start-to-start spread.
 TEST(Ensemble, RunWithSeedsGivesIntervalsOverTheStarts) {
   TempDir d;
-  d.write("case.toml", glued_ball_sweep("around_modes = [1]\nspan = 0.12\npoints = 3"));
+  d.write("case.toml", glued_ball_sweep({{"around_modes", "[1]"}, {"span", 0.12}, {"points", 3}}));
   const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--seeds", "2", "--out", (d.path / "ens").string()}, d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   const TextTable peaks = read_text_table(d.path / "ens" / "peaks_ensemble.csv");

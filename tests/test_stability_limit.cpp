@@ -47,10 +47,13 @@
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/step/simulation.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
+using bagdem::testing::CaseText;
 using bagdem::testing::TempDir;
+using bagdem::testing::vec;
 
 namespace {
 
@@ -74,14 +77,15 @@ std::string exact(double v) {
 
 Scene load(double e, double mu) {
   TempDir tmp;
-  std::ofstream(tmp.path / "case.toml")
-      << "[simulation]\nduration = 0.01\ngravity = [0, 0, -" << exact(gravity()) << "]\nexpected_speed = " << kV
-      << "\n\n[materials.ball]\ndensity = " << kRho << "\nyoungs_modulus = " << exact(kE)
-      << "\npoisson_ratio = " << kNu << "\n\n[materials.wall]\ndensity = " << kRhoW
-      << "\nyoungs_modulus = " << exact(kEw) << "\npoisson_ratio = " << kNu
-      << "\n\n[interactions.default]\nrestitution = " << exact(e) << "\nfriction = " << exact(mu)
-      << "\n\n[cavity]\nkind = \"box\"\nmaterial = \"wall\"\nmin = [-0.05, -0.05, 0]\nmax = [0.05, 0.05, 0.1]\n"
-      << "\n[particles.balls]\nmaterial = \"ball\"\ndiameter = " << exact(2 * kR) << "\ncount = 1\nseed = 1\n";
+  std::ofstream(tmp.path / "case.toml") << CaseText()
+                                               .simulation("0.01", vec(0, 0, -gravity()))
+                                               .set("simulation", "expected_speed", kV)
+                                               .material("ball", kRho, exact(kE), kNu)
+                                               .material("wall", kRhoW, exact(kEw), kNu)
+                                               .interactions(exact(e), exact(mu))
+                                               .box("wall", "[-0.05, -0.05, 0]", "[0.05, 0.05, 0.1]")
+                                               .balls("balls", "ball", exact(2 * kR), 1)
+                                               .set("particles.balls", "seed", 1);
   return load_case(tmp.path.string());
 }
 

@@ -32,11 +32,16 @@
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
 #include "h5_read.hpp"
+#include "case_texts.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
 using bagdem::testing::CmdResult;
+using bagdem::testing::CaseText;
+using bagdem::testing::kNoGravity;
+using bagdem::testing::quoted;
 using bagdem::testing::TempDir;
+using bagdem::testing::vec;
 namespace fs = std::filesystem;
 
 namespace {
@@ -46,16 +51,17 @@ constexpr double kMass = 2, kStiffness = 31583;  // f_n = 20.0 Hz
 
 // The SDOF without contents: the steady state starts the first frequency, no peak refinement.
 std::string tiny_case() {
-  std::ostringstream s;
-  s << "[simulation]\nduration = \"1 s\"\ngravity = [0, 0, 0]\nsteps_per_contact = 10\n\n"
-    << "[materials.soft]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"10 MPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = 0.5\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"box\"\nmaterial = \"soft\"\nmin = [\"-20 mm\", \"-20 mm\", \"-20 mm\"]\nmax = [\"20 mm\", \"20 mm\", \"20 mm\"]\n\n"
-    << "[primary]\nkind = \"sdof\"\nmass = " << kMass << "\nstiffness = " << kStiffness << "\ndamping_ratio = 0.05\n\n"
-    << "[excitation]\nkind = \"stepped-sine\"\namplitude = \"20 N\"\nfrequencies = [\"19 Hz\", \"21 Hz\"]\nrefine = 0\n"
-    << "start = \"steady\"\nsteady_tolerance = 0.01\nmax_cycles = 60\n\n"
-    << "[particles.ball]\nmaterial = \"soft\"\ndiameter = \"5 mm\"\npositions = [[0, 0, 0]]\n\n[output]\nenergy = true\n";
-  return s.str();
+  return CaseText()
+      .simulation("1 s", kNoGravity)
+      .set("simulation", "steps_per_contact", 10)
+      .material("soft", "7800 kg/m^3", "10 MPa", 0.3)
+      .interactions(0.5, 0.3)
+      .box("soft", vec("-20 mm", "-20 mm", "-20 mm"), vec("20 mm", "20 mm", "20 mm"))
+      .sdof(kMass, kStiffness, 0.05)
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "20 N"}, {"frequencies", R"(["19 Hz", "21 Hz"])"},
+                          {"refine", 0}, {"start", quoted("steady")}, {"steady_tolerance", 0.01}, {"max_cycles", 60}})
+      .placed("ball", "soft", "5 mm", "[[0, 0, 0]]")
+      .output("energy", "true");
 }
 
 std::string make_case(const TempDir& d) {

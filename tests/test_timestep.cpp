@@ -32,6 +32,7 @@
 
 namespace fs = std::filesystem;
 using bagdem::testing::CaseText;
+using bagdem::testing::quoted;
 using bagdem::testing::TempDir;
 
 namespace {
@@ -128,15 +129,18 @@ void expect_rel(double got, double want, const char* what) {
 
 const Mat kSteel{7800, 200e9, 0.3};
 
-// Steel balls of 4 mm in a 20 mm box (one material), gravity -z; `extra_sim` goes to [simulation].
-std::string steel_case(const std::string& extra_sim = "", double restitution = 0.5, double friction = 0.0,
+// Steel balls of 4 mm in a 20 mm box (one material), gravity -z; `sim` are more [simulation] keys.
+// (Restitution and friction are written as std::to_string writes them: 0.500000.)
+std::string steel_case(const CaseText::Keys& sim = {}, double restitution = 0.5, double friction = 0.0,
                        const std::string& gravity = "[0, 0, -9.81]") {
-  return "[simulation]\nduration = 0.01\ngravity = " + gravity + "\n" + extra_sim +
-         "\n[materials.steel]\ndensity = 7800\nyoungs_modulus = 200e9\npoisson_ratio = 0.3\n"
-         "\n[interactions.default]\nrestitution = " + std::to_string(restitution) +
-         "\nfriction = " + std::to_string(friction) +
-         "\n\n[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [0, 0, 0]\nmax = [0.02, 0.02, 0.02]\n"
-         "\n[particles.balls]\nmaterial = \"steel\"\ndiameter = 0.004\ncount = 5\nseed = 1\n";
+  return CaseText()
+      .simulation("0.01", gravity)
+      .set("simulation", sim)
+      .material("steel", 7800, "200e9", 0.3)
+      .interactions(std::to_string(restitution), std::to_string(friction))
+      .box("steel", "[0, 0, 0]", "[0.02, 0.02, 0.02]")
+      .balls("balls", "steel", "0.004", 5)
+      .set("particles.balls", "seed", 1);
 }
 
 TEST(Timestep, HertzFormulasAsInHeader) {
@@ -165,7 +169,7 @@ TEST(Timestep, ContactTimeLimitsUnderGravity) {
 TEST(Timestep, RayleighLimitsAtRestAndFollowsSafety) {
   // No gravity, no motion, no initial speed: the expected speed is its floor, 0.01 m/s, and the
   // Rayleigh term limits.
-  const bagdem::Scene s = load(steel_case("", 0.5, 0.0, "[0, 0, 0]"));
+  const bagdem::Scene s = load(steel_case({}, 0.5, 0.0, "[0, 0, 0]"));
   expect_rel(s.expected_speed, 0.01, "expected speed floor");
   const Expected x = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, 0.01);
   ASSERT_EQ(x.dt(0.2), 0.2 * x.rayleigh) << "test set-up: Rayleigh should limit here";
@@ -173,13 +177,13 @@ TEST(Timestep, RayleighLimitsAtRestAndFollowsSafety) {
   EXPECT_NE(s.dt_reason.find("Rayleigh limits"), std::string::npos) << s.dt_reason;
 
   // dt is proportional to the safety factor while Rayleigh limits...
-  const bagdem::Scene half = load(steel_case("timestep_safety = 0.1\n", 0.5, 0.0, "[0, 0, 0]"));
+  const bagdem::Scene half = load(steel_case({{"timestep_safety", 0.1}}, 0.5, 0.0, "[0, 0, 0]"));
   expect_rel(half.dt, 0.5 * s.dt, "dt at safety 0.1");
   // ...and steps_per_contact does not move it.
-  const bagdem::Scene spc = load(steel_case("steps_per_contact = 60\n", 0.5, 0.0, "[0, 0, 0]"));
+  const bagdem::Scene spc = load(steel_case({{"steps_per_contact", 60}}, 0.5, 0.0, "[0, 0, 0]"));
   expect_rel(spc.dt, s.dt, "dt at 60 steps per contact");
   // With safety 1 the contact time (now smaller) takes over.
-  const bagdem::Scene one = load(steel_case("timestep_safety = 1\n", 0.5, 0.0, "[0, 0, 0]"));
+  const bagdem::Scene one = load(steel_case({{"timestep_safety", 1}}, 0.5, 0.0, "[0, 0, 0]"));
   expect_rel(one.dt, x.dt(1.0), "dt at safety 1");
   EXPECT_EQ(x.dt(1.0), x.contact);
   EXPECT_LT(one.dt, 1.0 * x.rayleigh);
@@ -188,16 +192,16 @@ TEST(Timestep, RayleighLimitsAtRestAndFollowsSafety) {
 TEST(Timestep, StepsPerContactAndExpectedSpeed) {
   const bagdem::Scene s = load(steel_case());
   // Contact-limited: dt ~ 1 / steps_per_contact.
-  const bagdem::Scene s80 = load(steel_case("steps_per_contact = 80\n"));
+  const bagdem::Scene s80 = load(steel_case({{"steps_per_contact", 80}}));
   expect_rel(s80.dt, 0.5 * s.dt, "dt at 80 steps per contact");
   // ...and the safety factor does not move it.
-  const bagdem::Scene safe = load(steel_case("timestep_safety = 0.3\n"));
+  const bagdem::Scene safe = load(steel_case({{"timestep_safety", 0.3}}));
   expect_rel(safe.dt, s.dt, "dt at safety 0.3");
 
   // An explicit expected speed replaces the auto one; dt ~ v^(-1/5) while the contact time limits:
   // 32 times the speed halves the step.
-  const bagdem::Scene v05 = load(steel_case("expected_speed = \"0.5 m/s\"\n"));
-  const bagdem::Scene v16 = load(steel_case("expected_speed = 16\n"));
+  const bagdem::Scene v05 = load(steel_case({{"expected_speed", "0.5 m/s"}}));
+  const bagdem::Scene v16 = load(steel_case({{"expected_speed", 16}}));
   expect_rel(v05.expected_speed, 0.5, "explicit expected speed");
   expect_rel(v16.expected_speed, 16, "explicit expected speed");
   const Expected x05 = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, 0.5);
@@ -208,7 +212,7 @@ TEST(Timestep, StepsPerContactAndExpectedSpeed) {
   expect_rel(v16.dt, x16.dt(0.2), "dt at 16 m/s");
   expect_rel(v16.dt, 0.5 * v05.dt, "dt(16 m/s) / dt(0.5 m/s)");
   // "auto" is the same as leaving the key out.
-  const bagdem::Scene a = load(steel_case("expected_speed = \"auto\"\n"));
+  const bagdem::Scene a = load(steel_case({{"expected_speed", quoted("auto")}}));
   EXPECT_EQ(a.dt, s.dt);
 }
 
@@ -216,7 +220,7 @@ TEST(Timestep, CriticalStepLimitsWithFrictionAndHeavyDamping) {
   // Friction (tangential spring, 2/7 m*, damping ratio sqrt(3.5) times the normal one), restitution
   // 0.05 (heavy damping), 10 steps per contact, safety 1: half the critical step is the smallest
   // term (the end-of-step dashpot doubles the effective damping ratio in the stability limit).
-  const std::string extra = "timestep_safety = 1\nsteps_per_contact = 10\n";
+  const CaseText::Keys extra = {{"timestep_safety", 1}, {"steps_per_contact", 10}};
   const bagdem::Scene s = load(steel_case(extra, 0.05, 0.3));
   ASSERT_TRUE(s.models.tangential);
   const double v = std::sqrt(2 * 9.81 * 0.02);
@@ -232,7 +236,7 @@ TEST(Timestep, CriticalStepLimitsWithFrictionAndHeavyDamping) {
   EXPECT_GT(nf.dt_critical, 1.5 * s.dt_critical);
   // The critical step depends neither on steps_per_contact nor on the safety factor, and while it
   // limits neither moves dt.
-  const bagdem::Scene s12 = load(steel_case("timestep_safety = 0.9\nsteps_per_contact = 12\n", 0.05, 0.3));
+  const bagdem::Scene s12 = load(steel_case({{"timestep_safety", 0.9}, {"steps_per_contact", 12}}, 0.05, 0.3));
   expect_rel(s12.dt_critical, s.dt_critical, "critical step at 12 steps per contact, safety 0.9");
   expect_rel(s12.dt, s.dt, "dt at 12 steps per contact, safety 0.9");
 }
@@ -305,28 +309,28 @@ TEST(Timestep, ExplicitStepKeptAndCheckedAgainstCritical) {
   const double v = std::sqrt(2 * 9.81 * 0.02);
   const Expected x = expected({kSteel}, {2e-3}, 0, 0.5, false, 40, v);
   // Below the critical step: kept as given.
-  const bagdem::Scene s = load(steel_case("timestep = \"1e-6 s\"\n"));
+  const bagdem::Scene s = load(steel_case({{"timestep", "1e-6 s"}}));
   EXPECT_EQ(s.dt, 1e-6);
   expect_rel(s.dt_critical, x.critical, "critical step");
   EXPECT_NE(s.dt_reason.find("explicit"), std::string::npos) << s.dt_reason;
   // Just above it: refused, unless forced.
-  const std::string above = "timestep = " + exact(1.01 * x.critical) + "\n";
+  const CaseText::Keys above = {{"timestep", exact(1.01 * x.critical)}};
   EXPECT_THROW(load(steel_case(above)), bagdem::InputError);
-  const std::string below = "timestep = " + exact(0.99 * x.critical) + "\n";
+  const CaseText::Keys below = {{"timestep", exact(0.99 * x.critical)}};
   EXPECT_NO_THROW(load(steel_case(below)));
-  const bagdem::Scene forced = load(steel_case(above + "force_timestep = true\n"));
+  const bagdem::Scene forced = load(steel_case({above[0], {"force_timestep", "true"}}));
   EXPECT_GT(forced.dt, forced.dt_critical);
 }
 
 TEST(Timestep, OutOfRangeParametersAreRefused) {
-  for (const std::string bad : {"timestep_safety = 0\n", "timestep_safety = 1.5\n", "steps_per_contact = 5\n",
-                                "expected_speed = -1\n", "expected_speed = 0\n", "timestep = -1e-6\n",
-                                "timestep_safety = \"fast\"\n"}) {
-    EXPECT_THROW(load(steel_case(bad)), bagdem::InputError) << bad;
+  for (const auto& [key, bad] : std::vector<std::pair<std::string, std::string>>{
+           {"timestep_safety", "0"}, {"timestep_safety", "1.5"}, {"steps_per_contact", "5"}, {"expected_speed", "-1"},
+           {"expected_speed", "0"}, {"timestep", "-1e-6"}, {"timestep_safety", "\"fast\""}}) {
+    EXPECT_THROW(load(steel_case({{key, bad}})), bagdem::InputError) << key << " = " << bad;
   }
   // The boundaries that are allowed.
-  EXPECT_NO_THROW(load(steel_case("timestep_safety = 1\n")));
-  EXPECT_NO_THROW(load(steel_case("steps_per_contact = 10\n")));
+  EXPECT_NO_THROW(load(steel_case({{"timestep_safety", 1}})));
+  EXPECT_NO_THROW(load(steel_case({{"steps_per_contact", 10}})));
 }
 
 }  // namespace

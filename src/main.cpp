@@ -164,19 +164,26 @@ CLI::App* add_bench(CLI::App& app, Args& a) {
   return bench;
 }
 
+// A run that did not finish: its message and exit code (128 + the signal that stopped it, or the
+// run error's); 0 for a finished run.
+int unfinished(bool complete, int signal, const std::string& message) {
+  if (signal) {
+    std::cerr << "interrupted: " << message << "\n";
+    return 128 + signal;
+  }
+  if (!complete) {
+    std::cerr << "error: " << message << "\n";
+    return kExitRunError;
+  }
+  return 0;
+}
+
 // `bagdem run` of a case with a stepped-sine excitation: the frequency sweep.
 int sweep_case(const Args& a, const Scene& s, const RunOptions& o) {
   if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
                         << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
   const SweepReport r = run_sweep(s, o);
-  if (r.signal) {
-    std::cerr << "interrupted: " << r.message << "\n";
-    return 128 + r.signal;
-  }
-  if (!r.complete) {
-    std::cerr << "error: " << r.message << "\n";
-    return kExitRunError;
-  }
+  if (const int code = unfinished(r.complete, r.signal, r.message)) return code;
   std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
   for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
   std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
@@ -189,14 +196,7 @@ int run_case(const Args& a, const Scene& s, const RunOptions& o) {
   if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
                         << " s, " << s.total_steps() << " steps -> " << o.out_dir << "\n";
   const RunReport r = run_scene(s, o);
-  if (r.signal) {
-    std::cerr << "interrupted: " << r.message << "\n";
-    return 128 + r.signal;
-  }
-  if (!r.complete) {
-    std::cerr << "error: " << r.message << "\n";
-    return kExitRunError;
-  }
+  if (const int code = unfinished(r.complete, r.signal, r.message)) return code;
   if (!r.reduced.empty()) std::printf("the contents' effective parameters (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
   if (!r.reduce_message.empty())
     std::fprintf(stderr, "%s%s\n", r.reduced.empty() ? "reduction skipped: " : "note: ", r.reduce_message.c_str());

@@ -135,36 +135,26 @@ void Stepper::film_walls() {
     std::uint32_t touched = 0;
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = scene_.walls[w];
-      ContactGeometry g;
-      const double d = wall_distance(wall, x_local, g.n);
+      Vec3 n;
+      const double d = wall_distance(wall, x_local, n);
       deepest = std::min(deepest, d);
-      g.overlap = reach - d;
+      const double overlap = reach - d;
       const std::size_t h = k * nw + w;
-      if (g.overlap <= 0) {
+      if (overlap <= 0) {
         if (touched_before & (1u << w)) {
           const Vec3 dd = film_wall_hist_.open<Tangential, false, Energy>(h, dt, [&] {
-            return OpeningMotion{g.n, film_.v[k] - c_half, Vec3::Zero()};
+            return OpeningMotion{n, film_.v[k] - c_half, Vec3::Zero()};
           });
           if constexpr (Energy) dn += dd.x(), dtg += dd.y();
         }
         continue;
       }
       touched |= 1u << w;
-      g.R_eff = bag.contact_radius;
-      g.m_eff = film_.mass[k];
-      g.arm_i = g.arm_j = 0;
-      g.v_rel = film_.v_pred[k] - c_vel;
-      g.v_half = film_.v[k] - c_half;
-      g.w_half.setZero();
-      Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
-      [[maybe_unused]] double no_tally = 0;
-      const Vec3 Fc = surface_contact<Tangential, false, Energy>(
-          g, scene_.laws(bag.material, wall.material), dt, Energy ? film_wall_hist_.damping_prev[h] : no_tally,
-          Tangential ? &film_wall_hist_.tangential[h] : nullptr, nullptr, no_torque, diss);
-      if constexpr (Energy) dn += diss.x(), dtg += diss.y();
+      const Vec3 Fc = node_contact<Tangential, Energy>(k, n, overlap, scene_.laws(bag.material, wall.material), c_vel,
+                                                       c_half, film_wall_hist_, h, dn, dtg);
       F_wall += Fc;
-      L -= dt * (x_local - d * g.n - scene_.cavity_reference).cross(Fc);
-      if (couple_) load += load_moments(x_local - d * g.n, -Fc);
+      L -= dt * (x_local - d * n - scene_.cavity_reference).cross(Fc);
+      if (couple_) load += load_moments(x_local - d * n, -Fc);
     }
     film_wall_touch_[k] = touched;
     if (!node_reach_.empty()) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, load, dn, dtg, deepest);

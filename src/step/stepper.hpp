@@ -11,6 +11,7 @@
 #include "bagdem/bag/membrane.hpp"
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
+#include "bagdem/contact/surface_law.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/parallel.hpp"
@@ -282,6 +283,30 @@ class Stepper {
   template <bool Tangential, bool Energy>
   void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
+  // Film node k against a wall or an STL wall at normal n (towards the node) and overlap: the
+  // film-wall law (film.cpp: R* = the film's contact radius, m* = the node's mass, no turning)
+  // against a surface moving at c_vel at the end of the step and c_half over it, with the histories
+  // in slot `at` of hist. Its force on the node; its (normal, tangential) dissipation into dn, dtg.
+  template <bool Tangential, bool Energy>
+  BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel,
+                                  const Vec3& c_half, ContactHistories& hist, std::size_t at, double& dn, double& dtg) {
+    ContactGeometry g;
+    g.n = n;
+    g.overlap = overlap;
+    g.R_eff = scene_.bag->contact_radius;
+    g.m_eff = film_.mass[k];
+    g.arm_i = g.arm_j = 0;
+    g.v_rel = film_.v_pred[k] - c_vel;
+    g.v_half = film_.v[k] - c_half;
+    g.w_half.setZero();
+    Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
+    [[maybe_unused]] double no_tally = 0;
+    const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, law, ctx_.dt, Energy ? hist.damping_prev[at] : no_tally,
+                                                               Tangential ? &hist.tangential[at] : nullptr, nullptr,
+                                                               no_torque, diss);
+    if constexpr (Energy) dn += diss.x(), dtg += diss.y();
+    return Fc;
+  }
   // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
   // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
   // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).

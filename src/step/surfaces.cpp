@@ -416,21 +416,8 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     const std::size_t at = k * K + f;
     MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
-    ContactGeometry g;
-    g.n = fd.n;
-    g.overlap = fd.overlap;
-    g.R_eff = bag.contact_radius;
-    g.m_eff = film_.mass[k];
-    g.arm_i = g.arm_j = 0;
-    g.v_rel = film_.v_pred[k] - c_vel;
-    g.v_half = film_.v[k] - c_half;
-    g.w_half.setZero();
-    Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
-    [[maybe_unused]] double no_tally = 0;
-    const Vec3 Fc = surface_contact<Tangential, false, Energy>(
-        g, scene_.laws(bag.material, surfaces_[fd.surface].material), dt, Energy ? node_slot_hist_.damping_prev[at] : no_tally,
-        Tangential ? &node_slot_hist_.tangential[at] : nullptr, nullptr, no_torque, diss);
-    if constexpr (Energy) dn += diss.x(), dtg += diss.y();
+    const Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, fd.overlap, scene_.laws(bag.material, surfaces_[fd.surface].material),
+                                                     c_vel, c_half, node_slot_hist_, at, dn, dtg);
     F_wall += Fc;
     L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
     if (couple_) load += load_moments(fd.hit.hit.point, -Fc);

@@ -110,7 +110,7 @@ void expect_undamped_budget(bool tension_field, double tolerance, const std::str
   EXPECT_LT(r.final_error, tolerance);
 }
 
-// Measured (auto step 8.2e-7 s): see the closing note of issue 3. The residual depends on the
+// Measured (auto step 8.2e-7 s; docs/bag.md). The residual depends on the
 // trajectory (which film-wall impacts happen): runs perturbed in the last bit of one operation gave
 // max residuals of 5.9e-4, 1.1e-3 and 1.8e-3 of the scale. Tolerance 3e-3.
 TEST(BagEnergy, BudgetClosesUndamped) { expect_undamped_budget(false, 3e-3); }

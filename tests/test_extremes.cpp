@@ -1,4 +1,4 @@
-// The extremes of the parameter space (issue 6, section 4): each point of the matrix either runs
+// The extremes of the parameter space (docs/verification.md): each point of the matrix either runs
 // stably or is refused before running with a message that names the limit and what to change.
 //
 // "Runs stably" is checked through the command line (`bagdem run`, its summary.json):

@@ -315,9 +315,11 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   };
   const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found);
 
-  // 2. Histories (match_slots).
+  // 2. Histories (match_slots). A ball that touches no surface now and touched none at the last
+  // step has nothing more to do (most of a bag's balls, at any step).
   MeshSlot* slot = &slots_[p * K];
   const std::size_t n_prev = slot_count_[p];
+  if (nf == 0 && n_prev == 0) return;
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
@@ -398,6 +400,7 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   const std::size_t nf = find_features<K>(surfaces_, node_cand_, k, view, deepest_of, [] {}, found);
   MeshSlot* slot = &node_slots_[k * K];
   const std::size_t n_prev = node_slot_count_[k];
+  if (nf == 0 && n_prev == 0) return;  // no STL wall touched, now or at the last step
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];

@@ -10,6 +10,7 @@
 // the film is the ball-film law.) Its force on the cavity enters the cavity's load and work.
 // Strings: bag/bag.hpp (BagString); tension T = k (L - L0) + c dL/dt while L > L0, never negative.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "bagdem/contact/hertz.hpp"
@@ -116,7 +117,27 @@ void Stepper::film_stage() {
   film_tally_.diss_damping += diss;
 }
 
-// Film nodes against the cavity's walls (planes, cylinders).
+// The walls within skin of each film node's reach at the build (film: the nodes then, cavity: its
+// position then, with the shear then), as find_near_walls for the balls.
+void Stepper::find_film_walls_near(const std::vector<Vec3>& film, const Vec3& cavity) {
+  const std::size_t nn = film.size(), nw = scene_.walls.size();
+  const double reach = 0.5 * scene_.bag->film.thickness;
+  film_wall_near_.resize(nn);
+  for (std::size_t k = 0; k < nn; ++k) {
+    const double s = tilt_ ? (film[k] - cavity - scene_.cavity_reference).dot(load_axis_) : 0.0;
+    const Vec3 x_local = film[k] - cavity - s * cavity_shear_at_build_;
+    std::uint32_t near = 0;
+    for (std::size_t w = 0; w < nw; ++w) {
+      Vec3 normal;
+      if (wall_distance(scene_.walls[w], x_local, normal) - reach < scene_.skin) near |= 1u << w;
+    }
+    film_wall_near_[k] = near;
+  }
+}
+
+// Film nodes against the cavity's walls (planes, cylinders): those near (film_wall_near_) and
+// those touched at the last step; no other can be touched. deepest: over the walls looked at (the
+// others are farther than the skin, far from the guard's limit).
 template <bool Tangential, bool Energy>
 void Stepper::film_walls() {
   const Bag& bag = *scene_.bag;
@@ -133,7 +154,8 @@ void Stepper::film_walls() {
     Vec3 F_wall(0, 0, 0);
     const std::uint32_t touched_before = film_wall_touch_[k];
     std::uint32_t touched = 0;
-    for (std::size_t w = 0; w < nw; ++w) {
+    for (std::uint32_t bits = film_wall_near_[k] | touched_before; bits != 0; bits &= bits - 1) {
+      const auto w = static_cast<std::size_t>(std::countr_zero(bits));
       const Wall& wall = scene_.walls[w];
       Vec3 n;
       const double d = wall_distance(wall, x_local, n);

@@ -258,6 +258,7 @@ class Stepper {
   void set_up_film();
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
+  void find_film_walls_near(const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
   void state_fields(IO& io);  // checkpoint.cpp
   bool meshes_need_rebuild() const;
@@ -401,6 +402,10 @@ class Stepper {
   std::unique_ptr<Membrane> membrane_;
   ContactHistories film_wall_hist_;               // per node per wall (no rolling: a node does not turn)
   std::vector<std::uint32_t> film_wall_touch_;    // per node: walls touched at the last step
+  // Per node: bit w set = wall w was within skin of the node's reach at the last build. Until the
+  // next build neither moves more than skin/2 (meshes_need_rebuild, move_cavity), so the film-wall
+  // stage skips the others (find_film_walls_near).
+  std::vector<std::uint32_t> film_wall_near_;
   struct StringState {
     double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
     Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)

@@ -260,6 +260,7 @@ void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::v
   }
   cavity_at_build_ = cavity;
   if (&film != &film_at_build_) film_at_build_ = film;
+  if (scene_.bag) find_film_walls_near(film, cavity);
 }
 
 // The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the

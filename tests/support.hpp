@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/run/runner.hpp"
+
 namespace bagdem::testing {
 
 // A fresh directory under the system temp dir, removed with everything in it.
@@ -70,5 +72,18 @@ inline CmdResult run_bagdem(const std::vector<std::string>& args, const std::fil
   return r;
 }
 #endif
+
+// A run's options in the tests: outputs in `out`, no progress line, `threads` threads (0: all
+// cores), stopped as if killed after `stop_after` steps (-1: never), resumed from its checkpoint.
+inline RunOptions quiet_run(const std::filesystem::path& out, int threads = 1, long long stop_after = -1,
+                            bool resume = false) {
+  RunOptions o;
+  o.out_dir = out.string();
+  o.threads = threads;
+  o.quiet = true;
+  o.stop_after_steps = stop_after;
+  o.resume = resume;
+  return o;
+}
 
 }  // namespace bagdem::testing

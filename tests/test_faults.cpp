@@ -66,12 +66,7 @@ std::string status_of(const fs::path& h5) {
 // A run stopped as if killed after `steps` steps (RunOptions::stop_after_steps): it leaves
 // results.h5.part and checkpoint.bin.
 void stop_after(const CaseDir& c, long long steps) {
-  bagdem::RunOptions o;
-  o.out_dir = c.out.string();
-  o.threads = 1;
-  o.quiet = true;
-  o.stop_after_steps = steps;
-  const bagdem::RunReport r = bagdem::run_scene(bagdem::load_case(c.dir.string()), o);
+  const bagdem::RunReport r = bagdem::run_scene(bagdem::load_case(c.dir.string()), bagdem::testing::quiet_run(c.out, 1, steps));
   ASSERT_FALSE(r.complete);
   ASSERT_TRUE(fs::exists(c.out / "checkpoint.bin"));
 }

@@ -50,13 +50,8 @@ std::string squeezed_ball(const CaseText& more, const std::string& duration) {
   return bagdem::testing::squeezed_ball(duration).merge(more);
 }
 
-// Run options writing to d/out, without progress output.
-RunOptions quiet_in(const TempDir& d) {
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
-  return o;
-}
+// Run options writing to d/out, without progress output, on every core.
+RunOptions quiet_in(const TempDir& d) { return bagdem::testing::quiet_run(d.path / "out", 0); }
 
 }  // namespace
 

@@ -71,13 +71,7 @@ struct RestartRun {
     scene = bagdem::load_case(case_dir.string());
   }
   bagdem::RunReport run(const fs::path& out, long long stop_after = -1, bool resume = false) const {
-    bagdem::RunOptions o;
-    o.out_dir = out.string();
-    o.threads = 1;
-    o.quiet = true;
-    o.resume = resume;
-    o.stop_after_steps = stop_after;
-    return bagdem::run_scene(scene, o);
+    return bagdem::run_scene(scene, bagdem::testing::quiet_run(out, 1, stop_after, resume));
   }
 };
 

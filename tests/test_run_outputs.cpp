@@ -131,13 +131,7 @@ TEST(RunOutputs, ResumedBagRunKeepsItsSummary) {
   ASSERT_TRUE(c.scene.bag);
   const std::uint64_t total = c.scene.total_steps(), settle = static_cast<std::uint64_t>(c.scene.settle / c.scene.dt);
   auto run = [&](const fs::path& out, long long stop, bool resume) {
-    bagdem::RunOptions o;
-    o.out_dir = out.string();
-    o.threads = 1;
-    o.quiet = true;
-    o.stop_after_steps = stop;
-    o.resume = resume;
-    return bagdem::run_scene(c.scene, o);
+    return bagdem::run_scene(c.scene, bagdem::testing::quiet_run(out, 1, stop, resume));
   };
   const fs::path a = c.dir.path / "A", b = c.dir.path / "B";
   ASSERT_TRUE(run(a, -1, false).complete);

@@ -152,11 +152,7 @@ TEST(SpatialOrder, ResultsAreInTheScenesOrderWhateverItIs) {
     ASSERT_NE(sim.input_index(), identity) << "the test needs a scene the stepper reorders";
   }
   auto run = [&](const Scene& s, const char* name) {
-    RunOptions o;
-    o.out_dir = (tmp.path / name).string();
-    o.threads = 2;
-    o.quiet = true;
-    const RunReport r = run_scene(s, o);
+    const RunReport r = run_scene(s, bagdem::testing::quiet_run(tmp.path / name, 2));
     EXPECT_TRUE(r.complete) << r.message;
     return open_read((tmp.path / name / "results.h5").string());
   };

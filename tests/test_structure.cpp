@@ -55,13 +55,8 @@ Scene load(const TempDir& d, const std::string& text, const std::vector<std::str
   return load_case(d.str(), sets);
 }
 
-// Run options writing to d/out, without progress output.
-RunOptions quiet_in(const TempDir& d) {
-  RunOptions o;
-  o.out_dir = (d.path / "out").string();
-  o.quiet = true;
-  return o;
-}
+// Run options writing to d/out, without progress output, on every core.
+RunOptions quiet_in(const TempDir& d) { return bagdem::testing::quiet_run(d.path / "out", 0); }
 
 std::string input_error(const TempDir& d, const std::string& text) {
   try {

@@ -30,13 +30,7 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep();
   const bagdem::Scene scene = bagdem::load_case(dir.string());
   auto sweep = [&](const fs::path& out, long long stop, bool resume) {
-    bagdem::RunOptions o;
-    o.out_dir = out.string();
-    o.threads = 1;
-    o.quiet = true;
-    o.stop_after_steps = stop;
-    o.resume = resume;
-    return bagdem::run_sweep(scene, o);
+    return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, 1, stop, resume));
   };
   const fs::path a = tmp.path / "A", b = tmp.path / "B";
   const bagdem::SweepReport ra = sweep(a, -1, false);

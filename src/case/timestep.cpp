@@ -106,6 +106,10 @@ void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, d
 // (a ball's contact ends), so `auto` keeps timestep_safety x their smallest, as for the Rayleigh
 // time: at half of it (omega dt = 1) the energy budget of an undamped bag drifted by 1e-2, at
 // 0.2 x by 4e-5 (tests/test_bag_physics.cpp, BagEnergy).
+// A film node is a point: it does not turn, so its tangential mass is its mass, not the rolling
+// sphere's 2/7 of it. Against a ball, 1/m_t = 1/m_node + 3.5/m_ball (the ball rolls); against a
+// wall m_t = m_node. With gamma_t = damping sqrt(S_t m*) (mindlin.hpp) the tangential damping ratio
+// is 0.5 damping sqrt(m*/m_t) (tests/test_film_step.cpp measures both limits).
 void film_limits(const Scene& s, const std::vector<double>& rmin, double v, StepLimits& L) {
   const int nm = static_cast<int>(s.materials.size());
   double &dt_film = L.film, &dt_crit = L.critical;
@@ -114,24 +118,26 @@ void film_limits(const Scene& s, const std::vector<double>& rmin, double v, Step
   const double mn = bag.min_node_mass;
   // Stability only: a film node's own bounce need not be resolved (its mass is a small fraction
   // of a ball's); the ball's contact with the film is resolved by the balls' limits above.
-  auto consider_film = [&](int a, double R_eff, double m_eff) {
+  // m_eff: the normal effective mass; m_t: the tangential one.
+  auto consider_film = [&](int a, double R_eff, double m_eff, double m_t) {
     const PairLaw& law = s.laws(a, fm);
     const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
     const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
     dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
     if (s.models.tangential) {
       const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
-      dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * 0.5 * law.damping));
+      dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_t / m_t), std::sqrt(m_eff / m_t) * 0.5 * law.damping));
     }
   };
   for (int a = 0; a < nm; ++a) {
     const double r = rmin[static_cast<std::size_t>(a)];
     if (r == 0) continue;
     const double m = sphere_mass(s.materials[static_cast<std::size_t>(a)].density, r);
-    consider_film(a, r, m * mn / (m + mn));
+    const double ball_t = s.models.rotation ? 2.0 / 7.0 * m : m;  // the ball's own tangential mass
+    consider_film(a, r, m * mn / (m + mn), mn * ball_t / (mn + ball_t));
   }
-  for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn);
-  for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn);
+  for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn, mn);
+  for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn, mn);
   // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
   dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
   for (const BagString& st : bag.strings) {

@@ -133,12 +133,18 @@ void Stepper::kick_drift() {
   ctx_.drifted = false;
   ctx_.kick_pending = false;
   const std::size_t nn = film_.size();
-  parallel_for(nn, [&](std::size_t k) {
+  const double node_step2 = parallel_fold(nn, 0.0, [&](std::size_t k) {
     const Vec3 dv = h * film_.inv_mass[k] * film_.f[k];
     film_.v[k] += dv;
-    film_.x[k] += dt * film_.v[k];
+    const Vec3 step = dt * film_.v[k];
+    film_.x[k] += step;
     film_.v_pred[k] = film_.v[k] + dv;
-  });
+    return step.squaredNorm();
+  }, [](double a, double b) { return std::max(a, b); });
+  if (!mesh_wake_.empty()) {
+    // Rounded up as travel_ is (end_drift): never short of the true distances.
+    mesh_travel_ = std::nextafter(mesh_travel_ + (largest_step_ + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
+  }
   if (couple_) structure_drift();
 }
 

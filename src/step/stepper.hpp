@@ -385,6 +385,8 @@ class Stepper {
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
   std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
+  std::vector<double> mesh_wake_;  // per ball: asleep while mesh_travel_ is below (surfaces.cpp) (unit: m)
+  double mesh_travel_ = 0;         // bound of the balls' and film nodes' travel (surfaces.cpp) (unit: m)
   std::vector<std::int8_t> side_;             // per ball: -1 inside the film (or an STL wall), +1 outside
   Vec3 cavity_at_build_ = Vec3::Zero();
   std::vector<Vec3> film_at_build_;
@@ -402,10 +404,7 @@ class Stepper {
   std::unique_ptr<Membrane> membrane_;
   ContactHistories film_wall_hist_;               // per node per wall (no rolling: a node does not turn)
   std::vector<std::uint32_t> film_wall_touch_;    // per node: walls touched at the last step
-  // Per node: bit w set = wall w was within skin of the node's reach at the last build. Until the
-  // next build neither moves more than skin/2 (meshes_need_rebuild, move_cavity), so the film-wall
-  // stage skips the others (find_film_walls_near).
-  std::vector<std::uint32_t> film_wall_near_;
+  std::vector<std::uint32_t> film_wall_near_;    // per node: the walls it may touch (find_film_walls_near)
   struct StringState {
     double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
     Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)

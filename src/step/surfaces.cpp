@@ -113,12 +113,16 @@ struct PointView {
 // within reach, one per feature (select_mesh_contacts), oriented, one per patch (keep_patches);
 // at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
 // overlap, reach, own_side) sees each contact found; full() is told when one did not fit.
+// gap (when not null): the least distance of a candidate beyond the point's reach (HUGE_VAL
+// without candidates), rounded down.
 template <std::size_t kMax, class Surfaces, class View, class Touched, class Full>
 std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandidates>& cand, std::size_t i,
-                          const View& view, const Touched& touched, const Full& full, Found* found) {
+                          const View& view, const Touched& touched, const Full& full, Found* found,
+                          double* gap = nullptr) {
   thread_local std::vector<MeshHit> hits;
   thread_local std::vector<Found> patch;
   std::size_t nf = 0;
+  if (gap) *gap = HUGE_VAL;
   for (std::uint32_t s = 0; s < surfaces.size(); ++s) {
     const MeshCandidates& c = cand[s];
     if (c.begin.empty() || c.begin[i] == c.begin[i + 1]) continue;  // empty: no candidate list for this surface
@@ -126,12 +130,16 @@ std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandid
     const auto& mesh = *surfaces[s].mesh;
     const std::vector<Vec3>& vx = *pv.vertices;
     hits.clear();
+    double nearest2 = HUGE_VAL;
     for (std::uint32_t e = c.begin[i]; e < c.begin[i + 1]; ++e) {
       const std::uint32_t t = c.triangle[e];
       const auto& tri = mesh.triangles[t];
       const TriangleHit h = closest_point_on_triangle(pv.x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
+      nearest2 = std::min(nearest2, h.distance2);
       if (h.distance2 < pv.reach * pv.reach) hits.push_back({t, 0, h});
     }
+    // 1e-9 of the reach: far above the rounding of the distances (1e-16 of them), far below a step.
+    if (gap) *gap = std::min(*gap, std::sqrt(nearest2) - pv.reach * (1.0 + 1e-9));
     if (hits.empty()) continue;
     select_mesh_contacts(mesh, hits);
     patch.clear();
@@ -258,6 +266,8 @@ void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::v
         find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, node_reach_, cavity, 0.0, scene_.skin, node_cand_[s]);
     }
   }
+  // Balls sleep when the film is the only surface (mesh_wake_); after a build each is looked at.
+  if (surfaces_.size() == 1 && surfaces_[0].film) mesh_wake_.assign(p_.size(), 0.0);
   cavity_at_build_ = cavity;
   if (&film != &film_at_build_) film_at_build_ = film;
   if (scene_.bag) find_film_walls_near(film, cavity);
@@ -289,6 +299,12 @@ template <bool Tangential, bool Rolling, bool Energy>
 void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
                                Vec3& load, double& excess) {
   constexpr std::size_t K = kMaxMeshContacts;
+  // Asleep: with the film the only surface, mesh_travel_ bounds from above how far the balls and
+  // the film's nodes moved in all (the largest ball step plus the largest node step, summed over
+  // the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates all `gap`
+  // beyond its reach when looked at, cannot touch one before mesh_travel_ has grown by gap: it is
+  // not looked at before mesh_travel_ reaches mesh_wake_[p] (0 after a build: every ball is).
+  if (!mesh_wake_.empty() && mesh_travel_ < mesh_wake_[p] && slot_count_[p] == 0) return;
   const double dt = ctx_.dt;
   const double r = p_.radius[p];
   const WallMotion wm = motion_at(p_.x[p]);
@@ -314,13 +330,18 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
 #pragma omp critical(bagdem_crossed)
     mesh_overflow_ = p;
   };
-  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found);
+  double gap = 0;
+  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found,
+                                          mesh_wake_.empty() ? nullptr : &gap);
 
   // 2. Histories (match_slots). A ball that touches no surface now and touched none at the last
-  // step has nothing more to do (most of a bag's balls, at any step).
+  // step has nothing more to do (most of a bag's balls, at any step); it sleeps while it cannot.
   MeshSlot* slot = &slots_[p * K];
   const std::size_t n_prev = slot_count_[p];
-  if (nf == 0 && n_prev == 0) return;
+  if (nf == 0 && n_prev == 0) {
+    if (!mesh_wake_.empty()) mesh_wake_[p] = mesh_travel_ + gap;
+    return;
+  }
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];

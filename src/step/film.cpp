@@ -155,7 +155,11 @@ void Stepper::film_walls() {
   const double reach = 0.5 * bag.film.thickness;
   double work = 0, dn = 0, dtg = 0, deepest = 1e300;
   Vec3 J(0, 0, 0), L(0, 0, 0), load(0, 0, 0);
+  const bool stl = !node_reach_.empty();
   for (std::size_t k = 0; k < nn; ++k) {
+    // No wall near and none touched at the last step (nor an STL wall to look at): no force now,
+    // none then (wall_force_prev is 0), nothing to add.
+    if ((film_wall_near_[k] | film_wall_touch_[k]) == 0 && !stl) continue;
     const WallMotion wm = tilt_ ? motion_at(film_.x[k]) : rigid;
     const Vec3 &c_vel = wm.vel, &c_half = wm.half, &c_step = wm.step;
     const Vec3 x_local = film_.x[k] - wm.pos;
@@ -187,7 +191,7 @@ void Stepper::film_walls() {
       if (couple_) load += load_moments(x_local - d * n, -Fc);
     }
     film_wall_touch_[k] = touched;
-    if (!node_reach_.empty()) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, load, dn, dtg, deepest);
+    if (stl) node_mesh_contacts<Tangential, Energy>(k, F_wall, L, load, dn, dtg, deepest);
     film_.f[k] += F_wall;
     J -= dt * F_wall;
     if constexpr (Energy) {

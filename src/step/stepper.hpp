@@ -385,8 +385,10 @@ class Stepper {
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
   std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
-  std::vector<double> mesh_wake_;  // per ball: asleep while mesh_travel_ is below (surfaces.cpp) (unit: m)
-  double mesh_travel_ = 0;         // bound of the balls' and film nodes' travel (surfaces.cpp) (unit: m)
+  // A ball that cannot touch the film before mesh_travel_ reaches mesh_wake_ (surfaces.cpp).
+  bool asleep(std::size_t p) const { return !mesh_wake_.empty() && mesh_travel_ < mesh_wake_[p] && slot_count_[p] == 0; }
+  std::vector<double> mesh_wake_;  // per ball (unit: m)
+  double mesh_travel_ = 0;         // (unit: m)
   std::vector<std::int8_t> side_;             // per ball: -1 inside the film (or an STL wall), +1 outside
   Vec3 cavity_at_build_ = Vec3::Zero();
   std::vector<Vec3> film_at_build_;

@@ -227,6 +227,12 @@ void Stepper::triangle_contacts() {
 
 // Each ball's contacts add to its force after its walls' (the same order for any thread count); the
 // STL walls' share enters the cavity's load and work as the analytic walls' does.
+// Asleep (Stepper::asleep): with the film the only surface, mesh_travel_ bounds from above how far
+// the balls and the film's nodes moved in all (the largest ball step plus the largest node step,
+// summed over the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates
+// all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before mesh_travel_
+// has grown by gap: it is not looked at before mesh_travel_ reaches mesh_wake_[p] (0 after a
+// build, when every ball is).
 template <bool Tangential, bool Rolling, bool Energy>
 void Stepper::triangle_contacts_impl() {
   const std::size_t n = p_.size();
@@ -234,6 +240,7 @@ void Stepper::triangle_contacts_impl() {
   const WallMotion rigid = rigid_motion();
   auto one = [&](std::size_t p) {
     double excess = -HUGE_VAL;
+    if (asleep(p)) return excess;  // nothing touched now or at the last step: nothing to add
     const Vec3 c_step = tilt_ ? motion_at(p_.x[p]).step : rigid.step;
     Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
@@ -299,12 +306,6 @@ template <bool Tangential, bool Rolling, bool Energy>
 void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
                                Vec3& load, double& excess) {
   constexpr std::size_t K = kMaxMeshContacts;
-  // Asleep: with the film the only surface, mesh_travel_ bounds from above how far the balls and
-  // the film's nodes moved in all (the largest ball step plus the largest node step, summed over
-  // the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates all `gap`
-  // beyond its reach when looked at, cannot touch one before mesh_travel_ has grown by gap: it is
-  // not looked at before mesh_travel_ reaches mesh_wake_[p] (0 after a build: every ball is).
-  if (!mesh_wake_.empty() && mesh_travel_ < mesh_wake_[p] && slot_count_[p] == 0) return;
   const double dt = ctx_.dt;
   const double r = p_.radius[p];
   const WallMotion wm = motion_at(p_.x[p]);

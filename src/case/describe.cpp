@@ -90,7 +90,8 @@ std::string describe_scene(const Scene& s) {
     if (const auto& sw = P.sweep) {
       const std::size_t K = sw->half_window();
       o << "            each point: steady when the mean response of its last " << K << " cycles is within "
-        << 100 * sw->tolerance << "% of the " << K << " before (at least " << sw->least_cycles() << ", at most "
+        << 100 * sw->tolerance << "% of the " << K << " before, or within their scatter (a 5% two-sample test) (at least "
+        << sw->least_cycles() << ", at most "
         << sw->max_cycles << " cycles), reduced over those " << 2 * K << " cycles with 95% intervals\n";
     }
     if (P.harmonic) {

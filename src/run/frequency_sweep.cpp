@@ -373,7 +373,7 @@ void FrequencySweep::report_point(const SweepPoint& pt, std::size_t i, std::size
     m << "warning: " << pt.frequency << " Hz is flagged unsteady and left out of the peaks: ";
     if (!pt.settled)
       m << "it did not settle in " << plan_.max_cycles << " cycles (last change " << 100 * pt.change << "%, tolerance "
-        << 100 * plan_.tolerance << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
+        << 100 * plan_.tolerance << "%, and beyond the cycles' scatter); raise excitation.max_cycles or excitation.steady_tolerance\n";
     else
       m << "over its last " << window_cycles << " cycles the energy balance is off by " << 100 * pt.balance
         << "% (allowed " << 100 * kSteadyBalanceTolerance << "%) or the contents' tallied dissipation is negative ("

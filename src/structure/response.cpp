@@ -34,7 +34,19 @@ double SteadyStateDetector::last_change() const {
   return std::abs(last) > 0 ? d / std::abs(last) : (d > 0 ? 1.0 : 0.0);
 }
 
-bool SteadyStateDetector::steady() const { return window_.size() >= 2 * K_ && last_change() <= tol_; }
+bool SteadyStateDetector::within_scatter() const {
+  if (K_ < 2 || window_.size() < 2 * K_) return false;
+  const std::complex<double> a = block_mean(0, K_), b = block_mean(K_, K_);
+  double sa = 0, sb = 0;
+  for (std::size_t i = 0; i < K_; ++i) sa += std::norm(window_[i] - a), sb += std::norm(window_[K_ + i] - b);
+  const double k = static_cast<double>(K_);
+  constexpr double kChi2TwoDof95 = 5.991464547107979;  // -2 ln 0.05
+  return std::norm(b - a) <= kChi2TwoDof95 * (sa + sb) / (k - 1) / (2 * k);
+}
+
+bool SteadyStateDetector::steady() const {
+  return window_.size() >= 2 * K_ && (last_change() <= tol_ || within_scatter());
+}
 
 double SteadyStateDetector::spread() const {
   const std::size_t n = std::min(K_, window_.size());

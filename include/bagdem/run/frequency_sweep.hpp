@@ -5,7 +5,8 @@
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
 // is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
 // the point has settled when the mean Y of the last K cycles differs from that of the K before by
-// less than the tolerance (SteadyStateDetector), K = max(steady_cycles, reduce_cycles / 2 rounded
+// less than the tolerance, or by no more than the cycles' own scatter allows (a 5 % two-sample test:
+// a chaotic response; SteadyStateDetector), K = max(steady_cycles, reduce_cycles / 2 rounded
 // up), after at least max(min_cycles, 2K + 1) cycles (the first cycle is never in the window); the point's response and the damper's reduction
 // are measured over those last 2K cycles (the window judged steady), with a 95% interval over the
 // correlated cycles (reduce/interval.hpp). The point is

@@ -37,9 +37,22 @@ double SteadyStateDetector::last_change() const {
 bool SteadyStateDetector::within_scatter() const {
   if (K_ < 2 || window_.size() < 2 * K_) return false;
   const std::complex<double> a = block_mean(0, K_), b = block_mean(K_, K_);
-  double sa = 0, sb = 0;
-  for (std::size_t i = 0; i < K_; ++i) sa += std::norm(window_[i] - a), sb += std::norm(window_[K_ + i] - b);
+  // Deviations from each half's mean; their lag-1 autocorrelation over the window.
+  double sa = 0, sb = 0, lag = 0, fourth = 0;
+  for (std::size_t i = 0; i < 2 * K_; ++i) {
+    const std::complex<double> d = window_[i] - (i < K_ ? a : b);
+    (i < K_ ? sa : sb) += std::norm(d);
+    fourth += std::norm(d) * std::norm(d);
+    if (i + 1 < 2 * K_ && i + 1 != K_) lag += (std::conj(d) * (window_[i + 1] - (i + 1 < K_ ? a : b))).real();
+  }
+  if (!(sa + sb > 0) || lag > kMaxScatterCorrelation * (sa + sb)) return false;
   const double k = static_cast<double>(K_);
+  // Moduli that vary as noise's do: mean |d|^4 / (mean |d|^2)^2 is 2 for complex Gaussian scatter,
+  // 1 for a phasor turning at a constant modulus (a fast beat).
+  if (fourth * 2 * k < kMinScatterKurtosis * (sa + sb) * (sa + sb)) return false;
+  // The first half no noisier than the second by more than chance allows: a one-sided F test at
+  // 10 % with nu = 2 (K - 1) degrees of freedom each, ln F ~ N(0, 4 / nu) (2.47 at K = 5).
+  if (sa > std::exp(1.2816 * std::sqrt(2.0 / (k - 1))) * sb) return false;
   constexpr double kChi2TwoDof95 = 5.991464547107979;  // -2 ln 0.05
   return std::norm(b - a) <= kChi2TwoDof95 * (sa + sb) / (k - 1) / (2 * k);
 }

@@ -30,10 +30,20 @@ std::size_t steps_per_cycle(double f, double dt);
 //       imaginary parts taken as of equal variance: |d|^2 / (var / 2) ~ chi2 with 2 degrees of
 //       freedom; chi2_{2, 0.95} = -2 ln 0.05 = 5.99). Cycles are correlated (the bed carries its
 //       state), which makes this s / sqrt(K) small and the test strict: it errs towards running on.
+// (b) applies only to scatter that looks like chaos, not like a transient. A linear structure's
+// transient is a free vibration beating against the forced response: it rotates the first
+// harmonic by 2 pi (f_n - f)/f a cycle and decays, and the halves' means can agree by chance in
+// mid-beat. So (b) asks that the scatter be stationary and uncorrelated: the first half's scatter
+// not above the second's by more than a one-sided F test at 10 % allows (a decaying beat), and the
+// deviations' lag-1 autocorrelation over the window (about each half's mean) not above 0.3
+// (kMaxScatterCorrelation; a slow beat), and their moduli varying as noise's do, mean |d|^4 /
+// (mean |d|^2)^2 at least 1.3 (kMinScatterKurtosis; 2 for complex Gaussian scatter, 1 for a phasor
+// turning at a constant modulus: a fast beat, the free vibration of a mode far from the drive).
+// Otherwise (a) alone decides, as for a smooth decay.
 // (b) lets a chaotic response settle where (a) would wait for a drift below the scatter of a
 // K-cycle mean; a slow drift smaller than that scatter passes it, and shows in the interval the
-// sweep reports for the window (receptance_ci95, batch means). A smoothly decaying transient has
-// no scatter within the halves, so (a) alone decides it.
+// sweep reports for the window (receptance_ci95, batch means).
+inline constexpr double kMaxScatterCorrelation = 0.3, kMinScatterKurtosis = 1.3;
 class SteadyStateDetector {
  public:
   SteadyStateDetector(std::size_t K, double rel_tol) : K_(K), tol_(rel_tol) {}

@@ -320,6 +320,8 @@ TEST(Timestep, ExplicitStepKeptAndCheckedAgainstCritical) {
   EXPECT_NO_THROW(load(steel_case(below)));
   const bagdem::Scene forced = load(steel_case({above[0], {"force_timestep", "true"}}));
   EXPECT_GT(forced.dt, forced.dt_critical);
+  // force_timestep with a step that needs no forcing is accepted (it was once an "unknown key").
+  EXPECT_NO_THROW(load(steel_case({below[0], {"force_timestep", "true"}})));
 }
 
 TEST(Timestep, OutOfRangeParametersAreRefused) {

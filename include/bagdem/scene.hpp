@@ -72,8 +72,6 @@ struct Scene {
   std::string dt_reason;        // how dt was chosen, for `check`
   std::vector<std::string> warnings;  // accepted but questionable settings, printed by check and run
   double dt_critical = 0;       // critical (stability) step of the stiffest contact (unit: s)
-  std::uint32_t membrane_interval = 1;  // a bag's membrane forces every this many steps, as that
-                                        // many steps' impulse (src/case/timestep.cpp; 1 = every step)
   double expected_speed = 0;    // expected maximum impact speed used for dt and checks (unit: m/s)
 
   ModelSwitches models;

@@ -327,7 +327,7 @@ double Membrane::compute_max_frequency(const std::vector<Vec3>& x0) const {
 double Membrane::max_frequency() const { return max_frequency_; }
 
 double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
-                            std::vector<Vec3>& f_damping, double scale) {
+                            std::vector<Vec3>& f_damping) {
   const std::size_t n = nodes(), nt = tri_.size(), nh = hinges_.size();
   if (x.size() != n || v.size() != n || f_elastic.size() != n || f_damping.size() != n)
     throw std::invalid_argument("Membrane::add_forces: every vector must have nodes() entries");
@@ -366,8 +366,8 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
     }
     for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
       fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
-    f_elastic[i] += scale * fe;
-    if (damped) f_damping[i] += scale * fd;
+    f_elastic[i] += fe;
+    if (damped) f_damping[i] += fd;
   });
 
   // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.

@@ -20,10 +20,8 @@ namespace bagdem {
 namespace {
 
 // The step limits, each the smallest over what it concerns (s); 1e300 where nothing limits.
-// critical: every force evaluated at each step (the membrane's is not: `membrane`, its own, bounds
-// the interval between its evaluations); film: the film nodes' contacts and the strings.
 struct StepLimits {
-  double rayleigh = 1e300, contact = 1e300, critical = 1e300, film = 1e300, membrane = 1e300, structure = 1e300;
+  double rayleigh = 1e300, contact = 1e300, critical = 1e300, film = 1e300, structure = 1e300;
 };
 
 // simulation.expected_speed, or (auto) 2 x the cavity's peak speed + the free-fall speed over the
@@ -140,9 +138,8 @@ void film_limits(const Scene& s, const std::vector<double>& rmin, double v, Step
   }
   for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn, mn);
   for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn, mn);
-  // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency): the bound of the interval
-  // between its evaluations (choose_membrane_interval). Strings on their ties.
-  L.membrane = hertz::critical_step(bag.max_frequency, bag.damping_ratio);
+  // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
+  dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
   for (const BagString& st : bag.strings) {
     const double m_tie = mn * static_cast<double>(st.nodes.size());
     const double w = std::sqrt(st.stiffness / m_tie), zeta = st.damping / (2 * std::sqrt(st.stiffness * m_tie));
@@ -170,15 +167,15 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
                  std::ostringstream& why) {
   const double dt_rayleigh = L.rayleigh, dt_contact = L.contact, dt_crit = L.critical, dt_film = L.film,
                dt_structure = L.structure;
+  const bool forced = in.boolean("simulation.force_timestep", false);  // read whether or not it is needed
   if (auto given = in.quantity_or_auto("simulation.timestep", dim::time)) {
     s.dt = *given;
     if (!(s.dt > 0)) in.fail("simulation.timestep", "must be > 0 or \"auto\"");
-    const double limit = std::min(dt_crit, L.membrane);
-    if (s.dt > limit && !in.boolean("simulation.force_timestep", false)) {
+    if (s.dt > dt_crit && !forced) {
       std::ostringstream m;
-      m << "is above the critical step " << limit << " s of the stiffest contact (or the primary structure's highest mode, or "
-        << "the bag's membrane) at the expected impact speed " << v << " m/s; the run would be unstable. Use \"auto\", a step below "
-        << limit << " s, or set simulation.force_timestep = true";
+      m << "is above the critical step " << dt_crit << " s of the stiffest contact (or the primary structure's highest mode) at the expected "
+        << "impact speed " << v << " m/s; the run would be unstable. Use \"auto\", a step below "
+        << dt_crit << " s, or set simulation.force_timestep = true";
       in.fail("simulation.timestep", m.str());
     }
     why << "explicit";
@@ -192,61 +189,15 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
       s.warnings.push_back(w.str());
     }
   } else {
-    const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film,
-                 m = safety * L.membrane;
-    s.dt = std::min({a, b, c, f, m, dt_structure});
+    const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film;
+    s.dt = std::min({a, b, c, f, dt_structure});
     why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
         << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
         << " s, half the critical step = " << c << " s";
-    if (s.bag)
-      why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s, " << safety
-          << " x the membrane's " << L.membrane << " s = " << m << " s";
+    if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
     if (s.primary) why << ", the structure (0.2 / its highest circular frequency, 1/20 of the force's time scale) " << dt_structure << " s";
-    why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : s.dt == f ? "film" : s.dt == m ? "membrane" : "structure")
+    why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : s.dt == f ? "film" : "structure")
         << " limits";
-    in.boolean("simulation.force_timestep", false);
-  }
-}
-
-// The membrane's forces are evaluated every k-th step and applied as k steps' worth (impulse
-// multiple time stepping, r-RESPA: Tuckerman, Berne & Martyna, J. Chem. Phys. 97, 1992; the
-// film's contacts, strings and the balls at every step). `auto`: the largest k with
-// k dt <= timestep_safety x the membrane's critical step (the accuracy the step had when the
-// membrane set it) and k dt <= the critical step of the forces evaluated at every step, which keeps
-// the outer step below half the period of their fastest mode, pi/w, where the impulses would
-// resonate with it (Biesiadecki & Skeel, J. Comput. Phys. 109, 1993). An explicit k is refused when
-// k dt is above the membrane's critical step (unstable) unless simulation.force_timestep.
-void choose_membrane_interval(const CaseReader& in, Scene& s, const StepLimits& L, double safety, std::ostringstream& why) {
-  const char* key = "bag.film.membrane_interval";
-  const double inner = std::min(safety * L.membrane, L.critical);
-  long long given = 0;  // 0: auto
-  if (in.is_string(key)) {
-    if (in.string(key) != "auto") in.fail(key, "must be \"auto\" or a whole number from 1 to 1000");
-  } else {
-    given = in.integer(key, 0);
-    if (in.has(key) && (given < 1 || given > 1000)) in.fail(key, "must be \"auto\" or a whole number from 1 to 1000");
-  }
-  if (given > 0) {
-    s.membrane_interval = static_cast<std::uint32_t>(given);
-    const double h = s.membrane_interval * s.dt;
-    if (h > L.membrane && !in.boolean("simulation.force_timestep", false)) {
-      std::ostringstream m;
-      m << "gives an interval of " << h << " s between the membrane's evaluations, above its critical step " << L.membrane
-        << " s: the film would be unstable. Use \"auto\", at most " << std::max(1.0, std::floor(L.membrane / s.dt))
-        << ", or set simulation.force_timestep = true";
-      in.fail(key, m.str());
-    }
-    if (h > L.critical) {
-      std::ostringstream w;
-      w << key << " = " << s.membrane_interval << " puts " << h << " s between the membrane's evaluations, above the critical step "
-        << L.critical << " s of the contacts evaluated at every step: the membrane's impulses may resonate with them. Use \"auto\"";
-      s.warnings.push_back(w.str());
-    }
-    why << "; membrane every " << s.membrane_interval << " steps (explicit)";
-  } else {
-    s.membrane_interval = static_cast<std::uint32_t>(std::clamp(std::floor(inner / s.dt), 1.0, 1000.0));
-    why << "; membrane every " << s.membrane_interval << " steps (auto: " << safety << " x its critical step "
-        << L.membrane << " s and the critical step " << L.critical << " s of the rest)";
   }
 }
 
@@ -303,12 +254,12 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
   contact_limits(s, rmin, v, per_contact, L);
   if (s.bag) film_limits(s, rmin, v, L);
   if (s.primary) structure_limits(s, L);
+  s.dt_critical = L.critical;
+
   std::ostringstream why;
   choose_step(in, s, L, safety, per_contact, v, why);
-  if (s.bag) choose_membrane_interval(in, s, L, safety, why);
-  s.dt_critical = s.bag ? std::min(L.critical, L.membrane / s.membrane_interval) : L.critical;
   check_drive(in, s);
-  why << "; expected impact speed " << v << " m/s; critical step " << s.dt_critical << " s";
+  why << "; expected impact speed " << v << " m/s; critical step " << L.critical << " s";
   s.dt_reason = why.str();
 }
 

@@ -54,14 +54,8 @@ void Stepper::film_stage() {
     film_.f_damp[k].setZero();
   });
   film_load_moments_.setZero();
-  // Damping sees the velocity predicted to the end of the step, as the contact dashpots do. The
-  // membrane's forces come every membrane_interval-th step (k) as k steps' worth: forces at time
-  // index j = 0 (set-up), k, 2k, ... (impulse r-RESPA, src/case/timestep.cpp). The membrane's
-  // damping work is then tallied by the same trapezoid below (an impulse's work, exactly).
-  const std::uint32_t every = scene_.membrane_interval;
-  const std::uint64_t j = ctx_.stepping() ? step_ + 1 : step_;
-  if (every == 1 || j % every == 0)
-    membrane_->add_forces(film_.x, film_.v_pred, film_.f, film_.f_damp, static_cast<double>(every));
+  // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
+  membrane_->add_forces(film_.x, film_.v_pred, film_.f, film_.f_damp);
   with_flags([this]<bool T, bool E>() { film_walls<T, E>(); }, scene_.models.tangential, scene_.models.energy);
 
   // Strings, from the tie's mean position to the anchor moving with the cavity.

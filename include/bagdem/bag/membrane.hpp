@@ -60,11 +60,10 @@ class Membrane {
   const std::vector<double>& node_mass() const { return node_mass_; }  // (unit: kg)
   const std::vector<double>& rest_area() const { return area0_; }      // per triangle (unit: m^2)
 
-  // Adds `scale` x the elastic (membrane + bending) forces at positions x to f_elastic and the
-  // damping forces at velocities v to f_damping (both sized nodes()). Returns the elastic energy at
-  // x (unit: J).
+  // Adds the elastic (membrane + bending) forces at positions x to f_elastic and the damping forces
+  // at velocities v to f_damping (both sized nodes()). Returns the elastic energy at x (unit: J).
   double add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
-                    std::vector<Vec3>& f_damping, double scale = 1.0);
+                    std::vector<Vec3>& f_damping);
   // Elastic energy (membrane + bending) at x (unit: J).
   double elastic_energy(const std::vector<Vec3>& x) const;
 

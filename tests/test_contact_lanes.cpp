@@ -10,6 +10,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <numbers>
+#include <cstdio>
+#include <algorithm>
 
 #include "bagdem/contact/lanes.hpp"
 #include "bagdem/contact/restitution.hpp"
@@ -214,4 +217,29 @@ TEST(ContactLanes, RoundDownToFloatIsTheLargestFloatNotAbove) {
   }
   EXPECT_GT(rounded, 19000);  // nearly every draw needs rounding: the test sees both directions of it
   EXPECT_TRUE(std::isnan(round_down_to_float(std::nan(""))));
+}
+
+// atan2_unit (lanes.hpp), the film hinges' angle, against libm's atan2 on |s| <= c: relative error
+// within 6e-16 (about 3 ulp) at 200 001 ratios and on both sides of the reduction's switch at
+// tan(pi/8), for two scales of c; odd in s; and each lane gives the scalar's bits.
+TEST(ContactLanes, Atan2UnitMatchesLibm) {
+  double worst = 0;
+  auto check = [&](double s, double c) {
+    const double ref = std::atan2(s, c), got = atan2_unit(s, c);
+    if (ref != 0) worst = std::max(worst, std::abs(got - ref) / std::abs(ref));
+    EXPECT_EQ(atan2_unit(-s, c), -got) << s << " " << c;
+    const Lanes l = atan2_unit(Lanes{s, -s, 0.5 * s, s}, Lanes{c, c, c, 2 * c});
+    EXPECT_EQ(l[0], got);
+    EXPECT_EQ(l[1], atan2_unit(-s, c));
+    EXPECT_EQ(l[2], atan2_unit(0.5 * s, c));
+    EXPECT_EQ(l[3], atan2_unit(s, 2 * c));
+  };
+  for (double c : {1.0, 3.7e-9})
+    for (int i = -100000; i <= 100000; ++i) check(i * 1e-5 * c, c);
+  const double t = std::tan(std::numbers::pi / 8);
+  for (int k = -50; k <= 50; ++k) check(t + k * 1e-17, 1.0);
+  std::printf("  atan2_unit: largest relative error %.3e\n", worst);
+  EXPECT_LE(worst, 6e-16);
+  EXPECT_EQ(atan2_unit(0.0, 1.0), 0.0);
+  EXPECT_NEAR(atan2_unit(1.0, 1.0), std::numbers::pi / 4, 2e-16);
 }

@@ -1,5 +1,6 @@
 // See include/bagdem/bag/membrane.hpp for the model and its sources.
 #include "bagdem/bag/membrane.hpp"
+#include "bagdem/contact/lanes.hpp"
 #include "bagdem/parallel.hpp"
 
 #include <algorithm>
@@ -14,41 +15,66 @@ namespace {
 
 enum Regime : std::uint8_t { kSlack = 0, kWrinkled = 1, kTaut = 2 };
 
-// A symmetric 2x2 tensor in a triangle's 2-D frame; xy is the tensor (not engineering) shear.
-struct Sym2 {
-  double xx = 0, yy = 0, xy = 0;
-};
+// The triangles' law is written once over a number type T (contact/lanes.hpp): double for one
+// triangle, Lanes for kLanes of them side by side. Every operation rounds as written
+// (-ffp-contract=off) in the same order in both, so a lane gives the scalar law's bits.
 
-BAGDEM_INLINE double contract(const Sym2& a, const Sym2& b) { return a.xx * b.xx + a.yy * b.yy + 2.0 * a.xy * b.xy; }
-BAGDEM_INLINE Sym2 scaled(const Sym2& a, double s) { return {s * a.xx, s * a.yy, s * a.xy}; }
+// A symmetric 2x2 tensor in a triangle's 2-D frame; xy is the tensor (not engineering) shear.
+template <class T>
+struct Sym2T {
+  T xx, yy, xy;
+};
+using Sym2 = Sym2T<double>;
+
+template <class T>
+BAGDEM_INLINE T contract(const Sym2T<T>& a, const Sym2T<T>& b) { return a.xx * b.xx + a.yy * b.yy + 2.0 * a.xy * b.xy; }
+template <class T>
+BAGDEM_INLINE Sym2T<T> scaled(const Sym2T<T>& a, T s) { return {s * a.xx, s * a.yy, s * a.xy}; }
+template <class T>
+BAGDEM_INLINE Sym2T<T> select_sym(LanesMaskT<T> m, const Sym2T<T>& a, const Sym2T<T>& b) {
+  return {select(m, a.xx, b.xx), select(m, a.yy, b.yy), select(m, a.xy, b.xy)};
+}
+
+// The rest edge matrix's inverse Dm^-1 (its four entries) and t A0 of a triangle (or of kLanes).
+template <class T>
+struct RestFrame {
+  T m00, m01, m10, m11, tA0;
+};
 
 // The two columns of the 3x2 deformation gradient F = Ds Dm^-1, Ds = [x1 - x0, x2 - x0] (or of its
 // rate, from the node velocities).
-struct Gradient {
-  Vec3 c0, c1;
+template <class T>
+struct GradientT {
+  V3<T> c0, c1;
 };
 
-BAGDEM_INLINE Gradient deformation_gradient(const Vec3& d1, const Vec3& d2, const Eigen::Matrix2d& dm_inv) {
-  return {d1 * dm_inv(0, 0) + d2 * dm_inv(1, 0), d1 * dm_inv(0, 1) + d2 * dm_inv(1, 1)};
+template <class T>
+BAGDEM_INLINE GradientT<T> deformation_gradient(const V3<T>& d1, const V3<T>& d2, const RestFrame<T>& r) {
+  return {r.m00 * d1 + r.m10 * d2, r.m01 * d1 + r.m11 * d2};
 }
 
 // Green-Lagrange strain (F^T F - I) / 2.
-BAGDEM_INLINE Sym2 green_strain(const Gradient& F) {
-  return {0.5 * (F.c0.squaredNorm() - 1.0), 0.5 * (F.c1.squaredNorm() - 1.0), 0.5 * F.c0.dot(F.c1)};
+template <class T>
+BAGDEM_INLINE Sym2T<T> green_strain(const GradientT<T>& F) {
+  return {0.5 * (dot(F.c0, F.c0) - 1.0), 0.5 * (dot(F.c1, F.c1) - 1.0), 0.5 * dot(F.c0, F.c1)};
 }
 
 // Its rate sym(F^T dF/dt).
-BAGDEM_INLINE Sym2 strain_rate(const Gradient& F, const Gradient& dF) {
-  return {F.c0.dot(dF.c0), F.c1.dot(dF.c1), 0.5 * (F.c0.dot(dF.c1) + F.c1.dot(dF.c0))};
+template <class T>
+BAGDEM_INLINE Sym2T<T> strain_rate(const GradientT<T>& F, const GradientT<T>& dF) {
+  return {dot(F.c0, dF.c0), dot(F.c1, dF.c1), 0.5 * (dot(F.c0, dF.c1) + dot(F.c1, dF.c0))};
 }
 
-struct Principal {
-  double e1, e2;  // e1 >= e2
+template <class T>
+struct PrincipalT {
+  T e1, e2;  // e1 >= e2
 };
+using Principal = PrincipalT<double>;
 
-BAGDEM_INLINE Principal principal(const Sym2& e) {
-  const double m = 0.5 * (e.xx + e.yy), d = 0.5 * (e.xx - e.yy);
-  const double r = std::sqrt(d * d + e.xy * e.xy);
+template <class T>
+BAGDEM_INLINE PrincipalT<T> principal(const Sym2T<T>& e) {
+  const T m = 0.5 * (e.xx + e.yy), d = 0.5 * (e.xx - e.yy);
+  const T r = sqrt_of(d * d + e.xy * e.xy);
   return {m + r, m - r};
 }
 
@@ -68,54 +94,71 @@ struct Law {
     if (p.e1 <= 0) return kSlack;
     return p.e2 + nu * p.e1 >= 0 ? kTaut : kWrinkled;
   }
-  BAGDEM_INLINE Sym2 taut(const Sym2& e) const {  // C : e
+  template <class T>
+  BAGDEM_INLINE Sym2T<T> taut(const Sym2T<T>& e) const {  // C : e
     return {k * (e.xx + nu * e.yy), k * (e.yy + nu * e.xx), k * (1.0 - nu) * e.xy};
   }
 };
 
 // Second Piola-Kirchhoff stress S = dpsi/dEg (unit: Pa), the energy density psi (unit: J/m^3) and,
-// when wrinkled, the projector n1 n1^T on the taut direction.
-struct Stress {
-  Sym2 S, P1;
-  double psi;
-  std::uint8_t regime;
+// when wrinkled, the projector n1 n1^T on the taut direction; per lane, which regime (masks).
+template <class T>
+struct StressT {
+  Sym2T<T> S, P1;
+  T psi;
+  LanesMaskT<T> taut, slack;  // wrinkled: neither
 };
 
 // Wrinkled: psi = E e1^2 / 2 and S = E e1 n1 n1^T (de1/dEg = n1 n1^T). At the taut boundary
 // e2 = -nu e1 the taut psi = k (e1^2 + 2 nu e1 e2 + e2^2) / 2 = E e1^2 / 2 and its stress
 // k (e1 + nu e2) n1 n1^T + k (e2 + nu e1) n2 n2^T = E e1 n1 n1^T: energy and stress are continuous.
-BAGDEM_INLINE Stress stress(const Law& law, const Sym2& e) {
-  const Principal p = principal(e);
-  const std::uint8_t r = law.regime(p);
-  if (r == kTaut) {
-    const Sym2 S = law.taut(e);
-    return {S, {}, 0.5 * contract(S, e), r};
-  }
-  if (r == kSlack) return {{}, {}, 0.0, r};
+// Every regime's value is formed and the lane's own is kept (a division by zero in another's is
+// discarded).
+template <class T>
+BAGDEM_INLINE StressT<T> stress(const Law& law, const Sym2T<T>& e) {
+  const PrincipalT<T> p = principal(e);
+  const LanesMaskT<T> none = mask_of<T>(false);
+  const LanesMaskT<T> slack = law.tension_field ? p.e1 <= 0.0 : none;
+  const LanesMaskT<T> taut = law.tension_field ? and_not(p.e2 + law.nu * p.e1 >= 0.0, slack) : mask_of<T>(true);
+  const Sym2T<T> St = law.taut(e);
   // n1 n1^T = (Eg - e2 I) / (e1 - e2) (spectral decomposition; no angle needed). Wrinkled means
   // e2 < -nu e1 < 0 < e1, so e1 - e2 > (1 + nu) e1 > 0.
-  const double inv = 1.0 / (p.e1 - p.e2);
-  const Sym2 P1{(e.xx - p.e2) * inv, (e.yy - p.e2) * inv, e.xy * inv};
-  const double s = law.E * p.e1;
-  return {scaled(P1, s), P1, 0.5 * s * p.e1, r};
+  const T inv = 1.0 / (p.e1 - p.e2);
+  const Sym2T<T> P1{(e.xx - p.e2) * inv, (e.yy - p.e2) * inv, e.xy * inv};
+  const T s = law.E * p.e1;
+  const Sym2T<T> zero{splat<T>(0), splat<T>(0), splat<T>(0)};
+  return {select_sym(taut, St, select_sym(slack, zero, scaled(P1, s))), P1,
+          select(taut, 0.5 * contract(St, e), select(slack, splat<T>(0), 0.5 * s * p.e1)), taut, slack};
 }
 
 // Kelvin-Voigt stress beta C : dEg/dt with the elastic stress's C: none when slack, uniaxial along
 // n1 when wrinkled. Its power -t A0 S_v : dEg/dt is never positive.
-BAGDEM_INLINE Sym2 viscous_stress(const Law& law, const Stress& st, const Sym2& rate, double beta) {
-  if (st.regime == kTaut) return scaled(law.taut(rate), beta);
-  if (st.regime == kSlack) return {};
-  return scaled(st.P1, beta * law.E * contract(st.P1, rate));
+template <class T>
+BAGDEM_INLINE Sym2T<T> viscous_stress(const Law& law, const StressT<T>& st, const Sym2T<T>& rate, double beta) {
+  const Sym2T<T> zero{splat<T>(0), splat<T>(0), splat<T>(0)};
+  return select_sym(st.taut, scaled(law.taut(rate), splat<T>(beta)),
+                    select_sym(st.slack, zero, scaled(st.P1, beta * law.E * contract(st.P1, rate))));
 }
 
 // Node forces of stress S: H = -t A0 F S Dm^-T, f1 and f2 its columns, f0 = -(f1 + f2) (the
 // derivative of t A0 psi with respect to Ds is t A0 F S Dm^-T).
-BAGDEM_INLINE std::array<Vec3, 3> node_forces(const Gradient& F, const Sym2& S, const Eigen::Matrix2d& dm_inv,
-                                              double tA0) {
-  const Vec3 p0 = F.c0 * S.xx + F.c1 * S.xy, p1 = F.c0 * S.xy + F.c1 * S.yy;  // columns of F S
-  const Vec3 f1 = -tA0 * (p0 * dm_inv(0, 0) + p1 * dm_inv(0, 1));
-  const Vec3 f2 = -tA0 * (p0 * dm_inv(1, 0) + p1 * dm_inv(1, 1));
+template <class T>
+BAGDEM_INLINE std::array<V3<T>, 3> node_forces(const GradientT<T>& F, const Sym2T<T>& S, const RestFrame<T>& r) {
+  const V3<T> p0 = S.xx * F.c0 + S.xy * F.c1, p1 = S.xy * F.c0 + S.yy * F.c1;  // columns of F S
+  const T minus = -r.tA0;
+  const V3<T> f1 = minus * (r.m00 * p0 + r.m01 * p1);
+  const V3<T> f2 = minus * (r.m10 * p0 + r.m11 * p1);
   return {-(f1 + f2), f1, f2};
+}
+
+BAGDEM_INLINE RestFrame<double> rest_frame(const Eigen::Matrix2d& m, double tA0) {
+  return {m(0, 0), m(0, 1), m(1, 0), m(1, 1), tA0};
+}
+
+// One triangle's strain state at x (a triangle of nodes a, b, c).
+BAGDEM_INLINE GradientT<double> gradient_at(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& tr,
+                                            const Eigen::Matrix2d& m) {
+  return deformation_gradient<double>(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], rest_frame(m, 0.0));
 }
 
 // A hinge's angle and its gradient with respect to (x0, x1, xa, xb).
@@ -129,37 +172,48 @@ BAGDEM_INLINE std::array<Vec3, 3> node_forces(const Gradient& F, const Sym2& S, 
 // g_a = -|e| nA / |nA|^2. The edge vertices take the rest, split by where the wings project on the
 // edge (s = (x_w - x0) . e / |e|^2), so that the gradient is blind to translations and rotations.
 // A collapsed triangle (nA = 0) gives non-finite forces, which the stepper's guards report.
+template <class T>
 struct HingeEval {
-  double theta;
-  std::array<Vec3, 4> grad;
+  T theta;
+  std::array<V3<T>, 4> grad;
 };
 
-BAGDEM_INLINE double hinge_angle(const Vec3& e, const Vec3& nA, const Vec3& nB, double le) {
-  const double s = nA.cross(nB).dot(e) / le, c = nA.dot(nB);  // |nA| |nB| (sin, cos)
-  // atan(s / c) is atan2 for c > 0 (|theta| < pi/2, every hinge of a smooth film) at half its cost.
-  return c > 0 ? std::atan(s / c) : std::atan2(s, c);
+// From (sin, cos) x |nA| |nB|: atan2_unit where |theta| <= pi/4 (every hinge of a smooth film),
+// else libm's atan2, lane by lane.
+template <class T>
+BAGDEM_INLINE T hinge_angle(const V3<T>& e, const V3<T>& nA, const V3<T>& nB, T le) {
+  const T s = dot(cross(nA, nB), e) / le, c = dot(nA, nB);
+  T theta = atan2_unit(s, c);
+  if constexpr (std::is_same_v<T, double>) {
+    if (!(c > 0 && std::abs(s) <= c)) theta = std::atan2(s, c);
+  } else {
+    for (int l = 0; l < kLanes; ++l)
+      if (!(c[l] > 0 && std::abs(s[l]) <= c[l])) theta[l] = std::atan2(s[l], c[l]);
+  }
+  return theta;
 }
 
 BAGDEM_INLINE double hinge_angle(const Vec3& x0, const Vec3& x1, const Vec3& xa, const Vec3& xb) {
   const Vec3 e = x1 - x0;
-  return hinge_angle(e, e.cross(xa - x0), (xb - x0).cross(e), e.norm());
+  return hinge_angle<double>(e, cross(e, Vec3(xa - x0)), cross(Vec3(xb - x0), e), std::sqrt(dot(e, e)));
 }
 
-BAGDEM_INLINE HingeEval hinge_eval(const Vec3& x0, const Vec3& x1, const Vec3& xa, const Vec3& xb) {
-  const Vec3 e = x1 - x0, da = xa - x0, db = xb - x0;
-  const Vec3 nA = e.cross(da), nB = db.cross(e);
-  const double le2 = e.squaredNorm(), le = std::sqrt(le2);
-  const Vec3 ga = (-le / nA.squaredNorm()) * nA, gb = (-le / nB.squaredNorm()) * nB;
-  const double inv_le2 = 1.0 / le2, sa = da.dot(e) * inv_le2, sb = db.dot(e) * inv_le2;
-  return {hinge_angle(e, nA, nB, le), {-(1.0 - sa) * ga - (1.0 - sb) * gb, -sa * ga - sb * gb, ga, gb}};
+template <class T>
+BAGDEM_INLINE HingeEval<T> hinge_eval(const V3<T>& x0, const V3<T>& x1, const V3<T>& xa, const V3<T>& xb) {
+  const V3<T> e = x1 - x0, da = xa - x0, db = xb - x0;
+  const V3<T> nA = cross(e, da), nB = cross(db, e);
+  const T le2 = dot(e, e), le = sqrt_of(le2);
+  const V3<T> ga = (-le / dot(nA, nA)) * nA, gb = (-le / dot(nB, nB)) * nB;
+  const T inv_le2 = 1.0 / le2, sa = dot(da, e) * inv_le2, sb = dot(db, e) * inv_le2;
+  return {hinge_angle<T>(e, nA, nB, le),
+          {-((1.0 - sa) * ga) - (1.0 - sb) * gb, -(sa * ga) - sb * gb, ga, gb}};
 }
 
 // theta - theta0 in (-pi, pi]: the energy stays continuous if a hinge folds through +-pi.
-BAGDEM_INLINE double angle_change(double theta, double theta0) {
-  double d = theta - theta0;
-  if (d > std::numbers::pi) d -= 2.0 * std::numbers::pi;
-  else if (d <= -std::numbers::pi) d += 2.0 * std::numbers::pi;
-  return d;
+template <class T>
+BAGDEM_INLINE T angle_change(T theta, T theta0) {
+  const T d = theta - theta0;
+  return select(d > std::numbers::pi, d - 2.0 * std::numbers::pi, select(d <= -std::numbers::pi, d + 2.0 * std::numbers::pi, d));
 }
 
 void check_properties(const MembraneProperties& p) {
@@ -311,7 +365,7 @@ double Membrane::compute_max_frequency(const std::vector<Vec3>& x0) const {
   }
   for (const Hinge& h : hinges_) {
     const std::uint32_t v[4] = {h.v0, h.v1, h.a, h.b};
-    const auto g = hinge_eval(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
+    const auto g = hinge_eval<double>(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
     double gsum = 0;
     for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
     for (int s = 0; s < 4; ++s)
@@ -335,26 +389,57 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
   const double t = props_.thickness, beta = props_.damping_time;
   const bool damped = beta > 0;
 
-  parallel_for(nt, [&](std::size_t i) {
-    const auto& tr = tri_[i];
-    const Gradient F = deformation_gradient(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], dm_inv_[i]);
-    const Stress st = stress(law, green_strain(F));
-    const double tA0 = t * area0_[i];
-    tri_energy_[i] = tA0 * st.psi;
-    tri_elastic_[i] = node_forces(F, st.S, dm_inv_[i], tA0);
+  // The triangles kLanes at a time (lanes.hpp); a short last group repeats its last triangle.
+  const std::size_t groups = (nt + kLanes - 1) / kLanes;
+  parallel_for(groups, [&](std::size_t g) {
+    std::size_t id[kLanes];
+    for (int l = 0; l < kLanes; ++l) id[l] = std::min(g * kLanes + l, nt - 1);
+    auto corner = [&](const std::vector<Vec3>& at, int a) {
+      const double* p[kLanes] = {at[tri_[id[0]][a]].data(), at[tri_[id[1]][a]].data(), at[tri_[id[2]][a]].data(),
+                                 at[tri_[id[3]][a]].data()};
+      return gather3(p);
+    };
+    auto each = [&](auto field) { return Lanes{field(id[0]), field(id[1]), field(id[2]), field(id[3])}; };
+    const RestFrame<Lanes> r{each([&](std::size_t i) { return dm_inv_[i](0, 0); }), each([&](std::size_t i) { return dm_inv_[i](0, 1); }),
+                             each([&](std::size_t i) { return dm_inv_[i](1, 0); }), each([&](std::size_t i) { return dm_inv_[i](1, 1); }),
+                             each([&](std::size_t i) { return t * area0_[i]; })};
+    const Lanes3 x0 = corner(x, 0);
+    const GradientT<Lanes> F = deformation_gradient(corner(x, 1) - x0, corner(x, 2) - x0, r);
+    const StressT<Lanes> st = stress(law, green_strain(F));
+    const Lanes energy = r.tA0 * st.psi;
+    const std::array<Lanes3, 3> fe = node_forces(F, st.S, r);
+    std::array<Lanes3, 3> fd{};
     if (damped) {
-      const Gradient dF = deformation_gradient(v[tr[1]] - v[tr[0]], v[tr[2]] - v[tr[0]], dm_inv_[i]);
-      tri_damping_[i] = node_forces(F, viscous_stress(law, st, strain_rate(F, dF), beta), dm_inv_[i], tA0);
+      const Lanes3 v0 = corner(v, 0);
+      const GradientT<Lanes> dF = deformation_gradient(corner(v, 1) - v0, corner(v, 2) - v0, r);
+      fd = node_forces(F, viscous_stress(law, st, strain_rate(F, dF), beta), r);
+    }
+    for (int l = 0; l < kLanes && g * kLanes + l < nt; ++l) {
+      const std::size_t i = g * kLanes + l;
+      tri_energy_[i] = energy[l];
+      tri_elastic_[i] = {lane(fe[0], l), lane(fe[1], l), lane(fe[2], l)};
+      if (damped) tri_damping_[i] = {lane(fd[0], l), lane(fd[1], l), lane(fd[2], l)};
     }
   });
 
-  parallel_for(nh, [&](std::size_t i) {
-    const Hinge& h = hinges_[i];
-    const HingeEval he = hinge_eval(x[h.v0], x[h.v1], x[h.a], x[h.b]);
-    const double d = angle_change(he.theta, h.theta0);
-    const double c = -2.0 * h.k * d;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx
-    hinge_energy_[i] = h.k * d * d;
-    hinge_force_[i] = {c * he.grad[0], c * he.grad[1], c * he.grad[2], c * he.grad[3]};
+  // The hinges kLanes at a time, as the triangles.
+  parallel_for((nh + kLanes - 1) / kLanes, [&](std::size_t g) {
+    const Hinge* h[kLanes];
+    for (int l = 0; l < kLanes; ++l) h[l] = &hinges_[std::min(g * kLanes + l, nh - 1)];
+    auto node = [&](std::uint32_t Hinge::*v) {
+      const double* p[kLanes] = {x[h[0]->*v].data(), x[h[1]->*v].data(), x[h[2]->*v].data(), x[h[3]->*v].data()};
+      return gather3(p);
+    };
+    auto each = [&](double Hinge::*f) { return Lanes{h[0]->*f, h[1]->*f, h[2]->*f, h[3]->*f}; };
+    const HingeEval<Lanes> he = hinge_eval<Lanes>(node(&Hinge::v0), node(&Hinge::v1), node(&Hinge::a), node(&Hinge::b));
+    const Lanes k = each(&Hinge::k), d = angle_change(he.theta, each(&Hinge::theta0));
+    const Lanes c = -2.0 * k * d;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx
+    const Lanes energy = k * d * d;
+    for (int l = 0; l < kLanes && g * kLanes + l < nh; ++l) {
+      const std::size_t i = g * kLanes + l;
+      hinge_energy_[i] = energy[l];
+      hinge_force_[i] = {lane(c * he.grad[0], l), lane(c * he.grad[1], l), lane(c * he.grad[2], l), lane(c * he.grad[3], l)};
+    }
   });
 
   parallel_for(n, [&](std::size_t i) {
@@ -382,21 +467,18 @@ double Membrane::elastic_energy(const std::vector<Vec3>& x) const {
   const Law law(props_);
   double energy = 0;
   for (std::size_t i = 0; i < tri_.size(); ++i) {
-    const auto& tr = tri_[i];
-    const Gradient F = deformation_gradient(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], dm_inv_[i]);
-    energy += props_.thickness * area0_[i] * stress(law, green_strain(F)).psi;
+    energy += props_.thickness * area0_[i] * stress(law, green_strain(gradient_at(x, tri_[i], dm_inv_[i]))).psi;
   }
   for (const Hinge& h : hinges_) {
-    const double d = angle_change(hinge_angle(x[h.v0], x[h.v1], x[h.a], x[h.b]), h.theta0);
+    const double d = angle_change<double>(hinge_angle(x[h.v0], x[h.v1], x[h.a], x[h.b]), h.theta0);
     energy += h.k * d * d;
   }
   return energy;
 }
 
 Membrane::TriangleState Membrane::triangle_state(const std::vector<Vec3>& x, std::size_t tri) const {
-  const auto& tr = tri_.at(tri);
-  const Gradient F = deformation_gradient(x.at(tr[1]) - x.at(tr[0]), x.at(tr[2]) - x.at(tr[0]), dm_inv_[tri]);
-  const Principal p = principal(green_strain(F));
+  if (x.size() != nodes()) throw std::out_of_range("Membrane::triangle_state: x must have nodes() entries");
+  const Principal p = principal(green_strain(gradient_at(x, tri_.at(tri), dm_inv_[tri])));
   return {Law(props_).regime(p), p.e1, p.e2};
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <numbers>
 #include <type_traits>
 
 #if defined(__AVX__)
@@ -60,6 +61,16 @@ BAGDEM_INLINE Lanes min_of(Lanes a, Lanes b) { return b < a ? b : a; }
 BAGDEM_INLINE Lanes max_of(Lanes a, Lanes b) { return a < b ? b : a; }
 BAGDEM_INLINE double select(bool m, double a, double b) { return m ? a : b; }
 BAGDEM_INLINE Lanes select(LanesMask m, Lanes a, Lanes b) { return m ? a : b; }
+// The mask type of T (bool for double), a mask of one value, and a && !b lane by lane.
+template <class T>
+using LanesMaskT = std::conditional_t<std::is_same_v<T, double>, bool, LanesMask>;
+template <class T>
+BAGDEM_INLINE LanesMaskT<T> mask_of(bool v) {
+  if constexpr (std::is_same_v<T, double>) return v;
+  else return LanesMask{-std::int64_t{v}, -std::int64_t{v}, -std::int64_t{v}, -std::int64_t{v}};
+}
+BAGDEM_INLINE bool and_not(bool a, bool b) { return a && !b; }
+BAGDEM_INLINE LanesMask and_not(LanesMask a, LanesMask b) { return a & ~b; }
 // As opaque(double) (vec3.hpp). Four doubles fit one register only with AVX: without it (a
 // portable build, BAGDEM_NATIVE=OFF) there is no such register and the hint is left out.
 BAGDEM_INLINE Lanes opaque(Lanes v) {
@@ -144,5 +155,27 @@ BAGDEM_INLINE void to_rows(const Lanes3& v, Lanes w, double* const* to) {
 }
 
 BAGDEM_INLINE Vec3 lane(const Lanes3& v, int l) { return {v.x[l], v.y[l], v.z[l]}; }
+
+// atan2(s, c) for c > 0 and |s| <= c (an angle of at most pi/4 either way), inline and over lanes:
+// libm's atan was a fifth of a bag's step (the film's hinges, bag/membrane.cpp). For |s| > tan(pi/8) c, atan(s/c) = pi/4 +
+// atan((|s| - c)/(|s| + c)); on |t| <= tan(pi/8), t p(t^2) with p the 11-term Chebyshev fit of
+// atan(sqrt(u))/sqrt(u) on [0, tan^2(pi/8)] (mpmath.chebyfit, fit error 3.5e-17), by Estrin's
+// scheme. One division. Within 6e-16 (relative) of libm's atan2 (tests/test_contact_lanes.cpp).
+template <class T>
+BAGDEM_INLINE T atan2_unit(T s, T c) {
+  constexpr double kTanPi8 = 0.41421356237309503;
+  constexpr double q[] = {1.0,  -0.3333333333332844, 0.1999999999885511,  -0.14285714180976467, 0.11111106180455946,
+                          -0.09090773074808414, 0.07689953496306857, -0.06640233930429408, 0.056883492268090106,
+                          -0.04348052215716462, 0.021135373157693246};  // q[i]: the coefficient of u^i
+  const LanesMaskT<T> negative = s < 0.0;
+  const T a = select(negative, -s, s);
+  const LanesMaskT<T> reduce = a > kTanPi8 * c;
+  const T t = select(reduce, a - c, a) / select(reduce, a + c, c);
+  const T u = t * t, u2 = u * u, u4 = u2 * u2, u8 = u4 * u4;
+  const T p01 = q[0] + q[1] * u, p23 = q[2] + q[3] * u, p45 = q[4] + q[5] * u, p67 = q[6] + q[7] * u, p89 = q[8] + q[9] * u;
+  const T p03 = p01 + p23 * u2, p47 = p45 + p67 * u2, p8a = p89 + q[10] * u2;
+  const T y = select(reduce, splat<T>(0.25 * std::numbers::pi), splat<T>(0.0)) + t * ((p03 + p47 * u4) + p8a * u8);
+  return select(negative, -y, y);
+}
 
 }  // namespace bagdem

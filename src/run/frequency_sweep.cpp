@@ -120,6 +120,28 @@ struct PointWindow {
   std::deque<CavitySeries> recent;
 };
 
+// The energy balance over the window as it stands: (W - D_s - D_c - dE) / |W| per cycle, and the
+// contents' dissipation per cycle (sweep.csv's energy_balance and dissipated_contents_per_cycle).
+struct WindowBalance {
+  double balance = 0, dissipated_contents = 0, work_external = 0, dissipated_structure = 0;
+};
+WindowBalance window_balance(const PointWindow& win, const Simulation& sim) {
+  const Ledger end = ledger(sim), &from = win.starts.front();
+  const double cycles = static_cast<double>(win.ys.size());
+  WindowBalance b;
+  b.work_external = (end.work_external - from.work_external) / cycles;
+  b.dissipated_structure = (end.dissipated_structure - from.dissipated_structure) / cycles;
+  b.dissipated_contents = (end.dissipated_contents - from.dissipated_contents) / cycles;
+  const double residual = b.work_external - b.dissipated_structure - b.dissipated_contents - (end.stored - from.stored) / cycles;
+  b.balance = b.work_external != 0 ? residual / std::abs(b.work_external) : 0.0;
+  return b;
+}
+
+// As judge_steady (reduce/reduce.hpp) will judge the window.
+bool balances(const WindowBalance& b) {
+  return !(std::abs(b.balance) > kSteadyBalanceTolerance) && !(b.dissipated_contents < 0);
+}
+
 // One sweep of a scene: its simulation, its results file, the points done.
 class FrequencySweep {
  public:
@@ -311,7 +333,9 @@ void FrequencySweep::drive_cycles(SweepPoint& pt, std::size_t N, SteadyStateDete
     if (!opt_.quiet && terminal_)
       std::fprintf(stderr, "\r  [%zu/%zu] %.4g Hz: cycle %zu, |Y| = %.4g m, change %.2g%%   ", i + 1, npts_, pt.frequency,
                    c + 1, std::abs(Y), 100 * pt.change);
-    if (pt.cycles >= least_ && steady.steady()) {
+    // Settled: the response (SteadyStateDetector) and the window's energy (as judge_steady will
+    // judge it: a window that does not balance holds a transient; run on).
+    if (pt.cycles >= least_ && steady.steady() && (!scene_.models.energy || balances(window_balance(win, sim_)))) {
       pt.settled = true;
       break;
     }
@@ -322,7 +346,6 @@ void FrequencySweep::drive_cycles(SweepPoint& pt, std::size_t N, SteadyStateDete
 void FrequencySweep::measure_window(SweepPoint& pt, const PointWindow& win, const SteadyStateDetector& steady,
                                    double w) const {
   const double F = P_.amplitude;
-  const Ledger end = ledger(sim_), &from = win.starts.front();
   const double cycles = static_cast<double>(win.ys.size());
   std::vector<double> magnitude;
   pt.response = pt.cavity = pt.contents_force = Complex(0, 0);
@@ -331,11 +354,9 @@ void FrequencySweep::measure_window(SweepPoint& pt, const PointWindow& win, cons
     magnitude.push_back(std::abs(win.ys[c]) / F);
   }
   pt.receptance_ci95 = batch_means_interval(magnitude).ci95;
-  pt.work_external = (end.work_external - from.work_external) / cycles;
-  pt.dissipated_structure = (end.dissipated_structure - from.dissipated_structure) / cycles;
-  pt.dissipated_contents = (end.dissipated_contents - from.dissipated_contents) / cycles;
-  const double residual = pt.work_external - pt.dissipated_structure - pt.dissipated_contents - (end.stored - from.stored) / cycles;
-  pt.balance = pt.work_external != 0 ? residual / std::abs(pt.work_external) : 0.0;
+  const WindowBalance b = window_balance(win, sim_);
+  pt.work_external = b.work_external, pt.dissipated_structure = b.dissipated_structure;
+  pt.dissipated_contents = b.dissipated_contents, pt.balance = b.balance;
   pt.receptance = pt.response / Complex(0, -F);
   pt.bare = P_.bare_receptance(w);
   pt.spread = steady.spread();
@@ -373,7 +394,8 @@ void FrequencySweep::report_point(const SweepPoint& pt, std::size_t i, std::size
     m << "warning: " << pt.frequency << " Hz is flagged unsteady and left out of the peaks: ";
     if (!pt.settled)
       m << "it did not settle in " << plan_.max_cycles << " cycles (last change " << 100 * pt.change << "%, tolerance "
-        << 100 * plan_.tolerance << "%, and beyond the cycles' scatter); raise excitation.max_cycles or excitation.steady_tolerance\n";
+        << 100 * plan_.tolerance << "%, and beyond the cycles' scatter; or the window's energy balance " << 100 * pt.balance
+        << "%, allowed " << 100 * kSteadyBalanceTolerance << "%); raise excitation.max_cycles or excitation.steady_tolerance\n";
     else
       m << "over its last " << window_cycles << " cycles the energy balance is off by " << 100 * pt.balance
         << "% (allowed " << 100 * kSteadyBalanceTolerance << "%) or the contents' tallied dissipation is negative ("

@@ -155,7 +155,7 @@ BAGDEM_INLINE RestFrame<double> rest_frame(const Eigen::Matrix2d& m, double tA0)
   return {m(0, 0), m(0, 1), m(1, 0), m(1, 1), tA0};
 }
 
-// One triangle's strain state at x (a triangle of nodes a, b, c).
+// The deformation gradient of triangle tr at x (for the scalar callers).
 BAGDEM_INLINE GradientT<double> gradient_at(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& tr,
                                             const Eigen::Matrix2d& m) {
   return deformation_gradient<double>(x[tr[1]] - x[tr[0]], x[tr[2]] - x[tr[0]], rest_frame(m, 0.0));

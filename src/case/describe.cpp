@@ -90,9 +90,9 @@ std::string describe_scene(const Scene& s) {
     if (const auto& sw = P.sweep) {
       const std::size_t K = sw->half_window();
       o << "            each point: steady when the mean response of its last " << K << " cycles is within "
-        << 100 * sw->tolerance << "% of the " << K << " before, or within their scatter (a 5% two-sample test) (at least "
-        << sw->least_cycles() << ", at most "
-        << sw->max_cycles << " cycles), reduced over those " << 2 * K << " cycles with 95% intervals\n";
+        << 100 * sw->tolerance << "% of the " << K << " before or within their scatter (a 5% two-sample test), and its "
+        << "energy balances within 1% (at least " << sw->least_cycles() << ", at most " << sw->max_cycles
+        << " cycles), reduced over those " << 2 * K << " cycles with 95% intervals\n";
     }
     if (P.harmonic) {
       // The bare structure's largest cavity amplitude over the drive frequencies, and Gamma.

@@ -156,12 +156,11 @@ BAGDEM_INLINE void to_rows(const Lanes3& v, Lanes w, double* const* to) {
 
 BAGDEM_INLINE Vec3 lane(const Lanes3& v, int l) { return {v.x[l], v.y[l], v.z[l]}; }
 
-// atan2(s, c) for c > 0 and |s| <= c (an angle of at most pi/4 either way), inline and over lanes:
-// libm's atan was a fifth of a bag's step (the film's hinges, bag/membrane.cpp). For
-// |s| > tan(pi/8) c, atan(s/c) = pi/4 + atan((|s| - c)/(|s| + c)); on |t| <= tan(pi/8), t p(t^2)
-// with p the 11-term Chebyshev fit of atan(sqrt(u))/sqrt(u) on [0, tan^2(pi/8)] (mpmath.chebyfit,
-// fit error 3.5e-17), by Estrin's scheme. One division. Within 6e-16 (relative) of libm's atan2
-// (tests/test_contact_lanes.cpp).
+// atan2(s, c) for c > 0 and |s| <= c (an angle of at most pi/4 either way), inline and over lanes,
+// for the film's hinges (bag/membrane.cpp). For |s| > tan(pi/8) c, atan(s/c) = pi/4 +
+// atan((|s| - c)/(|s| + c)); on |t| <= tan(pi/8), t p(t^2) with p the 11-term Chebyshev fit of
+// atan(sqrt(u))/sqrt(u) on [0, tan^2(pi/8)] (mpmath.chebyfit, fit error 3.5e-17), by Estrin's
+// scheme. One division. Within 6e-16 (relative) of libm's atan2 (tests/test_contact_lanes.cpp).
 template <class T>
 BAGDEM_INLINE T atan2_unit(T s, T c) {
   constexpr double kTanPi8 = 0.41421356237309503;

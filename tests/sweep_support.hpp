@@ -15,14 +15,16 @@ namespace bagdem::testing {
 
 // A 10-mm steel ball rattling (0.2 mm each side) in the cavity of a 30-Hz SDOF primary, settled
 // for 2 ms, swept at three frequencies and refined once at the peak.
-inline std::string rattling_ball_sweep() {
-  return steel_ball_between_planes("0.1 s", 0.0052, "0.01")
+inline std::string rattling_ball_sweep(int chains = 0) {
+  CaseText c = steel_ball_between_planes("0.1 s", 0.0052, "0.01")
       .set("simulation", "settle", "2 ms")
       .placed("ball", "steel", "0.01", "[[0.0001, 0, 0]]", "[[0.05, 0, 0]]")
       .sdof(0.5, "17765.287921960843", 0.05)
       .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
       .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.5 N"}, {"frequencies", "[26, 30, 34]"},
                           {"refine", 1}, {"min_cycles", 4}, {"reduce_cycles", 4}, {"max_cycles", 8}});
+  if (chains > 0) c.set("excitation", "chains", chains);  // else the default
+  return c;
 }
 
 // sweep.csv without its last column (wall_time: the machine's, not the sweep's).

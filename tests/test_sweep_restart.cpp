@@ -2,13 +2,15 @@
 // middle of a point (RunOptions::stop_after_steps, which leaves results.h5.part and the checkpoint
 // of the last point done as a kill would), resumed, killed again in the refinement and resumed to
 // the end, writes the same results.h5 (every dataset, bit for bit, but the points' wall times),
-// sweep.csv and reduced.csv as the sweep uninterrupted. The CLI's SIGTERM during a sweep is in
-// test_faults.cpp.
+// sweep.csv and reduced.csv as the sweep uninterrupted. So does a sweep of two chains
+// (run/sweep_chains.hpp), killed while both run, and it writes the same on one thread as on two.
+// The CLI's SIGTERM during a sweep is in test_faults.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include "bagdem/case/load_case.hpp"
@@ -27,7 +29,7 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   TempDir tmp;
   const fs::path dir = tmp.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep();
+  std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep(1);
   const bagdem::Scene scene = bagdem::load_case(dir.string());
   auto sweep = [&](const fs::path& out, long long stop, bool resume) {
     return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, 1, stop, resume));
@@ -49,6 +51,49 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   const bagdem::SweepReport rb = sweep(b, -1, true);
   ASSERT_TRUE(rb.complete) << rb.message;
   ASSERT_EQ(rb.points.size(), ra.points.size());
+  bagdem::testing::expect_same_sweep(a, b);
+}
+
+// Two chains: points 0 and 1 on the first, 2 on the second, the refinement's on the first.
+TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep(2);
+  const bagdem::Scene scene = bagdem::load_case(dir.string());
+  auto sweep = [&](const fs::path& out, int threads, long long stop, bool resume) {
+    return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, threads, stop, resume));
+  };
+  const fs::path a = tmp.path / "A", b = tmp.path / "B", c = tmp.path / "C", s = tmp.path / "serial";
+  const bagdem::SweepReport ra = sweep(a, 1, -1, false);
+  ASSERT_TRUE(ra.complete) << ra.message;
+  ASSERT_EQ(ra.points.size(), 4u);
+  // The first chain runs 26 and 30 Hz as a serial sweep does; the second starts at 34 Hz as the
+  // sweep's first point does at 26 Hz, where a serial sweep continues from 30 Hz instead.
+  bagdem::Scene serial = scene;
+  auto plan = std::make_shared<bagdem::Primary::Sweep>(*scene.primary->sweep);
+  plan->chains = 1;
+  auto primary = std::make_shared<bagdem::Primary>(*scene.primary);
+  primary->sweep = plan;
+  serial.primary = primary;
+  const bagdem::SweepReport rs = bagdem::run_sweep(serial, bagdem::testing::quiet_run(s));
+  ASSERT_TRUE(rs.complete) << rs.message;
+  EXPECT_EQ(rs.points[0].receptance, ra.points[0].receptance);
+  EXPECT_EQ(rs.points[1].receptance, ra.points[1].receptance);
+  EXPECT_NE(rs.points[2].receptance, ra.points[2].receptance);
+  EXPECT_NE(bagdem::testing::slurp(a / "summary.json").find("\"chains\": 2"), std::string::npos);
+  // Two threads: the chains side by side, the same bits.
+  const bagdem::SweepReport rc = sweep(c, 2, -1, false);
+  ASSERT_TRUE(rc.complete) << rc.message;
+  bagdem::testing::expect_same_sweep(a, c);
+  // Killed twice on two threads (each chain counts its own steps), resumed on one.
+  double steps = 0;
+  for (const bagdem::SweepPoint& p : ra.points) steps += static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
+  EXPECT_FALSE(sweep(b, 2, std::llround(0.25 * steps), false).complete);
+  EXPECT_TRUE(fs::exists(b / "checkpoint.bin"));
+  sweep(b, 2, std::llround(0.2 * steps), true);
+  const bagdem::SweepReport rb = sweep(b, 1, -1, true);
+  ASSERT_TRUE(rb.complete) << rb.message;
   bagdem::testing::expect_same_sweep(a, b);
 }
 

@@ -93,6 +93,11 @@ std::string describe_scene(const Scene& s) {
         << 100 * sw->tolerance << "% of the " << K << " before or within their scatter (a 5% two-sample test), and its "
         << "energy balances within 1% (at least " << sw->least_cycles() << ", at most " << sw->max_cycles
         << " cycles), reduced over those " << 2 * K << " cycles with 95% intervals\n";
+      const std::size_t chains = std::min(sw->chains, sw->frequencies.size());
+      o << "            " << chains << (chains == 1 ? " chain: each point from the state of the one before"
+                                                    : " chains side by side, each a simulation from the settled contents "
+                                                      "through its block of the frequencies (excitation.chains)")
+        << "\n";
     }
     if (P.harmonic) {
       // The bare structure's largest cavity amplitude over the drive frequencies, and Gamma.

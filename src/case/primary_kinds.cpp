@@ -291,14 +291,20 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       sw->min_cycles = count("excitation.min_cycles", 5);
       sw->max_cycles = count("excitation.max_cycles", 200);
       const long long reduce_cycles = in.integer("excitation.reduce_cycles", 10);
-      if (reduce_cycles < 4 || reduce_cycles > 1000000)
-        in.fail("excitation.reduce_cycles", "must be a whole number in [4, 1e6] (the steady cycles each point is reduced over; an interval needs at least 4)");
+      if (reduce_cycles < 3 || reduce_cycles > 1000000)
+        in.fail("excitation.reduce_cycles", "must be a whole number in [3, 1e6] (the steady cycles each point is reduced over; the window is the even number of cycles at or above it, so an interval has at least 4)");
       sw->reduce_cycles = static_cast<std::size_t>(reduce_cycles);
       if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
       if (sw->max_cycles < sw->reduce_cycles) in.fail("excitation.max_cycles", "must be >= reduce_cycles");
       const long long refine = in.integer("excitation.refine", 4);
       if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
       sw->refine = static_cast<std::size_t>(refine);
+      // The chains: the points' split among simulations run side by side. The case sets it, never
+      // the thread count, so the results are the same for any --threads.
+      const long long chains = in.integer("excitation.chains", 2);
+      if (chains < 1 || chains > 1024)
+        in.fail("excitation.chains", "must be a whole number in [1, 1024] (simulations that share the frequencies, run side by side; 1 = one after another from a single start)");
+      sw->chains = static_cast<std::size_t>(chains);
       p.sweep = sw;
     }
     p.drive_frequency = f.front();

@@ -62,17 +62,23 @@ std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepP
   return out;
 }
 
-double refinement_frequency(const ModePoints& m, double dt) {
+std::vector<double> refinement_frequencies(const ModePoints& m, double dt, std::size_t n) {
   const auto& p = m.points;
   std::size_t k = 0;
   for (std::size_t i = 1; i < p.size(); ++i)
     if (std::abs(p[i]->receptance) > std::abs(p[k]->receptance)) k = i;
-  if (k == 0 || k + 1 >= p.size()) return 0.0;
+  if (k == 0 || k + 1 >= p.size()) return {};
   const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
-  const double f = 0.5 * (p[k]->frequency + side->frequency);
-  const std::size_t N = steps_per_cycle(f, dt);
-  if (N == steps_per_cycle(p[k]->frequency, dt) || N == steps_per_cycle(side->frequency, dt)) return 0.0;
-  return std::abs(f - p[k]->frequency) > 1e-4 * p[k]->frequency ? f : 0.0;
+  const double a = p[k]->frequency, b = side->frequency, parts = static_cast<double>(n + 1);
+  std::vector<std::size_t> used = {steps_per_cycle(a, dt), steps_per_cycle(b, dt)};
+  std::vector<double> out;
+  for (std::size_t j = 1; j <= n; ++j) {
+    const double J = static_cast<double>(j), f = ((parts - J) * a + J * b) / parts;  // n = 1: (a + b) / 2
+    const std::size_t N = steps_per_cycle(f, dt);
+    if (std::find(used.begin(), used.end(), N) != used.end() || !(std::abs(f - a) > 1e-4 * a)) continue;
+    used.push_back(N), out.push_back(f);
+  }
+  return out;
 }
 
 void write_peaks_csv(const std::filesystem::path& path, const std::vector<ModePeak>& peaks) {

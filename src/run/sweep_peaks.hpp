@@ -19,11 +19,12 @@ struct ModePoints {
 };
 std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points);
 
-// The next frequency of a mode's peak refinement: halfway between the largest |H| and its larger
-// neighbour (the side the peak lies on); 0 when the largest is at an end of the mode's points or
-// the step would be below 1e-4 of the frequency, or would round to the steps per cycle of one of
-// the two points (the same frequency again).
-double refinement_frequency(const ModePoints& m, double dt);
+// The next frequencies of a mode's peak refinement: n points dividing the gap between the largest
+// |H| and its larger neighbour (the side the peak lies on) into n + 1 equal parts (n = 1: halfway).
+// None when the largest is at an end of the mode's points; a point is left out when its step from
+// the largest would be below 1e-4 of the frequency, or it would round to the steps per cycle of
+// another (the same frequency again).
+std::vector<double> refinement_frequencies(const ModePoints& m, double dt, std::size_t n);
 
 // peaks.csv: one row per evaluated mode.
 void write_peaks_csv(const std::filesystem::path& path, const std::vector<ModePeak>& peaks);

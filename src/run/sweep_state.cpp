@@ -74,19 +74,22 @@ static_assert(sizeof(Head) == 2 * sizeof(double) + sizeof(SeriesLengths));
 
 }  // namespace
 
-void save_sweep_checkpoint(const std::filesystem::path& path, const Simulation& sim, const SweepState& s) {
+// Blocks: the head, the points, the reduced rows (numbers, methods), the frame times, then one
+// image per chain.
+void save_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, const SweepState& s) {
   const Head h{s.settled ? 1.0 : 0.0, s.clearance, s.lengths};
-  const std::vector<char> image = sim.save_state();
-  save_checkpoint_file(path, {"sweep", sim.scene().resolved,
-                              {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
-                               reduced_methods(s.reduced), bytes(s.frame_times), std::string(image.begin(), image.end())}});
+  CheckpointData d{"sweep", scene.resolved,
+                   {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
+                    reduced_methods(s.reduced), bytes(s.frame_times)}};
+  for (const std::vector<char>& image : s.images) d.blocks.emplace_back(image.begin(), image.end());
+  save_checkpoint_file(path, d);
 }
 
-std::vector<char> load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& s) {
+void load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& s) {
   const CheckpointData d = load_checkpoint_file(path, "sweep");
   require_checkpoint_case(d, scene.case_file, scene.resolved);
   Head h;
-  const bool ok = d.blocks.size() == 6 && d.blocks[0].size() == sizeof h && from_bytes(d.blocks[1], s.points) &&
+  const bool ok = d.blocks.size() >= 6 && d.blocks[0].size() == sizeof h && from_bytes(d.blocks[1], s.points) &&
                   reduced_from(d.blocks[2], d.blocks[3], s.reduced) && from_bytes(d.blocks[4], s.frame_times) &&
                   s.points.size() == s.reduced.size();
   if (!ok) throw InputError("checkpoint " + path.string() + " has not the blocks of a sweep; run again without --resume");
@@ -94,7 +97,8 @@ std::vector<char> load_sweep_checkpoint(const std::filesystem::path& path, const
   s.settled = h.settled != 0;
   s.clearance = h.clearance;
   s.lengths = h.lengths;
-  return std::vector<char>(d.blocks[5].begin(), d.blocks[5].end());
+  s.images.clear();
+  for (std::size_t b = 5; b < d.blocks.size(); ++b) s.images.emplace_back(d.blocks[b].begin(), d.blocks[b].end());
 }
 
 std::string interrupted_message(int signal, double t, std::size_t points, const std::filesystem::path& out) {
@@ -107,11 +111,11 @@ std::string interrupted_message(int signal, double t, std::size_t points, const 
 void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state) {
   const std::filesystem::path ckpt = out / "checkpoint.bin", part = out / "results.h5.part";
   if (resume) {
-    const std::vector<char> image = load_sweep_checkpoint(ckpt, sim.scene(), state);
+    load_sweep_checkpoint(ckpt, sim.scene(), state);
     if (!std::filesystem::exists(part))
       throw InputError(part.string(), "", "", "the partial results file of the interrupted sweep is missing; run again without --resume");
     try {
-      sim.load_state(image);
+      sim.load_state(state.images.front());
     } catch (const std::exception& e) {
       throw InputError(ckpt.string(), "", "", std::string(e.what()) + "; run again without --resume");
     }

@@ -1,7 +1,8 @@
 // Internal to src/run: what a stepped-sine sweep carries across an interruption (checkpoint.bin of
 // kind "sweep", checkpoint_file.hpp). A sweep is checkpointed when settling ends and after each
-// point (and during settling on SIGINT/SIGTERM); --resume continues from there: the points done are
-// restored, a point cut short is run again from its start.
+// point written (and during settling on SIGINT/SIGTERM); --resume continues from there: the points
+// written are restored, each chain (sweep_chains.hpp) continues from its state after its last point
+// written, and a point not written is run again from its start.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -30,18 +31,22 @@ struct SweepState {
   std::vector<SweepPoint> points;     // the points done, in order
   std::vector<ReducedRow> reduced;    // their reduction
   std::vector<double> frame_times;    // times of the frames written (results.xmf)
+  std::vector<std::vector<char>> images;  // per chain, its simulation's state after its last point
+                                          // written (Simulation::save_state); one, the settled
+                                          // state, before the chains start
 };
 
-// Readies `out` for a sweep: with `resume`, the state and the simulation's state from
-// out/checkpoint.bin (InputError when it or results.h5.part is missing or unusable); otherwise a
-// fresh state and no checkpoint. Either way the earlier run's tables go (output_files.hpp).
+// Readies `out` for a sweep: with `resume`, the state from out/checkpoint.bin and the first chain's
+// simulation state in `sim` (InputError when it or results.h5.part is missing or unusable);
+// otherwise a fresh state and no checkpoint. Either way the earlier run's tables go
+// (output_files.hpp).
 void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state);
 
-// Writes out the state and the simulation's image.
-void save_sweep_checkpoint(const std::filesystem::path& path, const Simulation& sim, const SweepState& state);
+// Writes out the state, its images included.
+void save_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, const SweepState& state);
 
 // Reads a sweep's checkpoint (InputError when it is missing, corrupt, of a run, or of another
-// case) into `state`; returns the simulation's image.
-std::vector<char> load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& state);
+// case) into `state`.
+void load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& state);
 
 }  // namespace bagdem

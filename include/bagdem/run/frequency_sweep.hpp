@@ -1,6 +1,9 @@
 // Stepped-sine frequency response of a primary structure with its contents (excitation.kind =
 // "stepped-sine"). The drive steps through the frequencies in order, the state carried from one to
-// the next (the force's phase stays continuous). Each frequency is rounded to a whole number N of
+// the next (the force's phase stays continuous), in `excitation.chains` chains side by side, each
+// a simulation from the settled contents through its block of the frequencies (src/run/
+// sweep_chains.hpp); the points are written in their order, so the files do not depend on the
+// threads. Each frequency is rounded to a whole number N of
 // time steps per cycle, so that the first harmonic of a cycle's N samples,
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
 // is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
@@ -24,8 +27,8 @@
 // Per mode (excitation.around_modes, or every elastic mode inside the band): the bare and the
 // damped peak of |H| and the reduction in dB and percent (docs/reference-study.md, section 3). A lightly
 // damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
-// planned frequencies the sweep adds `excitation.refine` points per mode, each halfway between
-// the largest |H| and its larger neighbour; the damped peak is then the parabola through the
+// planned frequencies the sweep adds `excitation.refine` points per mode between the largest |H|
+// and its larger neighbour (halfway, or with several chains in rounds of equal parts); the damped peak is then the parabola through the
 // largest and its neighbours (find_peak), the bare peak that of the analytic receptance. The
 // largest simulated |H| is reported beside the fitted peak; when it is the mode's first or last
 // point the peak may lie outside the band: the peak is marked at_band_edge and its reduction is
@@ -37,7 +40,7 @@
 // reduced.csv (the damper's effective parameters per point, reduce/reduce.hpp), peaks.csv (one
 // row per mode), bare_curve.csv (the bare structure's analytic response over the band), and
 // summary.json with the peaks (written last). checkpoint.bin: written when settling ends and after
-// each point; SIGINT/SIGTERM stop the sweep (status "interrupted") and --resume continues it from
+// each point written (with every chain's state); SIGINT/SIGTERM stop the sweep (status "interrupted") and --resume continues it from
 // the last point done to the same results as a sweep uninterrupted.
 #pragma once
 #include <complex>

@@ -102,6 +102,7 @@ struct Primary {
     std::size_t reduce_cycles = 10;    // the last cycles of a point that its response and reduction are measured over
     std::size_t max_cycles = 200;      // cap (with a warning)
     std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
+    std::size_t chains = 1;            // simulations that share the points, side by side (run/sweep_chains.hpp)
     // The steady test compares the mean response of the last K cycles with the K before, and the
     // point is reduced over those 2K cycles: K = max(cycles, reduce_cycles / 2 rounded up).
     std::size_t half_window() const { return std::max(cycles, (reduce_cycles + 1) / 2); }

@@ -1,0 +1,43 @@
+// The points of a sweep shared among its chains (sweep_chains.hpp).
+#include "sweep_chains.hpp"
+
+#include <algorithm>
+
+namespace bagdem {
+
+std::size_t chain_count(std::size_t chains, std::size_t planned) {
+  return std::max<std::size_t>(1, std::min(chains, planned));
+}
+
+std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains) {
+  const std::size_t n = frequencies.size(), K = chain_count(chains, n);
+  std::vector<ChainTask> tasks;
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < K; ++k)
+    for (std::size_t b = 0; b < n / K + (k < n % K ? 1 : 0); ++b, ++i) tasks.push_back({i, frequencies[i], k});
+  return tasks;
+}
+
+std::size_t refinement_rounds(std::size_t refine, std::size_t chains) {
+  const std::size_t K = std::max<std::size_t>(1, chains);
+  return (refine + K - 1) / K;
+}
+
+std::size_t round_points(std::size_t refine, std::size_t chains, std::size_t round) {
+  const std::size_t K = std::max<std::size_t>(1, chains), placed = round * K;
+  return placed < refine ? std::min(K, refine - placed) : 0;
+}
+
+std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SweepPoint>& done, std::size_t per_mode,
+                                        std::size_t chains, double dt, std::size_t first_index) {
+  std::vector<ChainTask> tasks;
+  const std::size_t K = std::max<std::size_t>(1, chains);
+  for (const ModePoints& m : group_by_mode(P, done))
+    for (double f : refinement_frequencies(m, dt, per_mode)) {
+      const std::size_t j = tasks.size();
+      tasks.push_back({first_index + j, f, j % K});
+    }
+  return tasks;
+}
+
+}  // namespace bagdem

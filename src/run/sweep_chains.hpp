@@ -1,0 +1,47 @@
+// Internal to src/run: how a stepped-sine sweep shares its points among its chains
+// (excitation.chains, run/frequency_sweep.hpp).
+//
+// A chain is a simulation of its own, started from the settled contents; it runs its points in
+// order, each from the state its previous point left, and its first point from the start the
+// sweep's first point has (the bare structure's steady state with excitation.start = "steady").
+// The chains run side by side on the threads given, but which chain runs which point is set by the
+// case alone, so the results are the same for any thread count:
+//  - the planned frequencies are cut into `chains` contiguous blocks, in order, the first blocks a
+//    point longer when the count does not divide; chain k runs block k;
+//  - the peak refinement runs in rounds of up to `chains` points per mode (refine_round). The
+//    round's points, mode after mode, go to the chains in turn: point j to chain j mod chains.
+// With one chain this is the serial sweep: every point from the state of the one before.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "sweep_peaks.hpp"
+
+namespace bagdem {
+
+// A point of the sweep and the chain that runs it. `index` is the point's place in the sweep's
+// tables (the planned points, then the refinement's in the order of its rounds).
+struct ChainTask {
+  std::size_t index = 0;
+  double frequency = 0;  // requested (unit: Hz)
+  std::size_t chain = 0;
+};
+
+// The chains a sweep of `planned` frequencies runs: `chains`, at most one per frequency.
+std::size_t chain_count(std::size_t chains, std::size_t planned);
+
+// The planned frequencies as tasks, block k to chain k.
+std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains);
+
+// The refinement's rounds: ceil(refine / chains); round r places min(chains, refine - r chains)
+// points per mode.
+std::size_t refinement_rounds(std::size_t refine, std::size_t chains);
+std::size_t round_points(std::size_t refine, std::size_t chains, std::size_t round);
+
+// A round's tasks from the points done so far (numbered from `first_index`): per mode
+// (group_by_mode), `per_mode` frequencies dividing the gap between the largest |H| and its larger
+// neighbour into equal parts (refinement_frequencies), mode after mode.
+std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SweepPoint>& done, std::size_t per_mode,
+                                        std::size_t chains, double dt, std::size_t first_index);
+
+}  // namespace bagdem

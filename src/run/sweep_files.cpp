@@ -1,0 +1,79 @@
+// A stepped-sine sweep's own tables (sweep_files.hpp).
+#include "sweep_files.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <iomanip>
+#include <numbers>
+#include <sstream>
+
+#include "bagdem/io/json.hpp"
+#include "sweep_peaks.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+constexpr double kTwoPi = 2 * std::numbers::pi;
+}  // namespace
+
+const std::vector<TableColumn> kSweepColumns = {
+    {"requested_frequency", "Hz"}, {"frequency", "Hz"},
+    {"response_re", "m"},          {"response_im", "m"},
+    {"receptance_re", "m/N"},      {"receptance_im", "m/N"},
+    {"bare_receptance_re", "m/N"}, {"bare_receptance_im", "m/N"},
+    {"acceleration_re", "m/s^2"},  {"acceleration_im", "m/s^2"},
+    {"accelerance_abs", "m/s^2/N"}, {"bare_accelerance_abs", "m/s^2/N"},
+    {"cavity_re", "m"},            {"cavity_im", "m"},
+    {"contents_force_re", "N"},    {"contents_force_im", "N"},
+    {"work_external_per_cycle", "J"}, {"dissipated_structure_per_cycle", "J"},
+    {"dissipated_contents_per_cycle", "J"}, {"energy_balance", "1"},
+    {"receptance_abs_ci95", "m/N"},
+    {"cycles", "1"},               {"steady", "1"},
+    {"spread", "1"},
+    {"change", "1"},               {"wall_time", "s"}};
+
+std::vector<double> sweep_row(const SweepPoint& p) {
+  const double w = kTwoPi * p.frequency;
+  return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
+          p.bare.real(), p.bare.imag(), -w * w * p.response.real(), -w * w * p.response.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
+          p.cavity.imag(), p.contents_force.real(), p.contents_force.imag(), p.work_external, p.dissipated_structure,
+          p.dissipated_contents, p.balance, p.receptance_ci95, static_cast<double>(p.cycles), p.steady ? 1.0 : 0.0, p.spread, p.change,
+          p.wall_seconds};
+}
+
+void write_sweep_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
+  std::vector<std::vector<double>> rows;
+  for (const SweepPoint& p : points) rows.push_back(sweep_row(p));
+  write_table_csv(path, kSweepColumns, rows);
+}
+
+void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<SweepPoint>& points) {
+  static const std::vector<TableColumn> columns = {{"frequency", "Hz"}, {"bare_receptance_abs", "m/N"}, {"bare_accelerance_abs", "m/s^2/N"}};
+  if (points.empty()) return;
+  double lo = points.front().frequency, hi = lo;
+  for (const SweepPoint& p : points) lo = std::min(lo, p.frequency), hi = std::max(hi, p.frequency);
+  std::vector<std::vector<double>> rows;
+  const int n = hi > lo ? 400 : 1;
+  for (int k = 0; k < n; ++k) {
+    const double f = n > 1 ? lo + (hi - lo) * k / (n - 1) : lo, w = kTwoPi * f, h = std::abs(P.bare_receptance(w));
+    rows.push_back({f, h, w * w * h});
+  }
+  write_table_csv(path, columns, rows);
+}
+
+std::string sweep_summary_json(const Scene& scene, const SweepReport& rep, std::size_t particles, std::size_t chains) {
+  std::ostringstream j;
+  j << std::setprecision(10);
+  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n  \"kind\": \"stepped-sine\",\n"
+    << "  \"particles\": " << particles << ",\n  \"dt\": " << scene.dt << ",\n"
+    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"chains\": " << chains << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
+    << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
+    << std::count_if(rep.points.begin(), rep.points.end(), [](const SweepPoint& p) { return !p.steady; }) << ",\n"
+    << "  \"force_amplitude_N\": " << scene.primary->amplitude << ",\n  \"peaks\": ";
+  j << peaks_json(rep.peaks) << "\n}\n";
+  return j.str();
+}
+
+}  // namespace bagdem

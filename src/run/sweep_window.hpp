@@ -1,0 +1,36 @@
+// Internal to src/run: the energy and the first harmonics of a sweep point's window, its last 2K
+// cycles (run/frequency_sweep.hpp).
+#pragma once
+#include <complex>
+#include <deque>
+
+#include "bagdem/reduce/reduce.hpp"
+#include "bagdem/step/simulation.hpp"
+
+namespace bagdem {
+
+// Energy the run has seen so far, for per-cycle differences.
+struct Ledger {
+  double work_external = 0, dissipated_structure = 0, dissipated_contents = 0, stored = 0;
+};
+Ledger ledger(const Simulation& sim);
+
+// The last `window` cycles of a point: the ledger at the start of each, the first harmonics of the
+// response, the cavity's displacement and the contents' force, and the samples.
+struct PointWindow {
+  std::deque<Ledger> starts;
+  std::deque<std::complex<double>> ys, cav, load;
+  std::deque<CavitySeries> recent;
+};
+
+// The energy balance over the window as it stands: (W - D_s - D_c - dE) / |W| per cycle, and the
+// contents' dissipation per cycle (sweep.csv's energy_balance and dissipated_contents_per_cycle).
+struct WindowBalance {
+  double balance = 0, dissipated_contents = 0, work_external = 0, dissipated_structure = 0;
+};
+WindowBalance window_balance(const PointWindow& win, const Simulation& sim);
+
+// As judge_steady (reduce/reduce.hpp) will judge the window.
+bool balances(const WindowBalance& b);
+
+}  // namespace bagdem

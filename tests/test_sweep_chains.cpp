@@ -1,0 +1,91 @@
+// How a sweep shares its points among its chains (src/run/sweep_chains.hpp) and where its peak
+// refinement places points (src/run/sweep_peaks.hpp). The sweeps themselves, on one thread and on
+// two, killed and resumed, are in test_sweep_restart.cpp.
+#include <gtest/gtest.h>
+
+#include <complex>
+#include <vector>
+
+#include "run/sweep_chains.hpp"
+#include "run/sweep_peaks.hpp"
+
+namespace {
+
+using bagdem::ChainTask;
+
+std::vector<std::size_t> chain_of(const std::vector<ChainTask>& tasks) {
+  std::vector<std::size_t> c;
+  for (const ChainTask& t : tasks) c.push_back(t.chain);
+  return c;
+}
+
+TEST(SweepChains, PlannedFrequenciesAreContiguousBlocksInOrder) {
+  const std::vector<double> f = {77, 80, 83, 86, 88, 91, 94};
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 1)), (std::vector<std::size_t>{0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 2)), (std::vector<std::size_t>{0, 0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 3)), (std::vector<std::size_t>{0, 0, 0, 1, 1, 2, 2}));
+  // More chains than frequencies: one each.
+  EXPECT_EQ(bagdem::chain_count(16, f.size()), 7u);
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 16)), (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6}));
+  const std::vector<ChainTask> t = bagdem::planned_tasks(f, 2);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_EQ(t[i].index, i);
+    EXPECT_EQ(t[i].frequency, f[i]);
+  }
+}
+
+TEST(SweepChains, RefinementRoundsPlaceUpToOnePointPerChainAndMode) {
+  EXPECT_EQ(bagdem::refinement_rounds(4, 1), 4u);
+  EXPECT_EQ(bagdem::refinement_rounds(2, 2), 1u);
+  EXPECT_EQ(bagdem::refinement_rounds(5, 2), 3u);
+  EXPECT_EQ(bagdem::refinement_rounds(0, 2), 0u);
+  EXPECT_EQ(bagdem::round_points(5, 2, 0), 2u);
+  EXPECT_EQ(bagdem::round_points(5, 2, 2), 1u);
+  EXPECT_EQ(bagdem::round_points(5, 2, 3), 0u);
+}
+
+// |H| peaks at 84 Hz with its larger neighbour at 86 Hz.
+struct Peak {
+  std::vector<bagdem::SweepPoint> p;
+  bagdem::ModePoints m{0, {}};
+  Peak() {
+    const double f[] = {80, 82, 84, 86, 88}, h[] = {1, 2, 5, 4, 1};
+    for (int k = 0; k < 5; ++k) {
+      bagdem::SweepPoint s;
+      s.frequency = f[k], s.receptance = std::complex<double>(0, h[k]);
+      p.push_back(s);
+    }
+    for (const auto& s : p) m.points.push_back(&s);
+  }
+};
+
+TEST(SweepChains, RefinementDividesTheGapBesideThePeakIntoEqualParts) {
+  const Peak P;
+  const double dt = 1e-7;
+  // One point: halfway, as the serial sweep always placed it (0.5 (a + b), the same bits).
+  const std::vector<double> one = bagdem::refinement_frequencies(P.m, dt, 1);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0], 0.5 * (84.0 + 86.0));
+  // Two: at the thirds, nearest the peak first.
+  const std::vector<double> two = bagdem::refinement_frequencies(P.m, dt, 2);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_NEAR(two[0], 84 + 2.0 / 3, 1e-12);
+  EXPECT_NEAR(two[1], 84 + 4.0 / 3, 1e-12);
+  // A step so coarse that the points round to the steps per cycle of the peak or of each other:
+  // each such point is left out.
+  const double coarse = 1.0 / (84.0 * 80.0);  // 80 steps per cycle at 84 Hz, 78 at 86 Hz
+  const std::vector<double> many = bagdem::refinement_frequencies(P.m, coarse, 8);
+  EXPECT_EQ(many.size(), 1u);
+  for (double f : many) {
+    EXPECT_GT(f, 84.0);
+    EXPECT_LT(f, 86.0);
+  }
+}
+
+TEST(SweepChains, NoRefinementWhenThePeakIsAtTheBandEdge) {
+  Peak P;
+  P.p[4].receptance = std::complex<double>(0, 9);  // the largest at the last point
+  EXPECT_TRUE(bagdem::refinement_frequencies(P.m, 1e-7, 2).empty());
+}
+
+}  // namespace

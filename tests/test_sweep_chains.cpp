@@ -19,19 +19,28 @@ std::vector<std::size_t> chain_of(const std::vector<ChainTask>& tasks) {
   return c;
 }
 
-TEST(SweepChains, PlannedFrequenciesAreContiguousBlocksInOrder) {
+std::vector<std::size_t> index_of(const std::vector<ChainTask>& tasks) {
+  std::vector<std::size_t> c;
+  for (const ChainTask& t : tasks) c.push_back(t.index);
+  return c;
+}
+
+// The pipe's mode 1 at 85.6 Hz, its planned frequencies 77 to 94 Hz.
+TEST(SweepChains, PlannedFrequenciesAreContiguousBlocksEachRunTowardsTheResonance) {
   const std::vector<double> f = {77, 80, 83, 86, 88, 91, 94};
-  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 1)), (std::vector<std::size_t>{0, 0, 0, 0, 0, 0, 0}));
-  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 2)), (std::vector<std::size_t>{0, 0, 0, 0, 1, 1, 1}));
-  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 3)), (std::vector<std::size_t>{0, 0, 0, 1, 1, 2, 2}));
+  auto mode = [](double) { return 85.6; };
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 1, mode)), (std::vector<std::size_t>{0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 2, mode)), (std::vector<std::size_t>{0, 0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 3, mode)), (std::vector<std::size_t>{0, 0, 0, 1, 1, 2, 2}));
+  // One chain runs the list as written; with two, the second runs down from 94 Hz; with three,
+  // the middle block (86, 88) from 88 Hz, farther from 85.6 Hz than 86.
+  EXPECT_EQ(index_of(bagdem::planned_tasks(f, 1, mode)), (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(index_of(bagdem::planned_tasks(f, 2, mode)), (std::vector<std::size_t>{0, 1, 2, 3, 6, 5, 4}));
+  EXPECT_EQ(index_of(bagdem::planned_tasks(f, 3, mode)), (std::vector<std::size_t>{0, 1, 2, 4, 3, 6, 5}));
   // More chains than frequencies: one each.
   EXPECT_EQ(bagdem::chain_count(16, f.size()), 7u);
-  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 16)), (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6}));
-  const std::vector<ChainTask> t = bagdem::planned_tasks(f, 2);
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    EXPECT_EQ(t[i].index, i);
-    EXPECT_EQ(t[i].frequency, f[i]);
-  }
+  EXPECT_EQ(chain_of(bagdem::planned_tasks(f, 16, mode)), (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6}));
+  for (const ChainTask& t : bagdem::planned_tasks(f, 2, mode)) EXPECT_EQ(t.frequency, f[t.index]);
 }
 
 TEST(SweepChains, RefinementRoundsPlaceUpToOnePointPerChainAndMode) {

@@ -7,6 +7,7 @@
 // The CLI's SIGTERM during a sweep is in test_faults.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -54,12 +55,16 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   bagdem::testing::expect_same_sweep(a, b);
 }
 
-// Two chains: points 0 and 1 on the first, 2 on the second, the refinement's on the first.
+// Two chains around the resonance at 30 Hz: 26 and 30 Hz on the first, 38 then 34 Hz on the
+// second (it runs towards the resonance); the refinement's two points, one on each.
 TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   TempDir tmp;
   const fs::path dir = tmp.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep(2);
+  std::string text = bagdem::testing::rattling_ball_sweep(2);
+  text.replace(text.find("[26, 30, 34]"), 12, "[26, 30, 34, 38]");
+  text.replace(text.find("refine = 1"), 10, "refine = 2");
+  std::ofstream(dir / "case.toml") << text;
   const bagdem::Scene scene = bagdem::load_case(dir.string());
   auto sweep = [&](const fs::path& out, int threads, long long stop, bool resume) {
     return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, threads, stop, resume));
@@ -67,9 +72,11 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   const fs::path a = tmp.path / "A", b = tmp.path / "B", c = tmp.path / "C", s = tmp.path / "serial";
   const bagdem::SweepReport ra = sweep(a, 1, -1, false);
   ASSERT_TRUE(ra.complete) << ra.message;
-  ASSERT_EQ(ra.points.size(), 4u);
-  // The first chain runs 26 and 30 Hz as a serial sweep does; the second starts at 34 Hz as the
-  // sweep's first point does at 26 Hz, where a serial sweep continues from 30 Hz instead.
+  ASSERT_EQ(ra.points.size(), 6u);
+  EXPECT_NE(bagdem::testing::slurp(a / "summary.json").find("\"chains\": 2"), std::string::npos);
+  // The first chain runs 26 and 30 Hz as a serial sweep does; the second starts at 38 Hz as the
+  // sweep's first point does at 26 Hz, and reaches 34 Hz from there, where a serial sweep
+  // continues from 30 Hz instead.
   bagdem::Scene serial = scene;
   auto plan = std::make_shared<bagdem::Primary::Sweep>(*scene.primary->sweep);
   plan->chains = 1;
@@ -81,17 +88,29 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   EXPECT_EQ(rs.points[0].receptance, ra.points[0].receptance);
   EXPECT_EQ(rs.points[1].receptance, ra.points[1].receptance);
   EXPECT_NE(rs.points[2].receptance, ra.points[2].receptance);
-  EXPECT_NE(bagdem::testing::slurp(a / "summary.json").find("\"chains\": 2"), std::string::npos);
   // Two threads: the chains side by side, the same bits.
   const bagdem::SweepReport rc = sweep(c, 2, -1, false);
   ASSERT_TRUE(rc.complete) << rc.message;
   bagdem::testing::expect_same_sweep(a, c);
-  // Killed twice on two threads (each chain counts its own steps), resumed on one.
-  double steps = 0;
-  for (const bagdem::SweepPoint& p : ra.points) steps += static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
-  EXPECT_FALSE(sweep(b, 2, std::llround(0.25 * steps), false).complete);
-  EXPECT_TRUE(fs::exists(b / "checkpoint.bin"));
-  sweep(b, 2, std::llround(0.2 * steps), true);
+  // Killed on two threads, each chain at its own step count (settling is the first's): in B with
+  // both in the refinement (points 0-3 written, the second chain's state after 34 Hz, the last it
+  // ran), resumed on one thread; in D while both run their blocks, resumed on two.
+  auto steps = [&](std::size_t i) {
+    const bagdem::SweepPoint& p = ra.points[i];
+    return static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
+  };
+  const double kill = std::round(scene.settle / scene.dt) + steps(0) + steps(1) + 0.1 * steps(4);
+  ASSERT_GT(kill, steps(2) + steps(3));
+  ASSERT_LT(kill, steps(2) + steps(3) + steps(5));
+  EXPECT_FALSE(sweep(b, 2, std::llround(kill), false).complete);
+  const std::string part = bagdem::testing::slurp(b / "sweep.csv");
+  EXPECT_EQ(std::count(part.begin(), part.end(), '\n'), 5) << "the header and the 4 planned points";
+  const fs::path d = tmp.path / "D";
+  EXPECT_FALSE(sweep(d, 2, std::llround(0.5 * steps(3)), false).complete);
+  EXPECT_TRUE(fs::exists(d / "checkpoint.bin"));
+  const bagdem::SweepReport rd = sweep(d, 2, -1, true);
+  ASSERT_TRUE(rd.complete) << rd.message;
+  bagdem::testing::expect_same_sweep(a, d);
   const bagdem::SweepReport rb = sweep(b, 1, -1, true);
   ASSERT_TRUE(rb.complete) << rb.message;
   bagdem::testing::expect_same_sweep(a, b);

@@ -7,13 +7,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <deque>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -23,9 +19,7 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
-#include "bagdem/io/json.hpp"
 #include "bagdem/io/results_file.hpp"
-#include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/compare.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/reduce.hpp"
@@ -79,6 +73,7 @@ struct DonePoint {
   ReducedRow reduced;
   Frame frame;
   std::vector<char> image;  // its chain's state after it (the checkpoint's)
+  std::uint64_t step = 0;   // its chain's steps then
   std::size_t chain = 0;
 };
 
@@ -164,6 +159,7 @@ class FrequencySweep {
   // and a chain's failure that stops the others.
   std::mutex mutex_;
   std::map<std::size_t, DonePoint> waiting_;
+  std::vector<std::uint64_t> image_step_;  // per chain, the steps of its state in state_.images
   std::size_t completed_ = 0;
   std::atomic<bool> stop_{false};
 };
@@ -216,6 +212,7 @@ void FrequencySweep::start_chains() {
     c->sim.load_state(state_.images[k]);
     c->first_step = c->sim.steps_done();
   }
+  for (const auto& c : chains_) image_step_.push_back(c->sim.steps_done());
 }
 
 void FrequencySweep::run() {
@@ -231,7 +228,7 @@ void FrequencySweep::run() {
   // never in it: the drive has just changed frequency (and, at a chain's start, the structure is
   // released into its start state within it).
   K_ = plan_.half_window(), window_ = 2 * K_, least_ = plan_.least_cycles();
-  run_tasks(planned_tasks(plan_.frequencies, K));
+  run_tasks(planned_tasks(plan_.frequencies, K, [&](double f) { return P_.natural_frequency[P_.nearest_elastic_mode(f)]; }));
   // Peak refinement: per mode, `refine` more points in rounds of up to K (sweep_chains.hpp).
   // Each round is chosen from the points before it (a resumed round: as it was first chosen).
   std::size_t first = plan_.frequencies.size();
@@ -267,6 +264,9 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
     omp_set_num_threads(inner);
     try {
       run_chain(*chains_[busy[b]], per[busy[b]]);
+    } catch (const SweepHalt& h) {
+      errors[b] = std::current_exception();
+      if (h.signal != 0) stop_.store(true);  // the testing aid stops each chain at its own step
     } catch (...) {
       errors[b] = std::current_exception();
       stop_.store(true);
@@ -311,22 +311,28 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task) {
   pt.wall_seconds = since(t_point);
   d.frame = frame_of(c.sim);
   d.image = c.sim.save_state();
+  d.step = c.sim.steps_done();
   return d;
 }
 
 // A point is done: its progress line, then it and any points after it that were waiting for it
-// are written, in order.
+// are written, in order, and the checkpoint follows. A chain runs a block from its upper end
+// (sweep_chains.hpp) and its points are all written at once: so the points written of each chain
+// are always the first it ran, and its state after the last of them is the one to resume from.
 void FrequencySweep::finished(std::size_t index, DonePoint&& d) {
   const std::lock_guard<std::mutex> lock(mutex_);
   report_point(d.pt, index, std::min<std::size_t>(d.pt.cycles, window_), ++completed_ + done_points_.size());
   waiting_.emplace(index, std::move(d));
+  bool wrote = false;
   for (auto it = waiting_.find(rep_.points.size()); it != waiting_.end(); it = waiting_.find(rep_.points.size())) {
     write_point(it->second);
     waiting_.erase(it);
+    wrote = true;
   }
+  if (wrote) checkpoint();
 }
 
-// A point's row, frame and tables, and the checkpoint that follows it.
+// A point's row, frame and tables.
 void FrequencySweep::write_point(DonePoint& d) {
   rep_.points.push_back(d.pt);
   rep_.reduced.push_back(d.reduced);
@@ -334,8 +340,8 @@ void FrequencySweep::write_point(DonePoint& d) {
   frame(d.frame);
   write_sweep_csv(out_ / "sweep.csv", rep_.points);
   write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
-  state_.images[d.chain] = std::move(d.image);
-  checkpoint();
+  // The chain's latest state among its points written (steps_done grows along a chain).
+  if (d.step > image_step_[d.chain]) state_.images[d.chain] = std::move(d.image), image_step_[d.chain] = d.step;
 }
 
 // The drive's cycles at the point's N steps each, until the window is steady or max_cycles.

@@ -2,6 +2,7 @@
 #include "sweep_chains.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace bagdem {
 
@@ -9,12 +10,21 @@ std::size_t chain_count(std::size_t chains, std::size_t planned) {
   return std::max<std::size_t>(1, std::min(chains, planned));
 }
 
-std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains) {
+std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains,
+                                     const std::function<double(double)>& resonance) {
   const std::size_t n = frequencies.size(), K = chain_count(chains, n);
+  auto off = [&](double f) { return std::abs(std::log(f / resonance(f))); };
   std::vector<ChainTask> tasks;
-  std::size_t i = 0;
-  for (std::size_t k = 0; k < K; ++k)
-    for (std::size_t b = 0; b < n / K + (k < n % K ? 1 : 0); ++b, ++i) tasks.push_back({i, frequencies[i], k});
+  std::size_t first = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    const std::size_t len = n / K + (k < n % K ? 1 : 0), last = first + len - 1;
+    const bool down = K > 1 && off(frequencies[last]) > off(frequencies[first]);
+    for (std::size_t b = 0; b < len; ++b) {
+      const std::size_t i = down ? last - b : first + b;
+      tasks.push_back({i, frequencies[i], k});
+    }
+    first += len;
+  }
   return tasks;
 }
 

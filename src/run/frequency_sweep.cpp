@@ -47,17 +47,6 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The balls and the film at a point's end, kept until the point is written.
-struct Frame {
-  double t = 0;
-  std::vector<Vec3> x, v, w, film;
-};
-Frame frame_of(const Simulation& sim) {
-  const Particles& p = sim.particles();
-  return {sim.time(), sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w),
-          sim.scene().bag ? sim.film().x : std::vector<Vec3>{}};
-}
-
 // A chain of the sweep (sweep_chains.hpp): its simulation, and where its steps are counted from
 // (the testing aid RunOptions::stop_after_steps).
 struct Chain {
@@ -99,8 +88,7 @@ class FrequencySweep {
   // The first chain's simulation: it settles the contents, and the other chains start from it.
   Simulation& sim0() { return chains_.front()->sim; }
   void frame(const Frame& f) {
-    file_->append_frame(f.t, f.x, f.v, f.w);
-    if (scene_.bag) file_->append_film_frame(f.film);
+    append_frame(*file_, f);
     state_.frame_times.push_back(f.t);
   }
   // A signal, the testing aid, or another chain's failure stops the next step.

@@ -24,6 +24,22 @@ inline void append_ball_frame(ResultsFile& file, double t, const Simulation& sim
   file.append_frame(t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w));
 }
 
+// The balls and the film (a bag's) now, in the scene's order, to be appended later: a sweep's
+// chains keep a point's frame until the points before it are written.
+struct Frame {
+  double t = 0;
+  std::vector<Vec3> x, v, w, film;
+};
+inline Frame frame_of(const Simulation& sim) {
+  const Particles& p = sim.particles();
+  return {sim.time(), sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w),
+          sim.scene().bag ? sim.film().x : std::vector<Vec3>{}};
+}
+inline void append_frame(ResultsFile& file, const Frame& f) {
+  file.append_frame(f.t, f.x, f.v, f.w);
+  if (!f.film.empty()) file.append_film_frame(f.film);
+}
+
 // The tables a run, a sweep, `reduce`, `compare`, `drop` and `export` derive in an output
 // directory: a new run (or a resumed one) removes them first, so that none of an earlier run is
 // left beside its results. results.h5 is not among them: it is replaced when the new one is

@@ -73,7 +73,7 @@ CLI::App* add_run(CLI::App& app, Args& a) {
                                       "each mode's peak reduction (dB, %) against the bare structure in summary.json.");
   run->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
   run->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
-  run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed)")->check(CLI::Range(1, 1024));
+  run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; a stepped-sine sweep runs its chains, excitation.chains, side by side on them)")->check(CLI::Range(1, 1024));
   run->add_option("--set", a.sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
   add_fidelity(run, a.fidelity);
   run->add_flag("--quiet", a.quiet, "No progress line");

@@ -305,6 +305,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
       if (chains < 1 || chains > 1024)
         in.fail("excitation.chains", "must be a whole number in [1, 1024] (simulations that share the frequencies, run side by side; 1 = one after another from a single start)");
       sw->chains = static_cast<std::size_t>(chains);
+      sw->predict = in.boolean("excitation.predict", true);
       p.sweep = sw;
     }
     p.drive_frequency = f.front();

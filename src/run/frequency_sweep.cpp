@@ -115,13 +115,10 @@ class FrequencySweep {
   void settle();
   void start_chains();
   void run_tasks(const std::vector<ChainTask>& tasks);
-  void run_chain(Chain& c, const std::vector<ChainTask>& tasks);
-  DonePoint run_point(Chain& c, const ChainTask& task);
+  void run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks);
+  DonePoint run_point(Chain& c, const ChainTask& task, const SweepPoint* from, const SweepPoint* to);
   void drive_cycles(Chain& c, SweepPoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
                     std::size_t i) const;
-  void measure_window(const Simulation& sim, SweepPoint& pt, const PointWindow& win, const SteadyStateDetector& steady,
-                      double w) const;
-  ReducedRow reduce_window(SweepPoint& pt, const PointWindow& win) const;
   void finished(std::size_t index, DonePoint&& d);
   void write_point(DonePoint& d);
   void report_point(const SweepPoint& pt, std::size_t i, std::size_t window_cycles, std::size_t done) const;
@@ -147,6 +144,9 @@ class FrequencySweep {
   // and a chain's failure that stops the others.
   std::mutex mutex_;
   std::map<std::size_t, DonePoint> waiting_;
+  std::map<std::size_t, SweepPoint> models_;  // per task of run_tasks, a model written before it
+  std::vector<std::optional<SweepPoint>> last_;  // per chain, its last point (each chain its own)
+  std::vector<std::size_t> last_index_;
   std::vector<std::uint64_t> image_step_;  // per chain, the steps of its state in state_.images
   std::size_t completed_ = 0;
   std::atomic<bool> stop_{false};
@@ -201,6 +201,7 @@ void FrequencySweep::start_chains() {
     c->first_step = c->sim.steps_done();
   }
   for (const auto& c : chains_) image_step_.push_back(c->sim.steps_done());
+  last_.assign(n, std::nullopt), last_index_.assign(n, ChainTask::none);
 }
 
 void FrequencySweep::run() {
@@ -232,14 +233,23 @@ void FrequencySweep::run() {
 // (each with its share of them), or one after another on one.
 void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
   std::vector<std::vector<ChainTask>> per(chains_.size());
-  for (const ChainTask& t : tasks)
-    if (t.index >= rep_.points.size()) per[t.chain].push_back(t);
+  models_.clear();
+  for (const ChainTask& t : tasks) {
+    if (t.index < rep_.points.size()) {  // written before an interruption: where its chain was
+      last_[t.chain] = rep_.points[t.index], last_index_[t.chain] = t.index;
+      continue;
+    }
+    per[t.chain].push_back(t);
+    // A model written already (the refinement's; a resumed chain's previous point): read it now,
+    // before the chains write more points.
+    if (t.model < rep_.points.size()) models_[t.index] = rep_.points[t.model];
+  }
   std::vector<std::size_t> busy;
   for (std::size_t k = 0; k < per.size(); ++k)
     if (!per[k].empty()) busy.push_back(k);
   const int threads = omp_get_max_threads(), outer = std::min(threads, static_cast<int>(busy.size()));
   if (outer <= 1) {
-    for (std::size_t k : busy) run_chain(*chains_[k], per[k]);
+    for (std::size_t k : busy) run_chain(*chains_[k], k, per[k]);
     return;
   }
   // Exceptions cannot leave a parallel region: each chain's is kept, and the first failure (in
@@ -251,7 +261,7 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
   for (std::size_t b = 0; b < busy.size(); ++b) {
     omp_set_num_threads(inner);
     try {
-      run_chain(*chains_[busy[b]], per[busy[b]]);
+      run_chain(*chains_[busy[b]], busy[b], per[busy[b]]);
     } catch (const SweepHalt& h) {
       errors[b] = std::current_exception();
       if (h.signal != 0) stop_.store(true);  // the testing aid stops each chain at its own step
@@ -276,12 +286,21 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
   if (halt) std::rethrow_exception(halt);
 }
 
-void FrequencySweep::run_chain(Chain& c, const std::vector<ChainTask>& tasks) {
-  for (const ChainTask& t : tasks) finished(t.index, run_point(c, t));
+// Each point after the chain's first starts from the one before it (excitation.predict), its
+// contents modelled on that point or, in the refinement, on the written point nearest in frequency.
+void FrequencySweep::run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks) {
+  for (const ChainTask& t : tasks) {
+    const auto m = models_.find(t.index);
+    const SweepPoint* from = last_[k] ? &*last_[k] : nullptr;
+    const SweepPoint* to = m != models_.end() ? &m->second : t.model == last_index_[k] ? from : nullptr;
+    DonePoint d = run_point(c, t, from, to);
+    last_[k] = d.pt, last_index_[k] = t.index;
+    finished(t.index, std::move(d));
+  }
 }
 
 // One frequency point, from the state the chain's last one left.
-DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task) {
+DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const SweepPoint* from, const SweepPoint* to) {
   const auto t_point = std::chrono::steady_clock::now();
   DonePoint d;
   d.chain = task.chain;
@@ -291,11 +310,23 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task) {
   pt.frequency = 1.0 / (static_cast<double>(N) * scene_.dt);
   c.sim.set_drive_frequency(pt.frequency);
   const double w = kTwoPi * pt.frequency;
+  // The predicted start (excitation.predict): the structure's state moves from the steady state of
+  // the chain's last point (`from`, with its contents as measured there) to the one at this
+  // frequency with the model's contents (`to`), the rest of the state (the decaying part, the static
+  // one) kept (sweep_chains.hpp).
+  if (plan_.predict && from && to) {
+    const double w_a = kTwoPi * from->frequency;
+    const Complex Za = contents_stiffness(*from, w_a), Zb = contents_stiffness(*to, w);
+    Eigen::VectorXcd A = P_.steady_amplitudes(P_.amplitude, w_a, Za), B = P_.steady_amplitudes(P_.amplitude, w, Zb);
+    for (std::size_t k = 0; k < P_.size(); ++k)  // set_drive_frequency moved the rigid-body modes
+      if (P_.rigid_body[k]) A[static_cast<Eigen::Index>(k)] = B[static_cast<Eigen::Index>(k)] = 0;
+    if (std::isfinite(A.norm()) && std::isfinite(B.norm())) c.sim.jump_harmonic(A, w_a, B, w);
+  }
   SteadyStateDetector steady(K_, plan_.tolerance);
   PointWindow win;
   drive_cycles(c, pt, N, steady, win, task.index);
-  measure_window(c.sim, pt, win, steady, w);
-  d.reduced = reduce_window(pt, win);
+  measure_window(c.sim, P_, win, steady, w, pt);
+  d.reduced = reduce_window(win, scene_, context_, pt);
   pt.wall_seconds = since(t_point);
   d.frame = frame_of(c.sim);
   d.image = c.sim.save_state();
@@ -368,44 +399,6 @@ void FrequencySweep::drive_cycles(Chain& ch, SweepPoint& pt, std::size_t N, Stea
       break;
     }
   }
-}
-
-// Response, energy and first harmonics over the window.
-void FrequencySweep::measure_window(const Simulation& sim, SweepPoint& pt, const PointWindow& win,
-                                   const SteadyStateDetector& steady, double w) const {
-  const double F = P_.amplitude;
-  const double cycles = static_cast<double>(win.ys.size());
-  std::vector<double> magnitude;
-  pt.response = pt.cavity = pt.contents_force = Complex(0, 0);
-  for (std::size_t c = 0; c < win.ys.size(); ++c) {
-    pt.response += win.ys[c] / cycles, pt.cavity += win.cav[c] / cycles, pt.contents_force += win.load[c] / cycles;
-    magnitude.push_back(std::abs(win.ys[c]) / F);
-  }
-  pt.receptance_ci95 = batch_means_interval(magnitude).ci95;
-  const WindowBalance b = window_balance(win, sim);
-  pt.work_external = b.work_external, pt.dissipated_structure = b.dissipated_structure;
-  pt.dissipated_contents = b.dissipated_contents, pt.balance = b.balance;
-  pt.receptance = pt.response / Complex(0, -F);
-  pt.bare = P_.bare_receptance(w);
-  pt.spread = steady.spread();
-}
-
-// The damper's effective parameters over the same cycles (one step = one sample); sets pt.steady.
-ReducedRow FrequencySweep::reduce_window(SweepPoint& pt, const PointWindow& win) const {
-  CavitySeries last;
-  for (const CavitySeries& c : win.recent) {
-    last.t.insert(last.t.end(), c.t.begin(), c.t.end()), last.x.insert(last.x.end(), c.x.begin(), c.x.end());
-    last.force.insert(last.force.end(), c.force.begin(), c.force.end());
-    last.v_rel.insert(last.v_rel.end(), c.v_rel.begin(), c.v_rel.end());
-  }
-  ReducedRow reduced = reduce_series(last, pt.frequency, last.t.front() - 0.5 * scene_.dt, context_);
-  reduced.response_amplitude = std::abs(pt.response);
-  // Without the contents' energy tallies (output.energy = false) the balance cannot close: unknown.
-  if (scene_.models.energy) reduced.dissipated_per_cycle = pt.dissipated_contents, reduced.energy_balance = pt.balance;
-  if (!pt.settled) reduced.steady = 0;
-  judge_steady(reduced);
-  pt.steady = reduced.steady == 1;
-  return reduced;
 }
 
 // The point's progress line, and why it is flagged unsteady if it is.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace bagdem {
 
@@ -21,7 +22,7 @@ std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std
     const bool down = K > 1 && off(frequencies[last]) > off(frequencies[first]);
     for (std::size_t b = 0; b < len; ++b) {
       const std::size_t i = down ? last - b : first + b;
-      tasks.push_back({i, frequencies[i], k});
+      tasks.push_back({i, frequencies[i], k, b == 0 ? ChainTask::none : tasks.back().index});
     }
     first += len;
   }
@@ -38,6 +39,16 @@ std::size_t round_points(std::size_t refine, std::size_t chains, std::size_t rou
   return placed < refine ? std::min(K, refine - placed) : 0;
 }
 
+// The contents' dynamic stiffness at the cavity, Z = -L / U (their force's and the cavity's first
+// harmonics) measured at a point, as a mass and a dashpot (Z = -w^2 M_e + i w C_e) at w: how a sweep
+// point's start predicts the contents (Primary::steady_amplitudes). NaN without a cavity motion.
+std::complex<double> contents_stiffness(const SweepPoint& p, double w) {
+  const double w0 = 2 * std::numbers::pi * p.frequency;
+  if (!(std::abs(p.cavity) > 0)) return {std::nan(""), std::nan("")};
+  const std::complex<double> Z0 = -p.contents_force / p.cavity;
+  return {Z0.real() * (w * w) / (w0 * w0), Z0.imag() * w / w0};
+}
+
 std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SweepPoint>& done, std::size_t per_mode,
                                         std::size_t chains, double dt, std::size_t first_index) {
   std::vector<ChainTask> tasks;
@@ -45,7 +56,10 @@ std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<Swee
   for (const ModePoints& m : group_by_mode(P, done))
     for (double f : refinement_frequencies(m, dt, per_mode)) {
       const std::size_t j = tasks.size();
-      tasks.push_back({first_index + j, f, j % K});
+      std::size_t near = 0;
+      for (std::size_t i = 1; i < done.size(); ++i)
+        if (std::abs(std::log(done[i].frequency / f)) < std::abs(std::log(done[near].frequency / f))) near = i;
+      tasks.push_back({first_index + j, f, j % K, done.empty() ? ChainTask::none : near});
     }
   return tasks;
 }

@@ -15,6 +15,7 @@
 //    round's points, mode after mode, go to the chains in turn: point j to chain j mod chains.
 // With one chain this is the serial sweep: every point from the state of the one before.
 #pragma once
+#include <complex>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -26,9 +27,13 @@ namespace bagdem {
 // A point of the sweep and the chain that runs it. `index` is the point's place in the sweep's
 // tables (the planned points, then the refinement's in the order of its rounds).
 struct ChainTask {
+  static constexpr std::size_t none = static_cast<std::size_t>(-1);
   std::size_t index = 0;
   double frequency = 0;  // requested (unit: Hz)
   std::size_t chain = 0;
+  // The point whose contents model the start (excitation.predict): the chain's previous point, or
+  // for the refinement the written point nearest in frequency; none for a chain's first point.
+  std::size_t model = none;
 };
 
 // The chains a sweep of `planned` frequencies runs: `chains`, at most one per frequency.
@@ -46,8 +51,15 @@ std::size_t round_points(std::size_t refine, std::size_t chains, std::size_t rou
 
 // A round's tasks from the points done so far (numbered from `first_index`): per mode
 // (group_by_mode), `per_mode` frequencies dividing the gap between the largest |H| and its larger
-// neighbour into equal parts (refinement_frequencies), mode after mode.
+// neighbour into equal parts (refinement_frequencies), mode after mode; each modelled on the done
+// point nearest in frequency.
 std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SweepPoint>& done, std::size_t per_mode,
                                         std::size_t chains, double dt, std::size_t first_index);
+
+// The contents' dynamic stiffness at the cavity, Z = -L / U (the first harmonics of their force on
+// it and of its displacement) measured at point p, taken as a mass and a dashpot
+// (Z = -w^2 M_e + i w C_e) and carried to circular frequency w: how a point's start predicts the
+// contents (excitation.predict, Primary::steady_amplitudes). NaN when the cavity did not move.
+std::complex<double> contents_stiffness(const SweepPoint& p, double w);
 
 }  // namespace bagdem

@@ -2,6 +2,10 @@
 #include "sweep_window.hpp"
 
 #include <cmath>
+#include <vector>
+
+#include "bagdem/reduce/interval.hpp"
+#include "bagdem/structure/response.hpp"
 
 namespace bagdem {
 
@@ -34,6 +38,44 @@ WindowBalance window_balance(const PointWindow& win, const Simulation& sim) {
 
 bool balances(const WindowBalance& b) {
   return !(std::abs(b.balance) > kSteadyBalanceTolerance) && !(b.dissipated_contents < 0);
+}
+
+// Response, energy and first harmonics over the window.
+void measure_window(const Simulation& sim, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
+                    SweepPoint& pt) {
+  const double F = P.amplitude;
+  const double cycles = static_cast<double>(win.ys.size());
+  std::vector<double> magnitude;
+  pt.response = pt.cavity = pt.contents_force = std::complex<double>(0, 0);
+  for (std::size_t c = 0; c < win.ys.size(); ++c) {
+    pt.response += win.ys[c] / cycles, pt.cavity += win.cav[c] / cycles, pt.contents_force += win.load[c] / cycles;
+    magnitude.push_back(std::abs(win.ys[c]) / F);
+  }
+  pt.receptance_ci95 = batch_means_interval(magnitude).ci95;
+  const WindowBalance b = window_balance(win, sim);
+  pt.work_external = b.work_external, pt.dissipated_structure = b.dissipated_structure;
+  pt.dissipated_contents = b.dissipated_contents, pt.balance = b.balance;
+  pt.receptance = pt.response / std::complex<double>(0, -F);
+  pt.bare = P.bare_receptance(w);
+  pt.spread = steady.spread();
+}
+
+// The damper's effective parameters over the same cycles (one step = one sample); sets pt.steady.
+ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SweepPoint& pt) {
+  CavitySeries last;
+  for (const CavitySeries& c : win.recent) {
+    last.t.insert(last.t.end(), c.t.begin(), c.t.end()), last.x.insert(last.x.end(), c.x.begin(), c.x.end());
+    last.force.insert(last.force.end(), c.force.begin(), c.force.end());
+    last.v_rel.insert(last.v_rel.end(), c.v_rel.begin(), c.v_rel.end());
+  }
+  ReducedRow reduced = reduce_series(last, pt.frequency, last.t.front() - 0.5 * scene.dt, context);
+  reduced.response_amplitude = std::abs(pt.response);
+  // Without the contents' energy tallies (output.energy = false) the balance cannot close: unknown.
+  if (scene.models.energy) reduced.dissipated_per_cycle = pt.dissipated_contents, reduced.energy_balance = pt.balance;
+  if (!pt.settled) reduced.steady = 0;
+  judge_steady(reduced);
+  pt.steady = reduced.steady == 1;
+  return reduced;
 }
 
 }  // namespace bagdem

@@ -5,7 +5,9 @@
 #include <deque>
 
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/step/simulation.hpp"
+#include "bagdem/structure/response.hpp"
 
 namespace bagdem {
 
@@ -32,5 +34,12 @@ WindowBalance window_balance(const PointWindow& win, const Simulation& sim);
 
 // As judge_steady (reduce/reduce.hpp) will judge the window.
 bool balances(const WindowBalance& b);
+
+// The point's response, first harmonics and energy over its window (sweep.csv's columns).
+void measure_window(const Simulation& sim, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
+                    SweepPoint& pt);
+
+// The damper's effective parameters over the same cycles (one step = one sample); sets pt.steady.
+ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SweepPoint& pt);
 
 }  // namespace bagdem

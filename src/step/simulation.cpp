@@ -45,6 +45,9 @@ const StructureState& Simulation::structure() const { return s_->structure(); }
 StructureResponse Simulation::structure_response() const { return s_->structure_response(); }
 double Simulation::structure_energy() const { return s_->structure_energy(); }
 void Simulation::set_drive_frequency(double hz) { s_->set_drive_frequency(hz); }
+void Simulation::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b) {
+  s_->jump_harmonic(A, w_a, B, w_b);
+}
 
 double Simulation::initial_stored_energy() const { return s_->initial_stored_energy(); }
 EnergySample Simulation::energy() const { return s_->energy(); }

@@ -122,7 +122,7 @@ class Stepper {
   // Harmonic drives: a new drive frequency from the next step on, the force's phase continuous
   // (rigid-body modes move to the new steady state). Call it at a whole cycle of the drive.
   void set_drive_frequency(double hz);
-
+  void jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b);
   // Checkpoint support: the complete dynamic state as a flat byte image, and its inverse.
   std::vector<char> save_state() const;
   void load_state(const std::vector<char>& image);

@@ -81,6 +81,43 @@ void Stepper::release_structure() {
   restart_acceleration();
 }
 
+// From one harmonic state to another at the present force phase theta: q += Re((B - A) e^{i theta}),
+// v += Re(i (w_b B - w_a A) e^{i theta}) (A at w_a, B at w_b: complex amplitudes, q = Re(Q e^{i theta})),
+// between steps. The contents' places move with the cavity's walls, each by the jump of the wall
+// displacement at it (the slope's shear included), as do the places kept from the last neighbour
+// build, so that no overlap, candidate list or skin bound changes; their velocities stay (the
+// walls' velocity jumps against them). The step after counts no work for the jump (the cavity's
+// last position moves with it).
+void Stepper::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b) {
+  if (!scene_.primary || !structure_.scalars.released) return;
+  StructureState& S = structure_;
+  const std::complex<double> e = std::polar(1.0, S.scalars.phase), i(0, 1);
+  const auto n = static_cast<Eigen::Index>(S.q.size());
+  VecMap(S.q.data(), n) += ((B - A) * e).real();
+  VecMap(S.v.data(), n) += ((i * w_b * B - i * w_a * A) * e).real();
+  const CavityState was = cavity_;
+  restart_acceleration();  // v_pred = v, and a
+  const CavityState now = structure_cavity();
+  auto moved = [&](const Vec3& x) {
+    const double s = tilt_ ? (x - was.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
+    return Vec3(now.position - was.position + s * (now.shear - was.shear));
+  };
+  for (std::size_t k = 0; k < p_.size(); ++k) {
+    const Vec3 dx = moved(p_.x[k]);
+    p_.x[k] += dx, x_at_build_[k] += dx;
+  }
+  for (std::size_t k = 0; k < film_.size(); ++k) {
+    const Vec3 dx = moved(film_.x[k]);
+    film_.x[k] += dx;
+    if (k < film_at_build_.size()) film_at_build_[k] += dx;
+  }
+  cavity_at_build_ += now.position - was.position;
+  cavity_pos_at_build_ += now.position - was.position;
+  cavity_shear_at_build_ += now.shear - was.shear;
+  cavity_prev_.position += now.position - was.position, cavity_prev_.shear += now.shear - was.shear;
+  cavity_ = now;
+}
+
 // a from the present state, the contents' load of the last step and the force now (as at set-up:
 // ctx_.dt = 0, so nothing is tallied and the previous-step values restart from here).
 void Stepper::restart_acceleration() {

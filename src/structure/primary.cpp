@@ -33,12 +33,15 @@ double Primary::omega_max() const {
 }
 
 namespace {
-Eigen::VectorXcd solve_bare(const Primary& p, double w, const Eigen::VectorXd& f) {
+Eigen::MatrixXcd dynamic_stiffness(const Primary& p, double w) {
   using C = std::complex<double>;
   const Eigen::Index n = p.stiffness.size();
   Eigen::MatrixXcd D = (-w * w) * p.mass.cast<C>();
   for (Eigen::Index k = 0; k < n; ++k) D(k, k) += C(p.stiffness[k], w * p.damping[k]);
-  return D.partialPivLu().solve(f.cast<C>());
+  return D;
+}
+Eigen::VectorXcd solve_bare(const Primary& p, double w, const Eigen::VectorXd& f) {
+  return dynamic_stiffness(p, w).partialPivLu().solve(f.cast<std::complex<double>>());
 }
 }  // namespace
 
@@ -52,6 +55,14 @@ void Primary::bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::V
   const Eigen::VectorXcd Q = solve_bare(*this, w, at_force) * std::complex<double>(0, -F);
   q = Q.real();
   v = (Q * std::complex<double>(0, w)).real();
+}
+
+// (K - w^2 M + i w C + Z phi_b phi_b^T) Q = -i F phi_f: the contents' force on the cavity is
+// Re(-Z U e^{iwt}), U = phi_b . Q.
+Eigen::VectorXcd Primary::steady_amplitudes(double F, double w, std::complex<double> Z) const {
+  const Eigen::VectorXcd b = at_cavity.cast<std::complex<double>>();
+  const Eigen::MatrixXcd D = dynamic_stiffness(*this, w) + Z * b * b.transpose();
+  return D.partialPivLu().solve(at_force.cast<std::complex<double>>()) * std::complex<double>(0, -F);
 }
 
 double Primary::bare_cavity_amplitude_max(double F, const std::vector<double>& f, double& w_at) const {

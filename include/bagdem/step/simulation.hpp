@@ -81,6 +81,11 @@ class Simulation {
   // Harmonic drives: a new drive frequency from the next step on, the force's phase continuous.
   // Call it at a whole cycle of the drive.
   void set_drive_frequency(double hz);
+  // Between steps, for a sweep point's start: the structure's state changes from the harmonic A at
+  // circular frequency w_a to B at w_b (complex amplitudes of its coordinates against the force's
+  // phase, q = Re(Q e^{i theta}), Primary::steady_amplitudes), the rest of its state kept; the
+  // contents' places move with the cavity's walls (src/step/structure.cpp, jump_structure).
+  void jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b);
 
   // ---- the energy budget ------------------------------------------------------------------------
   double initial_stored_energy() const;  // kinetic + elastic at t = 0, the balance's reference (unit: J)

@@ -103,6 +103,7 @@ struct Primary {
     std::size_t max_cycles = 200;      // cap (with a warning)
     std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
     std::size_t chains = 1;            // simulations that share the points, side by side (run/sweep_chains.hpp)
+    bool predict = false;              // a point starts from the steady state predicted with the contents measured before
     // The steady test compares the mean response of the last K cycles with the K before, and the
     // point is reduced over those 2K cycles: K = max(cycles, reduce_cycles / 2 rounded up).
     std::size_t half_window() const { return std::max(cycles, (reduce_cycles + 1) / 2); }
@@ -119,6 +120,10 @@ struct Primary {
   std::complex<double> bare_receptance(double w) const;
   // Steady state of the structure without contents under f = F sin(w t) at t = 0: q and v.
   void bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
+  // The complex amplitudes Q (q(t) = Re(Q e^{iwt})) of the steady state under f = F sin(w t) with
+  // contents of dynamic stiffness Z at the cavity (their force on it Re(-Z U e^{iwt}), U the
+  // cavity's amplitude; Z = -w^2 m for a rigid mass m, i w c for a dashpot c).
+  Eigen::VectorXcd steady_amplitudes(double F, double w, std::complex<double> Z) const;
   // Amplitude of the cavity's displacement in that steady state (unit: m).
   double bare_cavity_amplitude(double F, double w) const;
   // Its largest value over [f_lo, f_hi] (Hz): the given frequencies and a fine logarithmic scan

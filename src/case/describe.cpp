@@ -97,6 +97,9 @@ std::string describe_scene(const Scene& s) {
       o << "            " << chains << (chains == 1 ? " chain: each point from the state of the one before"
                                                     : " chains side by side, each a simulation from the settled contents "
                                                       "through its block of the frequencies (excitation.chains)")
+        << (sw->predict ? "; each point after a chain's first starts from its steady state predicted with the contents "
+                          "measured before (excitation.predict)"
+                        : "")
         << "\n";
     }
     if (P.harmonic) {

@@ -84,10 +84,11 @@ void Stepper::release_structure() {
 // From one harmonic state to another at the present force phase theta: q += Re((B - A) e^{i theta}),
 // v += Re(i (w_b B - w_a A) e^{i theta}) (A at w_a, B at w_b: complex amplitudes, q = Re(Q e^{i theta})),
 // between steps. The contents' places move with the cavity's walls, each by the jump of the wall
-// displacement at it (the slope's shear included), as do the places kept from the last neighbour
-// build, so that no overlap, candidate list or skin bound changes; their velocities stay (the
-// walls' velocity jumps against them). The step after counts no work for the jump (the cavity's
-// last position moves with it).
+// displacement at it (the slope's shear included), so no overlap changes; their velocities stay
+// (the walls' velocity jumps against them). The places kept from the last neighbour build move by
+// the jump's translation: its shear part (each place's own, up to the cavity's half length times
+// the shear's jump) counts as travel, so every skin and sleeping bound still holds. The step after
+// counts no work for the jump (the cavity's last position moves with it).
 void Stepper::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b) {
   if (!scene_.primary || !structure_.scalars.released) return;
   StructureState& S = structure_;
@@ -102,19 +103,14 @@ void Stepper::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::
     const double s = tilt_ ? (x - was.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
     return Vec3(now.position - was.position + s * (now.shear - was.shear));
   };
-  for (std::size_t k = 0; k < p_.size(); ++k) {
-    const Vec3 dx = moved(p_.x[k]);
-    p_.x[k] += dx, x_at_build_[k] += dx;
-  }
-  for (std::size_t k = 0; k < film_.size(); ++k) {
-    const Vec3 dx = moved(film_.x[k]);
-    film_.x[k] += dx;
-    if (k < film_at_build_.size()) film_at_build_[k] += dx;
-  }
-  cavity_at_build_ += now.position - was.position;
-  cavity_pos_at_build_ += now.position - was.position;
-  cavity_shear_at_build_ += now.shear - was.shear;
-  cavity_prev_.position += now.position - was.position, cavity_prev_.shear += now.shear - was.shear;
+  const Vec3 rigid = now.position - was.position;
+  for (std::size_t k = 0; k < p_.size(); ++k) p_.x[k] += moved(p_.x[k]), x_at_build_[k] += rigid;
+  for (std::size_t k = 0; k < film_.size(); ++k) film_.x[k] += moved(film_.x[k]);
+  for (Vec3& x : film_at_build_) x += rigid;
+  cavity_at_build_ += rigid, cavity_pos_at_build_ += rigid;
+  const double sheared = tilt_ ? 2 * tilt_extent_ * (now.shear - was.shear).norm() : 0.0;
+  travel_ += sheared, mesh_travel_ += 2 * sheared;
+  cavity_prev_.position += rigid, cavity_prev_.shear += now.shear - was.shear;
   cavity_ = now;
 }
 

@@ -1,6 +1,7 @@
 // Stepped-sine frequency response of a primary structure with its contents (excitation.kind =
 // "stepped-sine"). The drive steps through the frequencies in order, the state carried from one to
-// the next (the force's phase stays continuous), in `excitation.chains` chains side by side, each
+// the next (the force's phase stays continuous; with excitation.predict the structure's state then
+// moves to the new frequency's predicted steady state), in `excitation.chains` chains side by side, each
 // a simulation from the settled contents through its block of the frequencies (src/run/
 // sweep_chains.hpp); the points are written in their order, so the files do not depend on the
 // threads. Each frequency is rounded to a whole number N of

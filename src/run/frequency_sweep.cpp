@@ -256,7 +256,8 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
   // chain order), else the first signal, else the testing aid's halt, is thrown after it.
   std::vector<std::exception_ptr> errors(busy.size());
   const int inner = std::max(1, threads / outer);
-  if (inner > 1) omp_set_max_active_levels(2);
+  const int levels = omp_get_max_active_levels();
+  if (inner > 1) omp_set_max_active_levels(2);  // each chain's own stages on its share of the threads
 #pragma omp parallel for num_threads(outer) schedule(dynamic, 1)
   for (std::size_t b = 0; b < busy.size(); ++b) {
     omp_set_num_threads(inner);
@@ -270,6 +271,7 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
       stop_.store(true);
     }
   }
+  omp_set_max_active_levels(levels);
   std::exception_ptr halt, signal;
   for (const std::exception_ptr& e : errors) {
     if (!e) continue;

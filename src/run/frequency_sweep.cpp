@@ -164,7 +164,7 @@ void FrequencySweep::open() {
     file_->set_attribute("settle_end", scene_.settle);
     file_->set_attribute("timestep", scene_.dt);
     if (scene_.bag) file_->write_film(scene_.bag->rest.triangles, scene_.bag->rest.vertices.size());
-    frame(frame_of(sim0()));
+    frame(frame_of(sim0(), sim0().time()));
   }
   // The points done before an interruption: their rows again (the reopened file has no /sweep).
   done_points_ = std::move(state_.points);
@@ -330,7 +330,7 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const Sweep
   measure_window(c.sim, P_, win, steady, w, pt);
   d.reduced = reduce_window(win, scene_, context_, pt);
   pt.wall_seconds = since(t_point);
-  d.frame = frame_of(c.sim);
+  d.frame = frame_of(c.sim, c.sim.time());
   d.image = c.sim.save_state();
   d.step = c.sim.steps_done();
   return d;

@@ -17,22 +17,16 @@ inline ResultsFile open_results(const std::string& path, const Simulation& sim,
                      materials, cavity_interval);
 }
 
-// The balls' positions and velocities now as a frame at time t, in the scene's order (the stepper
-// keeps its own, Simulation::input_index).
-inline void append_ball_frame(ResultsFile& file, double t, const Simulation& sim) {
-  const Particles& p = sim.particles();
-  file.append_frame(t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w));
-}
-
-// The balls and the film (a bag's) now, in the scene's order, to be appended later: a sweep's
-// chains keep a point's frame until the points before it are written.
+// The balls' positions, velocities and spins and the bag's film nodes as a frame at time t, in the
+// scene's order (the stepper keeps its own, Simulation::input_index): a run appends it at once, a
+// sweep's chains keep a point's frame until the points before it are written.
 struct Frame {
   double t = 0;
   std::vector<Vec3> x, v, w, film;
 };
-inline Frame frame_of(const Simulation& sim) {
+inline Frame frame_of(const Simulation& sim, double t) {
   const Particles& p = sim.particles();
-  return {sim.time(), sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w),
+  return {t, sim.in_scene_order(p.x), sim.in_scene_order(p.v), sim.in_scene_order(p.w),
           sim.scene().bag ? sim.film().x : std::vector<Vec3>{}};
 }
 inline void append_frame(ResultsFile& file, const Frame& f) {

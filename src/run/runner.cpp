@@ -237,9 +237,6 @@ class RunLoop {
     if (excitation_.norm() > 0) file_->set_attribute("clearance", contents_clearance(scene_, sim_, excitation_));
   }
   void structure_row();
-  void film_frame() {
-    if (scene_.bag) file_->append_film_frame(sim_.film().x);
-  }
   std::uint64_t next_event(std::uint64_t s) const;
   void record(std::uint64_t s);
   void check_bag(double t) const;
@@ -350,8 +347,7 @@ void RunLoop::start() {
   file_->set_attribute("timestep", scene_.dt);
   file_->set_attribute("status", "running");
   if (scene_.bag) file_->write_film(scene_.bag->rest.triangles, scene_.bag->rest.vertices.size());
-  append_ball_frame(*file_, 0, sim_);
-  film_frame();
+  append_frame(*file_, frame_of(sim_, 0));
   if (scene_.models.energy) file_->append_energy(0, sim_.energy().terms());
   frame_times_.push_back(0);
 }
@@ -398,8 +394,7 @@ void RunLoop::record(std::uint64_t s) {
   if (energy && (s % at_.n_energy == 0 || s == at_.total)) file_->append_energy(t, sim_.energy().terms());
   if (s % at_.n_frame == 0 || s == at_.total) {
     check_bag(t);
-    append_ball_frame(*file_, t, sim_);
-    film_frame();
+    append_frame(*file_, frame_of(sim_, t));
     frame_times_.push_back(t);
   }
   if (at_.n_ckpt && s % at_.n_ckpt == 0 && s != at_.total) save();

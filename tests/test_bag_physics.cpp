@@ -110,25 +110,25 @@ void expect_undamped_budget(bool tension_field, double tolerance, const std::str
   EXPECT_LT(r.final_error, tolerance);
 }
 
-// Measured (auto step 8.2e-7 s; docs/bag.md). The residual depends on the
-// trajectory (which film-wall impacts happen): runs perturbed in the last bit of one operation gave
-// max residuals of 5.9e-4, 1.1e-3 and 1.8e-3 of the scale. Tolerance 3e-3.
+// Measured (auto step 8.2e-7 s; docs/bag.md): 2.8e-3. The residual depends on the trajectory
+// (which film-wall impacts happen): seeds 1-5 gave 2.3e-4 to 2.8e-3 of the scale. Tolerance 3e-3.
 TEST(BagEnergy, BudgetClosesUndamped) { expect_undamped_budget(false, 3e-3); }
 
 // With the tension field on (the default), the membrane's energy is only once differentiable where
 // a triangle passes between slack, wrinkled and taut, which an undamped film at rest does all the
-// time (its stress-free state lies on the slack boundary); velocity Verlet's energy error is then
-// first order in the step instead of bounded. Measured: 4.4e-3 at the auto step (8.2e-7 s),
-// 1.2e-3 at 4e-7 s, 4e-4 at 2e-7 s. Tolerance 1e-3 at 2e-7 s, and 1e-2 at the auto step so that a
-// regression shows.
-TEST(BagEnergy, BudgetWithTensionFieldClosesAsTheStepShrinks) {
-  expect_undamped_budget(true, 1e-2);
-  expect_undamped_budget(true, 1e-3, "\"0.2 us\"");
+// time (its stress-free state lies on the slack boundary). Measured over seeds 1-5: 0.9e-3 to
+// 3.5e-3 at the auto step (8.2e-7 s), 0.4e-3 to 1.2e-3 at 2e-7 s (a floor: the joined ball-film
+// contacts lose energy where a valley's hit is dropped, test FilmContactEnergyAcrossAShallowFold).
+// Keeping only a patch's deepest hit gave 0.3e-3 to 4.4e-3 and 0.2e-3 to 2.2e-3 (its error is a
+// gain in steep valleys, MeshWallCoarse.BallInAValleyKeepsItsEnergy). Tolerances 5e-3 and 3e-3.
+TEST(BagEnergy, BudgetWithTensionFieldCloses) {
+  expect_undamped_budget(true, 5e-3);
+  expect_undamped_budget(true, 3e-3, "\"0.2 us\"");
 }
 
 // Same scene with damping and friction everywhere: e = 0.5, mu = 0.3, film damping ratio 0.05,
-// string damping 0.05 N s/m, tension field on, auto step. Measured: 2.1e-3 (the tension field's
-// first-order error above); tolerance 5e-3.
+// string damping 0.05 N s/m, tension field on, auto step. Measured: 9.8e-4 (8.6e-4 keeping only a
+// patch's deepest hit); tolerance 5e-3.
 TEST(BagEnergy, BudgetClosesWithDampingAndFriction) {
   LoadedCase c(shaken_bag_toml(0.5, 0.3, 0.05, 0.05));
   const BudgetRun r = run_budget(c.scene);
@@ -703,9 +703,10 @@ TEST(BagStiffFilm, BallFilmLawReducesToBallWallLaw) {
 // ~10 degrees apart at 200 triangles; the capsule's staggered rings make every ring chord such a
 // valley from outside and every diagonal one from inside). The film stands for a smooth membrane,
 // so the ball should meet the ball-wall law here too. Reference: the measured ball-wall e and the
-// requested 0.7; tolerance 2%. (The ball touches both faces at once: two contacts, each with the
-// damping calibrated for one contact of the ball's whole mass.)
-// Measured (this build): 2 contacts at once, e = 0.610 (film / wall 0.873): FAILS.
+// requested 0.7; tolerance 2%. (The ball touches both faces at once: two hits, one contact
+// joining them, PatchBlend, whose damping takes the joined overlap's own m*.)
+// Measured (this build): 2 hits at once, e = 0.6976 (film / wall 0.9986); with the joined contact's
+// m* the ball's own (scale^2 too heavy), 0.678.
 TEST(BagStiffFilm, ImpactOnAShallowValleyOfTheFilmMatchesTheWallLaw) {
   const StiffFilmResult& r = stiff_film_result();
   EXPECT_NEAR(r.valley, r.wall, 0.02 * r.wall) << "valley " << r.valley_angle_deg << " degrees, " << r.most_contacts[3]
@@ -825,63 +826,71 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   EXPECT_LT(wn, 0.5);
 }
 
-// The energy of the balls' film contacts must be a continuous function of the positions (the
-// budget cannot close otherwise). Two triangles of a film folded into a shallow valley (each face
-// 0.57 degrees off flat) and a ball of radius R = 0.1 pressed into both (1% of R) moved across the
-// fold line in 2e4 steps of h = 1e-6; contact energy U = sum over the contacts the stepper keeps
-// (select_mesh_contacts, then keep_one_per_patch) of overlap^(5/2) (Hertz, unit stiffness).
-// Reference: U Lipschitz with constant 2 x (5/2) overlap_max^(3/2) (each overlap changing at most by
-// h per step); tolerance: every step's |dU| within that bound. With the feature rule alone a face
-// hit turned edge hit was dropped at 38% of U (the reason for the patch rule).
-TEST(BagEnergy, FilmContactEnergyIsContinuousAcrossAShallowFold) {
+// The energy of the balls' film contacts across a shallow fold. Two triangles of a film folded into
+// a valley (each face 0.57 degrees off flat) and a ball of radius R = 0.1 pressed into both, moved
+// across the fold line in 2e4 steps of h = 1e-6; contact energy U = sum over the contacts the
+// stepper keeps (select_mesh_contacts, then join_patches) of overlap^(5/2) (Hertz, unit stiffness).
+// References: the deepest hit's energy U_max is Lipschitz with constant (5/2) overlap_max^(3/2) x 2
+// (each overlap changes at most by h per step); the joined energy lies between U_max and
+// 2^(5/16) U_max, and changes per step by at most that bound except where the feature rule drops a
+// hit of the valley (a face hit turned edge hit), where it falls to U_max: such a step's change is
+// within the bound plus the join's excess U - U_max just before. With the feature rule alone a
+// face hit turned edge hit was dropped at 38% of U (the reason for the patch rule). Measured: the
+// drop costs 18% of U at an overlap of 1% of R, 1.6% at 5e-4 of R (a film contact's).
+TEST(BagEnergy, FilmContactEnergyAcrossAShallowFold) {
   TriangleMesh m;
   const double lift = 0.01;  // the far corners lifted: the ball (above) sits in a valley along the y axis
   m.vertices = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-1, 0, lift), Vec3(1, 0, lift)};
   m.triangles = {{0, 2, 1}, {0, 1, 3}};  // normals towards -z: away from the ball's side (+z)
   build_topology(m);
-  const double R = 0.1, z = R - 0.01 * R;
-  double max_jump = 0, max_overlap = 0, at_x = 0;
-  std::size_t max_kept = 0;
-  auto energy = [&](double x, std::size_t& kept) {
-    std::vector<MeshHit> hits;
-    for (std::uint32_t t = 0; t < 2; ++t) {
-      const auto& tri = m.triangles[t];
-      const TriangleHit h = closest_point_on_triangle(Vec3(x, 0.1, z), m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]);
-      if (h.distance2 < R * R) hits.push_back({t, 0, h});
-    }
-    select_mesh_contacts(m, hits);
-    // Then one contact per patch, as the stepper does (src/step/surfaces.cpp).
-    Vec3 normals[4];
-    double overlaps[4];
-    bool keep[4];
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      normals[i] = (Vec3(x, 0.1, z) - hits[i].hit.point).normalized();
-      overlaps[i] = R - std::sqrt(hits[i].hit.distance2);
-    }
-    keep_one_per_patch(normals, overlaps, hits.size(), keep);
-    kept = 0;
-    double u = 0;
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      if (!keep[i]) continue;
-      ++kept;
-      max_overlap = std::max(max_overlap, overlaps[i]);
-      u += std::pow(overlaps[i], 2.5);
-    }
-    return u;
+  const double R = 0.1;
+  struct Energy {
+    double joined = 0, max = 0;
   };
-  const double h = 1e-6;
-  std::size_t kept = 0;
-  double u_prev = energy(-0.01, kept);
-  for (int k = 1; k <= 20000; ++k) {
-    const double x = -0.01 + k * h;
-    const double u = energy(x, kept);
-    max_kept = std::max(max_kept, kept);
-    if (std::abs(u - u_prev) > max_jump) max_jump = std::abs(u - u_prev), at_x = x;
-    u_prev = u;
+  for (double pressed : {0.01, 5e-4}) {
+    const double z = R - pressed * R;
+    auto energy = [&](double x) {
+      std::vector<MeshHit> hits;
+      for (std::uint32_t t = 0; t < 2; ++t) {
+        const auto& tri = m.triangles[t];
+        const TriangleHit h = closest_point_on_triangle(Vec3(x, 0.1, z), m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]);
+        if (h.distance2 < R * R) hits.push_back({t, 0, h});
+      }
+      select_mesh_contacts(m, hits);
+      Vec3 normals[4];
+      double overlaps[4];
+      for (std::size_t i = 0; i < hits.size(); ++i) {
+        normals[i] = (Vec3(x, 0.1, z) - hits[i].hit.point).normalized();
+        overlaps[i] = R - std::sqrt(hits[i].hit.distance2);
+      }
+      PatchContact patch[4];
+      const std::size_t np = join_patches(normals, overlaps, hits.size(), patch);
+      Energy e;
+      for (std::size_t k = 0; k < np; ++k) {
+        e.max += std::pow(overlaps[patch[k].member[0]], 2.5);
+        e.joined += std::pow(patch[k].count > 1 ? patch[k].blend.overlap : overlaps[patch[k].member[0]], 2.5);
+      }
+      return e;
+    };
+    const double h = 1e-6, bound = 2 * 2.5 * std::pow(pressed * R * 1.1, 1.5) * h;
+    Energy prev = energy(-0.01);
+    double worst_max = 0, worst_excess = 0, jump = 0, jump_u = 0;
+    int over = 0;
+    for (int k = 1; k <= 20000; ++k) {
+      const Energy e = energy(-0.01 + k * h);
+      worst_max = std::max(worst_max, std::abs(e.max - prev.max));
+      worst_excess = std::max(worst_excess, e.joined / e.max - 1);
+      if (e.joined < e.max * (1 - 1e-12)) ++over;
+      const double d = std::abs(e.joined - prev.joined);
+      if (d > bound + std::max(prev.joined - prev.max, e.joined - e.max)) ++over;
+      if (d > jump) jump = d, jump_u = std::max(e.joined, prev.joined);
+      prev = e;
+    }
+    std::printf("BagEnergy: shallow fold, overlap %.0e R: deepest hit's energy: largest |dU| per step %.3e (bound %.3e); "
+                "joined: at most %.1f%% above it, largest |dU| per step %.3e = %.2f%% of U; steps outside the bounds %d\n",
+                pressed, worst_max, bound, 100 * worst_excess, jump, 100 * jump / jump_u, over);
+    EXPECT_LE(worst_max, bound);
+    EXPECT_LE(worst_excess, std::pow(2.0, 2.5 / 8) - 1 + 1e-12);
+    EXPECT_EQ(over, 0);
   }
-  const double bound = 2 * 2.5 * std::pow(max_overlap, 1.5) * h;
-  std::printf("BagEnergy: shallow fold: largest |dU| per step %.3e at x = %.3g (bound %.3e, U at most ~%.3e); most "
-              "contacts kept %zu\n",
-              max_jump, at_x, bound, 2 * std::pow(max_overlap, 2.5), max_kept);
-  EXPECT_LE(max_jump, bound);
 }

@@ -408,3 +408,64 @@ TEST(SphereTriangle, ClosedMeshesFromOutsideAndInside) {
   EXPECT_GT(inside, 300);
   EXPECT_GT(inside_multi, 30);
 }
+
+// ---- joined patches (blend_patch) ------------------------------------------------------------------
+
+// A sphere of radius R at x against two planes through the origin tilted by +-a about the y axis
+// (a valley: normals 2a apart): the planes' overlaps R - n_i . x, deepest first.
+struct Valley {
+  double R, a;
+  std::array<Vec3, 2> n() const { return {Vec3(-std::sin(a), 0, std::cos(a)), Vec3(std::sin(a), 0, std::cos(a))}; }
+  PatchBlend at(const Vec3& x) const {
+    auto nn = n();
+    double d[2] = {R - nn[0].dot(x), R - nn[1].dot(x)};
+    if (d[1] > d[0]) std::swap(d[0], d[1]), std::swap(nn[0], nn[1]);
+    return blend_patch(nn.data(), d, 2);
+  }
+};
+
+TEST(PatchBlend, ForceIsTheGradientOfTheJoinedOverlap) {
+  // Reference: central differences of the joined overlap (step 1e-10 m, overlaps ~1e-5 m); the
+  // force direction scale x n must be -grad(delta) to 1e-6 and c_i = d delta / d delta_i to 1e-6,
+  // at points across the valley floor (the deepest hit changes sides at x = 0).
+  const Valley v{5e-3, 13.0 * M_PI / 180};
+  const double h = 1e-10;
+  double worst_grad = 0, worst_c = 0;
+  for (double x = -2e-5; x <= 2e-5; x += 1.7e-6) {
+    const Vec3 p(x, 0.3e-3, v.R - 1e-5);
+    const PatchBlend b = v.at(p);
+    Vec3 grad;
+    for (int k = 0; k < 3; ++k) {
+      Vec3 e = Vec3::Zero();
+      e[k] = h;
+      grad[k] = (v.at(p + e).overlap - v.at(p - e).overlap) / (2 * h);
+    }
+    worst_grad = std::max(worst_grad, (grad + b.scale * b.n).norm() / grad.norm());
+    // c_0 by moving the deepest plane alone: delta_0 + eps.
+    auto nn = v.n();
+    double d[2] = {v.R - nn[0].dot(p), v.R - nn[1].dot(p)};
+    if (d[1] > d[0]) std::swap(d[0], d[1]), std::swap(nn[0], nn[1]);
+    double dp[2] = {d[0] + h, d[1]}, dm[2] = {d[0] - h, d[1]};
+    const double c0 = (blend_patch(nn.data(), dp, 2).overlap - blend_patch(nn.data(), dm, 2).overlap) / (2 * h);
+    worst_c = std::max(worst_c, std::abs(c0 - b.c[0]));
+  }
+  std::printf("PatchBlend: |grad delta + scale n| / |grad delta| at most %.2e, |c_0 - d delta/d delta_0| at most %.2e\n",
+              worst_grad, worst_c);
+  EXPECT_LT(worst_grad, 1e-6);
+  EXPECT_LT(worst_c, 1e-6);
+}
+
+TEST(PatchBlend, EqualHitsAndAFaintOne) {
+  // Two equally deep hits: delta = 2^(1/8) delta_i, c_i = 2^(-7/8), shares 1/2; a hit at 1/10 of
+  // the deepest: delta within 1e-8 of the deepest, c_1 = 1e-7 (p = 8), the normal the deepest's.
+  const Vec3 n[2] = {Vec3(-0.2, 0, 1).normalized(), Vec3(0.2, 0, 1).normalized()};
+  const double equal[2] = {1e-5, 1e-5}, faint[2] = {1e-5, 1e-6};
+  const PatchBlend a = blend_patch(n, equal, 2), b = blend_patch(n, faint, 2);
+  EXPECT_NEAR(a.overlap, std::pow(2.0, 0.125) * 1e-5, 1e-18);
+  EXPECT_NEAR(a.c[0], std::pow(2.0, -0.875), 1e-14);
+  EXPECT_NEAR(a.share[1], 0.5, 1e-14);
+  EXPECT_NEAR((a.n - Vec3::UnitZ()).norm(), 0, 1e-14);
+  EXPECT_NEAR(b.overlap, 1e-5, 1e-13);
+  EXPECT_NEAR(b.c[1], 1e-7, 1e-12);
+  EXPECT_LT((b.n - n[0]).norm(), 1e-6);
+}

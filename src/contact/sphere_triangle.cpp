@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 namespace bagdem {
 
@@ -88,11 +89,8 @@ void select_mesh_contacts(const TriangleMesh& mesh, std::vector<MeshHit>& hits) 
   hits.resize(w);
 }
 
-void keep_one_per_patch(const Vec3* normals, const double* overlaps, std::size_t count, bool* keep) {
+void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label) {
   constexpr double kPatchCos = 0.8660254037844387;  // cos 30 degrees
-  constexpr std::size_t kMax = 64;
-  std::size_t label[kMax];
-  count = std::min(count, kMax);
   for (std::size_t i = 0; i < count; ++i) label[i] = i;
   // Connected components of "normals within 30 degrees" (labels: the smallest index reached).
   for (bool changed = true; changed;) {
@@ -104,12 +102,65 @@ void keep_one_per_patch(const Vec3* normals, const double* overlaps, std::size_t
           changed = true;
         }
   }
+}
+
+std::size_t join_patches(const Vec3* normals, const double* overlaps, std::size_t count, PatchContact* out) {
+  count = std::min(count, kMaxPatchHits);
+  std::size_t label[kMaxPatchHits], size[kMaxPatchHits] = {}, member[kMaxPatchHits][kPatchMembers];
+  patch_labels(normals, count, label);
+  // Each patch's members, deepest first (the first of equals first).
   for (std::size_t i = 0; i < count; ++i) {
-    keep[i] = true;
-    for (std::size_t j = 0; j < count && keep[i]; ++j)
-      if (j != i && label[j] == label[i] && (overlaps[j] > overlaps[i] || (overlaps[j] == overlaps[i] && j < i)))
-        keep[i] = false;
+    std::size_t* m = member[label[i]];
+    std::size_t& k = size[label[i]];
+    std::size_t at = k;
+    while (at > 0 && overlaps[i] > overlaps[m[at - 1]]) --at;
+    if (at == kPatchMembers) continue;
+    for (std::size_t j = std::min(k, kPatchMembers - 1); j > at; --j) m[j] = m[j - 1];
+    m[at] = i;
+    k = std::min(k + 1, kPatchMembers);
   }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t* m = member[label[i]];
+    if (m[0] != i) continue;
+    PatchContact& c = out[n++];
+    c.count = size[label[i]];
+    std::copy(m, m + c.count, c.member);
+    if (c.count > 1) {
+      Vec3 nn[kPatchMembers];
+      double d[kPatchMembers];
+      for (std::size_t j = 0; j < c.count; ++j) nn[j] = normals[m[j]], d[j] = overlaps[m[j]];
+      c.blend = blend_patch(nn, d, c.count);
+    }
+  }
+  return n;
+}
+
+PatchBlend blend_patch(const Vec3* normals, const double* overlaps, std::size_t count) {
+  static_assert(kPatchNorm == 8, "the powers below are written for p = 8");
+  assert(count >= 2 && count <= kPatchMembers);
+  // With r_i = delta_i / delta_0 <= 1 (the deepest first): delta = delta_0 S^(1/8), S = sum r_i^8.
+  double r[kPatchMembers], S = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    r[i] = overlaps[i] / overlaps[0];
+    const double r2 = r[i] * r[i], r4 = r2 * r2;
+    S += r4 * r4;
+  }
+  const double root = std::sqrt(std::sqrt(std::sqrt(S)));  // S^(1/8)
+  PatchBlend b{};
+  b.overlap = overlaps[0] * root;
+  Vec3 N(0, 0, 0);
+  double sum_c = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double q = r[i] / root, q2 = q * q, q4 = q2 * q2;  // delta_i / delta
+    b.c[i] = q4 * q2 * q;                                     // q^7
+    sum_c += b.c[i];
+    N += b.c[i] * normals[i];
+  }
+  b.scale = N.norm();
+  b.n = N / b.scale;  // the hits' normals are within 30 degrees of a chain: N is far from zero
+  for (std::size_t i = 0; i < count; ++i) b.share[i] = b.c[i] / sum_c;
+  return b;
 }
 
 }  // namespace bagdem

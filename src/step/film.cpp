@@ -102,8 +102,10 @@ void Stepper::film_stage() {
     for (std::size_t s = 0; s < slot_count_[p]; ++s) {
       if (!surfaces_[slots_[p * K + s].surface].film) continue;
       const FilmLoad& load = film_load_[p * K + s];
-      const auto& tri = bag.rest.triangles[load.triangle];
-      for (int a = 0; a < 3; ++a) film_.f[tri[a]] += load.weights[a] * load.force;
+      for (std::size_t i = 0; i < load.count; ++i) {
+        const auto& tri = bag.rest.triangles[load.triangle[i]];
+        for (int a = 0; a < 3; ++a) film_.f[tri[a]] += load.weights[i][a] * load.force[i];
+      }
     }
   }
 

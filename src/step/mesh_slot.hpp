@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 
+#include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
@@ -17,11 +18,13 @@ struct MeshSlot {
   Vec3 surface_velocity = Vec3::Zero();  // half-step velocity of the surface point (unit: m/s)
   double overlap = 0;                 // at the last step (unit: m)
 };
-// What a ball's film contact puts on the film's nodes: -force split by the barycentric weights.
+// What a ball's film contact puts on the film's nodes: each touched feature's force split by its
+// barycentric weights (a contact joining a patch's hits has one per hit: PatchBlend).
 struct FilmLoad {
-  Vec3 force = Vec3::Zero();          // force on the film at the contact point (unit: N)
-  Vec3 weights = Vec3::Zero();
-  std::uint32_t triangle = 0;
+  Vec3 force[kPatchMembers] = {};     // force on the film at each contact point (unit: N)
+  Vec3 weights[kPatchMembers] = {};
+  std::uint32_t triangle[kPatchMembers] = {};
+  std::uint8_t count = 0;
 };
 
 }  // namespace bagdem

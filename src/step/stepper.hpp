@@ -269,21 +269,20 @@ class Stepper {
   template <bool Tangential, bool Energy>
   void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
   double film_elastic_energy() const;
-  // Film node k against a wall or an STL wall at normal n (towards the node) and overlap: the
-  // film-wall law (film.cpp: R* = the film's contact radius, m* = the node's mass, no turning)
-  // against a surface moving at c_vel at the end of the step and c_half over it, with the histories
-  // in slot `at` of hist. Its force on the node; its (normal, tangential) dissipation into dn, dtg.
+  // Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall
+  // law (film.cpp: R* = the film's contact radius, m* = the node's mass) against a surface moving at
+  // c_vel (end of step) and c_half (over it), histories in slot `at` of hist, `scale` a joined
+  // patch's (its normal force not yet times it). The force on the node; dissipation into dn, dtg.
   template <bool Tangential, bool Energy>
-  BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel,
-                                  const Vec3& c_half, ContactHistories& hist, std::size_t at, double& dn, double& dtg) {
+  BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel, const Vec3& c_half,
+                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double scale = 1.0) {
     ContactGeometry g;
-    g.n = n;
-    g.overlap = overlap;
-    g.R_eff = scene_.bag->contact_radius;
-    g.m_eff = film_.mass[k];
+    g.n = n, g.overlap = overlap, g.R_eff = scene_.bag->contact_radius, g.m_eff = film_.mass[k];
     g.arm_i = g.arm_j = 0;
     g.v_rel = film_.v_pred[k] - c_vel;
     g.v_half = film_.v[k] - c_half;
+    if (scale != 1.0)  // a joined patch: its overlap's rate and own mass (surfaces.cpp, mesh_contacts)
+      g.v_rel += (scale - 1.0) * g.v_rel.dot(n) * n, g.v_half += (scale - 1.0) * g.v_half.dot(n) * n, g.m_eff /= scale * scale;
     g.w_half.setZero();
     Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
     [[maybe_unused]] double no_tally = 0;

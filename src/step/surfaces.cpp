@@ -3,11 +3,13 @@
 //
 // Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
 // one-contact-per-feature rule, so a ball on a flat triangulation has the one contact it would have
-// with the plane, then one contact per patch (keep_one_per_patch: of hits with normals within 30
-// degrees only the deepest), so shallow folds of a triangulated smooth surface do not double the
-// contact or switch half of it on and off. A ball is on one side of a surface for the whole run (side_: inside the film for
-// the bag's balls, inside an STL cavity always); the normal points to that side, and a centre found
-// beyond the mid-surface stops the run (guards).
+// with the plane, then one contact per patch (hits with normals within 30 degrees, joined by the
+// p-norm of their overlaps: PatchBlend), so shallow folds of a triangulated smooth surface neither
+// double the contact, nor switch half of it on and off, nor flip it between two faces. A ball is
+// on one side of a surface for the whole run (side_: inside the film for the bag's balls, inside
+// an STL cavity always); the normal points to that side, and a centre found beyond the
+// mid-surface stops the run (guards). A joined contact's force is the gradient of its energy: each
+// hit presses along its own normal, and the law sees the joined overlap's rate (member_forces).
 // Law: the pair law of the ball's and the surface's materials (Hertz-Mindlin with restitution
 // damping), with the film's half thickness added to the reach, R* = the ball's radius (a flat
 // triangle), and m* from the ball's mass and the contact point's effective mass on the film,
@@ -26,167 +28,11 @@
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/contact/surface_law.hpp"
-#include "stepper.hpp"
 #include "loops.hpp"
+#include "stepper.hpp"
+#include "surface_features.hpp"
 
 namespace bagdem {
-namespace {
-
-// A contact found this step: the feature hit, the normal towards the body, the overlap, and the
-// slot of the previous step whose history it continues (-1: new).
-struct Found {
-  std::uint32_t surface;
-  MeshHit hit;
-  Vec3 n;
-  double overlap;
-  int from;
-};
-
-// Normal and overlap of a body at x on `side` of a surface (-1: against its triangles' normals),
-// touching the hit's feature within `reach`. The side is judged by the touched triangle's normal
-// (exact for a face; for an edge or vertex, right whenever the centre is in that feature's region
-// on its own side). Returns false when the centre is beyond the mid-surface.
-bool oriented(const Vec3& x, const std::vector<Vec3>& vx, const std::array<std::uint32_t, 3>& tri, const TriangleHit& h,
-              double side, double reach, Vec3& n, double& overlap) {
-  const Vec3 normal = (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
-  const Vec3 d = x - h.point;
-  const double dist = std::sqrt(h.distance2);
-  const bool own_side = side * d.dot(normal) >= 0;
-  n = dist > 1e-12 * reach ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal);
-  overlap = reach - (own_side ? dist : -dist);
-  return own_side;
-}
-
-// Histories: the same feature keeps its slot; a new feature takes over the closed slot of the same
-// surface whose normal is closest to its own (within 60 degrees), so a contact moving across a
-// triangulation (face -> edge -> next face) keeps its friction spring. `taken` marks the slots
-// continued.
-void match_slots(const MeshSlot* slot, std::size_t n_prev, Found* found, std::size_t nf, bool* taken) {
-  for (std::size_t f = 0; f < nf; ++f)
-    for (std::size_t k = 0; k < n_prev; ++k)
-      if (!taken[k] && slot[k].surface == found[f].surface && slot[k].key == found[f].hit.key) {
-        found[f].from = static_cast<int>(k);
-        taken[k] = true;
-        break;
-      }
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (found[f].from >= 0) continue;
-    double best = 0.5;
-    for (std::size_t k = 0; k < n_prev; ++k) {
-      if (taken[k] || slot[k].surface != found[f].surface) continue;
-      const double c = slot[k].n.dot(found[f].n);
-      if (c > best) {
-        best = c;
-        found[f].from = static_cast<int>(k);
-      }
-    }
-    if (found[f].from >= 0) taken[found[f].from] = true;
-  }
-}
-
-// One contact per patch (contact/sphere_triangle.hpp, keep_one_per_patch), in place.
-void keep_patches(std::vector<Found>& hits) {
-  thread_local std::vector<Vec3> n;
-  thread_local std::vector<double> overlap;
-  const std::size_t count = std::min<std::size_t>(hits.size(), 64);
-  n.resize(count), overlap.resize(count);
-  for (std::size_t i = 0; i < count; ++i) n[i] = hits[i].n, overlap[i] = hits[i].overlap;
-  bool keep[64];
-  keep_one_per_patch(n.data(), overlap.data(), count, keep);
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < count; ++i)
-    if (keep[i]) hits[kept++] = hits[i];
-  hits.resize(kept);
-}
-
-// The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:
-// where it is in surface s's frame, the vertices there, its reach and its side (-1: against the
-// triangles' normals).
-struct PointView {
-  Vec3 x;
-  const std::vector<Vec3>* vertices;
-  double reach, side;
-};
-
-// Step 1 of a point's surface contacts, one feature finder for balls and film nodes: the features
-// it touches now. The closest points of its candidate triangles (cand[s], entries of point i)
-// within reach, one per feature (select_mesh_contacts), oriented, one per patch (keep_patches);
-// at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
-// overlap, reach, own_side) sees each contact found; full() is told when one did not fit.
-// gap (when not null): the least distance of a candidate beyond the point's reach (HUGE_VAL
-// without candidates), rounded down.
-template <std::size_t kMax, class Surfaces, class View, class Touched, class Full>
-std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandidates>& cand, std::size_t i,
-                          const View& view, const Touched& touched, const Full& full, Found* found,
-                          double* gap = nullptr) {
-  thread_local std::vector<MeshHit> hits;
-  thread_local std::vector<Found> patch;
-  std::size_t nf = 0;
-  if (gap) *gap = HUGE_VAL;
-  for (std::uint32_t s = 0; s < surfaces.size(); ++s) {
-    const MeshCandidates& c = cand[s];
-    if (c.begin.empty() || c.begin[i] == c.begin[i + 1]) continue;  // empty: no candidate list for this surface
-    const PointView pv = view(s);
-    const auto& mesh = *surfaces[s].mesh;
-    const std::vector<Vec3>& vx = *pv.vertices;
-    hits.clear();
-    double nearest2 = HUGE_VAL;
-    for (std::uint32_t e = c.begin[i]; e < c.begin[i + 1]; ++e) {
-      const std::uint32_t t = c.triangle[e];
-      const auto& tri = mesh.triangles[t];
-      const TriangleHit h = closest_point_on_triangle(pv.x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
-      nearest2 = std::min(nearest2, h.distance2);
-      if (h.distance2 < pv.reach * pv.reach) hits.push_back({t, 0, h});
-    }
-    // 1e-9 of the reach: far above the rounding of the distances (1e-16 of them), far below a step.
-    if (gap) *gap = std::min(*gap, std::sqrt(nearest2) - pv.reach * (1.0 + 1e-9));
-    if (hits.empty()) continue;
-    select_mesh_contacts(mesh, hits);
-    patch.clear();
-    for (const MeshHit& mh : hits) {
-      Vec3 n;
-      double overlap;
-      const bool own_side = oriented(pv.x, vx, mesh.triangles[mh.triangle], mh.hit, pv.side, pv.reach, n, overlap);
-      touched(s, overlap, pv.reach, own_side);
-      patch.push_back({s, mh, n, overlap, -1});
-    }
-    keep_patches(patch);
-    for (const Found& fd : patch) {
-      if (nf == kMax) {
-        full();
-        break;
-      }
-      found[nf++] = fd;
-    }
-  }
-  return nf;
-}
-
-// Step 2: the contacts found take over the slots they continue (match_slots). The point's slots
-// start at `first` of slot and hist; prev and prev_hist: the slots as they were (n_prev of them),
-// taken: which of them go on.
-void carry_slots(MeshSlot* slot, const ContactHistories& hist, std::size_t first, std::size_t n_prev, Found* found,
-                 std::size_t nf, MeshSlot* prev, ContactHistory* prev_hist, bool* taken) {
-  match_slots(slot, n_prev, found, nf, taken);
-  std::copy(slot, slot + n_prev, prev);
-  for (std::size_t k = 0; k < n_prev; ++k) prev_hist[k] = hist.get(first + k);
-}
-
-// Step 3's start: slot f, at `at` in hist, continues its contact's history (or starts afresh) at
-// the contact found.
-MeshSlot& renew_slot(MeshSlot* slot, ContactHistories& hist, std::size_t at, std::size_t f, const Found& fd,
-                     const MeshSlot* prev, const ContactHistory* prev_hist) {
-  MeshSlot& s = slot[f];
-  s = fd.from >= 0 ? prev[fd.from] : MeshSlot{};
-  hist.set(at, fd.from >= 0 ? prev_hist[fd.from] : ContactHistory{});
-  s.surface = fd.surface;
-  s.key = fd.hit.key;
-  s.n = fd.n;
-  s.overlap = fd.overlap;
-  return s;
-}
-
-}  // namespace
 
 void Stepper::set_up_meshes() {
   surfaces_.clear();
@@ -371,31 +217,73 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     g.R_eff = r;
     g.arm_i = r - 0.5 * fd.overlap;
     g.arm_j = 0;
-    Vec3 vs_end = c_vel, vs_half = c_half;
-    double inv_m = p_.inv_mass[p];
-    const auto& tri = sf.mesh->triangles[fd.hit.triangle];
-    const Vec3& w = fd.hit.hit.weights;
-    if (sf.film) {
-      vs_end = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
-      vs_half = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
-      inv_m += w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
-               w[2] * w[2] * film_.inv_mass[tri[2]];
+    // The film point's velocities and inverse mass (a rigid surface: the cavity's, at infinity).
+    Vec3 v_end[kPatchMembers], v_half[kPatchMembers];
+    double inv_m_s[kPatchMembers] = {};
+    for (std::size_t i = 0; i < fd.members; ++i) {
+      v_end[i] = c_vel, v_half[i] = c_half;
+      if (!sf.film) continue;
+      const auto& tri = sf.mesh->triangles[fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle];
+      const Vec3& w = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
+      v_end[i] = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
+      v_half[i] = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
+      inv_m_s[i] = w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
+                   w[2] * w[2] * film_.inv_mass[tri[2]];
+    }
+    Vec3 vs_end = v_end[0], vs_half = v_half[0];
+    double inv_m = p_.inv_mass[p] + inv_m_s[0];
+    if (fd.members > 1) {  // velocities: the hits' mean by their shares
+      vs_end = vs_half = Vec3::Zero();
+      for (std::size_t i = 0; i < fd.members; ++i) {
+        const double a = fd.member[i].share;
+        vs_end += a * v_end[i], vs_half += a * v_half[i];
+      }
+      // m*: the joined overlap's own, 1/m* = sum over the bodies of |d delta / dx|^2 / m (the ball
+      // moves it `scale` times as fast as its own position along n), so that the law's damping
+      // gives the requested restitution.
+      inv_m = fd.scale * fd.scale * p_.inv_mass[p];
+      if (sf.film) inv_m += joined_inverse_mass(fd, sf.mesh->triangles, film_.inv_mass);
     }
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
     motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
+    if (fd.members > 1) {
+      // The joined overlap closes at sum_i c_i n_i . (v - v_i): the law's normal rates are that.
+      double rate_end = 0, rate_half = 0;
+      for (std::size_t i = 0; i < fd.members; ++i) {
+        rate_end += fd.member[i].c * fd.member[i].n.dot(p_.v_pred[p] - v_end[i]);
+        rate_half += fd.member[i].c * fd.member[i].n.dot(p_.v[p] - v_half[i]);
+      }
+      g.v_rel += (rate_end - g.v_rel.dot(g.n)) * g.n;
+      g.v_half += (rate_half - g.v_half.dot(g.n)) * g.n;
+      s.surface_velocity += (g.n.dot(p_.v[p] - vs_half) - rate_half) * g.n;  // for the closing tally
+    }
     [[maybe_unused]] double no_tally = 0;
-    const Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
+    Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
         g, laws(p_.material[p], sf.material), dt, Energy ? slot_hist_.damping_prev[at] : no_tally,
         Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss);
+    Vec3 parts[kPatchMembers] = {Fc};
+    if (fd.members > 1) {
+      member_forces(fd, Fc, parts);
+      Fc += (fd.scale - 1.0) * Fc.dot(g.n) * g.n;
+    }
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
     if (sf.film) {
-      film_load_[p * K + f] = {-Fc, w, fd.hit.triangle};
+      FilmLoad& fl = film_load_[p * K + f];
+      fl.count = fd.members;
+      for (std::size_t i = 0; i < fd.members; ++i) {
+        fl.force[i] = -parts[i];
+        fl.weights[i] = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
+        fl.triangle[i] = fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle;
+      }
     } else {
       F_cavity += Fc;
-      T_cavity -= (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
-      if (couple_) load += load_moments(fd.hit.hit.point, -Fc);
+      for (std::size_t i = 0; i < fd.members; ++i) {
+        const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
+        T_cavity -= (point - scene_.cavity_reference).cross(parts[i]);
+        if (couple_) load += load_moments(point, -parts[i]);
+      }
     }
   }
   slot_count_[p] = static_cast<std::uint8_t>(nf);
@@ -442,11 +330,19 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     const std::size_t at = k * K + f;
     MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
-    const Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, fd.overlap, scene_.laws(bag.material, surfaces_[fd.surface].material),
-                                                     c_vel, c_half, node_slot_hist_, at, dn, dtg);
+    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, fd.overlap, scene_.laws(bag.material, surfaces_[fd.surface].material),
+                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, fd.scale);
+    Vec3 parts[kPatchMembers] = {Fc};
+    if (fd.members > 1) {
+      member_forces(fd, Fc, parts);
+      Fc += (fd.scale - 1.0) * Fc.dot(fd.n) * fd.n;
+    }
     F_wall += Fc;
-    L -= dt * (fd.hit.hit.point - scene_.cavity_reference).cross(Fc);
-    if (couple_) load += load_moments(fd.hit.hit.point, -Fc);
+    for (std::size_t i = 0; i < fd.members; ++i) {
+      const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
+      L -= dt * (point - scene_.cavity_reference).cross(parts[i]);
+      if (couple_) load += load_moments(point, -parts[i]);
+    }
   }
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
 }

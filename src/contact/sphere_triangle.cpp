@@ -106,7 +106,8 @@ void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label) {
 
 std::size_t join_patches(const Vec3* normals, const double* overlaps, std::size_t count, PatchContact* out) {
   count = std::min(count, kMaxPatchHits);
-  std::size_t label[kMaxPatchHits], size[kMaxPatchHits] = {}, member[kMaxPatchHits][kPatchMembers];
+  std::size_t label[kMaxPatchHits], size[kMaxPatchHits], member[kMaxPatchHits][kPatchMembers];
+  std::fill(size, size + count, std::size_t{0});
   patch_labels(normals, count, label);
   // Each patch's members, deepest first (the first of equals first).
   for (std::size_t i = 0; i < count; ++i) {

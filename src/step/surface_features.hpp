@@ -33,7 +33,7 @@ struct Found {
   int from;
   std::uint8_t members = 1;
   double scale = 1;
-  PatchMember member[kPatchMembers] = {};
+  PatchMember member[kPatchMembers];  // the first `members` when members > 1 (else unset)
 };
 
 // The contact law's force Fc (normal part F_n along fd.n) as each hit's share: hit i presses
@@ -110,6 +110,7 @@ inline void match_slots(const MeshSlot* slot, std::size_t n_prev, Found* found, 
 
 // One contact per patch (contact/sphere_triangle.hpp, join_patches), in place.
 inline void keep_patches(std::vector<Found>& hits) {
+  if (hits.size() < 2) return;  // most balls touch one feature
   thread_local std::vector<Vec3> n;
   thread_local std::vector<double> overlap;
   thread_local std::vector<PatchContact> patch;
@@ -118,6 +119,7 @@ inline void keep_patches(std::vector<Found>& hits) {
   n.resize(count), overlap.resize(count), patch.resize(count);
   for (std::size_t i = 0; i < count; ++i) n[i] = hits[i].n, overlap[i] = hits[i].overlap;
   const std::size_t np = join_patches(n.data(), overlap.data(), count, patch.data());
+  if (np == hits.size()) return;  // every hit a patch of its own, in its place
   kept.clear();
   for (std::size_t k = 0; k < np; ++k) {
     const PatchContact& c = patch[k];

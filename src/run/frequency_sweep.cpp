@@ -217,7 +217,7 @@ void FrequencySweep::run() {
   // never in it: the drive has just changed frequency (and, at a chain's start, the structure is
   // released into its start state within it).
   K_ = plan_.half_window(), window_ = 2 * K_, least_ = plan_.least_cycles();
-  run_tasks(planned_tasks(plan_.frequencies, K, [&](double f) { return P_.natural_frequency[P_.nearest_elastic_mode(f)]; }));
+  run_tasks(planned_tasks(plan_.frequencies, K));
   // Peak refinement: per mode, `refine` more points in rounds of up to K (sweep_chains.hpp).
   // Each round is chosen from the points before it (a resumed round: as it was first chosen).
   std::size_t first = plan_.frequencies.size();
@@ -337,9 +337,9 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const Sweep
 }
 
 // A point is done: its progress line, then it and any points after it that were waiting for it
-// are written, in order, and the checkpoint follows. A chain runs a block from its upper end
-// (sweep_chains.hpp) and its points are all written at once: so the points written of each chain
-// are always the first it ran, and its state after the last of them is the one to resume from.
+// are written, in order, and the checkpoint follows. A chain runs its block in the points' order
+// (sweep_chains.hpp): so the points written of each chain are always the first it ran, and its
+// state after the last of them is the one to resume from.
 void FrequencySweep::finished(std::size_t index, DonePoint&& d) {
   const std::lock_guard<std::mutex> lock(mutex_);
   report_point(d.pt, index, std::min<std::size_t>(d.pt.cycles, window_), ++completed_ + done_points_.size());

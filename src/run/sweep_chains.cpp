@@ -11,19 +11,14 @@ std::size_t chain_count(std::size_t chains, std::size_t planned) {
   return std::max<std::size_t>(1, std::min(chains, planned));
 }
 
-std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains,
-                                     const std::function<double(double)>& resonance) {
+std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains) {
   const std::size_t n = frequencies.size(), K = chain_count(chains, n);
-  auto off = [&](double f) { return std::abs(std::log(f / resonance(f))); };
   std::vector<ChainTask> tasks;
   std::size_t first = 0;
   for (std::size_t k = 0; k < K; ++k) {
-    const std::size_t len = n / K + (k < n % K ? 1 : 0), last = first + len - 1;
-    const bool down = K > 1 && off(frequencies[last]) > off(frequencies[first]);
-    for (std::size_t b = 0; b < len; ++b) {
-      const std::size_t i = down ? last - b : first + b;
-      tasks.push_back({i, frequencies[i], k, b == 0 ? ChainTask::none : tasks.back().index});
-    }
+    const std::size_t len = n / K + (k < n % K ? 1 : 0);
+    for (std::size_t i = first; i < first + len; ++i)
+      tasks.push_back({i, frequencies[i], k, i == first ? ChainTask::none : tasks.back().index});
     first += len;
   }
   return tasks;

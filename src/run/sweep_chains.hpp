@@ -7,17 +7,17 @@
 // The chains run side by side on the threads given, but which chain runs which point is set by the
 // case alone, so the results are the same for any thread count:
 //  - the planned frequencies are cut into `chains` contiguous blocks, in order, the first blocks a
-//    point longer when the count does not divide; chain k runs block k, from the end farther from
-//    its nearest resonance towards it (a start off resonance, where the bare steady state is close
-//    to the damped one, settles in fewer cycles; the pipe's mode 1 below its peak: 9 cycles, above
-//    it 28). With one chain the list is run as written;
+//    point longer when the count does not divide; chain k runs block k in the list's order, as
+//    the serial sweep would. A bag's state off resonance depends on its history: run down from
+//    above the peak, a chain met its first point (the pipe's 94 Hz, Gamma below 1) with a freshly
+//    settled bag that barely moved, where the serial sweep arrives with one shaken loose at the
+//    peak; C_b and M_eff there fell outside the serial sweep's interval over 5 seeds;
 //  - the peak refinement runs in rounds of up to `chains` points per mode (refine_round). The
 //    round's points, mode after mode, go to the chains in turn: point j to chain j mod chains.
 // With one chain this is the serial sweep: every point from the state of the one before.
 #pragma once
 #include <complex>
 #include <cstddef>
-#include <functional>
 #include <vector>
 
 #include "sweep_peaks.hpp"
@@ -39,10 +39,8 @@ struct ChainTask {
 // The chains a sweep of `planned` frequencies runs: `chains`, at most one per frequency.
 std::size_t chain_count(std::size_t chains, std::size_t planned);
 
-// The planned frequencies as tasks, block k to chain k, each chain's in the order it runs them;
-// `resonance(f)` is the frequency of the mode nearest to f.
-std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains,
-                                     const std::function<double(double)>& resonance);
+// The planned frequencies as tasks, block k to chain k, each chain's in the order it runs them.
+std::vector<ChainTask> planned_tasks(const std::vector<double>& frequencies, std::size_t chains);
 
 // The refinement's rounds: ceil(refine / chains); round r places min(chains, refine - r chains)
 // points per mode.

@@ -11,7 +11,7 @@
 #include "history.hpp"
 #include "mesh_slot.hpp"
 
-namespace bagdem {
+namespace bagdem::surface_contacts {
 
 // A hit joined into a patch's contact (PatchBlend): where it touches, its own normal, and its
 // parts of the force (c: of the normal force, share: of the tangential force and the velocities).
@@ -226,4 +226,4 @@ inline MeshSlot& renew_slot(MeshSlot* slot, ContactHistories& hist, std::size_t 
   return s;
 }
 
-}  // namespace bagdem
+}  // namespace bagdem::surface_contacts

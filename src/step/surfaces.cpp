@@ -33,6 +33,7 @@
 #include "surface_features.hpp"
 
 namespace bagdem {
+using namespace surface_contacts;
 
 void Stepper::set_up_meshes() {
   surfaces_.clear();

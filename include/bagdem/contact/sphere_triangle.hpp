@@ -141,9 +141,8 @@ void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label);
 // A patch's hits joined into one contact whose energy is a smooth function of the positions.
 // Keeping only the deepest hit makes the energy U(max overlap): continuous, but with a kink where
 // two hits are equally deep, and a ball in a valley between two faces (a film's wrinkle) flips
-// between them at every step; velocity Verlet gains energy at each flip (a pipe bag's contents
-// gained 2% of the drive's work per cycle at 508 Hz, whatever the step). The joined overlap is
-// the p-norm
+// between them at every step; velocity Verlet gains energy at each flip, whatever the step (the
+// pipe bag's energy residual at mode 3: docs/bag.md, Guards). The joined overlap is the p-norm
 //   delta = (sum_i delta_i^p)^(1/p),  p = kPatchNorm,
 // smooth wherever two hits are deep, the hit's own overlap when the patch has one, and at most
 // 2^(1/p) (9%) above the deepest. Its energy U(delta) is a potential of the positions, so the
@@ -151,10 +150,12 @@ void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label);
 // each hit's share of the force pressing on its own feature along its own normal (potential-based
 // contact conserves energy: Feng, Comput. Methods Appl. Mech. Eng. 373 (2021) 113454). p = 8 keeps
 // the joined contact's stiffness across the valley near Hertz's (a larger p sharpens the kink
-// back). The energy stays continuous where two hits' normals cross the 30 degrees only as the
-// deepest's did before; and where the feature rule drops a joined hit (a face hit turning edge hit
-// in a valley shallower than about sqrt(overlap / radius) rad), it falls to the remaining hits'
-// join: by (delta_dropped / delta)^8 / 8 of the overlap (BagEnergy tests).
+// back). Two discontinuities remain. Where two hits' normals cross the 30 degrees the energy jumps
+// between the joined contact's and the two contacts' (it jumped between the deepest's and the
+// two's before; a blend across the angle, with the angle's gradient in the force, would remove
+// it). Where the feature rule drops a joined hit (a face hit turning edge hit in a valley
+// shallower than about sqrt(overlap / radius) rad), the energy falls to the remaining hits' join,
+// by about (delta_dropped / delta)^8 / 8 of the overlap (BagEnergy tests).
 // The joined contact takes the patch's kPatchMembers deepest hits (a fourth as deep as the third,
 // a ball in a valley of four faces, is rare; where the two swap they are equally deep, so the
 // energy stays continuous). A hit half as deep as the deepest gets 1/128 of its force.

@@ -169,12 +169,30 @@ inline std::size_t find_features(const Surfaces& surfaces, const std::vector<Mes
     const std::vector<Vec3>& vx = *pv.vertices;
     hits.clear();
     double nearest2 = HUGE_VAL;
-    for (std::uint32_t e = c.begin[i]; e < c.begin[i + 1]; ++e) {
-      const std::uint32_t t = c.triangle[e];
-      const auto& tri = mesh.triangles[t];
-      const TriangleHit h = closest_point_on_triangle(pv.x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
-      nearest2 = std::min(nearest2, h.distance2);
-      if (h.distance2 < pv.reach * pv.reach) hits.push_back({t, 0, h});
+    // The candidates kLanes at a time by their distance (triangle_distance2); those that may lie
+    // within reach again by the exact closest point, which decides.
+    const double reach2 = pv.reach * pv.reach, pass_over = reach2 * (1.0 + 1e-6);
+    const Lanes3 x{splat<Lanes>(pv.x.x()), splat<Lanes>(pv.x.y()), splat<Lanes>(pv.x.z())};
+    for (std::uint32_t e0 = c.begin[i]; e0 < c.begin[i + 1]; e0 += kLanes) {
+      const std::uint32_t last = c.begin[i + 1] - 1;
+      std::uint32_t t[kLanes];
+      for (int l = 0; l < kLanes; ++l) t[l] = c.triangle[std::min<std::uint32_t>(e0 + l, last)];
+      auto corner = [&](int k) {
+        const double* p[kLanes] = {vx[mesh.triangles[t[0]][k]].data(), vx[mesh.triangles[t[1]][k]].data(),
+                                   vx[mesh.triangles[t[2]][k]].data(), vx[mesh.triangles[t[3]][k]].data()};
+        return gather3(p);
+      };
+      const Lanes d2 = triangle_distance2(x, corner(0), corner(1), corner(2));
+      for (int l = 0; l < kLanes && e0 + l <= last; ++l) {
+        if (d2[l] >= pass_over) {
+          nearest2 = std::min(nearest2, d2[l]);
+          continue;
+        }
+        const auto& tri = mesh.triangles[t[l]];
+        const TriangleHit h = closest_point_on_triangle(pv.x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
+        nearest2 = std::min(nearest2, h.distance2);
+        if (h.distance2 < reach2) hits.push_back({t[l], 0, h});
+      }
     }
     // 1e-9 of the reach: far above the rounding of the distances (1e-16 of them), far below a step.
     if (gap) *gap = std::min(*gap, std::sqrt(nearest2) - pv.reach * (1.0 + 1e-9));

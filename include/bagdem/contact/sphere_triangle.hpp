@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bagdem/contact/lanes.hpp"
 #include "bagdem/mesh/triangle_mesh.hpp"
 #include "bagdem/vec3.hpp"
 
@@ -88,6 +89,27 @@ BAGDEM_INLINE TriangleHit closest_point_on_triangle(const Vec3& p, const Vec3& a
   h.local = 0;
   h.distance2 = (p - h.point).squaredNorm();
   return h;
+}
+
+// Squared distance from p to each of kLanes triangles (a, b, c), without branches: the face's
+// plane where p projects inside the triangle, else the nearest of the three edges (each a segment,
+// its parameter clamped to [0, 1]). The same distance as closest_point_on_triangle to within a few
+// ulps of the coordinates' scale, so it serves to pass over triangles far beyond a contact's reach
+// before the exact test (surface_features.hpp). A degenerate triangle gives NaN.
+BAGDEM_INLINE Lanes triangle_distance2(const Lanes3& p, const Lanes3& a, const Lanes3& b, const Lanes3& c) {
+  const Lanes3 ab = b - a, bc = c - b, ca = a - c, ap = p - a, bp = p - b, cp = p - c;
+  auto segment2 = [](const Lanes3& qp, const Lanes3& e) {
+    const Lanes t = min_of(max_of(dot(qp, e) / dot(e, e), splat<Lanes>(0)), splat<Lanes>(1));
+    const Lanes3 r = qp - t * e;
+    return dot(r, r);
+  };
+  const Lanes edge2 = min_of(min_of(segment2(ap, ab), segment2(bp, bc)), segment2(cp, ca));
+  const Lanes3 n = cross(ab, bc);
+  const Lanes s = dot(n, ap);
+  const Lanes plane2 = s * s / dot(n, n);
+  // Inside: p's projection is on the inner side of every edge.
+  const LanesMask inside = (dot(cross(ab, ap), n) >= 0) & (dot(cross(bc, bp), n) >= 0) & (dot(cross(ca, cp), n) >= 0);
+  return select(inside, plane2, edge2);
 }
 
 // A feature of a mesh as one key: triangle, edge or vertex index with the kind in the top 2 bits.

@@ -1,4 +1,4 @@
-// bagdem: command line. Subcommands: check, run, sweep, reduce, compare, drop, export, bench.
+// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, reduce, compare, drop, export, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -16,6 +16,7 @@
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
 
@@ -48,6 +49,7 @@ struct Args {
   BenchOptions bench;
   study::SweepArgs sweep;
   study::TradeArgs trade;
+  study::CalibrateArgs calibrate;
   // The output directory: --out, or CASE_DIR/out.
   std::string out() const { return out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir; }
 };
@@ -284,6 +286,8 @@ int main(int argc, char** argv) {
   CLI::App* sweep = study::add_sweep_command(app, a.sweep);
   // trade: the speed/accuracy trade of a case (src/study/trade.cpp).
   CLI::App* trade = study::add_trade_command(app, a.trade);
+  // calibrate: a case key fitted to measured peak reductions (src/study/calibrate.cpp).
+  CLI::App* calibrate = study::add_calibrate_command(app, a.calibrate);
 
   try {
     app.parse(argc, argv);
@@ -296,6 +300,7 @@ int main(int argc, char** argv) {
   if (bench->parsed()) warn_threads_above_cores(a.bench.threads);
   if (sweep->parsed()) return study::sweep_command(a.sweep);
   if (trade->parsed()) return study::trade_command(a.trade);
+  if (calibrate->parsed()) return study::calibrate_command(a.calibrate);
   try {
     if (!a.fidelity.empty()) {
       const auto more = study::fidelity_sets(a.case_dir, a.sets, a.fidelity);

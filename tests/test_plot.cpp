@@ -398,3 +398,26 @@ TEST(Plot, PeakLabelCarriesTheIntervalAndTheBandEdge) {
   EXPECT_EQ(labels[0], "mode 1: -10.5 +- 0.3 dB (70%); AT THE BAND'S EDGE");
   EXPECT_EQ(labels[1], "mode 3: -6.0 +- 0.2 dB (50%)");
 }
+
+TEST(Plot, CalibrationGivesTheReductionAgainstTheKey) {
+  // bagdem calibrate's tables: two targets (modes 1 and 3) at seven forces (mN), the reduction
+  // falling as 8 ln(0.2 N / F) dB, one least-squares solution.
+  TempDir dir;
+  const std::vector<double> force = {50, 70.7, 100, 141, 200, 120, 110};  // mN
+  std::ostringstream csv;
+  csv << "round [1],excitation.amplitude,excitation.amplitude [kg m/s^2],mode [1],target_db [dB],reduction_db_mean [dB],"
+         "reduction_db_ci95 [dB],seeds [1],residual_db [dB],matched [1]\n";
+  for (std::size_t i = 0; i < force.size(); ++i)
+    for (int mode : {1, 3}) {
+      const double target = mode == 1 ? 14.9 : 14.5, mean = 8 * std::log(200 / force[i]) + (mode == 3 ? 1.0 : 0.0);
+      csv << (i < 5 ? 0 : i - 4) << ",\"" << force[i] << " mN\"," << force[i] * 1e-3 << ',' << mode << ',' << target << ',' << mean
+          << ",0.6,3," << mean - target << ',' << (std::abs(mean - target) <= 0.6 ? 1 : 0) << '\n';
+    }
+  std::ofstream(dir.path / "calibrate.csv") << csv.str();
+  std::ofstream(dir.path / "calibration.json")
+      << "{\"key\": \"excitation.amplitude\", \"unit\": \"mN\", \"to_si\": 0.001, \"solutions\": [{\"value\": 110, \"half_width\": 9.5, "
+         "\"matched\": false}]}\n";
+  const CmdResult r = run_plot({dir.str()}, dir.path);
+  expect_figures(r, dir.path, {"calibrate.png"}, {720});
+  EXPECT_EQ(r.err, "");
+}

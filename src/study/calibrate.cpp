@@ -1,0 +1,362 @@
+// `bagdem calibrate` (study/calibrate.hpp): the targets and bounds read, the search's rounds run as
+// studies, the tables written.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/json.hpp"
+#include "bagdem/reduce/interval.hpp"
+#include "bagdem/study/calibrate.hpp"
+#include "bagdem/study/study.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string number(double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.10g", x);
+  return b;
+}
+std::string short_number(double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.4g", x);
+  return b;
+}
+
+struct Target {
+  int mode = 0;
+  double reduction_db = NAN;
+};
+
+// "mode=1,reduction_db=14.9".
+Target parse_target(const std::string& text) {
+  Target t;
+  std::istringstream in(text);
+  std::string part;
+  auto bad = [&](const std::string& why) {
+    throw InputError("--target", "", text, why + "; write --target mode=1,reduction_db=14.9 (the mode's number among the elastic modes, the measured peak reduction in dB)");
+  };
+  while (std::getline(in, part, ',')) {
+    const auto eq = part.find('=');
+    if (eq == std::string::npos) bad("'" + part + "' is not name=value");
+    const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !std::isfinite(v)) bad(name + " = '" + value + "' is not a number");
+    if (name == "mode") {
+      if (v < 1 || v != std::floor(v)) bad("mode must be a whole number >= 1");
+      t.mode = static_cast<int>(v);
+    } else if (name == "reduction_db") {
+      t.reduction_db = v;
+    } else {
+      bad("unknown name '" + name + "' (allowed: mode, reduction_db)");
+    }
+  }
+  if (t.mode == 0 || !std::isfinite(t.reduction_db)) bad("both mode and reduction_db are needed");
+  return t;
+}
+
+// A value of the key in the unit the user wrote it in ("N", "mN"; "" for a plain number), with
+// that unit's factor to SI and the SI unit the tables use.
+struct Scale {
+  std::string unit, si_unit;
+  double to_si = 1;
+  std::string toml(double v) const { return unit.empty() ? number(v) : "\"" + number(v) + " " + unit + "\""; }
+  std::string given(double v) const { return unit.empty() ? number(v) : number(v) + " " + unit; }
+};
+
+// A number with an optional unit ("0.05 N", "0.02"): the number in its own unit, and the unit into
+// `scale`. False when it is not a number with a known unit.
+bool read_value(const std::string& given, Scale& scale, double& value) {
+  const char* text = given.c_str();
+  char* end = nullptr;
+  value = std::strtod(text, &end);
+  if (end == text || !std::isfinite(value)) return false;
+  std::string unit(end);
+  unit.erase(0, unit.find_first_not_of(" \t"));
+  unit.erase(unit.find_last_not_of(" \t") + 1);
+  std::string si_unit;
+  const double one = si_number(unit.empty() ? "1" : "1 " + unit, &si_unit);
+  if (!std::isfinite(one)) return false;
+  scale = {unit, si_unit, one};
+  return true;
+}
+
+// The bounds: --bounds "lo,hi" read as --set reads values, or the case's value / 4 and x 4.
+std::pair<double, double> read_bounds(const CalibrateArgs& a, const Scene& s, Scale& scale) {
+  if (!a.bounds.empty()) {
+    const std::vector<Value> v = parse_value_list(a.bounds);
+    if (v.size() != 2) throw InputError("--bounds", "", a.bounds, "needs two values, lo,hi (e.g. --bounds '\"0.05 N\",\"2 N\"')");
+    double lo = 0, hi = 0;
+    Scale second;
+    if (!read_value(v[0].given, scale, lo) || !read_value(v[1].given, second, hi))
+      throw InputError("--bounds", "", a.bounds, "each bound must be a number, with a unit if the key has one");
+    if (second.unit != scale.unit)
+      throw InputError("--bounds", "", a.bounds, "the two bounds must be in one unit (" + (scale.unit.empty() ? "none" : scale.unit) + " and " +
+                                                     (second.unit.empty() ? "none" : second.unit) + ")");
+    if (!(lo < hi)) throw InputError("--bounds", "", a.bounds, "needs lo < hi");
+    return {lo, hi};
+  }
+  double v = NAN;
+  try {
+    const toml::table t = toml::parse(s.resolved);
+    const toml::node_view<const toml::node> n = t.at_path(a.key);
+    if (const auto str = n.value<std::string>()) {
+      if (!read_value(*str, scale, v)) v = NAN;
+    } else if (const auto x = n.value<double>()) {
+      v = *x;
+    }
+  } catch (const toml::parse_error&) {
+  }
+  if (!(v > 0))
+    throw InputError("--bounds", a.key, "", "the case gives " + a.key + " no positive value to put default bounds around (its value / 4 and x 4): give --bounds lo,hi");
+  return {v / 4, v * 4};
+}
+
+// The elastic mode numbers whose peaks the case's sweep evaluates (sweep_peaks.cpp's rule, on the
+// planned frequencies).
+std::vector<int> evaluated_modes(const Primary& P) {
+  const Primary::Sweep& sw = *P.sweep;
+  std::vector<std::size_t> dofs = sw.modes;
+  if (dofs.empty() && !sw.frequencies.empty()) {
+    const auto [lo, hi] = std::minmax_element(sw.frequencies.begin(), sw.frequencies.end());
+    for (std::size_t k = 0; k < P.size(); ++k)
+      if (!P.rigid_body[k] && P.natural_frequency[k] >= *lo && P.natural_frequency[k] <= *hi) dofs.push_back(k);
+  }
+  std::vector<int> modes;
+  for (std::size_t d : dofs) {
+    int m = 0;
+    for (std::size_t k = 0; k <= d; ++k) m += P.rigid_body[k] ? 0 : 1;
+    modes.push_back(m);
+  }
+  return modes;
+}
+
+// The reduction of each target at each value of a round's study, over the done seeds.
+std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector<bool>& finished, const std::vector<Target>& targets,
+                                             std::size_t values) {
+  std::vector<std::vector<std::vector<double>>> x(values, std::vector<std::vector<double>>(targets.size()));
+  auto own_ci = x;  // each run's own interval of its reduction (over its cycles)
+  if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
+    const std::size_t none = t->columns.size();
+    std::size_t c_mode = none, c_db = none, c_ci = none;
+    for (std::size_t c = 0; c < t->columns.size(); ++c) {
+      if (t->columns[c] == "mode [1]") c_mode = c;
+      if (t->columns[c] == "reduction_dB [dB]") c_db = c;
+      if (t->columns[c] == "reduction_dB_ci95 [dB]") c_ci = c;
+    }
+    if (c_mode < none && c_db < none)
+      for (const auto& row : t->rows) {
+        if (row[1] != "done" || row[c_mode].empty() || row[c_db].empty()) continue;
+        const std::size_t combo = plan.points.at(std::stoul(row[0])).combination;
+        const double mode = std::strtod(row[c_mode].c_str(), nullptr), db = std::strtod(row[c_db].c_str(), nullptr);
+        const double ci = c_ci < none && !row[c_ci].empty() ? std::strtod(row[c_ci].c_str(), nullptr) : NAN;
+        for (std::size_t k = 0; k < targets.size(); ++k)
+          if (mode == targets[k].mode && std::isfinite(db)) x[combo][k].push_back(db), own_ci[combo][k].push_back(ci);
+      }
+  }
+  // Over the starts their interval; one start has only its own, over its cycles.
+  std::vector<std::vector<Estimate>> out(values, std::vector<Estimate>(targets.size()));
+  for (std::size_t v = 0; v < values; ++v)
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      if (x[v][k].empty()) continue;
+      const Interval in = independent_interval(x[v][k]);
+      out[v][k] = {in.mean, x[v][k].size() == 1 ? own_ci[v][k][0] : in.ci95, static_cast<int>(x[v][k].size())};
+    }
+  return out;
+}
+
+std::string json_number(double x) { return std::isfinite(x) ? number(x) : "null"; }
+
+}  // namespace
+
+CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
+  CLI::App* c = app.add_subcommand(
+      "calibrate",
+      "Find the value of a case key (the force amplitude by default) at which the peak reduction of a coupled sweep "
+      "matches measured ones: each value run with N seeds, a scan of the bounds, then every root of one target (or the "
+      "least-squares value of several) refined until a value matches (|mean - target| within the seeds' 95% interval or "
+      "the tolerance). Each round is a study in OUT/round-RR (resumable: the same command goes on where it stopped; "
+      "runs side by side within the cores). Writes OUT/calibrate.csv and OUT/calibration.json; tools/plot draws "
+      "calibrate.png. Exit codes: 0 a value matches, 2 bad input (nothing run), 3 a run failed or no value matched. "
+      "See docs/calibrate.md.");
+  c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep)")->required();
+  c->add_option("--target", a.targets, "mode=M,reduction_db=R: the measured peak reduction of elastic mode M (repeatable: several fit one value by least squares)")
+      ->required()
+      ->allow_extra_args(false);
+  c->add_option("--key", a.key, "The case key to calibrate (default excitation.amplitude; e.g. primary.damping_ratio)");
+  c->add_option("--bounds", a.bounds, "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4)");
+  c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
+  c->add_option("--seeds", a.seeds, "Starts per value (simulation.seed = 1..N; default 3)")->check(CLI::Range(1, 1000));
+  c->add_option("--scan", a.scan, "Values of the first round, the bounds included (default 5)")->check(CLI::Range(3, 1000));
+  c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100));
+  c->add_option("--tolerance", a.tolerance, "dB: a value matches within max(the seeds' 95% half-width, this) (default 0.1)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
+  c->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
+  c->add_option("--cores", a.cores, "Cores this calibration may use (default: this machine's)")->check(CLI::Range(1, 65536));
+  c->add_option("--out", a.out, "Output directory (default CASE_DIR/calibrate)");
+  return c;
+}
+
+int calibrate_command(const CalibrateArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<Target> targets;
+  std::vector<double> target_db;
+  SearchOptions opt;
+  Scale scale;
+  StudySpec base;
+  Budget budget;
+  try {
+    base.case_dir = fs::absolute(args.dir).lexically_normal().string();
+    if (!fs::exists(fs::path(base.case_dir) / "case.toml"))
+      throw InputError(args.dir, "", "", "holds no case.toml (bagdem calibrate takes a case directory)");
+    base.out_dir = fs::absolute(args.out.empty() ? fs::path(base.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal().string();
+    base.source = "bagdem calibrate";
+    base.sets = args.sets;
+    base.seeds = args.seeds;
+    base.jobs = args.jobs, base.threads = args.threads, base.cores = args.cores;
+    base.tables = {"peaks", "reduced"};
+    for (const std::string& t : args.targets) targets.push_back(parse_target(t));
+    const Scene s = load_case(base.case_dir, args.sets);
+    if (!s.primary || !s.primary->sweep)
+      throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
+    const std::vector<int> modes = evaluated_modes(*s.primary);
+    for (const Target& t : targets) {
+      if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
+        std::string have;
+        for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
+        throw InputError("--target", "", "mode=" + std::to_string(t.mode),
+                         "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
+                             ": set excitation.around_modes to include mode " + std::to_string(t.mode));
+      }
+      target_db.push_back(t.reduction_db);
+    }
+    const auto [lo, hi] = read_bounds(args, s, scale);
+    opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
+    opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
+    budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+
+  std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s\n",
+               base.case_dir.c_str(), args.key.c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
+               opt.scan, args.seeds, args.seeds > 1 ? "s" : "", base.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "");
+  bool failed = false;
+  int round = 0;
+  // One round: the values as a study in OUT/round-RR. Bad input surfaces in the first round's
+  // validation, before anything runs.
+  Evaluate evaluate = [&](const std::vector<double>& values) {
+    StudySpec spec = base;
+    char name[32];
+    std::snprintf(name, sizeof name, "round-%02d", round);
+    spec.out_dir = (fs::path(base.out_dir) / name).string();
+    Varied v{args.key, {}};
+    for (double x : values) v.values.push_back({scale.toml(x), scale.given(x)});
+    spec.vary = {v};
+    Plan plan = make_plan(spec);
+    for (const std::string& w : validate_plan(plan))
+      if (round == 0) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    std::vector<bool> done;
+    try {
+      done = done_points(plan);
+    } catch (const InputError& e) {
+      throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier calibration with other targets or options: give a new --out, or remove " + name + " and the rounds after it)");
+    }
+    std::string list;
+    for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
+    std::fprintf(stderr, "round %d: %s = %s\n", round, args.key.c_str(), list.c_str());
+    fs::create_directories(spec.out_dir);
+    remove_merged_tables(plan);
+    run_share(plan, done, budget, args.executable, 0, 1, name + std::string(": "));
+    const std::vector<bool> finished = finished_points(plan);
+    for (bool f : finished) failed = failed || !f;
+    merge_tables(plan, finished);
+    ++round;
+    return estimates(plan, finished, targets, values.size());
+  };
+
+  SearchResult r;
+  try {
+    r = calibrate_search(target_db, opt, evaluate);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return round == 0 ? kExitInputError : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+
+  try {
+    // calibrate.csv: every value run, per target.
+    const std::string unit = scale.unit.empty() ? "1" : scale.unit;
+    std::ostringstream csv;
+    csv << "round [1]," << args.key << "," << args.key << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
+        << "reduction_db_ci95 [dB],seeds [1],residual_db [dB],matched [1]\n";
+    for (const Evaluation& e : r.evaluated)
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        const Estimate& x = e.at[k];
+        const double res = x.mean - targets[k].reduction_db;
+        const double allow = std::isfinite(x.ci95) ? std::max(x.ci95, opt.tolerance) : opt.tolerance;
+        csv << e.round << ",\"" << scale.given(e.value) << "\"," << number(e.value * scale.to_si) << ',' << targets[k].mode << ','
+            << number(targets[k].reduction_db) << ',' << number(x.mean) << ',' << number(x.ci95) << ',' << x.n << ',' << number(res) << ','
+            << (std::abs(res) <= allow ? 1 : 0) << '\n';
+      }
+    write_atomically(fs::path(base.out_dir) / "calibrate.csv", csv.str());
+
+    // calibration.json and the summary.
+    std::ostringstream js;
+    js << "{\n  \"key\": \"" << json_escape(args.key) << "\",\n  \"unit\": \"" << json_escape(unit) << "\",\n  \"to_si\": " << number(scale.to_si)
+       << ",\n  \"seeds\": " << args.seeds
+       << ",\n  \"tolerance_dB\": " << number(opt.tolerance) << ",\n  \"bounds\": [" << number(opt.lo) << ", " << number(opt.hi)
+       << "],\n  \"targets\": [";
+    for (std::size_t k = 0; k < targets.size(); ++k)
+      js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB\": " << number(targets[k].reduction_db) << "}";
+    js << "],\n  \"solutions\": [";
+    bool matched = false;
+    for (std::size_t i = 0; i < r.solutions.size(); ++i) {
+      const Solution& s = r.solutions[i];
+      matched = matched || s.matched;
+      js << (i ? "," : "") << "\n    {\"value\": " << number(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
+         << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
+      std::printf("%s %s = %s +- %s %s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
+                  short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
+           << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
+           << ", \"residual_dB\": " << json_number(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number(s.slope[k]) << "}";
+        std::printf("  mode %d: %.2f +- %.2f dB over %d starts against %.2f dB (residual %+.2f dB)\n", targets[k].mode, s.at[k].mean,
+                    s.at[k].ci95, s.at[k].n, targets[k].reduction_db, s.residual[k]);
+      }
+      js << "]}";
+    }
+    js << "\n  ],\n  \"note\": \"" << json_escape(r.note) << "\",\n  \"runs_failed\": " << (failed ? "true" : "false") << "\n}\n";
+    write_atomically(fs::path(base.out_dir) / "calibration.json", js.str());
+    if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("calibration %s: %zu values in %d rounds, %.1f s wall -> %s/calibrate.csv, calibration.json\n",
+                failed ? "finished with failed runs" : matched ? "complete" : "found no matching value", r.evaluated.size(), round, wall,
+                base.out_dir.c_str());
+    return failed || !matched ? kExitRunError : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace bagdem::study

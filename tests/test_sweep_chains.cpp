@@ -1,10 +1,18 @@
-// How a sweep shares its points among its chains (src/run/sweep_chains.hpp) and where its peak
-// refinement places points (src/run/sweep_peaks.hpp). The sweeps themselves, on one thread and on
-// two, killed and resumed, are in test_sweep_restart.cpp.
+// How a sweep shares its points among its chains (src/run/sweep_chains.hpp), where its peak
+// refinement places points, and a mode's peaks when points are left out (src/run/sweep_peaks.hpp).
+// The sweeps themselves, on one thread and on two, killed and resumed, are in test_sweep_restart.cpp.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <complex>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
 #include <vector>
+
+#include "bagdem/case/load_case.hpp"
+#include "support.hpp"
+#include "sweep_support.hpp"
 
 #include "run/sweep_chains.hpp"
 #include "run/sweep_peaks.hpp"
@@ -100,3 +108,31 @@ TEST(SweepChains, NoRefinementWhenThePeakIsAtTheBandEdge) {
 }
 
 }  // namespace
+
+TEST(SweepChains, BarePeakIsSearchedOverTheModesWholeBandWhenPointsAreLeftOut) {
+  // The rattling ball's SDOF primary (30 Hz, zeta 0.05) swept at 26 to 34 Hz; the points at 29 Hz
+  // and above did not settle. The bare peak is the analytic receptance's at 30 Hz over the band the
+  // mode was swept in, not over the steady points' 26-28 Hz (there it would be 28 Hz's, a tenth of
+  // it, and the reduction would come out negative).
+  bagdem::testing::TempDir t;
+  std::ofstream(t.path / "case.toml") << bagdem::testing::rattling_ball_sweep(1);
+  const bagdem::Scene s = bagdem::load_case(t.path.string());
+  ASSERT_TRUE(s.primary);
+  const bagdem::Primary& P = *s.primary;
+  std::vector<bagdem::SweepPoint> pts;
+  for (double f : {26.0, 27.0, 28.0, 29.0, 30.0, 31.0, 34.0}) {
+    bagdem::SweepPoint p;
+    p.frequency = f;
+    p.receptance = 0.3 * P.bare_receptance(2 * std::numbers::pi * f);  // a damper taking 10.5 dB off everywhere
+    p.steady = f < 28.5;
+    pts.push_back(p);
+  }
+  const std::vector<bagdem::ModePeak> peaks = bagdem::sweep_peaks(P, pts);
+  ASSERT_EQ(peaks.size(), 1u);
+  const double f_n = std::sqrt(P.stiffness(0) / P.mass(0, 0)) / (2 * std::numbers::pi), zeta = P.damping_ratio[0];
+  const double f_peak = f_n * std::sqrt(1 - 2 * zeta * zeta);  // a receptance's peak (Meirovitch, 2001, eq. 3.34)
+  EXPECT_NEAR(peaks[0].bare_frequency, f_peak, 1e-3 * f_peak);
+  EXPECT_NEAR(peaks[0].bare_peak, std::abs(P.bare_receptance(2 * std::numbers::pi * f_peak)), 1e-6 * peaks[0].bare_peak);
+  EXPECT_EQ(peaks[0].unsteady_points, 4u);
+  EXPECT_GT(peaks[0].reduction_db, 10.45) << "at least the damper's 10.5 dB: the steady points miss the damped peak too";
+}

@@ -117,29 +117,32 @@ std::string peaks_json(const std::vector<ModePeak>& peaks) {
 
 std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
   std::vector<ModePeak> out;
-  std::vector<SweepPoint> steady;
-  for (const SweepPoint& p : points)
-    if (p.steady) steady.push_back(p);
-  for (const ModePoints& m : group_by_mode(P, steady)) {
+  // The modes and their bands from every point; the damped peak from the steady ones alone. Points
+  // left out must not narrow the band the bare structure is searched in (were the points around
+  // the bare resonance unsteady, the steady ones' band would miss it).
+  for (const ModePoints& all : group_by_mode(P, points)) {
+    std::vector<const SweepPoint*> steady;
+    for (const SweepPoint* p : all.points)
+      if (p->steady) steady.push_back(p);
+    if (steady.empty()) continue;
     std::vector<double> f, mag;
-    for (const SweepPoint* p : m.points) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
+    for (const SweepPoint* p : steady) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
-    mp.name = P.dof_names[m.dof];
-    for (std::size_t k = 0; k <= m.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
+    mp.name = P.dof_names[all.dof];
+    for (std::size_t k = 0; k <= all.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
     const Peak damped = find_peak(f, mag, f.front(), f.back());
-    const Peak bare = bare_peak(P, f.front(), f.back());
+    const Peak bare = bare_peak(P, all.points.front()->frequency, all.points.back()->frequency);
     const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());
     mp.frequency = damped.frequency, mp.peak = damped.magnitude;
     mp.simulated_frequency = f[top], mp.simulated_peak = mag[top];
-    mp.peak_ci95 = m.points[top]->receptance_ci95;
+    mp.peak_ci95 = steady[top]->receptance_ci95;
     mp.at_band_edge = top == 0 || top + 1 == f.size();
     mp.bare_frequency = bare.frequency, mp.bare_peak = bare.magnitude;
     mp.reduction_db = reduction_db(bare.magnitude, damped.magnitude);
     mp.reduction_percent = reduction_percent(mp.reduction_db);
     // dB of the relative half-width: 20 log10(1 + ci / |H|), the larger side.
     mp.reduction_db_ci95 = mp.simulated_peak > 0 ? 20 * std::log10(1 + mp.peak_ci95 / mp.simulated_peak) : kNaN;
-    for (const ModePoints& all : group_by_mode(P, points))
-      if (all.dof == m.dof) mp.unsteady_points = all.points.size() - m.points.size();
+    mp.unsteady_points = all.points.size() - steady.size();
     out.push_back(mp);
   }
   return out;

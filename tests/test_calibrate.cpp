@@ -99,9 +99,16 @@ TEST(CalibrateSearch, SaysSoWhenNoValueReachesTheTarget) {
   SearchOptions o;
   o.lo = 1, o.hi = 2;
   const SearchResult r = calibrate_search({30.0}, o, exact(wavy, 0.2));
-  EXPECT_TRUE(r.solutions.empty());
+  ASSERT_EQ(r.solutions.size(), 1u) << "the closest value, not matched";
+  EXPECT_FALSE(r.solutions[0].matched);
+  EXPECT_NEAR(r.solutions[0].value, 1.5, 1e-12) << "10 + 5 sin v is largest at pi/2 on [1, 2]: the scan's 1.5";
   EXPECT_NE(r.note.find("no value between 1 and 2 reaches the target"), std::string::npos) << r.note;
+  EXPECT_NE(r.note.find("inside the bounds: a wider range will not reach it"), std::string::npos) << r.note;
   EXPECT_EQ(r.evaluated.size(), 5u) << "the scan only";
+  // A target beyond the bound the reduction is heading to: widen the bounds.
+  o.lo = 2, o.hi = 3;
+  const SearchResult w = calibrate_search({30.0}, o, exact(wavy, 0.2));
+  EXPECT_NE(w.note.find("nearest at the bound 2: widen --bounds"), std::string::npos) << w.note;
   EXPECT_THROW(calibrate_search({}, o, exact(wavy, 0.2)), std::invalid_argument);
   o.hi = 1;
   EXPECT_THROW(calibrate_search({1.0}, o, exact(wavy, 0.2)), std::invalid_argument);
@@ -213,6 +220,7 @@ TEST(Calibrate, FindsTheForceOfAKnownReductionThroughTheBinary) {
   const Table c = read_csv((out / "calibrate.csv").string());
   const std::size_t c_round = column(c, "round [1]"), c_v = column(c, "excitation.amplitude [kg m/s^2]"), c_m = column(c, "reduction_db_mean [dB]"),
                     c_r = column(c, "residual_db [dB]"), c_t = column(c, "target_db [dB]");
+  EXPECT_EQ(c.columns[column(c, "at_band_edge [1]")], "at_band_edge [1]");
   ASSERT_GE(c.rows.size(), 5u);
   for (std::size_t i = 0; i < 5; ++i) {
     EXPECT_EQ(c.rows[i][c_round], "0");

@@ -22,11 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string number(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", x);
-  return b;
-}
 std::string short_number(double x) {
   char b[64];
   std::snprintf(b, sizeof b, "%.4g", x);
@@ -71,8 +66,8 @@ Target parse_target(const std::string& text) {
 struct Scale {
   std::string unit, si_unit;
   double to_si = 1;
-  std::string toml(double v) const { return unit.empty() ? number(v) : "\"" + number(v) + " " + unit + "\""; }
-  std::string given(double v) const { return unit.empty() ? number(v) : number(v) + " " + unit; }
+  std::string toml(double v) const { return unit.empty() ? short_text(v) : "\"" + short_text(v) + " " + unit + "\""; }
+  std::string given(double v) const { return unit.empty() ? short_text(v) : short_text(v) + " " + unit; }
 };
 
 // A number with an optional unit ("0.05 N", "0.02"): the number in its own unit, and the unit into
@@ -147,13 +142,15 @@ std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector
                                              std::size_t values) {
   std::vector<std::vector<std::vector<double>>> x(values, std::vector<std::vector<double>>(targets.size()));
   auto own_ci = x;  // each run's own interval of its reduction (over its cycles)
+  std::vector<std::vector<int>> edges(values, std::vector<int>(targets.size(), 0));
   if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
     const std::size_t none = t->columns.size();
-    std::size_t c_mode = none, c_db = none, c_ci = none;
+    std::size_t c_mode = none, c_db = none, c_ci = none, c_edge = none;
     for (std::size_t c = 0; c < t->columns.size(); ++c) {
       if (t->columns[c] == "mode [1]") c_mode = c;
       if (t->columns[c] == "reduction_dB [dB]") c_db = c;
       if (t->columns[c] == "reduction_dB_ci95 [dB]") c_ci = c;
+      if (t->columns[c] == "at_band_edge [1]") c_edge = c;
     }
     if (c_mode < none && c_db < none)
       for (const auto& row : t->rows) {
@@ -161,8 +158,9 @@ std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector
         const std::size_t combo = plan.points.at(std::stoul(row[0])).combination;
         const double mode = std::strtod(row[c_mode].c_str(), nullptr), db = std::strtod(row[c_db].c_str(), nullptr);
         const double ci = c_ci < none && !row[c_ci].empty() ? std::strtod(row[c_ci].c_str(), nullptr) : NAN;
+        const bool edge = c_edge < none && row[c_edge] == "1";
         for (std::size_t k = 0; k < targets.size(); ++k)
-          if (mode == targets[k].mode && std::isfinite(db)) x[combo][k].push_back(db), own_ci[combo][k].push_back(ci);
+          if (mode == targets[k].mode && std::isfinite(db)) x[combo][k].push_back(db), own_ci[combo][k].push_back(ci), edges[combo][k] += edge;
       }
   }
   // Over the starts their interval; one start has only its own, over its cycles.
@@ -171,12 +169,71 @@ std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector
     for (std::size_t k = 0; k < targets.size(); ++k) {
       if (x[v][k].empty()) continue;
       const Interval in = independent_interval(x[v][k]);
-      out[v][k] = {in.mean, x[v][k].size() == 1 ? own_ci[v][k][0] : in.ci95, static_cast<int>(x[v][k].size())};
+      out[v][k] = {in.mean, x[v][k].size() == 1 ? own_ci[v][k][0] : in.ci95, static_cast<int>(x[v][k].size()), edges[v][k]};
     }
   return out;
 }
 
-std::string json_number(double x) { return std::isfinite(x) ? number(x) : "null"; }
+std::string json_number(double x) { return std::isfinite(x) ? short_text(x) : "null"; }
+
+// OUT/calibrate.csv (every value run, per target) and OUT/calibration.json (the solutions), and
+// the solutions on stdout; a warning per target whose peak lay at the band's edge. Returns whether
+// a solution matched.
+bool write_results(const std::string& out, const CalibrateArgs& args, const std::vector<Target>& targets, const Scale& scale,
+                   const SearchOptions& opt, const SearchResult& r, bool failed) {
+  // calibrate.csv: every value run, per target.
+  const std::string unit = scale.unit.empty() ? "1" : scale.unit;
+  std::ostringstream csv;
+  csv << "round [1]," << args.key << "," << args.key << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
+      << "reduction_db_ci95 [dB],seeds [1],at_band_edge [1],residual_db [dB],matched [1]\n";
+  for (const Evaluation& e : r.evaluated)
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const Estimate& x = e.at[k];
+      const double res = x.mean - targets[k].reduction_db;
+      const double allow = std::isfinite(x.ci95) ? std::max(x.ci95, opt.tolerance) : opt.tolerance;
+      csv << e.round << ",\"" << scale.given(e.value) << "\"," << short_text(e.value * scale.to_si) << ',' << targets[k].mode << ','
+          << short_text(targets[k].reduction_db) << ',' << short_text(x.mean) << ',' << short_text(x.ci95) << ',' << x.n << ',' << x.at_band_edge << ',' << short_text(res) << ','
+          << (std::abs(res) <= allow ? 1 : 0) << '\n';
+    }
+  write_atomically(fs::path(out) / "calibrate.csv", csv.str());
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    int edge = 0, runs = 0;
+    for (const Evaluation& e : r.evaluated) edge += e.at[k].at_band_edge, runs += e.at[k].n;
+    if (edge > 0)
+      std::fprintf(stderr, "warning: mode %d: the peak lay at the band's edge in %d of %d runs: their reduction is only a bound "
+                           "(widen excitation.span); calibrate.csv's at_band_edge counts them per value\n", targets[k].mode, edge, runs);
+  }
+
+  // calibration.json and the summary.
+  std::ostringstream js;
+  js << "{\n  \"key\": \"" << json_escape(args.key) << "\",\n  \"unit\": \"" << json_escape(unit) << "\",\n  \"to_si\": " << short_text(scale.to_si)
+     << ",\n  \"seeds\": " << args.seeds
+     << ",\n  \"tolerance_dB\": " << short_text(opt.tolerance) << ",\n  \"bounds\": [" << short_text(opt.lo) << ", " << short_text(opt.hi)
+     << "],\n  \"targets\": [";
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB\": " << short_text(targets[k].reduction_db) << "}";
+  js << "],\n  \"solutions\": [";
+  bool matched = false;
+  for (std::size_t i = 0; i < r.solutions.size(); ++i) {
+    const Solution& s = r.solutions[i];
+    matched = matched || s.matched;
+    js << (i ? "," : "") << "\n    {\"value\": " << short_text(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
+       << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
+    std::printf("%s %s = %s +- %s %s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
+                short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
+         << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
+         << ", \"residual_dB\": " << json_number(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number(s.slope[k]) << "}";
+      std::printf("  mode %d: %.2f +- %.2f dB over %d start%s against %.2f dB (residual %+.2f dB)\n", targets[k].mode, s.at[k].mean,
+                  s.at[k].ci95, s.at[k].n, s.at[k].n == 1 ? "" : "s", targets[k].reduction_db, s.residual[k]);
+    }
+    js << "]}";
+  }
+  js << "\n  ],\n  \"note\": \"" << json_escape(r.note) << "\",\n  \"runs_failed\": " << (failed ? "true" : "false") << "\n}\n";
+  write_atomically(fs::path(out) / "calibration.json", js.str());
+  return matched;
+}
 
 }  // namespace
 
@@ -303,50 +360,7 @@ int calibrate_command(const CalibrateArgs& args) {
   }
 
   try {
-    // calibrate.csv: every value run, per target.
-    const std::string unit = scale.unit.empty() ? "1" : scale.unit;
-    std::ostringstream csv;
-    csv << "round [1]," << args.key << "," << args.key << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
-        << "reduction_db_ci95 [dB],seeds [1],residual_db [dB],matched [1]\n";
-    for (const Evaluation& e : r.evaluated)
-      for (std::size_t k = 0; k < targets.size(); ++k) {
-        const Estimate& x = e.at[k];
-        const double res = x.mean - targets[k].reduction_db;
-        const double allow = std::isfinite(x.ci95) ? std::max(x.ci95, opt.tolerance) : opt.tolerance;
-        csv << e.round << ",\"" << scale.given(e.value) << "\"," << number(e.value * scale.to_si) << ',' << targets[k].mode << ','
-            << number(targets[k].reduction_db) << ',' << number(x.mean) << ',' << number(x.ci95) << ',' << x.n << ',' << number(res) << ','
-            << (std::abs(res) <= allow ? 1 : 0) << '\n';
-      }
-    write_atomically(fs::path(base.out_dir) / "calibrate.csv", csv.str());
-
-    // calibration.json and the summary.
-    std::ostringstream js;
-    js << "{\n  \"key\": \"" << json_escape(args.key) << "\",\n  \"unit\": \"" << json_escape(unit) << "\",\n  \"to_si\": " << number(scale.to_si)
-       << ",\n  \"seeds\": " << args.seeds
-       << ",\n  \"tolerance_dB\": " << number(opt.tolerance) << ",\n  \"bounds\": [" << number(opt.lo) << ", " << number(opt.hi)
-       << "],\n  \"targets\": [";
-    for (std::size_t k = 0; k < targets.size(); ++k)
-      js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB\": " << number(targets[k].reduction_db) << "}";
-    js << "],\n  \"solutions\": [";
-    bool matched = false;
-    for (std::size_t i = 0; i < r.solutions.size(); ++i) {
-      const Solution& s = r.solutions[i];
-      matched = matched || s.matched;
-      js << (i ? "," : "") << "\n    {\"value\": " << number(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
-         << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
-      std::printf("%s %s = %s +- %s %s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
-                  short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
-      for (std::size_t k = 0; k < targets.size(); ++k) {
-        js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
-           << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
-           << ", \"residual_dB\": " << json_number(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number(s.slope[k]) << "}";
-        std::printf("  mode %d: %.2f +- %.2f dB over %d starts against %.2f dB (residual %+.2f dB)\n", targets[k].mode, s.at[k].mean,
-                    s.at[k].ci95, s.at[k].n, targets[k].reduction_db, s.residual[k]);
-      }
-      js << "]}";
-    }
-    js << "\n  ],\n  \"note\": \"" << json_escape(r.note) << "\",\n  \"runs_failed\": " << (failed ? "true" : "false") << "\n}\n";
-    write_atomically(fs::path(base.out_dir) / "calibration.json", js.str());
+    const bool matched = write_results(base.out_dir, args, targets, scale, opt, r, failed);
     if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("calibration %s: %zu values in %d rounds, %.1f s wall -> %s/calibrate.csv, calibration.json\n",

@@ -185,11 +185,28 @@ void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptio
     }
   }
   if (out.solutions.empty()) {
+    // The closest value of the scan, reported as not matched; where it lies says what to change.
     double lo = HUGE_VAL, hi = -HUGE_VAL;
-    for (std::size_t i : scan)
-      if (std::isfinite(E[i].at[0].mean)) lo = std::min(lo, E[i].at[0].mean), hi = std::max(hi, E[i].at[0].mean);
+    std::size_t best = scan.size();
+    for (std::size_t j = 0; j < scan.size(); ++j) {
+      const double m = E[scan[j]].at[0].mean;
+      if (!std::isfinite(m)) continue;
+      lo = std::min(lo, m), hi = std::max(hi, m);
+      if (best == scan.size() || std::abs(E.residual(scan[j], 0)) < std::abs(E.residual(scan[best], 0))) best = j;
+    }
     note << "no value between " << text(opt.lo) << " and " << text(opt.hi) << " reaches the target: the reduction runs from "
-         << text(lo) << " to " << text(hi) << " dB over the scan; widen --bounds. ";
+         << text(lo) << " to " << text(hi) << " dB over the scan";
+    if (best == scan.size()) {
+      note << ". ";
+    } else {
+      out.solutions.push_back(E.solution(scan[best], best > 0 ? scan[best - 1] : Evaluated::npos,
+                                         best + 1 < scan.size() ? scan[best + 1] : Evaluated::npos));
+      if (best == 0 || best + 1 == scan.size())
+        note << ", nearest at the bound " << text(E[scan[best]].value) << ": widen --bounds. ";
+      else
+        note << ", nearest at " << text(E[scan[best]].value) << " inside the bounds: a wider range will not reach it; another key sets it "
+             << "(the structure's damping, say). ";
+    }
   }
   out.note = note.str();
 }

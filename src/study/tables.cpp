@@ -3,6 +3,7 @@
 // A point's own cells are copied as text, so the merged table holds exactly what the run wrote.
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -68,6 +69,12 @@ std::string key_unit(const Varied& v) {
 std::size_t inputs_width(const Plan& plan) { return 3 + 2 * plan.spec.vary.size(); }
 
 }  // namespace
+
+std::string short_text(double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.10g", x);
+  return b;
+}
 
 Table read_csv(const std::string& path) {
   std::vector<std::vector<std::string>> rows = read_csv_cells(path);

@@ -24,11 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string number(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", x);
-  return b;
-}
 
 // What the knobs need to know of a case, read once.
 struct CaseFacts {
@@ -77,14 +72,14 @@ CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>
 std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& knob, double factor) {
   std::vector<std::string> o;
   if (knob == "timestep") {
-    if (f.explicit_step) o.push_back("simulation.timestep=" + number(f.dt * factor));
+    if (f.explicit_step) o.push_back("simulation.timestep=" + short_text(f.dt * factor));
     else {
       // The automatic step is the least of several limits (timestep.cpp): scale the two a user sets.
-      o.push_back("simulation.timestep_safety=" + number(std::min(1.0, f.safety * factor)));
-      o.push_back("simulation.steps_per_contact=" + number(std::max(10.0, f.steps_per_contact / factor)));
+      o.push_back("simulation.timestep_safety=" + short_text(std::min(1.0, f.safety * factor)));
+      o.push_back("simulation.steps_per_contact=" + short_text(std::max(10.0, f.steps_per_contact / factor)));
     }
   } else if (knob == "stiffness") {
-    for (const auto& [name, E] : f.ball_materials) o.push_back("materials." + name + ".youngs_modulus=" + number(E * factor));
+    for (const auto& [name, E] : f.ball_materials) o.push_back("materials." + name + ".youngs_modulus=" + short_text(E * factor));
   } else if (knob == "film") {
     if (f.triangles > 0) o.push_back("bag.triangles=" + std::to_string(std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor))));
   } else if (knob == "tangential") {
@@ -94,9 +89,9 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
     if (f.rolling && factor == 0)
       for (const std::string& i : f.interactions) o.push_back("interactions." + i + ".rolling_friction=0");
   } else if (knob == "output") {
-    o.push_back("output.cavity_interval=" + number(f.cavity_interval * factor));
+    o.push_back("output.cavity_interval=" + short_text(f.cavity_interval * factor));
   } else if (knob == "steady") {
-    if (f.steady_tolerance > 0) o.push_back("excitation.steady_tolerance=" + number(f.steady_tolerance * factor));
+    if (f.steady_tolerance > 0) o.push_back("excitation.steady_tolerance=" + short_text(f.steady_tolerance * factor));
   } else {
     std::string names;
     for (const Knob& k : knobs()) names += (names.empty() ? "" : ", ") + k.name;
@@ -134,7 +129,7 @@ std::vector<std::string> preset_overrides(const CaseFacts& f, const std::string&
 
 std::string knob_label(const Knob& k, double factor) {
   if (k.name == "tangential" || k.name == "rolling") return k.name + (factor == 0 ? " off" : " on");
-  return k.name + " x" + number(factor);
+  return k.name + " x" + short_text(factor);
 }
 
 // ---- the table ----------------------------------------------------------------------------------
@@ -194,7 +189,7 @@ RungResult read_rung(const Plan& plan, const Point& p, const Rung& rung) {
     const Table peaks = read_csv((dir / "peaks.csv").string());
     for (std::size_t i = 0; i < peaks.rows.size(); ++i) {
       const double mode = cell_number(peaks, i, "mode [1]");
-      r.metric["reduction_dB mode " + number(mode)] = cell_number(peaks, i, "reduction_dB [dB]");
+      r.metric["reduction_dB mode " + short_text(mode)] = cell_number(peaks, i, "reduction_dB [dB]");
       if (i == 0) peak_frequency = cell_number(peaks, i, "frequency [Hz]");
     }
   }
@@ -279,8 +274,8 @@ CLI::App* add_trade_command(CLI::App& app, TradeArgs& a) {
   std::string names;
   for (const Knob& k : knobs()) {
     std::string factors;
-    for (double x : k.factors) factors += (factors.empty() ? "" : ", ") + number(x);
-    names += "\n  " + k.name + ": " + k.what + " (reference " + number(k.factors.front()) + "; factors " + factors + ")";
+    for (double x : k.factors) factors += (factors.empty() ? "" : ", ") + short_text(x);
+    names += "\n  " + k.name + ": " + k.what + " (reference " + short_text(k.factors.front()) + "; factors " + factors + ")";
   }
   CLI::App* t = app.add_subcommand(
       "trade",
@@ -386,8 +381,8 @@ int trade_command(const TradeArgs& args) {
       const RungResult& r = res[k];
       failed = failed || !r.done;
       const double speedup = ref.wall / r.wall;
-      csv << '"' << ladder[k].name << "\"," << ladder[k].knob << ',' << (r.done ? "done" : "failed") << ',' << number(r.wall)
-          << ',' << number(speedup) << ',' << number(r.dt) << ',' << number(r.contact_time);
+      csv << '"' << ladder[k].name << "\"," << ladder[k].knob << ',' << (r.done ? "done" : "failed") << ',' << short_text(r.wall)
+          << ',' << short_text(speedup) << ',' << short_text(r.dt) << ',' << short_text(r.contact_time);
       std::printf("%-18s %8.1f %7.2f %10.3g %10.3g", ladder[k].name.c_str(), r.wall, speedup, r.dt, r.contact_time);
       for (const std::string& m : metrics) {
         const bool db = m.rfind("reduction_dB", 0) == 0;
@@ -399,7 +394,7 @@ int trade_command(const TradeArgs& args) {
         if (m == "Cb_over_Mbw" || m == "M_eff_ratio") scale = std::hypot(ref.metric.count("Cb_over_Mbw") ? ref.metric.at("Cb_over_Mbw") : 0.0,
                                                                        ref.metric.count("M_eff_ratio") ? ref.metric.at("M_eff_ratio") : 0.0);
         const double err = db ? v - v0 : std::abs(v - v0) / scale;
-        csv << ',' << number(v) << ',' << number(err);
+        csv << ',' << short_text(v) << ',' << short_text(err);
         const int w = static_cast<int>(db ? 2 + m.size() - 12 : m.size());
         char cell[64];
         if (db) std::snprintf(cell, sizeof cell, "%.2f (%+.2f)", v, err);

@@ -12,8 +12,8 @@ from .tables import BadInput, read_table
 
 def plot_calibrate(directory, out_dir, written):
     """Per target (mode), the mean reduction of every value run with its 95% interval over the
-    seeds, the target as a dashed line, and each solution as a vertical line with its interval
-    shaded; a log axis when the values span a factor of 3 or more."""
+    seeds, the target as a dashed line, and each solution as a vertical line (a matched one with
+    its interval shaded); a log axis when the values span a factor of 3 or more."""
     t = read_table(directory, "calibrate.csv")
     if t is None:
         return
@@ -61,7 +61,7 @@ def plot_calibrate(directory, out_dir, written):
         if v is None:
             continue
         ax.axvline(v, color="0.2", lw=1.2, label="value found" if s.get("matched") else "closest value (not matched)")
-        if hw is not None and math.isfinite(hw):
+        if s.get("matched") and hw is not None and math.isfinite(hw):  # a value not matched has no interval to show
             ax.axvspan(v - hw, v + hw, color="0.5", alpha=0.15, lw=0)
     ax.set_xlabel(f"{key} [{unit}]")
     ax.set_ylabel("peak reduction [dB]")

@@ -14,7 +14,9 @@
 //     refined by regula falsi kept at least a fifth of the bracket from its ends, all brackets side
 //     by side, until a value matches or the rounds are spent. The reduction need not rise steadily
 //     with the key: each root bracketed inside the bounds is a solution, and a scan value that
-//     matches is one.
+//     matches is one. Without either, the scan's closest value is the one solution, not matched,
+//     and the note says whether it lies at a bound (widen them) or inside (the reduction turns:
+//     this key cannot reach the target).
 //   - Several targets (modes 1 and 3, say): one value for all, the least-squares minimum of
 //     J(v) = sum_k (mean_k(v) - target_k)^2 (dB^2): the scan's smallest J, then the two values half
 //     a spacing either side of the best, the spacing halved each round, until it is below the
@@ -44,6 +46,7 @@ namespace bagdem::study {
 struct Estimate {
   double mean = NAN, ci95 = NAN;
   int n = 0;
+  int at_band_edge = 0;  // of the n runs, those whose peak lay at the band's edge (a reduction that is only a bound)
 };
 
 struct SearchOptions {

@@ -259,9 +259,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
   c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100));
   c->add_option("--tolerance", a.tolerance, "dB: a value matches within max(the seeds' 95% half-width, this) (default 0.1)")
       ->check(CLI::PositiveNumber);
-  c->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
-  c->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
-  c->add_option("--cores", a.cores, "Cores this calibration may use (default: this machine's)")->check(CLI::Range(1, 65536));
+  add_budget_options(c, a.jobs, a.threads, a.cores, "calibration", "this machine's");
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/calibrate)");
   return c;
 }

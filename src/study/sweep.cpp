@@ -48,6 +48,13 @@ Budget resolve_budget(const StudySpec& spec, int available, const std::string& a
   return b;
 }
 
+void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, const std::string& what,
+                        const std::string& cores_default) {
+  command->add_option("--jobs", jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
+  command->add_option("--threads", threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
+  command->add_option("--cores", cores, "Cores this " + what + " may use (default: " + cores_default + ")")->check(CLI::Range(1, 65536));
+}
+
 CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
   auto* s = app.add_subcommand(
       "sweep",
@@ -66,10 +73,7 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
       ->allow_extra_args(false);
   s->add_option("--seeds", a.seeds, "Ensemble: run each point with simulation.seed = 1..N; adds <table>_ensemble.csv")
       ->check(CLI::Range(1, 100000));
-  s->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
-  s->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
-  s->add_option("--cores", a.cores, "Cores this sweep may use (default: this machine's, divided among the MPI ranks on it)")
-      ->check(CLI::Range(1, 65536));
+  add_budget_options(s, a.jobs, a.threads, a.cores, "sweep", "this machine's, divided among the MPI ranks on it");
   s->add_option("--out", a.out, "Output directory (default CASE_DIR/study, or STUDY_DIR/out)");
   s->add_option("--fidelity", a.fidelity, "A preset of the speed/accuracy trade for every point: fast, balanced or reference (bagdem trade)")
       ->check(CLI::IsMember({"fast", "balanced", "reference"}));

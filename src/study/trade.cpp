@@ -287,9 +287,7 @@ CLI::App* add_trade_command(CLI::App& app, TradeArgs& a) {
   t->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();
   t->add_option("--knobs", a.only, "Only these knobs; `none`: only the reference, its seed+1 twin and the presets (default: every knob the case uses)");
   t->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
-  t->add_option("--jobs", a.jobs, "Runs at once (default: cores / threads)")->check(CLI::Range(1, 4096));
-  t->add_option("--threads", a.threads, "OpenMP threads per run (default 1)")->check(CLI::Range(1, 4096));
-  t->add_option("--cores", a.cores, "Cores this trade may use (default: this machine's)")->check(CLI::Range(1, 65536));
+  add_budget_options(t, a.jobs, a.threads, a.cores, "trade", "this machine's");
   t->add_option("--out", a.out, "Output directory (default CASE_DIR/trade)");
   return t;
 }

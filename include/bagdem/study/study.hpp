@@ -258,6 +258,11 @@ bool launched_by_mpi();
 
 // ---- sweep.cpp: the command ----------------------------------------------------------------------
 
+// The options --jobs, --threads and --cores of a command that runs points as child processes
+// (sweep, trade, calibrate); `cores_default` says what --cores defaults to.
+void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, const std::string& what,
+                        const std::string& cores_default);
+
 // Adds the `sweep` subcommand and its options (filled into `args`) to the command line.
 CLI::App* add_sweep_command(CLI::App& app, SweepArgs& args);
 

@@ -114,6 +114,20 @@ TEST(CalibrateSearch, SaysSoWhenNoValueReachesTheTarget) {
   EXPECT_THROW(calibrate_search({1.0}, o, exact(wavy, 0.2)), std::invalid_argument);
 }
 
+TEST(CalibrateSearch, NeighboursThatAllMatchAreOneSolutionCoveringThemAll) {
+  // 12 - 0.5 v against 10 dB with intervals of 3 dB: every scan value of [0, 10] matches. One
+  // solution, the scan's nearest (5: -0.5 dB), its half-width covering the whole range.
+  SearchOptions o;
+  o.lo = 0, o.hi = 10;
+  auto gentle = [](double v) { return 12 - 0.5 * v; };
+  const SearchResult r = calibrate_search({10.0}, o, exact(+gentle, 3.0));
+  ASSERT_EQ(r.solutions.size(), 1u) << r.note;
+  EXPECT_DOUBLE_EQ(r.solutions[0].value, 5.0);
+  EXPECT_TRUE(r.solutions[0].matched);
+  EXPECT_GE(r.solutions[0].half_width, 5.0);
+  EXPECT_NE(r.note.find("more --seeds narrow them"), std::string::npos) << r.note;
+}
+
 TEST(CalibrateSearch, TwoTargetsFitOneValueByLeastSquares) {
   // r1 = 20 - 5 u - 14.9 and r2 = 17 - 4 u - 14.5 (u = ln v) are least squares at
   // u* = (5 * 5.1 + 4 * 2.5) / 41.

@@ -219,8 +219,8 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const std:
     matched = matched || s.matched;
     js << (i ? "," : "") << "\n    {\"value\": " << short_text(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
        << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
-    std::printf("%s %s = %s +- %s %s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
-                short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
+    std::printf("%s %s = %s +- %s%s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
+                short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.empty() ? "" : (" " + scale.unit).c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
     for (std::size_t k = 0; k < targets.size(); ++k) {
       js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
          << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n

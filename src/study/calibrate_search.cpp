@@ -163,17 +163,31 @@ void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptio
     }
   }
   // Solutions: the matched scan values (neighbours of the scan for the slope), the brackets'
-  // matched values (their ends), and the unresolved brackets' nearer end, not matched.
-  std::vector<std::size_t> flat;
-  for (std::size_t h : hits) {
-    const std::size_t a = h > 0 ? scan[h - 1] : Evaluated::npos, b = h + 1 < scan.size() ? scan[h + 1] : Evaluated::npos;
-    out.solutions.push_back(E.solution(scan[h], a, b));
-    if (h + 1 < scan.size() && std::find(hits.begin(), hits.end(), h + 1) != hits.end()) flat.push_back(h);
-  }
+  // matched values (their ends), and the unresolved brackets' nearer end, not matched. Neighbouring
+  // scan values that all match are one solution: the best of them (least residual for its
+  // allowance), its half-width widened to cover them all, since the data cannot tell them apart.
   std::ostringstream note;
-  for (std::size_t h : flat)
-    note << "the reduction matches the target from " << text(E[scan[h]].value) << " to " << text(E[scan[h + 1]].value)
-         << ": flat there, the key hardly sets it. ";
+  for (std::size_t first = 0; first < hits.size();) {
+    std::size_t last = first;
+    while (last + 1 < hits.size() && hits[last + 1] == hits[last] + 1) ++last;
+    std::size_t best = hits[first];
+    for (std::size_t k = first; k <= last; ++k)
+      if (std::abs(E.residual(scan[hits[k]], 0)) / E.allowance(scan[hits[k]], 0) <
+          std::abs(E.residual(scan[best], 0)) / E.allowance(scan[best], 0))
+        best = hits[k];
+    const std::size_t a = best > 0 ? scan[best - 1] : Evaluated::npos, b = best + 1 < scan.size() ? scan[best + 1] : Evaluated::npos;
+    Solution s = E.solution(scan[best], a, b);
+    if (last > first) {
+      const double lo = E[scan[hits[first]]].value, hi = E[scan[hits[last]]].value;
+      s.half_width = std::max({s.half_width, s.value - lo, hi - s.value});
+      double widest = 0;
+      for (std::size_t k = first; k <= last; ++k) widest = std::max(widest, E.allowance(scan[hits[k]], 0));
+      note << "every value from " << text(lo) << " to " << text(hi) << " matches the target within its interval (up to +-" << text(widest)
+           << " dB): the intervals, not the key, limit the answer there; more --seeds narrow them. ";
+    }
+    out.solutions.push_back(s);
+    first = last + 1;
+  }
   for (const Bracket& b : brackets) {
     if (b.found != Evaluated::npos) {
       out.solutions.push_back(E.solution(b.found, b.a, b.b));

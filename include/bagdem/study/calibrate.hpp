@@ -14,7 +14,8 @@
 //     refined by regula falsi kept at least a fifth of the bracket from its ends, all brackets side
 //     by side, until a value matches or the rounds are spent. The reduction need not rise steadily
 //     with the key: each root bracketed inside the bounds is a solution, and a scan value that
-//     matches is one. Without either, the scan's closest value is the one solution, not matched,
+//     matches is one (neighbouring scan values that all match are one, its half-width covering
+//     them). Without either, the scan's closest value is the one solution, not matched,
 //     and the note says whether it lies at a bound (widen them) or inside (the reduction turns:
 //     this key cannot reach the target).
 //   - Several targets (modes 1 and 3, say): one value for all, the least-squares minimum of
@@ -83,7 +84,7 @@ struct Solution {
 struct SearchResult {
   std::vector<Evaluation> evaluated;  // in the order run
   std::vector<Solution> solutions;    // ascending in value
-  std::string note;                   // what else the search saw (no root in the bounds, a flat stretch, another minimum)
+  std::string note;                   // what else the search saw (no root in the bounds, values the intervals cannot tell apart, another minimum)
 };
 
 // The search above, over `targets` (dB, one per estimate of an evaluation). Throws

@@ -47,7 +47,6 @@ class Evaluated {
     return npos;
   }
   const Evaluation& operator[](std::size_t i) const { return out_.evaluated[i]; }
-  std::size_t size() const { return out_.evaluated.size(); }
 
   double residual(std::size_t i, std::size_t k) const { return out_.evaluated[i].at[k].mean - targets_[k]; }
   // The target's allowance at i: its interval, at least the tolerance.

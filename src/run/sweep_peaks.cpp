@@ -46,14 +46,7 @@ std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepP
   std::vector<const SweepPoint*> pts;
   for (const SweepPoint& p : points) pts.push_back(&p);
   std::sort(pts.begin(), pts.end(), [](const SweepPoint* a, const SweepPoint* b) { return a->frequency < b->frequency; });
-  std::vector<std::size_t> elastic;
-  for (std::size_t k = 0; k < P.size(); ++k)
-    if (!P.rigid_body[k]) elastic.push_back(k);
-  std::vector<std::size_t> modes = P.sweep ? P.sweep->modes : std::vector<std::size_t>{};
-  if (modes.empty())
-    for (std::size_t k : elastic)
-      if (P.natural_frequency[k] >= pts.front()->frequency && P.natural_frequency[k] <= pts.back()->frequency) modes.push_back(k);
-  for (std::size_t m : modes) {
+  for (std::size_t m : P.evaluated_modes(pts.front()->frequency, pts.back()->frequency)) {
     ModePoints mp{m, {}};
     for (const SweepPoint* p : pts)
       if (P.nearest_elastic_mode(p->frequency) == m) mp.points.push_back(p);
@@ -129,7 +122,7 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
     for (const SweepPoint* p : steady) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
     mp.name = P.dof_names[all.dof];
-    for (std::size_t k = 0; k <= all.dof; ++k) mp.mode += P.rigid_body[k] ? 0 : 1;
+    mp.mode = P.elastic_mode_number(all.dof);
     const Peak damped = find_peak(f, mag, f.front(), f.back());
     const Peak bare = bare_peak(P, all.points.front()->frequency, all.points.back()->frequency);
     const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());

@@ -108,4 +108,19 @@ std::size_t Primary::nearest_elastic_mode(double f, std::size_t* number) const {
   return best;
 }
 
+std::size_t Primary::elastic_mode_number(std::size_t k) const {
+  if (rigid_body[k]) return 0;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j <= k; ++j) n += rigid_body[j] ? 0 : 1;
+  return n;
+}
+
+std::vector<std::size_t> Primary::evaluated_modes(double lo, double hi) const {
+  if (sweep && !sweep->modes.empty()) return sweep->modes;
+  std::vector<std::size_t> modes;
+  for (std::size_t k = 0; k < size(); ++k)
+    if (!rigid_body[k] && natural_frequency[k] >= lo && natural_frequency[k] <= hi) modes.push_back(k);
+  return modes;
+}
+
 }  // namespace bagdem

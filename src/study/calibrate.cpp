@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -118,22 +117,13 @@ std::pair<double, double> read_bounds(const CalibrateArgs& a, const Scene& s, Sc
   return {v / 4, v * 4};
 }
 
-// The elastic mode numbers whose peaks the case's sweep evaluates (sweep_peaks.cpp's rule, on the
-// planned frequencies).
+// The elastic mode numbers whose peaks the case's sweep evaluates, over its planned frequencies.
 std::vector<int> evaluated_modes(const Primary& P) {
-  const Primary::Sweep& sw = *P.sweep;
-  std::vector<std::size_t> dofs = sw.modes;
-  if (dofs.empty() && !sw.frequencies.empty()) {
-    const auto [lo, hi] = std::minmax_element(sw.frequencies.begin(), sw.frequencies.end());
-    for (std::size_t k = 0; k < P.size(); ++k)
-      if (!P.rigid_body[k] && P.natural_frequency[k] >= *lo && P.natural_frequency[k] <= *hi) dofs.push_back(k);
-  }
+  const std::vector<double>& f = P.sweep->frequencies;
+  if (f.empty()) return {};
+  const auto [lo, hi] = std::minmax_element(f.begin(), f.end());
   std::vector<int> modes;
-  for (std::size_t d : dofs) {
-    int m = 0;
-    for (std::size_t k = 0; k <= d; ++k) m += P.rigid_body[k] ? 0 : 1;
-    modes.push_back(m);
-  }
+  for (std::size_t d : P.evaluated_modes(*lo, *hi)) modes.push_back(static_cast<int>(P.elastic_mode_number(d)));
   return modes;
 }
 
@@ -190,10 +180,9 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const std:
     for (std::size_t k = 0; k < targets.size(); ++k) {
       const Estimate& x = e.at[k];
       const double res = x.mean - targets[k].reduction_db;
-      const double allow = std::isfinite(x.ci95) ? std::max(x.ci95, opt.tolerance) : opt.tolerance;
       csv << e.round << ",\"" << scale.given(e.value) << "\"," << short_text(e.value * scale.to_si) << ',' << targets[k].mode << ','
           << short_text(targets[k].reduction_db) << ',' << short_text(x.mean) << ',' << short_text(x.ci95) << ',' << x.n << ',' << x.at_band_edge << ',' << short_text(res) << ','
-          << (std::abs(res) <= allow ? 1 : 0) << '\n';
+          << (std::abs(res) <= allowance(x, opt.tolerance) ? 1 : 0) << '\n';
     }
   write_atomically(fs::path(out) / "calibrate.csv", csv.str());
   for (std::size_t k = 0; k < targets.size(); ++k) {

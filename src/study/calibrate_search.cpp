@@ -12,6 +12,8 @@ namespace bagdem::study {
 
 bool search_in_log(double lo, double hi) { return lo > 0 && hi > 0 && hi >= 3 * lo; }
 
+double allowance(const Estimate& e, double tolerance) { return std::isfinite(e.ci95) ? std::max(e.ci95, tolerance) : tolerance; }
+
 namespace {
 
 // The evaluations so far, with the search coordinate u (log(value) or value) and the residuals.
@@ -50,10 +52,7 @@ class Evaluated {
 
   double residual(std::size_t i, std::size_t k) const { return out_.evaluated[i].at[k].mean - targets_[k]; }
   // The target's allowance at i: its interval, at least the tolerance.
-  double allowance(std::size_t i, std::size_t k) const {
-    const double c = out_.evaluated[i].at[k].ci95;
-    return std::isfinite(c) ? std::max(c, opt_.tolerance) : opt_.tolerance;
-  }
+  double allowance(std::size_t i, std::size_t k) const { return study::allowance(out_.evaluated[i].at[k], opt_.tolerance); }
   bool matched(std::size_t i) const {
     for (std::size_t k = 0; k < targets_.size(); ++k)
       if (!(std::abs(residual(i, k)) <= allowance(i, k))) return false;

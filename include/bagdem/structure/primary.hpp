@@ -133,6 +133,11 @@ struct Primary {
   // The elastic DOF whose natural frequency is nearest to f (Hz) in log-frequency (size() when
   // there is none), and its elastic mode number (1 = the first elastic mode) in *number.
   std::size_t nearest_elastic_mode(double f, std::size_t* number = nullptr) const;
+  // The elastic mode number of DOF k (1 = the first elastic mode; 0 for a rigid-body DOF).
+  std::size_t elastic_mode_number(std::size_t k) const;
+  // The DOFs whose peaks a sweep over [lo, hi] (Hz) evaluates: the sweep's own modes
+  // (excitation.around_modes), else every elastic mode inside the band.
+  std::vector<std::size_t> evaluated_modes(double lo, double hi) const;
   // Natural frequencies of the structure without contents, cavity mass included (unit: Hz), sorted.
   std::vector<double> bare_frequencies() const;
 };

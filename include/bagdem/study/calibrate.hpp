@@ -58,6 +58,10 @@ struct SearchOptions {
   double tolerance = 0.1;     // dB: a match needs |mean - target| <= max(ci95, tolerance)
 };
 
+// How far an estimate's mean may lie from its target and still match: max(ci95, tolerance), the
+// tolerance alone when there is no interval.
+double allowance(const Estimate& e, double tolerance);
+
 // True when lo and hi are both positive and at least 3 apart: the scan is then log-spaced.
 bool search_in_log(double lo, double hi);
 

@@ -24,7 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
 // What the knobs need to know of a case, read once.
 struct CaseFacts {
   std::string case_dir;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <cstdio>
 #include <numbers>
 #include <vector>
@@ -104,6 +105,53 @@ TEST(Response, SteadyStateSettlesAChaoticResponseAndNotADrift) {
             << "beat of " << period << " cycles, decay " << decay << ", cycle " << c << ": mean " << beat.mean();
       }
     }
+}
+
+// CycleHarmonic: a periodic response (first harmonic Y, second and fifth harmonics) plus a drift,
+// sampled N = 97 times a cycle at phases theta_n = theta_0 + 2 pi n / N; errors from the third cycle on.
+//  - a linear drift a + v t: the plain projection is off by about v / (pi f) (here 1.1e-2 of |Y|);
+//    with the drift through the previous cycles' means, Y is exact to 1e-12;
+//  - a quadratic drift: exact to 1e-12 as well;
+//  - no drift: Y is the plain projection, to 1e-14;
+//  - a swing 300 times slower than the drive (a 1-Hz suspension under a 300-Hz drive), of 2000 |Y|:
+//    (2 pi / 300)^3 / 10 of it is left, 1.8e-3 |Y|; required below 5e-3 |Y| where the plain
+//    projection is off by up to 2000 / 300 / pi |Y|, about 2 |Y| (13 measured).
+TEST(Response, CycleHarmonicTakesOutASlowDrift) {
+  const std::size_t N = 97;
+  const std::complex<double> Y(0.8, -0.6), Y2(0.2, 0.1);
+  const double theta0 = 0.37;
+  auto run = [&](auto drift, std::size_t cycles, bool remove) {
+    double before = std::numeric_limits<double>::quiet_NaN(), before_that = before;
+    std::complex<double> last;
+    double worst = 0;
+    for (std::size_t c = 0; c < cycles; ++c) {
+      CycleHarmonic h;
+      for (std::size_t n = 1; n <= N; ++n) {
+        const double k = static_cast<double>(c * N + n), th = theta0 + 2 * kPi * k / N;
+        const double y = std::real(Y * std::polar(1.0, th)) + std::real(Y2 * std::polar(1.0, 2 * th)) + 0.1 * std::cos(5 * th);
+        h.add(y + drift(k / N), std::polar(1.0, -th));
+      }
+      last = h.harmonic(remove ? h.drift(before, before_that) : CycleHarmonic::Drift{});
+      before_that = before, before = h.mean();
+      if (c > 1) worst = std::max(worst, std::abs(last - Y));
+    }
+    return worst;
+  };
+  const double v = 0.035;  // drift per cycle, in units of |Y|
+  const double plain = run([&](double t) { return 0.4 + v * t; }, 6, false);
+  const double removed = run([&](double t) { return 0.4 + v * t; }, 6, true);
+  const double quadratic = run([&](double t) { return 0.4 + v * t - 0.01 * t * t; }, 6, true);
+  const double still = run([](double) { return 0.0; }, 6, true);
+  const double slow = run([](double t) { return 2000 * std::sin(2 * kPi * t / 300); }, 400, true);
+  const double slow_plain = run([](double t) { return 2000 * std::sin(2 * kPi * t / 300); }, 400, false);
+  std::printf("  linear drift: plain %.3e, removed %.3e; quadratic removed %.3e; none %.1e; slow swing: removed %.3e, plain %.3e\n",
+              plain, removed, quadratic, still, slow, slow_plain);
+  EXPECT_NEAR(plain, v / kPi, 0.1 * v / kPi);
+  EXPECT_LT(removed, 1e-12);
+  EXPECT_LT(quadratic, 1e-12);
+  EXPECT_LT(still, 1e-14);
+  EXPECT_LT(slow, 5e-3);
+  EXPECT_GT(slow_plain, 1.0);
 }
 
 TEST(Response, SdofReceptanceLimitsAndReductionFormula) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -369,9 +370,13 @@ void FrequencySweep::write_point(DonePoint& d) {
 void FrequencySweep::drive_cycles(Chain& ch, SweepPoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
                                   std::size_t i) const {
   Simulation& sim = ch.sim;
+  // The response and the cavity with their slow drift taken out (CycleHarmonic), the cavity's
+  // samples for the reduction too; the point's first cycle as projected.
+  constexpr double none = std::numeric_limits<double>::quiet_NaN();
+  double y1 = none, y2 = none, u1 = none, u2 = none;  // the means of the cycle before and the one before that
   for (std::size_t c = 0; c < plan_.max_cycles; ++c) {
     win.starts.push_back(ledger(sim));
-    Complex Y(0, 0), U(0, 0), L(0, 0);
+    CycleHarmonic Yc, Uc, Lc;
     if (win.recent.size() == window_)
       win.recent.pop_front(), win.starts.pop_front(), win.ys.pop_front(), win.cav.pop_front(), win.load.pop_front();
     CavitySeries& series = win.recent.emplace_back();
@@ -381,12 +386,14 @@ void FrequencySweep::drive_cycles(Chain& ch, SweepPoint& pt, std::size_t N, Stea
       sim.step();
       const StructureResponse r = sim.structure_response();
       const Complex e = std::polar(1.0, -r.phase);
-      Y += r.displacement * e, U += r.cavity * e, L += r.load * e;
+      Yc.add(r.displacement, e), Uc.add(r.cavity, e), Lc.add(r.load, e);
       series.t.push_back(sim.time()), series.x.push_back(r.cavity), series.force.push_back(r.load);
       series.v_rel.push_back(sim.contents_relative_velocity().dot(P_.direction));
     }
-    const double k = 2.0 / static_cast<double>(N);
-    Y *= k, U *= k, L *= k;
+    const CycleHarmonic::Drift dy = Yc.drift(y1, y2), du = Uc.drift(u1, u2);
+    const Complex Y = Yc.harmonic(dy), U = Uc.harmonic(du), L = Lc.harmonic({});
+    for (std::size_t n = 0; n < N; ++n) series.x[n] -= du.at(n + 1, N);
+    y2 = y1, y1 = Yc.mean(), u2 = u1, u1 = Uc.mean();
     steady.add(Y);
     win.ys.push_back(Y), win.cav.push_back(U), win.load.push_back(L);
     pt.cycles = c + 1;

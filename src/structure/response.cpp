@@ -11,6 +11,39 @@ std::size_t steps_per_cycle(double f, double dt) {
   return std::max<std::size_t>(8, static_cast<std::size_t>(std::llround(1.0 / (f * dt))));
 }
 
+void CycleHarmonic::add(double y, std::complex<double> e) {
+  ++n_;
+  const double n = static_cast<double>(n_);
+  sum_ += y * e, e0_ += e, e1_ += n * e, e2_ += n * n * e, total_ += y;
+}
+
+double CycleHarmonic::mean() const { return n_ ? total_ / static_cast<double>(n_) : 0.0; }
+
+double CycleHarmonic::Drift::at(std::size_t n, std::size_t N) const {
+  const double u = static_cast<double>(n) - 0.5 * (static_cast<double>(N) + 1);
+  return slope * u + 0.5 * curvature * u * u;
+}
+
+CycleHarmonic::Drift CycleHarmonic::drift(double before, double before_that) const {
+  Drift d;
+  if (n_ == 0 || std::isnan(before)) return d;
+  const double N = static_cast<double>(n_), m = mean();
+  if (std::isnan(before_that)) {
+    d.slope = (m - before) / N;
+  } else {
+    d.slope = (3 * m - 4 * before + before_that) / (2 * N);
+    d.curvature = (m - 2 * before + before_that) / (N * N);
+  }
+  return d;
+}
+
+std::complex<double> CycleHarmonic::harmonic(const Drift& d) const {
+  if (n_ == 0) return {0, 0};
+  const double N = static_cast<double>(n_), c = 0.5 * (N + 1);
+  const std::complex<double> u1 = e1_ - c * e0_, u2 = e2_ - 2 * c * e1_ + c * c * e0_;  // sum u e, sum u^2 e
+  return (2 / N) * (sum_ - d.slope * u1 - 0.5 * d.curvature * u2);
+}
+
 void SteadyStateDetector::add(std::complex<double> Y) {
   window_.push_back(Y);
   while (window_.size() > 2 * K_) window_.pop_front();

@@ -7,7 +7,9 @@
 // threads. Each frequency is rounded to a whole number N of
 // time steps per cycle, so that the first harmonic of a cycle's N samples,
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
-// is exact for any periodic response. A granular damper's response scatters from cycle to cycle, so
+// is exact for any periodic response; a slow drift underneath it (the structure swinging on its
+// suspension) is measured by the cycles' means and taken out of Y, of the cavity's harmonic and of
+// the cavity's samples the reduction reads (CycleHarmonic, structure/response.hpp). A granular damper's response scatters from cycle to cycle, so
 // the point has settled when the mean Y of the last K cycles differs from that of the K before by
 // less than the tolerance, or by no more than the cycles' own scatter allows (a 5 % two-sample test:
 // a chaotic response; SteadyStateDetector), K = max(steady_cycles, reduce_cycles / 2 rounded

@@ -19,6 +19,38 @@ namespace bagdem {
 // frequency driven is then 1/(N dt).
 std::size_t steps_per_cycle(double f, double dt);
 
+// The first harmonic of one drive cycle, Y = (2/N) sum_n y_n e^{-i theta_n} over its N samples
+// (y_n after step n, theta_n the force's phase then), with a slow drift taken out. Motion far below
+// the drive (a structure swinging on its soft suspension after the contents' release) adds to the
+// cycle a drift that the plain sum reads as a first harmonic: a speed v reads as about v / (pi f),
+// 1 um at 320 Hz for 1 mm/s, as large as a well-damped mode's response off resonance. The drift
+// is measured by the cycle means (a whole cycle's mean holds no harmonic of the drive): through
+// this cycle's mean m_c and the two before (same N), a parabola in the sample index, of slope
+// s = (3 m_c - 4 m_{c-1} + m_{c-2}) / (2N) and curvature a = (m_c - 2 m_{c-1} + m_{c-2}) / N^2 at
+// the cycle's middle u = n - (N+1)/2 (with only m_{c-1}: s = (m_c - m_{c-1}) / N, a = 0; with
+// neither, nothing is taken out); its projection (2/N) sum_n (s u + a u^2 / 2) e^{-i theta_n} is
+// subtracted. Exact for a periodic response plus a quadratic drift (a periodic response alone: the
+// means agree, Y unchanged); a drift at f_d leaves about (2 pi f_d / f)^3 / 10 of its amplitude
+// (with one mean before: pi f_d / f of the drift's reading, the backward difference's lag).
+class CycleHarmonic {
+ public:
+  void add(double y, std::complex<double> e_minus_i_theta);  // the next sample, n = 1, 2, ...
+  double mean() const;                                         // m_c, the mean of the samples
+  // The drift through the previous cycles' means (NaN: no such cycle), per sample: y ~ s u + a u^2 / 2.
+  struct Drift {
+    double slope = 0, curvature = 0;
+    double at(std::size_t n, std::size_t N) const;  // s u + a u^2 / 2 at sample n of N (1-based)
+  };
+  Drift drift(double before, double before_that) const;
+  // Y with the drift's projection removed.
+  std::complex<double> harmonic(const Drift& d) const;
+
+ private:
+  std::complex<double> sum_{0, 0}, e0_{0, 0}, e1_{0, 0}, e2_{0, 0};  // sum y e, sum e, sum n e, sum n^2 e
+  double total_ = 0;
+  std::size_t n_ = 0;
+};
+
 // Steady state of a sequence of cycle amplitudes Y_i (complex first harmonics). A granular damper's
 // response is chaotic from cycle to cycle (scatter of several percent at the impacts, tens of
 // percent at mode 3), so single cycles are not compared: the mean of the last K amplitudes, m_b,

@@ -418,7 +418,8 @@ TEST(Study, FailedPointIsReportedAndTheOthersFinish) {
 // before running (a key renamed or a bag that stops fitting fails here). The ball-size study keeps
 // the mass ratio with whole balls, 102, 13, 7 and 1 (the 20-mm point is one ball, a near-rigid
 // slug), and each point's actual ratio is within half a ball of 8%; the mass-ratio study spans
-// 5-14% and the position study puts the cavity at the study's x/L.
+// 5-14%, the position study puts the cavity at the study's x/L, and the clearance study keeps Table 3's
+// 64 balls in bags of 8-11 mm.
 TEST(Study, ShippedStudiesLoadEveryPoint) {
   const fs::path root = fs::path(BAGDEM_CASES_DIR) / "studies";
   auto plan_of = [&](const std::string& name) {
@@ -460,6 +461,16 @@ TEST(Study, ShippedStudiesLoadEveryPoint) {
   for (const study::Point& p : position.points) {
     const Scene s = load_case(position.spec.case_dir, p.sets);
     EXPECT_NEAR(s.primary->attach / s.primary->length, x_over_L[p.index], 5e-5) << p.name;
+  }
+
+  // The clearance study: Table 3's bag (5%, 64 balls) at five radii inside the 11.75-mm bore.
+  const study::Plan clearance = plan_of("clearance");
+  const double radius[] = {8e-3, 9e-3, 10e-3, 10.5e-3, 11e-3};
+  ASSERT_EQ(clearance.points.size(), 5u);
+  for (const study::Point& p : clearance.points) {
+    const Scene s = load_case(clearance.spec.case_dir, p.sets);
+    EXPECT_EQ(s.bag->balls, 64u) << p.name;
+    EXPECT_NEAR(0.5 * s.bag->size.y(), radius[p.index], 1e-12) << p.name;  // the capsule's width is its diameter
   }
 }
 

@@ -1,0 +1,355 @@
+#!/usr/bin/env python3
+# The work of tools/validate-study (which installs and builds, then runs this): the source study's
+# three studies reproduced at its calibrated level, modes 1 and 3, from scratch
+# (docs/validation/README.md has the results and the run time):
+#   1. the pipe's damping ratio calibrated on the study's Table 3 (5% of 4-mm balls at mid-span:
+#      mode 1 14.9 dB, mode 3 14.5 dB) at the force amplitude --amplitude (default 0.04 N, the force
+#      of the largest mode-1 reduction at the case's damping: docs/validation/README.md, section 1):
+#      `bagdem calibrate cases/pipe-beanbag --key primary.damping_ratio`, both modes fitted by least
+#      squares, --seeds per value (skipped with --damping-ratio);
+#   2. the three studies of cases/studies (ball size, mass ratio, position) at that level, modes 1
+#      and 3, --seeds per point (`bagdem sweep`, resumable: run the command again after a stop);
+#   3. docs/validation/study.csv (one row per point and mode) and the figures study_<study>.png;
+#      continuum.csv (the continuum models against the DEM, per point and mode); the clearance
+#      study (cases/studies/clearance) and clearance.csv; claims.csv (the study's claims judged on
+#      the intervals); the calibration as calibrate-modes13.csv, calibration-modes13.json and
+#      calibrate-modes13.png.
+#
+#   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
+#                        [--docs DIR] [--jobs J]
+#
+# study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
+# mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
+# `reduction_db_ci95 [dB]` (the half-width over the seeds), `seeds [1]` (the seeds done), and
+# `mass_ratio_actual [1]` (whole balls: the ratio the point simulated, reduced.csv's mass_ratio).
+# Exit codes: 0 every step done, 1 a command or a file failed (its message says which).
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+BAGDEM = os.path.join(os.environ.get("BAGDEM_BUILD_DIR", os.path.join(ROOT, "build")), "bagdem")
+PIPE_LENGTH = 1.39  # m, cases/pipe-beanbag's primary.length: positions are given as x/L
+TABLE3 = [(1, 14.9), (3, 14.5)]  # the study's Table 3: mode, peak reduction [dB] (5% of 4-mm balls, mid-span)
+MODES = ['excitation.around_modes=[1, 3]', 'output.cavity_interval="0.05 ms"']  # mode 3 (508 Hz) sampled 40 times a period
+STUDIES = [  # name, study directory, param, its value from the varied key's SI value
+    ("ball-size", "cases/studies/ball-size", "ball_diameter_mm", lambda si: 1e3 * si),
+    ("mass-ratio", "cases/studies/mass-ratio", "mass_ratio_pct", lambda si: 100 * si),
+    ("position", "cases/studies/position", "position_xL", lambda si: si / PIPE_LENGTH),
+]
+
+
+def run(args):
+    """Runs a sweep; exit 3 (some points failed: their messages are in the sweep's output) is
+    reported and the study's table keeps those points as failed rows."""
+    print("+ " + " ".join(args), flush=True)
+    code = subprocess.call(args)
+    if code == 3:
+        print(f"tools/validate-study: some points of `{args[2]}` failed; their rows say so (seeds 0)", flush=True)
+    elif code != 0:
+        sys.exit(f"tools/validate-study: `{' '.join(args)}` exited {code}")
+
+
+def key_column(header):
+    """The varied key's column in SI units of a study's table: "bag.balls.diameter [m]"."""
+    return next((c for c in header if " [" in c and "." in c.split(" [")[0]), None)
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def calibrate(out, amplitude, seeds, jobs):
+    """The pipe's damping ratio at the given force: both Table 3 modes by least squares."""
+    cal = os.path.join(out, "calibrate")
+    args = [BAGDEM, "calibrate", os.path.join(ROOT, "cases/pipe-beanbag"), "--key", "primary.damping_ratio",
+            "--bounds", "0.002,0.006", "--scan", "5", "--rounds", "3", "--seeds", str(seeds), "--out", cal,
+            "--jobs", str(jobs), "--set", "bag.balls.mass_ratio=0.05", "--set", f'excitation.amplitude="{amplitude}"']
+    for m in MODES:
+        args += ["--set", m]
+    for mode, db in TABLE3:
+        args += ["--target", f"mode={mode},reduction_db={db}"]
+    print("+ " + " ".join(args), flush=True)
+    code = subprocess.call(args)
+    if code not in (0, 3):  # 3: not every target matched: the least-squares value stands, with its residuals
+        sys.exit(f"tools/validate-study: the calibration exited {code}")
+    with open(os.path.join(cal, "calibration.json")) as f:
+        doc = json.load(f)
+    if not doc["solutions"]:
+        sys.exit(f"tools/validate-study: the calibration found no damping ratio: {doc['note']}")
+    return cal, doc["solutions"][0]["value_text"]
+
+
+def study_rows(name, out, param, convert):
+    """study.csv's rows of one study: peaks_ensemble.csv per point and mode, the actual mass ratio
+    from reduced_ensemble.csv (the same for every frequency of a point)."""
+    peaks = rows(os.path.join(out, "peaks_ensemble.csv"))
+    reduced = rows(os.path.join(out, "reduced_ensemble.csv"))
+    key = key_column(peaks[0])
+    ratio = {r[key]: r["mass_ratio_mean [1]"] for r in reduced}
+    out_rows = []
+    for r in peaks:
+        si = float(r[key])
+        row = {"study": name, "param": param, "value": f"{convert(si):.6g}", "mode [1]": "", "reduction_db_mean [dB]": "nan",
+               "reduction_db_ci95 [dB]": "nan", "seeds [1]": r["n"], "mass_ratio_actual [1]": ratio.get(r[key], "nan")}
+        if int(r["n"]) == 0:  # every start of the point failed: a row per mode, empty
+            out_rows += [dict(row, **{"mode [1]": str(mode)}) for mode, _ in TABLE3]
+            continue
+        out_rows.append(dict(row, **{"mode [1]": f"{float(r['mode_mean [1]']):g}", "reduction_db_mean [dB]": r["reduction_dB_mean [dB]"],
+                                     "reduction_db_ci95 [dB]": r["reduction_dB_ci95 [dB]"]}))
+    return out_rows
+
+
+CONTINUUM = [("modal", "model_response [m]"), ("eq7", "eq7_response [m]"), ("eq20", "eq20_response [m]")]
+
+
+def mean_ci95(values):
+    """Mean and the 95% half-width over the seeds (Student t), NaN for fewer than 2."""
+    v = [x for x in values if math.isfinite(x)]
+    if not v:
+        return math.nan, math.nan
+    m = sum(v) / len(v)
+    if len(v) < 2:
+        return m, math.nan
+    t95 = {2: 12.706, 3: 4.303, 4: 3.182, 5: 2.776, 6: 2.571, 7: 2.447, 8: 2.365, 9: 2.306, 10: 2.262}.get(len(v), 2.0)
+    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (len(v) - 1))
+    return m, t95 * sd / math.sqrt(len(v))
+
+
+def continuum_rows(name, out, param, convert):
+    """continuum.csv's rows of one study: per point and mode, each continuum model's peak reduction
+    less the DEM's (from each start's compare.csv: the models fed the DEM's C_b, M_b and e at every
+    frequency; 20 log10 of the DEM's largest response over the model's), mean and 95% half-width over
+    the starts, and the median |relative error| of the response over all frequencies and starts."""
+    peaks = rows(os.path.join(out, "peaks.csv"))
+    key = key_column(peaks[0]) if peaks else None
+    groups = {}
+    for r in peaks:
+        if r["status"] != "done":
+            continue
+        value = convert(float(r[key])) if key else math.nan
+        mode = int(float(r["mode [1]"]))
+        cmp = [c for c in rows(os.path.join(out, f"point-{int(r['point']):03d}", "compare.csv")) if int(float(c["mode [1]"])) == mode]
+        if not cmp:
+            continue
+        g = groups.setdefault((value, mode), {"dem": [], "errors": {m: [] for m, _ in CONTINUUM}, "diff": {m: [] for m, _ in CONTINUUM}})
+        g["dem"].append(float(r["reduction_dB [dB]"]))
+        dem_peak = max(float(c["dem_response [m]"]) for c in cmp)
+        for model, column in CONTINUUM:
+            model_peak = max(float(c[column]) for c in cmp)
+            g["diff"][model].append(20 * math.log10(dem_peak / model_peak) if model_peak > 0 else math.nan)
+            g["errors"][model] += [abs(float(c[column.replace("_response [m]", "_error [1]")])) for c in cmp]
+    out_rows = []
+    for (value, mode), g in sorted(groups.items()):
+        row = {"study": name, "param": param, "value": f"{value:.6g}", "mode [1]": mode, "seeds [1]": len(g["dem"]),
+               "dem_reduction_db_mean [dB]": f"{mean_ci95(g['dem'])[0]:.4g}"}
+        for model, _ in CONTINUUM:
+            m, h = mean_ci95(g["diff"][model])
+            e = sorted(g["errors"][model])
+            row[f"{model}_minus_dem_db_mean [dB]"] = f"{m:.4g}"
+            row[f"{model}_minus_dem_db_ci95 [dB]"] = f"{h:.3g}"
+            row[f"{model}_median_abs_error [1]"] = f"{e[len(e) // 2]:.3g}" if e else "nan"
+        out_rows.append(row)
+    return out_rows
+
+
+def per_seed(out):
+    """{(the varied key's SI value, mode): [(peak reduction [dB], reduced.csv's row nearest the damped peak)]}
+    over the starts done of a study."""
+    peaks = rows(os.path.join(out, "peaks.csv"))
+    key = key_column(peaks[0])  # None: one configuration (its value 0)
+    groups = {}
+    for r in peaks:
+        if r["status"] != "done":
+            continue
+        reduced = rows(os.path.join(out, f"point-{int(r['point']):03d}", "reduced.csv"))
+        f = float(r["frequency [Hz]"])
+        near = min(reduced, key=lambda q: abs(float(q["frequency [Hz]"]) - f))
+        groups.setdefault((float(r[key]) if key else 0.0, int(float(r["mode [1]"]))), []).append((float(r["reduction_dB [dB]"]), near))
+    return groups
+
+
+def clearance_rows(groups):
+    """clearance.csv's rows: per bag radius and mode, the peak reduction over the starts and d / X at
+    the damped peak (reduced.csv's clearance_ratio = d / |X| at the frequency nearest the peak)."""
+    table = []
+    for (radius, mode), g in sorted(groups.items()):
+        db = mean_ci95([x for x, _ in g])
+        dx = mean_ci95([float(q["clearance_ratio [1]"]) for _, q in g])
+        d = mean_ci95([float(q["clearance_ratio [1]"]) * float(q["cavity_amplitude [m]"]) for _, q in g])
+        table.append({"bag_radius_mm": f"{1e3 * radius:g}", "mode [1]": mode, "seeds [1]": len(g),
+                      "reduction_db_mean [dB]": f"{db[0]:.4g}", "reduction_db_ci95 [dB]": f"{db[1]:.3g}",
+                      "clearance_mean [m]": f"{d[0]:.4g}", "d_over_x_mean [1]": f"{dx[0]:.4g}", "d_over_x_ci95 [1]": f"{dx[1]:.3g}"})
+    return table
+
+
+def compare(a, b):
+    """Is a above b? (mean, half-width) pairs: 'holds' when the difference exceeds the half-widths
+    combined in quadrature, 'fails' when it is below minus that, else 'not resolved'."""
+    d = a[0] - b[0]
+    if not math.isfinite(d):
+        return "no data", "no data"
+    h = math.hypot(a[1] if math.isfinite(a[1]) else 0, b[1] if math.isfinite(b[1]) else 0)
+    return ("holds" if d > h else "fails" if d < -h else "not resolved"), f"{d:+.1f} +- {h:.1f}"
+
+
+def claims(studies):
+    """The source study's claims (smaller balls, mass ratio, position, clearance, the bag against a slug),
+    each judged per mode on the intervals over the starts. studies: name -> per_seed groups."""
+    out = []
+    def at(name, value, mode, pick=lambda x, q: x):
+        g = next((g for (v, m), g in studies.get(name, {}).items() if m == mode and math.isclose(v, value, rel_tol=1e-6)), [])
+        return mean_ci95([pick(x, q) for x, q in g])
+    for mode in (1, 3):
+        small = at("ball-size", 0.004, mode)
+        verdicts = [(d, *compare(small, at("ball-size", d, mode))) for d in (0.008, 0.010, 0.020)]
+        v = "holds" if all(x[1] == "holds" for x in verdicts) else "fails" if any(x[1] == "fails" for x in verdicts) else "not resolved"
+        out.append(("smaller balls damp better: 4 mm above 8, 10 and 20 mm", mode, v,
+                    "; ".join(f"4 - {1e3 * d:g} mm: {t} dB ({x})" for d, x, t in verdicts)))
+        def mean_of(values):
+            ms = [at("mass-ratio", r / 100, mode) for r in values]
+            return sum(m for m, _ in ms) / len(ms), math.sqrt(sum((h if math.isfinite(h) else 0) ** 2 for _, h in ms)) / len(ms)
+        low, mid, high = mean_of((5, 6)), mean_of((9, 10)), mean_of((13, 14))
+        v, t = compare(high, low)
+        out.append(("damping rises with mass ratio: 13-14% above 5-6%", mode, v, f"{t} dB"))
+        rise1, rise2 = (mid[0] - low[0], math.hypot(mid[1], low[1])), (high[0] - mid[0], math.hypot(high[1], mid[1]))
+        v, t = compare(rise1, rise2)
+        out.append(("and levels off: the gain 5-6% to 9-10% above the gain 9-10% to 13-14%", mode, v,
+                    f"gains {rise1[0]:+.1f} and {rise2[0]:+.1f} dB; difference {t} dB"))
+        nodes = {1: (0.224, 0.776), 3: (0.095, 0.356, 0.644, 0.905)}[mode]
+        best_node = max((at("position", x * PIPE_LENGTH, mode) + (x,) for x in nodes), key=lambda m: m[0])
+        v, t = compare(at("position", 0.5 * PIPE_LENGTH, mode), best_node[:2])
+        out.append((f"position: mid-span (an antinode) above the best node of mode {mode}", mode, v,
+                    f"x/L 0.5 - x/L {best_node[2]}: {t} dB"))
+        radii = sorted({r for r, m in studies.get("clearance", {}) if m == mode})
+        if radii:
+            means = [at("clearance", r, mode) for r in radii]
+            k = max(range(len(radii)), key=lambda i: means[i][0])
+            if 0 < k < len(radii) - 1:
+                (v1, t1), (v2, t2) = compare(means[k], means[0]), compare(means[k], means[-1])
+                v = "holds" if v1 == v2 == "holds" else "not resolved"
+                ev = f"best at bag radius {1e3 * radii[k]:g} mm: {t1} dB above the smallest, {t2} dB above the largest"
+            else:
+                v, ev = "fails", f"largest reduction at the end of the range (bag radius {1e3 * radii[k]:g} mm)"
+            out.append(("an optimum clearance exists inside the range run", mode, v, ev))
+        bag, slug = at("mass-ratio", 0.08, mode), at("slug", 0.0, mode)
+        v, t = compare(bag, slug)
+        out.append(("the bag (8% of 4-mm balls) beats a slug of equal mass (cases/pipe-slug)", mode, v, f"{t} dB"))
+        force = lambda x, q: float(q["peak_impact_force [N]"])
+        duration = lambda x, q: float(q["impact_duration [s]"])
+        v1, t1 = compare(at("slug", 0.0, mode, force), at("mass-ratio", 0.08, mode, force))
+        v2, t2 = compare(at("mass-ratio", 0.08, mode, duration), at("slug", 0.0, mode, duration))
+        out.append(("with a lower peak force and a longer impact (at the damped peak)", mode,
+                    "holds" if v1 == v2 == "holds" else "fails" if "fails" in (v1, v2) else "not resolved",
+                    f"slug - bag peak force {t1} N ({v1}); bag - slug duration {t2} s ({v2})"))
+    return [{"claim": c, "mode [1]": m, "verdict": v, "evidence": e} for c, m, v, e in out]
+
+
+def write_csv(path, columns, table):
+    with open(path + ".part", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(table)
+    os.replace(path + ".part", path)
+    print(path)
+
+
+def plot(table, docs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    written = []
+    for name, _, param, _ in STUDIES:
+        sel = [r for r in table if r["study"] == name]
+        fig, ax = plt.subplots(figsize=(7.5, 4.8))
+        for mode, marker in ((1, "o"), (3, "s")):
+            pts = sorted((float(r["value"]), float(r["reduction_db_mean [dB]"]), float(r["reduction_db_ci95 [dB]"] or "nan"))
+                         for r in sel if float(r["mode [1]"]) == mode)
+            if not pts:
+                continue
+            x, y, e = zip(*pts)
+            ax.errorbar(x, y, yerr=[0 if math.isnan(v) else v for v in e], fmt=marker + "-", capsize=3, label=f"mode {mode} (DEM, 95% interval over the seeds)")
+        for mode, db in TABLE3:
+            ax.axhline(db, ls=":", lw=0.8, color="0.4")
+        ax.set_xlabel({"ball_diameter_mm": "ball diameter [mm]", "mass_ratio_pct": "mass ratio [%]", "position_xL": "bag position x/L"}[param])
+        ax.set_ylabel("peak reduction [dB]")
+        ax.set_title(f"{name} study at the calibrated level (dotted: the study's Table 3, 14.9 / 14.5 dB)", fontsize=10)
+        ax.grid(True, alpha=0.4)
+        ax.legend(fontsize=9)
+        fig.tight_layout()
+        path = os.path.join(docs, f"study_{name}.png")
+        fig.savefig(path, dpi=150)
+        plt.close(fig)
+        written.append(path)
+    return written
+
+
+def main(argv):
+    import argparse
+    p = argparse.ArgumentParser(prog="tools/validate-study", description="The source study's studies at the calibrated force, modes 1 and 3.")
+    p.add_argument("--amplitude", default="0.04 N", help='the force amplitude (default "0.04 N")')
+    p.add_argument("--damping-ratio", help="the pipe's damping ratio (default: calibrated on Table 3 first)")
+    p.add_argument("--seeds", type=int, default=3)
+    p.add_argument("--out", default=os.path.join(ROOT, "validation-study"), help="where the runs go (default ./validation-study)")
+    p.add_argument("--docs", default=os.path.join(ROOT, "docs", "validation"), help="where study.csv and the figures go")
+    p.add_argument("--jobs", type=int, default=2)
+    a = p.parse_args(argv)
+    if not os.access(BAGDEM, os.X_OK):
+        sys.exit(f"tools/validate-study: no {BAGDEM}: run tools/validate-study (it builds), not this file")
+    os.makedirs(a.docs, exist_ok=True)
+    zeta = a.damping_ratio
+    if zeta is None:
+        cal, zeta = calibrate(a.out, a.amplitude, a.seeds, a.jobs)
+        for name in ("calibration.json", "calibrate.csv"):
+            stem, ext = os.path.splitext(name)
+            shutil.copy(os.path.join(cal, name), os.path.join(a.docs, f"{stem}-modes13{ext}"))
+        if subprocess.call([os.path.join(ROOT, "tools", "plot"), cal, "--out", cal]) == 0:
+            shutil.copy(os.path.join(cal, "calibrate.png"), os.path.join(a.docs, "calibrate-modes13.png"))
+    level = [f'excitation.amplitude="{a.amplitude}"', f"primary.damping_ratio={zeta}"]
+    print(f"level: {', '.join(level)}", flush=True)
+    table, continuum, groups = [], [], {}
+    for name, study, param, convert in STUDIES:
+        out = os.path.join(a.out, name)
+        args = [BAGDEM, "sweep", os.path.join(ROOT, study), "--seeds", str(a.seeds), "--out", out, "--jobs", str(a.jobs)]
+        for m in level + MODES:
+            args += ["--set", m]
+        run(args)
+        table += study_rows(name, out, param, convert)
+        continuum += continuum_rows(name, out, param, convert)
+        groups[name] = per_seed(out)
+    write_csv(os.path.join(a.docs, "study.csv"), ["study", "param", "value", "mode [1]", "reduction_db_mean [dB]",
+                                                   "reduction_db_ci95 [dB]", "seeds [1]", "mass_ratio_actual [1]"], table)
+    columns = ["study", "param", "value", "mode [1]", "seeds [1]", "dem_reduction_db_mean [dB]"]
+    for model, _ in CONTINUUM:
+        columns += [f"{model}_minus_dem_db_mean [dB]", f"{model}_minus_dem_db_ci95 [dB]", f"{model}_median_abs_error [1]"]
+    write_csv(os.path.join(a.docs, "continuum.csv"), columns, continuum)
+    out = os.path.join(a.out, "clearance")
+    args = [BAGDEM, "sweep", os.path.join(ROOT, "cases/studies/clearance"), "--seeds", str(a.seeds), "--out", out, "--jobs", str(a.jobs)]
+    for m in level + MODES:
+        args += ["--set", m]
+    run(args)
+    write_csv(os.path.join(a.docs, "clearance.csv"), ["bag_radius_mm", "mode [1]", "seeds [1]", "reduction_db_mean [dB]",
+                                                       "reduction_db_ci95 [dB]", "clearance_mean [m]", "d_over_x_mean [1]",
+                                                       "d_over_x_ci95 [1]"], clearance_rows(groups.setdefault("clearance", per_seed(out))))
+    out = os.path.join(a.out, "slug")
+    args = [BAGDEM, "run", os.path.join(ROOT, "cases/pipe-slug"), "--seeds", str(a.seeds), "--out", out]
+    for m in level + MODES:
+        args += ["--set", m]
+    run(args)
+    groups["slug"] = per_seed(out)
+    verdicts = claims(groups)
+    write_csv(os.path.join(a.docs, "claims.csv"), ["claim", "mode [1]", "verdict", "evidence"], verdicts)
+    for c in verdicts:
+        print(f"  mode {c['mode [1]']}: {c['claim']}: {c['verdict']} ({c['evidence']})")
+    for p in plot(table, a.docs):
+        print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -45,7 +45,7 @@ STUDIES = [  # name, study directory, param, its value from the varied key's SI 
 
 
 def run(args):
-    """Runs a sweep; exit 3 (some points failed: their messages are in the sweep's output) is
+    """Runs a bagdem sweep or ensemble; exit 3 (some points failed: their messages are in the sweep's output) is
     reported and the study's table keeps those points as failed rows."""
     print("+ " + " ".join(args), flush=True)
     code = subprocess.call(args)
@@ -122,20 +122,25 @@ def mean_ci95(values):
     return m, t95 * sd / math.sqrt(len(v))
 
 
+def finished(out):
+    """The rows of a study's peaks.csv whose run finished, each with the varied key's SI value (0 for
+    a study of one configuration), its mode, and its point's directory."""
+    peaks = rows(os.path.join(out, "peaks.csv"))
+    key = key_column(peaks[0]) if peaks else None
+    for r in peaks:
+        if r["status"] == "done":
+            yield float(r[key]) if key else 0.0, int(float(r["mode [1]"])), r, os.path.join(out, f"point-{int(r['point']):03d}")
+
+
 def continuum_rows(name, out, param, convert):
     """continuum.csv's rows of one study: per point and mode, each continuum model's peak reduction
     less the DEM's (from each start's compare.csv: the models fed the DEM's C_b, M_b and e at every
     frequency; 20 log10 of the DEM's largest response over the model's), mean and 95% half-width over
     the starts, and the median |relative error| of the response over all frequencies and starts."""
-    peaks = rows(os.path.join(out, "peaks.csv"))
-    key = key_column(peaks[0]) if peaks else None
     groups = {}
-    for r in peaks:
-        if r["status"] != "done":
-            continue
-        value = convert(float(r[key])) if key else math.nan
-        mode = int(float(r["mode [1]"]))
-        cmp = [c for c in rows(os.path.join(out, f"point-{int(r['point']):03d}", "compare.csv")) if int(float(c["mode [1]"])) == mode]
+    for si, mode, r, point in finished(out):
+        value = convert(si)
+        cmp = [c for c in rows(os.path.join(point, "compare.csv")) if int(float(c["mode [1]"])) == mode]
         if not cmp:
             continue
         g = groups.setdefault((value, mode), {"dem": [], "errors": {m: [] for m, _ in CONTINUUM}, "diff": {m: [] for m, _ in CONTINUUM}})
@@ -181,16 +186,11 @@ def continuum_summary(continuum):
 def per_seed(out):
     """{(the varied key's SI value, mode): [(peak reduction [dB], reduced.csv's row nearest the damped peak)]}
     over the starts done of a study."""
-    peaks = rows(os.path.join(out, "peaks.csv"))
-    key = key_column(peaks[0])  # None: one configuration (its value 0)
     groups = {}
-    for r in peaks:
-        if r["status"] != "done":
-            continue
-        reduced = rows(os.path.join(out, f"point-{int(r['point']):03d}", "reduced.csv"))
+    for si, mode, r, point in finished(out):
         f = float(r["frequency [Hz]"])
-        near = min(reduced, key=lambda q: abs(float(q["frequency [Hz]"]) - f))
-        groups.setdefault((float(r[key]) if key else 0.0, int(float(r["mode [1]"]))), []).append((float(r["reduction_dB [dB]"]), near))
+        near = min(rows(os.path.join(point, "reduced.csv")), key=lambda q: abs(float(q["frequency [Hz]"]) - f))
+        groups.setdefault((si, mode), []).append((float(r["reduction_dB [dB]"]), near))
     return groups
 
 

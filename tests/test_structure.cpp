@@ -2,7 +2,8 @@
 // run/frequency_sweep.hpp), through case files:
 //  - case keys and refusals;
 //  - an SDOF without contents (one ball that never touches a wall): the swept receptance against
-//    the analytic one, 1/(K - w^2 M + i w C), within 0.5% across the band;
+//    the analytic one, 1/(K - w^2 M + i w C), within 0.5% across the band, and its peak (also
+//    recomputed from sweep.csv, `bagdem peaks`);
 //  - a beam's free decay in one mode gives that mode's damping ratio;
 //  - a rigid mass carried by the cavity shifts the beam's frequencies as the exact (continuous
 //    Euler-Bernoulli) lumped-mass result;
@@ -116,6 +117,20 @@ TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
     EXPECT_TRUE(pt.steady);
   }
   EXPECT_LT(worst, 5e-3);
+  // The peak refined from the samples (2 Hz apart, half-power width 2 Hz) is the analytic one, as
+  // close as the samples are; `bagdem peaks` recomputes the same from the recorded sweep.csv, and
+  // refuses a case whose bare structure is not the run's.
+  ASSERT_EQ(r.peaks.size(), 1u);
+  const double h_peak = 1 / (2 * zeta * std::sqrt(1 - zeta * zeta) * K);
+  EXPECT_NEAR(r.peaks[0].peak, h_peak, 5e-3 * h_peak);
+  EXPECT_NEAR(r.peaks[0].bare_peak, h_peak, 1e-5 * h_peak);
+  const std::vector<ModePeak> again = recompute_sweep_peaks(*s.primary, d.path / "out");
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_NEAR(again[0].peak, r.peaks[0].peak, 1e-9 * h_peak);
+  EXPECT_NEAR(again[0].frequency, r.peaks[0].frequency, 1e-9 * fn);
+  EXPECT_EQ(again[0].at_band_edge, r.peaks[0].at_band_edge);
+  const Scene other = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]", "primary.damping=" + std::to_string(2 * C)});
+  EXPECT_THROW(recompute_sweep_peaks(*other.primary, d.path / "out"), InputError);
   // Each point after a chain's first starts from the steady state predicted with the contents
   // measured at the point before (excitation.predict; no contact here, so the prediction is exact):
   // it settles in the least cycles a point runs. Without the prediction it runs on while the

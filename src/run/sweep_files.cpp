@@ -49,6 +49,20 @@ void write_sweep_csv(const fs::path& path, const std::vector<SweepPoint>& points
   write_table_csv(path, kSweepColumns, rows);
 }
 
+std::vector<SweepPoint> read_sweep_csv(const fs::path& path) {
+  std::vector<SweepPoint> points;
+  for (const std::vector<double>& r : read_table_csv(path, kSweepColumns)) {
+    SweepPoint p;
+    p.requested = r[0], p.frequency = r[1], p.response = {r[2], r[3]}, p.receptance = {r[4], r[5]}, p.bare = {r[6], r[7]};
+    p.cavity = {r[12], r[13]}, p.contents_force = {r[14], r[15]};
+    p.work_external = r[16], p.dissipated_structure = r[17], p.dissipated_contents = r[18], p.balance = r[19];
+    p.receptance_ci95 = r[20], p.cycles = static_cast<std::size_t>(r[21]), p.steady = r[22] != 0;
+    p.spread = r[23], p.change = r[24], p.wall_seconds = r[25];
+    points.push_back(p);
+  }
+  return points;
+}
+
 void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<SweepPoint>& points) {
   static const std::vector<TableColumn> columns = {{"frequency", "Hz"}, {"bare_receptance_abs", "m/N"}, {"bare_accelerance_abs", "m/s^2/N"}};
   if (points.empty()) return;

@@ -18,8 +18,9 @@ std::vector<double> sweep_row(const SweepPoint& p);
 // summary.json of a complete sweep: the case, the run's figures and each mode's peak.
 std::string sweep_summary_json(const Scene& scene, const SweepReport& rep, std::size_t particles, std::size_t chains);
 
-// sweep.csv: a row per point.
+// sweep.csv: a row per point; and the points read back (every field sweep.csv holds).
 void write_sweep_csv(const std::filesystem::path& path, const std::vector<SweepPoint>& points);
+std::vector<SweepPoint> read_sweep_csv(const std::filesystem::path& path);
 
 // bare_curve.csv: the bare structure's analytic response at 400 frequencies over the swept band,
 // the smooth reference of the plots.

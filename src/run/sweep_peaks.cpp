@@ -1,6 +1,8 @@
 // The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/frequency_sweep.hpp).
 #include "sweep_peaks.hpp"
 
+#include <fstream>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -8,8 +10,11 @@
 #include <numbers>
 #include <sstream>
 
+#include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
+#include "sweep_files.hpp"
 
 namespace bagdem {
 
@@ -139,6 +144,29 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
     out.push_back(mp);
   }
   return out;
+}
+
+std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesystem::path& out) {
+  const std::filesystem::path summary_path = out / "summary.json", peaks_path = out / "peaks.csv";
+  std::ifstream in(summary_path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string summary = text.str();
+  const std::size_t at = summary.find("\n  \"peaks\": ");
+  if (!in || summary.find("\"kind\": \"stepped-sine\"") == std::string::npos || at == std::string::npos)
+    throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json is missing or has no peaks)");
+  const std::vector<ModePeak> peaks = sweep_peaks(P, read_sweep_csv(out / "sweep.csv"));
+  // The bare peaks depend on the structure alone: they must be those the run recorded.
+  const std::vector<std::vector<double>> recorded = read_table_csv(peaks_path, {{"mode", "1"}, {"bare_peak", "m/N"}});
+  bool same = recorded.size() == peaks.size();
+  for (std::size_t k = 0; same && k < peaks.size(); ++k)
+    same = recorded[k][0] == static_cast<double>(peaks[k].mode) && std::abs(recorded[k][1] - peaks[k].bare_peak) <= 1e-9 * peaks[k].bare_peak;
+  if (!same)
+    throw InputError(peaks_path.string(), "bare_peak", "", "the case's bare structure differs from the run's: give the case and the --set the run was made with");
+  write_peaks_csv(peaks_path, peaks);
+  summary.replace(at, std::string::npos, "\n  \"peaks\": " + peaks_json(peaks) + "\n}\n");
+  write_atomically(summary_path, summary);
+  return peaks;
 }
 
 std::string describe_peak(const ModePeak& m) {

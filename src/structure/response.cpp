@@ -117,16 +117,21 @@ Peak find_peak(const std::vector<double>& f, const std::vector<double>& mag, dou
   if (best == f.size()) return {};
   Peak p{f[best], mag[best]};
   if (best == 0 || best + 1 >= f.size() || f[best - 1] < f_lo || f[best + 1] > f_hi) return p;
-  // Parabola through the three points (x relative to the middle one).
-  const double x0 = f[best - 1] - f[best], x2 = f[best + 1] - f[best];
-  if (!(x0 < 0 && x2 > 0)) return p;  // repeated frequencies: no parabola
-  const double y0 = mag[best - 1] - mag[best], y2 = mag[best + 1] - mag[best];
-  // y = a x^2 + b x through (x0, y0), (0, 0), (x2, y2).
-  const double a = (y0 * x2 - y2 * x0) / (x0 * x2 * (x0 - x2)), b = (y0 - a * x0 * x0) / x0;
-  if (!(a < 0)) return p;
-  const double xm = -b / (2 * a);
-  if (xm < x0 || xm > x2) return p;
-  return {f[best] + xm, mag[best] + a * xm * xm + b * xm};
+  if (!(mag[best - 1] > 0 && mag[best + 1] > 0)) return p;
+  // A single mode's 1/|H|^2 = K^2 [(1 - f^2/f_n^2)^2 + (2 zeta f/f_n)^2] is a parabola in u = f^2:
+  // the parabola v(u) through the three points is exact for one mode however sharp its peak is
+  // against the spacing of the samples (one in |H| against f overshoots a sharp one). u and v are
+  // taken relative to the middle point.
+  auto u = [&](std::size_t k) { return f[k] * f[k] - f[best] * f[best]; };
+  auto v = [&](std::size_t k) { return 1 / (mag[k] * mag[k]) - 1 / (mag[best] * mag[best]); };
+  const double u0 = u(best - 1), u2 = u(best + 1), v0 = v(best - 1), v2 = v(best + 1);
+  if (!(u0 < 0 && u2 > 0)) return p;  // repeated frequencies: no parabola
+  // v = a u^2 + b u through (u0, v0), (0, 0), (u2, v2); its minimum at um = -b / (2a).
+  const double a = (v0 * u2 - v2 * u0) / (u0 * u2 * (u0 - u2)), b = (v0 - a * u0 * u0) / u0;
+  if (!(a > 0)) return p;
+  const double um = -b / (2 * a), vm = 1 / (mag[best] * mag[best]) + a * um * um + b * um;
+  if (um < u0 || um > u2 || !(vm > 0)) return p;
+  return {std::sqrt(f[best] * f[best] + um), 1 / std::sqrt(vm)};
 }
 
 DecayFit fit_decay(const std::vector<double>& y, double dt, double factor, double t_skip) {

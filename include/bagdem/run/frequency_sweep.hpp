@@ -31,8 +31,8 @@
 // damped peak of |H| and the reduction in dB and percent (docs/reference-study.md, section 3). A lightly
 // damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
 // planned frequencies the sweep adds `excitation.refine` points per mode between the largest |H|
-// and its larger neighbour (halfway, or with several chains in rounds of equal parts); the damped peak is then the parabola through the
-// largest and its neighbours (find_peak), the bare peak that of the analytic receptance. The
+// and its larger neighbour (halfway, or with several chains in rounds of equal parts); the damped peak is then the parabola in
+// (f^2, 1/|H|^2) through the largest and its neighbours (find_peak), the bare peak that of the analytic receptance. The
 // largest simulated |H| is reported beside the fitted peak; when it is the mode's first or last
 // point the peak may lie outside the band: the peak is marked at_band_edge and its reduction is
 // only a bound. The reduction's interval is that of the largest point's |H| (its relative
@@ -108,6 +108,11 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& options);
 // The peaks of a finished sweep (points in any order): per mode of the plan, or per elastic mode
 // inside the swept band.
 std::vector<ModePeak> sweep_peaks(const Primary& primary, const std::vector<SweepPoint>& points);
+// The peaks of a finished sweep in OUT recomputed from its recorded points (OUT/sweep.csv), the
+// bare structure from `primary`: rewrites OUT/peaks.csv and the peaks of OUT/summary.json
+// (`bagdem peaks`). InputError when OUT holds no complete sweep, or when the bare peaks differ
+// from those recorded (the case or its --set differ from the run's).
+std::vector<ModePeak> recompute_sweep_peaks(const Primary& primary, const std::filesystem::path& out);
 // One line for a mode's peak: the fitted and the largest simulated peak, the reduction with its
 // interval, and the band-edge mark.
 std::string describe_peak(const ModePeak& peak);

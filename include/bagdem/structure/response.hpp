@@ -106,7 +106,8 @@ double reduction_db(double bare_peak, double damped_peak);
 double reduction_percent(double db);
 
 // Peak of |H| over sampled frequencies inside [f_lo, f_hi]: the largest sample, refined by the
-// parabola through it and its two neighbours (in f, |H|) when it is not at an end of the range.
+// parabola through it and its two neighbours in (f^2, 1/|H|^2) when it is not at an end of the
+// range; exact for a single mode (a viscously damped SDOF) at any spacing of the samples.
 struct Peak {
   double frequency = 0, magnitude = 0;  // (unit: Hz, as the magnitudes)
 };

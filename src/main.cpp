@@ -10,6 +10,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/compare.hpp"
 #include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/export.hpp"
@@ -277,6 +278,7 @@ int peaks_command(const Args& a) {
 int drop_command(const Args& a) {
   if (a.threads > 0) omp_set_num_threads(a.threads);
   const Scene s = load_case(a.case_dir, a.sets);
+  const OutputLock lock(a.out());
   const DropResult d = run_drop_test(s, a.drop_speed, a.out(), false);
   write_drop_result(std::filesystem::path(a.out()) / "drop_result.csv", d);
   std::printf("e_drop = %.4f (approach %.4g m/s, rebound %.4g m/s, peak force %.4g N, contact %.4g ms)\n", d.restitution,

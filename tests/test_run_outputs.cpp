@@ -4,7 +4,9 @@
 //    new run writes none;
 //  - `reduce` and `compare` refuse a case that differs from the one results.h5 was run with
 //    (its resolved_config), naming the first difference, and change nothing;
-//  - a resumed bag run's summary.json equals the uninterrupted run's, apart from the timings.
+//  - a resumed bag run's summary.json equals the uninterrupted run's, apart from the timings;
+//  - while a run writes a directory (it holds OUT/.bagdem-lock), another run or drop test into it
+//    is refused (exit 2) and changes nothing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bag_support.hpp"
 #include "case_texts.hpp"
@@ -63,6 +66,26 @@ TEST(RunOutputs, RerunRemovesTheEarlierRunsTables) {
   for (const char* f : {"reduced.csv", "compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv"})
     EXPECT_FALSE(fs::exists(c.out / f)) << f << " of the earlier run is still there";
   EXPECT_EQ(slurp(c.out / "notes.txt"), "mine\n") << "a file bagdem does not write was touched";
+}
+
+// Without the lock the second run truncated the first's results.h5.part as it created its own
+// (HDF5 truncates before it locks), leaving the first run's file unreadable.
+TEST(RunOutputs, ARunIntoADirectoryAnotherRunWritesIsRefused) {
+  CaseDir c(kShakenBox);
+  ASSERT_EQ(c.cli("run", {"--set", "simulation.duration=\"0.05 s\""}).code, 0);
+  const std::string before = slurp(c.out / "results.h5");
+  {
+    const bagdem::OutputLock held(c.out);  // as a run in progress holds it
+    for (const char* command : {"run", "drop"}) {
+      const CmdResult r = c.cli(command);
+      EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+      EXPECT_NE(r.err.find("another bagdem run is writing to this output directory"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(slurp(c.out / "results.h5"), before) << "the refused run touched results.h5";
+    EXPECT_FALSE(fs::exists(c.out / "results.h5.part"));
+    EXPECT_FALSE(fs::exists(c.out / "drop.csv"));
+  }
+  EXPECT_EQ(c.cli("run", {"--set", "simulation.duration=\"0.05 s\""}).code, 0) << "the lock outlived its holder";
 }
 
 TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {

@@ -20,6 +20,7 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/compare.hpp"
 #include "bagdem/reduce/interval.hpp"
@@ -477,7 +478,7 @@ SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
     throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  fs::create_directories(opt.out_dir);
+  const OutputLock lock(opt.out_dir);  // creates the directory
   FrequencySweep sweep(scene, opt);
   sweep.open();
   try {

@@ -18,6 +18,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/json.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/bag_report.hpp"
@@ -482,7 +483,7 @@ void RunLoop::finish() {
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  fs::create_directories(opt.out_dir);
+  const OutputLock lock(opt.out_dir);  // creates the directory
   RunLoop run(scene, opt);
   run.open();
   if (run.step_all()) run.finish();

@@ -1,0 +1,25 @@
+// One writer per output directory. Two runs given the same --out would write the same
+// results.h5.part; HDF5 truncates a file when it creates it, before its own lock refuses the
+// second writer, so the first run's results would be destroyed. A run therefore holds an
+// exclusive advisory lock (flock) on OUT/.bagdem-lock while it writes, and a second run into OUT
+// is refused before it touches anything.
+#pragma once
+#include <filesystem>
+
+namespace bagdem {
+
+class OutputLock {
+ public:
+  // Creates `dir` if need be and locks it; InputError naming the directory when another process
+  // holds the lock (std::runtime_error when the lock file cannot be made). The lock file is left in
+  // place (removing it would let a third run lock a new file while the first still writes).
+  explicit OutputLock(const std::filesystem::path& dir);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace bagdem

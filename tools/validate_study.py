@@ -14,10 +14,13 @@
 #      continuum-summary.csv (per study, mode and model); the clearance
 #      study (cases/studies/clearance) and clearance.csv; claims.csv (the study's claims judged on
 #      the intervals); the calibration as calibrate-modes13.csv, calibration-modes13.json and
-#      calibrate-modes13.png.
+#      calibrate-modes13.png;
+#   4. with --keys, where the DEM and the study part ways: each candidate key (KEYS) varied alone at
+#      Table 3's configuration with the same --seeds starts as the calibrated case, and keys.csv
+#      (each value's reduction per mode and its change paired start by start).
 #
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
-#                        [--docs DIR] [--jobs J]
+#                        [--docs DIR] [--jobs J] [--keys]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -41,6 +44,16 @@ STUDIES = [  # name, study directory, param, its value from the varied key's SI 
     ("ball-size", "cases/studies/ball-size", "ball_diameter_mm", lambda si: 1e3 * si),
     ("mass-ratio", "cases/studies/mass-ratio", "mass_ratio_pct", lambda si: 100 * si),
     ("position", "cases/studies/position", "position_xL", lambda si: si / PIPE_LENGTH),
+]
+# Step 4's candidates: (what is varied, its directory, the --vary arguments; {zeta} is the
+# calibrated damping ratio). The mode-3 damping ratio replaces the level's one ratio for all modes.
+KEYS = [
+    ("interactions.steel-ldpe.restitution", "film-restitution", ["--vary", "interactions.steel-ldpe.restitution=0.1,0.6"]),
+    ("interactions.steel-ldpe.friction", "film-friction", ["--vary", "interactions.steel-ldpe.friction=0.2,0.8"]),
+    ("materials.ldpe.youngs_modulus", "film-stiffness", ["--vary", 'materials.ldpe.youngs_modulus="0.1 GPa","0.6 GPa"']),
+    ("bag.strings.0.stiffness and bag.strings.1.stiffness", "strings",
+     ["--vary", 'bag.strings.0.stiffness="50 N/m","800 N/m"', "--vary", 'bag.strings.1.stiffness="50 N/m","800 N/m"', "--zip"]),
+    ("primary.damping_ratio", "mode3-damping", ["--vary", "primary.damping_ratio=[{zeta}, {zeta}, 0.0049]"]),
 ]
 
 
@@ -194,6 +207,48 @@ def per_seed(out):
     return groups
 
 
+def by_seed(out):
+    """{(the varied values as written, mode): {seed: peak reduction [dB]}} over a study's finished runs."""
+    table = rows(os.path.join(out, "peaks.csv"))
+    varied = [c for c in (table[0] if table else {}) if " [" not in c and c not in ("point", "status", "seed")]
+    groups = {}
+    for r in table:
+        if r["status"] == "done":
+            groups.setdefault((" / ".join(r[c] for c in varied), int(float(r["mode [1]"]))), {})[int(r["seed"])] = float(r["reduction_dB [dB]"])
+    return groups
+
+
+def keys(out, level, zeta, seeds, jobs):
+    """keys.csv's rows: the calibrated case (Table 3's configuration at the level) and each KEYS
+    variation, per mode the reduction over the starts and its change paired start by start."""
+    config = ["bag.balls.mass_ratio=0.05", level[0]] + MODES
+    base_dir = os.path.join(out, "keys", "base")
+    args = [BAGDEM, "run", os.path.join(ROOT, "cases/pipe-beanbag"), "--seeds", str(seeds), "--out", base_dir]
+    for m in config + [level[1]]:
+        args += ["--set", m]
+    run(args)
+    base = {mode: per for (_, mode), per in by_seed(base_dir).items()}
+    table = []
+    for mode, per in sorted(base.items()):
+        m, h = mean_ci95(list(per.values()))
+        table.append({"key": "(the calibrated case)", "value": "", "mode [1]": mode, "reduction_db_mean [dB]": f"{m:.2f}",
+                      "reduction_db_ci95 [dB]": f"{h:.2f}", "paired_change_db_mean [dB]": "0", "paired_change_db_ci95 [dB]": "0",
+                      "seeds [1]": len(per)})
+    for key, name, vary in KEYS:
+        d = os.path.join(out, "keys", name)
+        args = [BAGDEM, "sweep", os.path.join(ROOT, "cases/pipe-beanbag"), "--seeds", str(seeds), "--out", d, "--jobs", str(jobs)]
+        for m in config + ([] if key == "primary.damping_ratio" else [level[1]]):
+            args += ["--set", m]
+        run(args + [v.format(zeta=zeta) for v in vary])
+        for (value, mode), per in by_seed(d).items():
+            m, h = mean_ci95(list(per.values()))
+            dm, dh = mean_ci95([per[k] - base[mode][k] for k in per if k in base.get(mode, {})])
+            table.append({"key": key, "value": value, "mode [1]": mode, "reduction_db_mean [dB]": f"{m:.2f}",
+                          "reduction_db_ci95 [dB]": f"{h:.2f}", "paired_change_db_mean [dB]": f"{dm:.2f}",
+                          "paired_change_db_ci95 [dB]": f"{dh:.2f}", "seeds [1]": len(per)})
+    return table
+
+
 def clearance_rows(groups):
     """clearance.csv's rows: per bag radius and mode, the peak reduction over the starts and d / X at
     the damped peak (reduced.csv's clearance_ratio = d / |X| at the frequency nearest the peak)."""
@@ -336,6 +391,7 @@ def main(argv):
     p.add_argument("--out", default=os.path.join(ROOT, "validation-study"), help="where the runs go (default ./validation-study)")
     p.add_argument("--docs", default=os.path.join(ROOT, "docs", "validation"), help="where study.csv and the figures go")
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--keys", action="store_true", help="also vary each candidate key alone (step 4) and write keys.csv")
     a = p.parse_args(argv)
     if not os.access(BAGDEM, os.X_OK):
         sys.exit(f"tools/validate-study: no {BAGDEM}: run tools/validate-study (it builds), not this file")
@@ -389,6 +445,10 @@ def main(argv):
         print(f"  mode {c['mode [1]']}: {c['claim']}: {c['verdict']} ({c['evidence']})")
     for p in plot(table, a.docs):
         print(p)
+    if a.keys:
+        write_csv(os.path.join(a.docs, "keys.csv"), ["key", "value", "mode [1]", "reduction_db_mean [dB]", "reduction_db_ci95 [dB]",
+                                                      "paired_change_db_mean [dB]", "paired_change_db_ci95 [dB]", "seeds [1]"],
+                  keys(a.out, level, zeta, a.seeds, a.jobs))
     return 0
 
 

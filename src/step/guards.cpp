@@ -52,8 +52,10 @@ void Stepper::guards() {
   }
   if (crowded) {
     m << "ball " << order_[mesh_overflow_] << " touches more than " << kMaxMeshContacts
-      << " features of the film or an STL wall at once; the surface is folded around it finer than the "
-         "ball. Coarsen the film (bag.triangles) or the STL mesh.";
+      << " separate patches of the film or an STL wall at once: the surface is wrapped round it (a ball much "
+         "larger than the triangles, such as one ball in a bag hardly wider than it). The film contact does not "
+         "keep its energy for such a ball at any film resolution (docs/bag.md, Guards): give smaller balls, or a "
+         "coarser STL mesh.";
     throw RunError(m.str());
   }
   if (film_out) {

@@ -271,6 +271,7 @@ int peaks_command(const Args& a) {
   const Scene s = load_case(a.case_dir, a.sets);
   if (!s.primary || !s.primary->sweep)
     throw InputError(s.case_file, "excitation.kind", "", "peaks needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
+  const OutputLock lock(a.out());
   for (const ModePeak& m : recompute_sweep_peaks(*s.primary, a.out())) std::printf("%s\n", describe_peak(m).c_str());
   return 0;
 }

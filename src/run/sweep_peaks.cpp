@@ -1,10 +1,9 @@
 // The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/frequency_sweep.hpp).
 #include "sweep_peaks.hpp"
 
-#include <fstream>
-
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <numbers>

@@ -1,5 +1,5 @@
 // bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, reduce, compare, peaks, drop, export,
-// bench.
+// modes, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -18,6 +18,7 @@
 #include "bagdem/run/bench.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/structure/modal_table.hpp"
 #include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
@@ -128,6 +129,18 @@ CLI::App* add_peaks(CLI::App& app, Args& a) {
   peaks->add_option("--set", a.sets, "The --set overrides the sweep was run with (repeatable)");
   add_fidelity(peaks, a.fidelity);
   return peaks;
+}
+
+CLI::App* add_modes(CLI::App& app, Args& a) {
+  CLI::App* modes = app.add_subcommand("modes", "Write the modal table of the case's primary structure, the input of primary.kind = \"modal\" "
+                                          "(columns: docs/case-schema.md): per mode its natural frequency, damping ratio and modal mass, "
+                                          "the shapes at the cavity's attachment, the force and the response points, the slope and the "
+                                          "curvature at the attachment, and whether it is a rigid-body mode; mass-normalised, to every "
+                                          "digit, without primary.cavity_mass. Read back, it gives the same structure.");
+  modes->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  modes->add_option("--to", a.export_to, "Where to write the table (default CASE_DIR/out/modes.csv)");
+  modes->add_option("--set", a.sets, "Override a key of case.toml (repeatable)");
+  return modes;
 }
 
 CLI::App* add_drop(CLI::App& app, Args& a) {
@@ -276,6 +289,16 @@ int peaks_command(const Args& a) {
   return 0;
 }
 
+int modes_command(const Args& a) {
+  const Scene s = load_case(a.case_dir, a.sets);
+  if (!s.primary) throw InputError(s.case_file, "primary.kind", "", "modes needs a primary structure (sdof, beam, fe-beam or modal)");
+  const std::filesystem::path to = a.export_to.empty() ? std::filesystem::path(a.out()) / "modes.csv" : std::filesystem::path(a.export_to);
+  if (to.has_parent_path()) std::filesystem::create_directories(to.parent_path());
+  write_modal_table(to, *s.primary);
+  std::printf("wrote %s: %zu modes of %s\n", to.string().c_str(), s.primary->size(), s.primary->description.c_str());
+  return 0;
+}
+
 int drop_command(const Args& a) {
   if (a.threads > 0) omp_set_num_threads(a.threads);
   const Scene s = load_case(a.case_dir, a.sets);
@@ -305,6 +328,7 @@ int main(int argc, char** argv) {
   CLI::App* compare = add_compare(app, a);
   CLI::App* peaks = add_peaks(app, a);
   CLI::App* drop = add_drop(app, a);
+  CLI::App* modes = add_modes(app, a);
   CLI::App* exporter = add_export(app, a);
   CLI::App* bench = add_bench(app, a);
   // sweep: parameter studies over a case (src/study; MPI starts there, and only there).
@@ -342,6 +366,7 @@ int main(int argc, char** argv) {
     if (compare->parsed()) return compare_command(a);
     if (peaks->parsed()) return peaks_command(a);
     if (drop->parsed()) return drop_command(a);
+    if (modes->parsed()) return modes_command(a);
     if (exporter->parsed()) {
       for (const std::string& p : export_reduced(a.out_dir, a.export_to, a.formats)) std::printf("wrote %s\n", p.c_str());
       return 0;

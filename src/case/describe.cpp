@@ -73,9 +73,11 @@ std::string describe_scene(const Scene& s) {
     const Primary& P = *s.primary;
     o << "primary     " << P.description << "\n"
       << "            moves along [" << P.direction.transpose() << "]";
-    if (P.kind != "sdof")
+    if (P.kind == "beam" || P.kind == "fe-beam")
       o << ", axis [" << P.axis.transpose() << "], cavity at x_b = " << P.attach << " m, force at x_f = " << P.force_at
         << " m, response at x_a = " << P.response_at << " m";
+    else if (P.kind == "modal")
+      o << ", axis [" << P.axis.transpose() << "] (the table's shapes give the cavity, force and response points)";
     o << "; structure mass " << P.structure_mass << " kg" << (s.settle > 0 ? "; held while settling" : "") << "\n";
     if (P.kind != "sdof") {
       o << "            damping ratios";

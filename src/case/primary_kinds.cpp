@@ -7,16 +7,20 @@
 //               attach, force_at, response_at, suspension_frequency, suspension_damping_ratio
 //   fe-beam     the beam's keys as defaults, plus [[primary.segments]] (from, to, and any of the
 //               section keys above) and [[primary.masses]] (at, mass, inertia), elements
+//   modal       table (a CSV of modes, structure/modal_table.hpp), damping_ratio (overrides the
+//               table's, as for beam), structure_mass, follow_slope
 // All kinds: direction (the transverse direction e, default [0, 1, 0]), axis (along the beam,
 // default [1, 0, 0]), cavity_mass. The cavity's reference point (cavity.reference) sits at x_b.
 // [excitation] kinds: harmonic, stepped-sine, decay, impulse, random, none (docs/case-schema.md).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/structure/excitation.hpp"
+#include "bagdem/structure/modal_table.hpp"
 #include "bagdem/structure/modes.hpp"
 
 namespace bagdem {
@@ -212,12 +216,34 @@ Primary fe_beam(const CaseReader& in, const Scene& s, const Vec3& axis) {
   return beam_from_modes(in, s, "fe-beam", fe_beam_modes(fe, mode_count(in) + rigid), mass, axis);
 }
 
+Primary modal(const CaseReader& in, const Scene& s, const Vec3& axis) {
+  ModalPrimarySpec m;
+  m.source = in.string("primary.table");
+  const std::filesystem::path path = std::filesystem::path(s.case_dir) / m.source;
+  if (!std::filesystem::is_regular_file(path)) in.fail("primary.table", "names no file (" + path.string() + "): give the CSV of the modes, relative to the case directory");
+  m.table = read_modal_table(path);
+  if (in.has("primary.damping_ratio")) {  // one for every elastic mode, or a list in their order
+    const std::vector<double> z = read_ratios(in, "primary.damping_ratio", 0.0);
+    std::size_t elastic = 0;
+    for (ModalRow& r : m.table.rows)
+      if (!r.rigid_body) r.damping_ratio = z[std::min(elastic++, z.size() - 1)];
+  }
+  m.follow_slope = in.boolean("primary.follow_slope", m.table.has_slope);
+  if (m.follow_slope && !m.table.has_slope) in.fail("primary.follow_slope", "needs the table's column slope_attach [1/m]");
+  m.half_extent = half_extent(s, axis);
+  m.cavity_mass = in.quantity("primary.cavity_mass", dim::mass, 0.0);
+  if (!(m.cavity_mass >= 0)) in.fail("primary.cavity_mass", "must be >= 0 (kg)");
+  m.structure_mass = in.quantity("primary.structure_mass", dim::mass, 0.0);
+  if (!(m.structure_mass >= 0)) in.fail("primary.structure_mass", "must be >= 0 (kg; the structure's mass, for bag.balls.mass_ratio)");
+  return make_modal_primary(m);
+}
+
 struct PrimaryKind {
   const char* name;
   Primary (*make)(const CaseReader&, const Scene&, const Vec3& axis);
 };
 Primary sdof_kind(const CaseReader& in, const Scene& s, const Vec3&) { return sdof(in, s); }
-const PrimaryKind kPrimaryKinds[] = {{"sdof", sdof_kind}, {"beam", beam}, {"fe-beam", fe_beam}};
+const PrimaryKind kPrimaryKinds[] = {{"sdof", sdof_kind}, {"beam", beam}, {"fe-beam", fe_beam}, {"modal", modal}};
 
 // ---- [excitation] --------------------------------------------------------------------------------
 
@@ -381,7 +407,7 @@ void resolve_primary(const CaseReader& in, Scene& s) {
   for (const auto& k : kPrimaryKinds) names.emplace_back(k.name);
   const std::string kind = in.choice("primary.kind", names, "prescribed");
   if (kind == "prescribed") {
-    if (in.has("excitation")) in.fail("excitation", "drives a primary structure: set primary.kind (sdof, beam, fe-beam), or move the cavity with [cavity.motion]");
+    if (in.has("excitation")) in.fail("excitation", "drives a primary structure: set primary.kind (sdof, beam, fe-beam, modal), or move the cavity with [cavity.motion]");
     return;
   }
   if (in.string("cavity.motion.kind", "fixed") != "fixed")

@@ -6,7 +6,8 @@
 //  - a free-free beam (rigid-body modes on their suspension) with a cavity mass, written and read
 //    back, the same: frequencies, damping ratios, shapes, mode numbering and the load's fit;
 //  - an sdof written as one row of modal mass M_p gives the sdof's receptance;
-//  - bad tables are refused naming the file, the column and what is allowed.
+//  - bad tables are refused naming the file, the column and what is allowed;
+//  - `bagdem modes` writes the shipped table byte for byte, and refuses a case without a structure.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,6 +22,8 @@
 #include "support.hpp"
 
 using namespace bagdem;
+using bagdem::testing::CmdResult;
+using bagdem::testing::run_bagdem;
 using bagdem::testing::TempDir;
 
 namespace {
@@ -159,4 +162,17 @@ TEST(ModalPrimary, BadTablesAreRefused) {
     missing = e.what();
   }
   EXPECT_NE(missing.find("key 'primary.table'"), std::string::npos) << missing;
+}
+
+TEST(ModalPrimary, ModesCommandWritesTheShippedTable) {
+  TempDir d;
+  const std::string to = (d.path / "modes.csv").string();
+  const CmdResult r = run_bagdem({"modes", kCases + "/stepped-beam", "--to", to}, d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 modes"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp_file(to), slurp_file(kCases + "/stepped-beam-modal/modes.csv"))
+      << "regenerate: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
+  const CmdResult none = run_bagdem({"modes", kCases + "/box-beanbag", "--to", to}, d.path);
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("modes needs a primary structure"), std::string::npos) << none.err;
 }

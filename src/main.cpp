@@ -91,44 +91,44 @@ CLI::App* add_run(CLI::App& app, Args& a) {
   return run;
 }
 
+// A command that reads a finished run (a sweep when `run` says so) in OUT: the case, the output
+// directory and the --set the run was made with.
+CLI::App* add_run_reader(CLI::App& app, Args& a, const char* name, const std::string& help, const std::string& run) {
+  CLI::App* c = app.add_subcommand(name, help);
+  c->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
+  c->add_option("--out", a.out_dir, "Output directory of the " + run + " (default CASE_DIR/out)");
+  c->add_option("--set", a.sets, "The --set overrides the " + run + " was made with (repeatable)");
+  add_fidelity(c, a.fidelity);
+  return c;
+}
+
 CLI::App* add_reduce(CLI::App& app, Args& a) {
-  CLI::App* reduce = app.add_subcommand("reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
-                                            "M_eff and C_eff by first-harmonic projection over whole steady cycles, energy per cycle, "
-                                            "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
-                                            "restitution e (per impact between free flights, else Eq. 19a, else the drop test; e_method says which), "
-                                            "each with its standard error and 95% interval over the correlated cycles, and steady = 0 for a window "
-                                            "whose energy balance is off by more than 1%. Writes OUT/reduced.csv (columns: docs/outputs.md).");
-  reduce->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
-  reduce->add_option("--out", a.out_dir, "Output directory of the run (default CASE_DIR/out)");
-  reduce->add_option("--set", a.sets, "The --set overrides the run was made with (repeatable)");
-  add_fidelity(reduce, a.fidelity);
-  return reduce;
+  return add_run_reader(app, a, "reduce", "Reduce a finished run to the bag's effective parameters (also done at the end of run): per driven frequency "
+                                          "M_eff and C_eff by first-harmonic projection over whole steady cycles, energy per cycle, "
+                                          "loss factor, M_eff/M_bag, C_b/(M_b w), Gamma, d/X, the impacts (phase, peak force, duration) and the "
+                                          "restitution e (per impact between free flights, else Eq. 19a, else the drop test; e_method says which), "
+                                          "each with its standard error and 95% interval over the correlated cycles, and steady = 0 for a window "
+                                          "whose energy balance is off by more than 1%. Writes OUT/reduced.csv (columns: docs/outputs.md).",
+                        "run");
 }
 
 CLI::App* add_compare(CLI::App& app, Args& a) {
-  CLI::App* compare = app.add_subcommand("compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
-                                              "continuum model's prediction from the DEM-derived C_b, M_b and e (the modal model with the bag's "
-                                              "impedance, the study's SDOF Eq. 7 and Eq. 20), with the errors. Writes OUT/compare.csv (also done at "
-                                              "the end of a sweep).");
-  compare->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
-  compare->add_option("--out", a.out_dir, "Output directory of the sweep (default CASE_DIR/out)");
-  compare->add_option("--set", a.sets, "The --set overrides the sweep was run with (repeatable)");
-  add_fidelity(compare, a.fidelity);
+  CLI::App* compare = add_run_reader(app, a, "compare", "For each frequency of a coupled sweep: the response amplitude the DEM produced against the "
+                                                        "continuum model's prediction from the DEM-derived C_b, M_b and e (the modal model with the bag's "
+                                                        "impedance, the study's SDOF Eq. 7 and Eq. 20), with the errors. Writes OUT/compare.csv (also done at "
+                                                        "the end of a sweep).",
+                                     "sweep");
   compare->add_option("--form", a.form, "Eq. (7)/(20) form: consistent (default) or printed (the study's as-printed equations)")
       ->check(CLI::IsMember({"consistent", "printed"}));
   return compare;
 }
 
 CLI::App* add_peaks(CLI::App& app, Args& a) {
-  CLI::App* peaks = app.add_subcommand("peaks", "Recompute each mode's peak reduction of a finished sweep from its recorded points "
-                                          "(OUT/sweep.csv) and the case's bare structure: rewrites OUT/peaks.csv and the peaks of "
-                                          "OUT/summary.json, and prints them. For a sweep run with an older bagdem, whose peak "
-                                          "refinement differed (docs/outputs.md); refuses a case whose bare peaks are not the run's.");
-  peaks->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
-  peaks->add_option("--out", a.out_dir, "Output directory of the sweep (default CASE_DIR/out)");
-  peaks->add_option("--set", a.sets, "The --set overrides the sweep was run with (repeatable)");
-  add_fidelity(peaks, a.fidelity);
-  return peaks;
+  return add_run_reader(app, a, "peaks", "Recompute each mode's peak reduction of a finished sweep from its recorded points "
+                                         "(OUT/sweep.csv) and the case's bare structure: rewrites OUT/peaks.csv and the peaks of "
+                                         "OUT/summary.json, and prints them. For a sweep run with an older bagdem, whose peak "
+                                         "refinement differed (docs/outputs.md); refuses a case whose bare peaks are not the run's.",
+                        "sweep");
 }
 
 CLI::App* add_modes(CLI::App& app, Args& a) {

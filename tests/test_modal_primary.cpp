@@ -7,7 +7,8 @@
 //    back, the same: frequencies, damping ratios, shapes, mode numbering and the load's fit;
 //  - an sdof written as one row of modal mass M_p gives the sdof's receptance;
 //  - bad tables are refused naming the file, the column and what is allowed;
-//  - `bagdem modes` writes the shipped table byte for byte, and refuses a case without a structure.
+//  - `bagdem modes` writes the shipped table byte for byte, from the fe-beam and from the modal case
+//    itself, and refuses a case without a structure.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -172,6 +173,9 @@ TEST(ModalPrimary, ModesCommandWritesTheShippedTable) {
   EXPECT_NE(r.out.find("4 modes"), std::string::npos) << r.out;
   EXPECT_EQ(slurp_file(to), slurp_file(kCases + "/stepped-beam-modal/modes.csv"))
       << "regenerate: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
+  // Read back and written again, the table is the same to the last digit.
+  ASSERT_EQ(run_bagdem({"modes", kCases + "/stepped-beam-modal", "--to", to}, d.path).code, 0);
+  EXPECT_EQ(slurp_file(to), slurp_file(kCases + "/stepped-beam-modal/modes.csv"));
   const CmdResult none = run_bagdem({"modes", kCases + "/box-beanbag", "--to", to}, d.path);
   EXPECT_EQ(none.code, 2);
   EXPECT_NE(none.err.find("modes needs a primary structure"), std::string::npos) << none.err;

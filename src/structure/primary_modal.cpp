@@ -21,8 +21,6 @@ Primary make_modal_primary(const ModalPrimarySpec& spec) {
   p.half_extent = spec.half_extent;
   p.stiffness.resize(N), p.damping.resize(N);
   p.at_force.resize(N), p.at_response.resize(N), p.at_cavity.resize(N), p.slope_at_cavity.resize(N);
-  std::vector<Eigen::VectorXd> around(3, Eigen::VectorXd(N));
-  const double l = spec.follow_slope ? spec.half_extent : 0.0;
   std::size_t elastic = 0, rigid = 0;
   for (Eigen::Index k = 0; k < N; ++k) {
     const ModalRow& r = rows[static_cast<std::size_t>(k)];
@@ -37,14 +35,18 @@ Primary make_modal_primary(const ModalPrimarySpec& spec) {
     p.at_response[k] = scale * r.shape_response;
     p.at_cavity[k] = scale * r.shape_attach;
     p.slope_at_cavity[k] = spec.follow_slope ? scale * r.slope_attach : 0.0;
-    // The shape over the cavity, x_b +- l, from its Taylor series at x_b (the load's fit).
-    const double slope = scale * r.slope_attach, half_curvature = 0.5 * scale * r.curvature_attach;
-    around[0][k] = p.at_cavity[k] - l * slope + l * l * half_curvature;
-    around[1][k] = p.at_cavity[k];
-    around[2][k] = p.at_cavity[k] + l * slope + l * l * half_curvature;
   }
   p.q0 = p.v0 = Eigen::VectorXd::Zero(N);
-  finish_primary(p, around, l);
+  finish_primary(p, {p.at_cavity, p.at_cavity, p.at_cavity}, 0.0);
+  // The load's fit over the cavity (structure/primary.hpp) is the shape's Taylor series at x_b:
+  // phi + phi' s + phi'' s^2 / 2, with the cavity turning (follow_slope), else phi alone.
+  if (spec.follow_slope)
+    for (Eigen::Index k = 0; k < N; ++k) {
+      const ModalRow& r = rows[static_cast<std::size_t>(k)];
+      const double scale = 1 / std::sqrt(r.modal_mass);
+      p.load_fit(k, 1) = scale * r.slope_attach;
+      p.load_fit(k, 2) = 0.5 * scale * r.curvature_attach;
+    }
   std::ostringstream d;
   d.precision(5);
   d << "modal: " << N << " modes from " << spec.source << " (" << elastic << " elastic";

@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -25,18 +24,12 @@
 using namespace bagdem;
 using bagdem::testing::CmdResult;
 using bagdem::testing::run_bagdem;
+using bagdem::testing::slurp;
 using bagdem::testing::TempDir;
 
 namespace {
 
 const std::string kCases = BAGDEM_CASES_DIR;
-
-std::string slurp_file(const std::string& path) {
-  std::ifstream f(path);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 // The largest relative difference of the bare receptances over a logarithmic scan of [lo, hi] Hz
 // (n points, the natural frequencies of `a` added: the peaks themselves).
@@ -55,7 +48,7 @@ double worst_receptance_difference(const Primary& a, const Primary& b, double lo
 
 // cases/stepped-beam-modal's text with its table at `table` (an absolute path).
 std::string modal_case_with(const std::string& table) {
-  std::string t = slurp_file(kCases + "/stepped-beam-modal/case.toml");
+  std::string t = slurp(kCases + "/stepped-beam-modal/case.toml");
   const std::size_t at = t.find("table = \"modes.csv\"");
   t.replace(at, std::string("table = \"modes.csv\"").size(), "table = \"" + table + "\"");
   return t;
@@ -171,11 +164,11 @@ TEST(ModalPrimary, ModesCommandWritesTheShippedTable) {
   const CmdResult r = run_bagdem({"modes", kCases + "/stepped-beam", "--to", to}, d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("4 modes"), std::string::npos) << r.out;
-  EXPECT_EQ(slurp_file(to), slurp_file(kCases + "/stepped-beam-modal/modes.csv"))
+  EXPECT_EQ(slurp(to), slurp(kCases + "/stepped-beam-modal/modes.csv"))
       << "regenerate: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
   // Read back and written again, the table is the same to the last digit.
   ASSERT_EQ(run_bagdem({"modes", kCases + "/stepped-beam-modal", "--to", to}, d.path).code, 0);
-  EXPECT_EQ(slurp_file(to), slurp_file(kCases + "/stepped-beam-modal/modes.csv"));
+  EXPECT_EQ(slurp(to), slurp(kCases + "/stepped-beam-modal/modes.csv"));
   const CmdResult none = run_bagdem({"modes", kCases + "/box-beanbag", "--to", to}, d.path);
   EXPECT_EQ(none.code, 2);
   EXPECT_NE(none.err.find("modes needs a primary structure"), std::string::npos) << none.err;

@@ -20,9 +20,9 @@ std::string csv_cell(const std::string& v) {
 
 void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
                      const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns,
-                     const std::vector<std::vector<std::string>>& text_rows) {
+                     const std::vector<std::vector<std::string>>& text_rows, int digits) {
   std::ostringstream s;
-  s << std::setprecision(12);
+  s << std::setprecision(digits);
   for (std::size_t k = 0; k < columns.size(); ++k) s << (k ? "," : "") << columns[k].name << " [" << columns[k].unit << "]";
   for (const TableColumn& c : text_columns) s << "," << c.name << " [" << c.unit << "]";
   s << "\n";

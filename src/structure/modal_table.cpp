@@ -3,11 +3,8 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <iomanip>
-#include <sstream>
 
 #include "bagdem/error.hpp"
-#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 
 namespace bagdem {
@@ -78,19 +75,18 @@ ModalTable read_modal_table(const std::filesystem::path& path) {
 }
 
 void write_modal_table(const std::filesystem::path& path, const Primary& p) {
-  std::ostringstream s;
-  s << std::setprecision(17);
-  s << "frequency [Hz],damping_ratio [1],modal_mass [kg],shape_attach [1],shape_force [1],shape_response [1],"
-       "slope_attach [1/m],curvature_attach [1/m^2],rigid_body [1]\n";
+  std::vector<TableColumn> columns;
+  for (const Column& c : kColumns) columns.push_back({c.name, c.unit});
+  columns.push_back({"rigid_body", "1"});
+  std::vector<std::vector<double>> rows;
   for (std::size_t k = 0; k < p.size(); ++k) {
     const auto K = static_cast<Eigen::Index>(k);
     // The structure's own mass matrix without the cavity's (M = I for the beams, M_p for sdof).
     const double m = p.mass(K, K) - p.cavity_mass * p.at_cavity[K] * p.at_cavity[K];
-    s << p.natural_frequency[k] << "," << p.damping_ratio[k] << "," << m << "," << p.at_cavity[K] << "," << p.at_force[K] << ","
-      << p.at_response[K] << "," << p.slope_at_cavity[K] << "," << 2 * p.load_fit(K, 2) << "," << (p.rigid_body[k] ? 1 : 0)
-      << "\n";
+    rows.push_back({p.natural_frequency[k], p.damping_ratio[k], m, p.at_cavity[K], p.at_force[K], p.at_response[K],
+                    p.slope_at_cavity[K], 2 * p.load_fit(K, 2), p.rigid_body[k] ? 1.0 : 0.0});
   }
-  write_atomically(path, s.str());
+  write_table_csv(path, columns, rows, {}, {}, 17);
 }
 
 }  // namespace bagdem

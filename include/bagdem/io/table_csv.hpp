@@ -11,10 +11,10 @@
 namespace bagdem {
 
 // Text columns, when given, follow the numbers (one cell per row and text column; quoted as CSV
-// needs).
+// needs). Numbers with `digits` significant digits (17: every digit a double holds).
 void write_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns,
                      const std::vector<std::vector<double>>& rows, const std::vector<TableColumn>& text_columns = {},
-                     const std::vector<std::vector<std::string>>& text_rows = {});
+                     const std::vector<std::vector<std::string>>& text_rows = {}, int digits = 12);
 
 // A cell as RFC 4180 wants it: quoted when it holds a comma, a quote or a line break.
 std::string csv_cell(const std::string& value);

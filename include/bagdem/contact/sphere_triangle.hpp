@@ -174,10 +174,11 @@ void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label);
 // the joined contact's stiffness across the valley near Hertz's (a larger p sharpens the kink
 // back). Two discontinuities remain. Where two hits' normals cross the 30 degrees the energy jumps
 // between the joined contact's and the two contacts' (it jumped between the deepest's and the
-// two's before; a blend across the angle, with the angle's gradient in the force, would remove
-// it). Where the feature rule drops a joined hit (a face hit turning edge hit in a valley
-// shallower than about sqrt(overlap / radius) rad), the energy falls to the remaining hits' join,
-// by about (delta_dropped / delta)^8 / 8 of the overlap (BagEnergy tests).
+// two's before). Where the feature rule drops a joined hit (a face hit turning edge hit in a valley
+// shallower than about sqrt(2 overlap / radius) rad), the energy falls to the remaining hits' join,
+// by about (delta_dropped / delta)^8 / 8 of the overlap (BagEnergy tests); the reverse, a hit born at
+// positive overlap, is what a heavy ball on a film finer than itself meets all the time
+// (docs/bag.md, Guards: a blend across the angle does not cure it).
 // The joined contact takes the patch's kPatchMembers deepest hits (a fourth as deep as the third,
 // a ball in a valley of four faces, is rare; where the two swap they are equally deep, so the
 // energy stays continuous). A hit half as deep as the deepest gets 1/128 of its force.

@@ -111,11 +111,16 @@ void build_topology(TriangleMesh& mesh) {
   for (std::size_t t = 0; t < nt; ++t)
     for (std::uint32_t k = 0; k < 3; ++k) around[fill[mesh.triangles[t][k]]++] = static_cast<std::uint32_t>(t);
 
+  std::vector<std::uint8_t> on_boundary(nv, 0);
+  for (std::size_t e = 0; e < edge_vertices.size(); ++e)
+    if (edge_triangles[e][1] == kNoTriangle) on_boundary[edge_vertices[e][0]] = on_boundary[edge_vertices[e][1]] = 1;
+
   mesh.edge_vertices = std::move(edge_vertices);
   mesh.edge_triangles = std::move(edge_triangles);
   mesh.triangle_edges = std::move(triangle_edges);
   mesh.vertex_triangle_begin = std::move(begin);
   mesh.vertex_triangles = std::move(around);
+  mesh.vertex_on_boundary = std::move(on_boundary);
 }
 
 double enclosed_volume(const TriangleMesh& mesh, const std::vector<Vec3>& x) {

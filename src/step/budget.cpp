@@ -27,7 +27,7 @@ void Stepper::for_each_contact(Fn&& fn) const {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     ContactGeometry g;
     if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) continue;
-    fn(g.overlap, g.R_eff, scene_.laws(p_.material[i], p_.material[j]),
+    fn(g.overlap, hertz_energy(scene_.laws(p_.material[i], p_.material[j]), g.R_eff, g.overlap),
        scene_.models.tangential ? &ps_.hist.tangential[k] : nullptr, scene_.models.rolling ? &ps_.hist.rolling[k] : nullptr,
        std::min(p_.radius[i], p_.radius[j]));
   }
@@ -38,7 +38,7 @@ void Stepper::for_each_contact(Fn&& fn) const {
       Vec3 n;
       const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
-      fn(overlap, wall_effective_radius(wall, p_.radius[p]), scene_.laws(p_.material[p], wall.material),
+      fn(overlap, hertz_energy(scene_.laws(p_.material[p], wall.material), wall_effective_radius(wall, p_.radius[p]), overlap),
          scene_.models.tangential ? &wall_hist_.tangential[wall_slot(p, w)] : nullptr,
          scene_.models.rolling ? &wall_hist_.rolling[wall_slot(p, w)] : nullptr, p_.radius[p]);
     }
@@ -46,8 +46,7 @@ void Stepper::for_each_contact(Fn&& fn) const {
     for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {
       const std::size_t at = p * kMaxMeshContacts + s;
       const MeshSlot& m = slots_[at];
-      fn(m.overlap, p_.radius[p], scene_.laws(p_.material[p], surfaces_[m.surface].material),
-         scene_.models.tangential ? &slot_hist_.tangential[at] : nullptr,
+      fn(m.overlap, 0.0, scene_.models.tangential ? &slot_hist_.tangential[at] : nullptr,
          scene_.models.rolling ? &slot_hist_.rolling[at] : nullptr, p_.radius[p]);
     }
   }
@@ -55,20 +54,19 @@ void Stepper::for_each_contact(Fn&& fn) const {
 
 double Stepper::elastic_energy() const {
   double u = 0;
-  for_each_contact([&](double overlap, double R_eff, const PairLaw& law, const TangentialHistory* t,
-                       const RollingHistory* r, double) {
-    u += hertz_energy(law, R_eff, overlap);
+  for_each_contact([&](double, double elastic, const TangentialHistory* t, const RollingHistory* r, double) {
+    u += elastic;
     if (t) u += mindlin_energy(*t);
     if (r) u += rolling_energy(*r);
   });
+  for (double e : mesh_elastic_) u += e;  // the triangulated surfaces' (surfaces.cpp)
   return u;
 }
 
 // The largest overlap / smaller radius of any contact now (for messages).
 double Stepper::largest_overlap_ratio() const {
   double worst = 0;
-  for_each_contact([&](double overlap, double, const PairLaw&, const TangentialHistory*, const RollingHistory*,
-                       double r_min) { worst = std::max(worst, overlap / r_min); });
+  for_each_contact([&](double overlap, double, const TangentialHistory*, const RollingHistory*, double r_min) { worst = std::max(worst, overlap / r_min); });
   return worst;
 }
 
@@ -133,7 +131,7 @@ Vec3 Stepper::contents_relative_velocity() const {
 
 std::size_t Stepper::contact_count() const {
   std::size_t c = 0;
-  for_each_contact([&](double, double, const PairLaw&, const TangentialHistory*, const RollingHistory*, double) { ++c; });
+  for_each_contact([&](double, double, const TangentialHistory*, const RollingHistory*, double) { ++c; });
   return c;
 }
 

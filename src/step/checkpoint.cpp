@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3035ULL;  // "bagdem05": format 5 (contact histories in role slices, ContactHistories)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3036ULL;  // "bagdem06": format 6 (the surfaces' elastic energies, euler_terms)
 
 struct Writer {
   std::vector<char> out;
@@ -95,10 +95,10 @@ void Stepper::state_fields(IO& io) {
   film_wall_hist_.fields(io);
   io.vec(film_wall_touch_);
   io.vec(strings_), io.pod(film_tally_);
-  io.vec(slots_), io.vec(slot_count_);
+  io.vec(slots_), io.vec(slot_count_), io.vec(mesh_elastic_);
   slot_hist_.fields(io);
   io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
-  io.vec(mesh_force_prev_), io.vec(node_slots_), io.vec(node_slot_count_);
+  io.vec(mesh_force_prev_), io.vec(node_slots_), io.vec(node_slot_count_), io.vec(node_mesh_elastic_);
   node_slot_hist_.fields(io);
   fields(io, structure_);
   io.vec(cavity_load_), io.pod(film_load_moments_);
@@ -120,7 +120,7 @@ void Stepper::load_state(const std::vector<char>& image) {
   r.pod(magic);
   r.pod(n);
   if (magic != kMagic)
-    throw std::runtime_error("not a checkpoint of this bagdem version (format 5); rerun from the start");
+    throw std::runtime_error("not a checkpoint of this bagdem version (format 6); rerun from the start");
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));

@@ -107,6 +107,7 @@ void Stepper::film_stage() {
         for (int a = 0; a < 3; ++a) film_.f[tri[a]] += load.weights[i][a] * load.force[i];
       }
     }
+    for (const NodePush& push : film_push_[p]) film_.f[push.node] += push.force;
   }
 
   // Membrane damping joins the force; its work over the step is tallied as dissipation.
@@ -217,13 +218,11 @@ double Stepper::film_elastic_energy() const {
     const double L = (st.anchor + motion_at(st.anchor + cavity_.position).pos - c).norm();
     if (L > st.rest_length) u += 0.5 * st.stiffness * (L - st.rest_length) * (L - st.rest_length);
   }
-  for (std::size_t k = 0; k < node_slot_count_.size(); ++k)
-    for (std::size_t j = 0; j < node_slot_count_[k]; ++j) {
-      const std::size_t at = k * kMaxMeshContacts + j;
-      const MeshSlot& m = node_slots_[at];
-      u += hertz_energy(scene_.laws(bag.material, surfaces_[m.surface].material), bag.contact_radius, m.overlap);
-      if (scene_.models.tangential) u += mindlin_energy(node_slot_hist_.tangential[at]);
-    }
+  for (std::size_t k = 0; k < node_slot_count_.size(); ++k) {
+    u += node_mesh_elastic_[k];
+    if (scene_.models.tangential)
+      for (std::size_t j = 0; j < node_slot_count_[k]; ++j) u += mindlin_energy(node_slot_hist_.tangential[k * kMaxMeshContacts + j]);
+  }
   const std::size_t nw = scene_.walls.size();
   for (std::size_t k = 0; k < film_.size(); ++k)
     for (std::size_t w = 0; w < nw; ++w) {

@@ -26,5 +26,10 @@ struct FilmLoad {
   std::uint32_t triangle[kPatchMembers] = {};
   std::uint8_t count = 0;
 };
+// A force on one of the film's nodes (unit: N).
+struct NodePush {
+  std::uint32_t node;
+  Vec3 force;
+};
 
 }  // namespace bagdem

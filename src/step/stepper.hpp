@@ -272,10 +272,12 @@ class Stepper {
   // Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall
   // law (film.cpp: R* = the film's contact radius, m* = the node's mass) against a surface moving at
   // c_vel (end of step) and c_half (over it), histories in slot `at` of hist, `scale` a joined
-  // patch's (its normal force not yet times it). The force on the node; dissipation into dn, dtg.
+  // patch's (its normal force not yet times it). The force on the node; dissipation into dn, dtg;
+  // `elastic` (when not null): the Hertz elastic part of the normal force.
   template <bool Tangential, bool Energy>
   BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel, const Vec3& c_half,
-                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double scale = 1.0) {
+                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double scale = 1.0,
+                                  double* elastic = nullptr) {
     ContactGeometry g;
     g.n = n, g.overlap = overlap, g.R_eff = scene_.bag->contact_radius, g.m_eff = film_.mass[k];
     g.arm_i = g.arm_j = 0;
@@ -288,7 +290,7 @@ class Stepper {
     [[maybe_unused]] double no_tally = 0;
     const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, law, ctx_.dt, Energy ? hist.damping_prev[at] : no_tally,
                                                                Tangential ? &hist.tangential[at] : nullptr, nullptr,
-                                                               no_torque, diss);
+                                                               no_torque, diss, elastic);
     if constexpr (Energy) dn += diss.x(), dtg += diss.y();
     return Fc;
   }
@@ -324,7 +326,8 @@ class Stepper {
   CavityState cavity_at(double t) const;
   double potential_energy() const;
   double largest_overlap_ratio() const;
-  // Calls fn(overlap, R_eff, law, tangential, rolling, smaller radius) for every closed contact,
+  // Calls fn(overlap, its normal elastic energy, tangential, rolling, smaller radius) for every
+  // closed contact (a triangulated surface's: 0, its energy is in mesh_elastic_),
   // pairs in pair order then walls particle by particle (histories are null when not modelled).
   template <class Fn>
   void for_each_contact(Fn&& fn) const;
@@ -383,6 +386,10 @@ class Stepper {
   ContactHistories slot_hist_;                // their histories
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
+  // Per ball, this step: the elastic energy of its surface contacts (surface_features.hpp,
+  // euler_terms; unit: J) and the forces of their terms on the film's nodes.
+  std::vector<double> mesh_elastic_;
+  std::vector<std::vector<NodePush>> film_push_;
   std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
   // A ball that cannot touch the film before mesh_travel_ reaches mesh_wake_ (surfaces.cpp).
   bool asleep(std::size_t p) const { return !mesh_wake_.empty() && mesh_travel_ < mesh_wake_[p] && slot_count_[p] == 0; }
@@ -399,6 +406,7 @@ class Stepper {
   std::vector<MeshSlot> node_slots_;          // per film node: kMaxMeshContacts slots on STL walls
   ContactHistories node_slot_hist_;           // their histories (no rolling: a node does not turn)
   std::vector<std::uint8_t> node_slot_count_;
+  std::vector<double> node_mesh_elastic_;     // per film node: the elastic energy of its STL-wall contacts (unit: J)
   std::size_t mesh_overflow_ = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
   // ---- the bag's film (film.cpp) ----
   FilmNodes film_;

@@ -137,6 +137,132 @@ inline void keep_patches(std::vector<Found>& hits) {
   hits.assign(kept.begin(), kept.end());
 }
 
+// The elastic energy of a point (a ball, a film node) against a triangulated surface counts no
+// contacts: it is the Euler characteristic's sum over the surface's features within reach,
+//   U = sum over faces U_H(delta_f) - sum over interior edges U_H(delta_e) + sum over interior vertices U_H(delta_v),
+// each delta the reach less the distance to the closed feature (its closest point), U_H Hertz's
+// energy. Why: with A_t the part of the surface where the overlap exceeds t, a closed feature meets
+// A_t exactly when its delta exceeds t, and those meetings are relatively open cells, so
+// chi(A_t) = #faces - #edges + #vertices met (a surface's boundary edges and vertices are left out:
+// they make chi of a half-disc 1); then U = integral of U_H'(t) chi(A_t) dt over t > 0. On a flat
+// triangulation A_t is a disc and U = U_H(overlap) exactly, as against the plane; two contact
+// regions count twice; and U is continuous (each term is) wherever contacts are born, split or
+// merge, where any count of contacts jumps (docs/bag.md, Guards). It does not see a ring contact
+// (an annulus has chi = 0; the ring's levels count nothing), which the film under a ball meets
+// only where a node is pushed away from the ball inside its contact. Its gradient is each term's
+// Hertz force along the term's normal, signed, on the point and (by the barycentric weights of
+// the closest point) on the feature's nodes.
+struct EulerTerm {
+  Vec3 point, n;           // the feature's closest point; unit normal from it towards the point
+  double overlap;          // reach - distance (unit: m)
+  Vec3 weights;            // barycentric weights of the closest point on node[0..2] (0 where unused)
+  std::uint32_t node[3];
+  std::uint32_t surface;
+  double sign;             // the signed number of terms carried (face +1, edge -1, vertex +1 each)
+};
+
+// The terms of point x (reach, in surface s's frame with vertices vx) from its triangles within
+// reach (hits: their closest points), appended to out. Each term is carried by the lowest feature
+// holding its closest point (a face's closest point on an edge is that edge's, an edge's at an end
+// is that vertex's), whose distance is computed once, the same way for every term it carries (an
+// edge from its lower vertex): the terms of one feature then cancel exactly, in integers, as the
+// face's and the edge's of a flat triangulation do.
+inline void euler_terms(const TriangleMesh& mesh, const std::vector<Vec3>& vx, const Vec3& x, double reach, double side,
+                        const std::vector<MeshHit>& hits, std::uint32_t s, std::vector<EulerTerm>& out) {
+  struct Carrier {
+    std::uint32_t key;  // feature_key
+    int count;          // the signed number of terms it carries
+    std::uint32_t triangle;  // one of its triangles (the side of a crossing)
+  };
+  thread_local std::vector<Carrier> carriers;
+  thread_local std::vector<std::uint32_t> seen;  // edges and vertices looked at (feature keys)
+  carriers.clear(), seen.clear();
+  auto carry = [&](std::uint32_t key, int sign, std::uint32_t t) {
+    for (Carrier& c : carriers)
+      if (c.key == key) return void(c.count += sign);
+    carriers.push_back({key, sign, t});
+  };
+  // An edge's closest point from its lower vertex: the parameter t along it.
+  auto along = [&](std::uint32_t e) {
+    const Vec3 &a = vx[mesh.edge_vertices[e][0]], &b = vx[mesh.edge_vertices[e][1]];
+    const Vec3 E = b - a;
+    return (x - a).dot(E) / E.squaredNorm();
+  };
+  // The carrier of a closest point on edge e: the edge, or the end the point is at.
+  auto on_edge = [&](std::uint32_t e) {
+    const double t = along(e);
+    return t <= 0 ? feature_key(Feature::Vertex, mesh.edge_vertices[e][0])
+           : t >= 1 ? feature_key(Feature::Vertex, mesh.edge_vertices[e][1])
+                    : feature_key(Feature::Edge, e);
+  };
+  const double reach2 = reach * reach;
+  for (const MeshHit& mh : hits) {
+    const auto& tri = mesh.triangles[mh.triangle];
+    const TriangleHit& h = mh.hit;
+    // The face's term.
+    if (h.feature == Feature::Face) carry(feature_key(Feature::Face, mh.triangle), 1, mh.triangle);
+    else if (h.feature == Feature::Edge) carry(on_edge(mesh.triangle_edges[mh.triangle][h.local]), 1, mh.triangle);
+    else carry(feature_key(Feature::Vertex, tri[h.local]), 1, mh.triangle);
+    // Its interior edges' and vertices' terms, once each.
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t e = mesh.triangle_edges[mh.triangle][k];
+      if (mesh.edge_triangles[e][1] == kNoTriangle) continue;  // a boundary edge
+      const std::uint32_t key = feature_key(Feature::Edge, e);
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(key);
+      const double t = std::clamp(along(e), 0.0, 1.0);
+      const Vec3 &a = vx[mesh.edge_vertices[e][0]], &b = vx[mesh.edge_vertices[e][1]];
+      if ((x - (a + t * (b - a))).squaredNorm() < reach2) carry(on_edge(e), -1, mh.triangle);
+    }
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = tri[k], key = feature_key(Feature::Vertex, v);
+      if (mesh.vertex_on_boundary[v] || std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(key);
+      if ((x - vx[v]).squaredNorm() < reach2) carry(key, 1, mh.triangle);
+    }
+  }
+  for (const Carrier& c : carriers) {
+    if (c.count == 0) continue;
+    const std::uint32_t index = c.key & 0x3fffffffu;
+    EulerTerm term;
+    term.surface = s;
+    term.sign = c.count;
+    term.weights = Vec3::Zero();
+    switch (static_cast<Feature>(c.key >> 30)) {
+      case Feature::Face: {
+        const auto& tri = mesh.triangles[index];
+        const TriangleHit h = closest_point_on_triangle(x, vx[tri[0]], vx[tri[1]], vx[tri[2]]);
+        term.point = h.point, term.weights = h.weights;
+        term.node[0] = tri[0], term.node[1] = tri[1], term.node[2] = tri[2];
+        break;
+      }
+      case Feature::Edge: {
+        const std::uint32_t a = mesh.edge_vertices[index][0], b = mesh.edge_vertices[index][1];
+        const double t = along(index);
+        term.point = vx[a] + t * (vx[b] - vx[a]);
+        term.weights = Vec3(1 - t, t, 0);
+        term.node[0] = a, term.node[1] = b, term.node[2] = a;
+        break;
+      }
+      case Feature::Vertex:
+        term.point = vx[index];
+        term.weights = Vec3(1, 0, 0);
+        term.node[0] = term.node[1] = term.node[2] = index;
+        break;
+    }
+    const double d = (x - term.point).norm();
+    term.overlap = reach - d;
+    if (term.overlap <= 0) continue;  // rounding at the reach
+    if (d > 1e-12 * reach) {
+      term.n = (x - term.point) / d;
+    } else {  // on the surface: a crossing, which stops the run
+      const auto& tri = mesh.triangles[c.triangle];
+      term.n = side * (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
+    }
+    out.push_back(term);
+  }
+}
+
 // The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:
 // where it is in surface s's frame, the vertices there, its reach and its side (-1: against the
 // triangles' normals).
@@ -148,18 +274,20 @@ struct PointView {
 
 // Step 1 of a point's surface contacts, one feature finder for balls and film nodes: the features
 // it touches now. The closest points of its candidate triangles (cand[s], entries of point i)
-// within reach, one per feature (select_mesh_contacts), oriented, one per patch (keep_patches);
-// at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
+// within reach give the elastic energy's terms (euler_terms, into terms), and, one per feature
+// (select_mesh_contacts), oriented, one per patch (keep_patches), the contacts whose damping and
+// friction the law gives; at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
 // overlap, reach, own_side) sees each contact found; full() is told when one did not fit.
 // gap (when not null): the least distance of a candidate beyond the point's reach (HUGE_VAL
 // without candidates), rounded down.
 template <std::size_t kMax, class Surfaces, class View, class Touched, class Full>
 inline std::size_t find_features(const Surfaces& surfaces, const std::vector<MeshCandidates>& cand, std::size_t i,
                           const View& view, const Touched& touched, const Full& full, Found* found,
-                          double* gap = nullptr) {
+                          std::vector<EulerTerm>& terms, double* gap = nullptr) {
   thread_local std::vector<MeshHit> hits;
   thread_local std::vector<Found> patch;
   std::size_t nf = 0;
+  terms.clear();
   if (gap) *gap = HUGE_VAL;
   for (std::uint32_t s = 0; s < surfaces.size(); ++s) {
     const MeshCandidates& c = cand[s];
@@ -197,6 +325,7 @@ inline std::size_t find_features(const Surfaces& surfaces, const std::vector<Mes
     // 1e-9 of the reach: far above the rounding of the distances (1e-16 of them), far below a step.
     if (gap) *gap = std::min(*gap, std::sqrt(nearest2) - pv.reach * (1.0 + 1e-9));
     if (hits.empty()) continue;
+    euler_terms(mesh, vx, pv.x, pv.reach, pv.side, hits, s, terms);
     select_mesh_contacts(mesh, hits);
     patch.clear();
     for (const MeshHit& mh : hits) {

@@ -45,6 +45,8 @@ void Stepper::set_up_meshes() {
   slot_hist_.assign(n * kMaxMeshContacts, scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
   slot_count_.assign(n, 0);
   film_load_.assign(n * kMaxMeshContacts, FilmLoad{});
+  mesh_elastic_.assign(n, 0.0);
+  film_push_.assign(n, {});
   side_.assign(n, -1);
   if (scene_.bag) {
     // The bag's balls are inside its film; any other ball is on the side where it starts.
@@ -62,6 +64,7 @@ void Stepper::set_up_meshes() {
     node_slots_.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
     node_slot_hist_.assign(film_.size() * kMaxMeshContacts, scene_.models.tangential, false, scene_.models.energy);
     node_slot_count_.assign(film_.size(), 0);
+    node_mesh_elastic_.assign(film_.size(), 0.0);
   }
 }
 
@@ -179,8 +182,11 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     mesh_overflow_ = p;
   };
   double gap = 0;
-  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found,
+  thread_local std::vector<EulerTerm> terms;
+  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found, terms,
                                           mesh_wake_.empty() ? nullptr : &gap);
+  mesh_elastic_[p] = 0;
+  if (scene_.bag) film_push_[p].clear();
 
   // 2. Histories (match_slots). A ball that touches no surface now and touched none at the last
   // step has nothing more to do (most of a bag's balls, at any step); it sleeps while it cannot.
@@ -260,13 +266,19 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
       s.surface_velocity += (g.n.dot(p_.v[p] - vs_half) - rate_half) * g.n;  // for the closing tally
     }
     [[maybe_unused]] double no_tally = 0;
+    double elastic = 0;
     Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
         g, laws(p_.material[p], sf.material), dt, Energy ? slot_hist_.damping_prev[at] : no_tally,
-        Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss);
-    Vec3 parts[kPatchMembers] = {Fc};
+        Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss, &elastic);
+    // The law gives damping and friction; the elastic force is the Euler sum's (step 4).
+    Vec3 parts[kPatchMembers] = {Fc - elastic * g.n};
     if (fd.members > 1) {
       member_forces(fd, Fc, parts);
+      for (std::size_t i = 0; i < fd.members; ++i) parts[i] -= elastic * fd.member[i].c * fd.member[i].n;
       Fc += (fd.scale - 1.0) * Fc.dot(g.n) * g.n;
+      Fc -= elastic * fd.scale * g.n;
+    } else {
+      Fc = parts[0];
     }
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
@@ -288,6 +300,26 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     }
   }
   slot_count_[p] = static_cast<std::uint8_t>(nf);
+
+  // 4. The elastic force and energy: the Euler sum's terms (euler_terms), each a Hertz force along
+  // its normal, its reaction on the feature's nodes by the closest point's weights.
+  double U = 0;
+  for (const EulerTerm& e : terms) {
+    const Surface& sf = surfaces_[e.surface];
+    const double c = hertz_constant(laws(p_.material[p], sf.material), r), root = std::sqrt(e.overlap);
+    U += e.sign * c * e.overlap * e.overlap * root;
+    const Vec3 Fe = (e.sign * 2.5 * c * e.overlap * root) * e.n;
+    F += Fe;
+    if (sf.film) {
+      for (int a = 0; a < 3; ++a)
+        if (e.weights[a] != 0) film_push_[p].push_back({e.node[a], -e.weights[a] * Fe});
+    } else {
+      F_cavity += Fe;
+      T_cavity -= (e.point - scene_.cavity_reference).cross(Fe);
+      if (couple_) load += load_moments(e.point, -Fe);
+    }
+  }
+  mesh_elastic_[p] = U;
 }
 
 
@@ -309,7 +341,9 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     return PointView{x, &sf.mesh->vertices, reach, -1.0};  // STL walls only: the film has no candidate list
   };
   auto deepest_of = [&](std::uint32_t, double overlap, double, bool) { deepest = std::min(deepest, reach - overlap); };
-  const std::size_t nf = find_features<K>(surfaces_, node_cand_, k, view, deepest_of, [] {}, found);
+  thread_local std::vector<EulerTerm> terms;
+  const std::size_t nf = find_features<K>(surfaces_, node_cand_, k, view, deepest_of, [] {}, found, terms);
+  node_mesh_elastic_[k] = 0;
   MeshSlot* slot = &node_slots_[k * K];
   const std::size_t n_prev = node_slot_count_[k];
   if (nf == 0 && n_prev == 0) return;  // no STL wall touched, now or at the last step
@@ -331,12 +365,18 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     const std::size_t at = k * K + f;
     MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
+    double elastic = 0;
     Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, fd.overlap, scene_.laws(bag.material, surfaces_[fd.surface].material),
-                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, fd.scale);
-    Vec3 parts[kPatchMembers] = {Fc};
+                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, fd.scale, &elastic);
+    // The law gives damping and friction; the elastic force is the Euler sum's (below).
+    Vec3 parts[kPatchMembers] = {Fc - elastic * fd.n};
     if (fd.members > 1) {
       member_forces(fd, Fc, parts);
+      for (std::size_t i = 0; i < fd.members; ++i) parts[i] -= elastic * fd.member[i].c * fd.member[i].n;
       Fc += (fd.scale - 1.0) * Fc.dot(fd.n) * fd.n;
+      Fc -= elastic * fd.scale * fd.n;
+    } else {
+      Fc = parts[0];
     }
     F_wall += Fc;
     for (std::size_t i = 0; i < fd.members; ++i) {
@@ -346,6 +386,17 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     }
   }
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
+  double U = 0;
+  for (const EulerTerm& e : terms) {
+    const double c = hertz_constant(scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius);
+    const double root = std::sqrt(e.overlap);
+    U += e.sign * c * e.overlap * e.overlap * root;
+    const Vec3 Fe = (e.sign * 2.5 * c * e.overlap * root) * e.n;
+    F_wall += Fe;
+    L -= dt * (e.point - scene_.cavity_reference).cross(Fe);
+    if (couple_) load += load_moments(e.point, -Fe);
+  }
+  node_mesh_elastic_[k] = U;
 }
 
 template void Stepper::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);

@@ -45,8 +45,9 @@ BAGDEM_INLINE T normal_dissipation(const NormalResultT<T>& r, T v_n, double dt, 
   return d;
 }
 
+BAGDEM_INLINE double hertz_constant(const PairLaw& law, double R_eff) { return (8.0 / 15.0) * law.E_star * std::sqrt(R_eff); }
 BAGDEM_INLINE double hertz_energy(const PairLaw& law, double R_eff, double overlap) {
-  return (8.0 / 15.0) * law.E_star * std::sqrt(R_eff) * overlap * overlap * std::sqrt(overlap);
+  return hertz_constant(law, R_eff) * overlap * overlap * std::sqrt(overlap);
 }
 
 }  // namespace bagdem

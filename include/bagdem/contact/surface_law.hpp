@@ -12,11 +12,14 @@ namespace bagdem {
 
 // Returns the force on the body; adds its torque to `torque` and, when Energy, this step's (normal,
 // tangential, rolling) dissipation to `diss`. Histories: `damping_prev` (normal damping force of the
-// last step), `th` (when Tangential), `rh` (when Rolling).
+// last step), `th` (when Tangential), `rh` (when Rolling). `elastic` (when not null): the Hertz
+// elastic part of the normal force along g.n.
 template <bool Tangential, bool Rolling, bool Energy>
 BAGDEM_INLINE Vec3 surface_contact(const ContactGeometry& g, const PairLaw& law, double dt, double& damping_prev,
-                                   TangentialHistory* th, RollingHistory* rh, Vec3& torque, Vec3& diss) {
+                                   TangentialHistory* th, RollingHistory* rh, Vec3& torque, Vec3& diss,
+                                   double* elastic = nullptr) {
   const NormalResult nr = hertz_normal(g, law);
+  if (elastic) *elastic = nr.elastic;
   Vec3 F = nr.force * g.n;
   if constexpr (Energy) diss.x() += normal_dissipation(nr, g.v_half.dot(g.n), dt, damping_prev);
   if constexpr (Tangential) {

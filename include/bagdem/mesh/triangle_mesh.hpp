@@ -24,6 +24,7 @@ struct TriangleMesh {
   std::vector<std::array<std::uint32_t, 3>> triangle_edges;  // edge k of a triangle joins its vertices k and (k+1)%3
   std::vector<std::uint32_t> vertex_triangle_begin;          // CSR: triangles around vertex v are
   std::vector<std::uint32_t> vertex_triangles;               //   vertex_triangles[begin[v] .. begin[v+1]), ascending
+  std::vector<std::uint8_t> vertex_on_boundary;              // 1: an end of an edge with one triangle
 
   std::size_t size() const { return triangles.size(); }
   // Every edge has exactly two triangles (a closed surface).

@@ -271,26 +271,21 @@ class Stepper {
   double film_elastic_energy() const;
   // Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall
   // law (film.cpp: R* = the film's contact radius, m* = the node's mass) against a surface moving at
-  // c_vel (end of step) and c_half (over it), histories in slot `at` of hist, `scale` a joined
-  // patch's (its normal force not yet times it). The force on the node; dissipation into dn, dtg;
-  // `elastic` (when not null): the Hertz elastic part of the normal force.
+  // c_vel (end of step) and c_half (over it), histories in slot `at` of hist. The force on the
+  // node; dissipation into dn, dtg; `elastic` (when not null): the Hertz elastic part of the normal force.
   template <bool Tangential, bool Energy>
   BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel, const Vec3& c_half,
-                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double scale = 1.0,
-                                  double* elastic = nullptr) {
+                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double* elastic = nullptr) {
     ContactGeometry g;
     g.n = n, g.overlap = overlap, g.R_eff = scene_.bag->contact_radius, g.m_eff = film_.mass[k];
     g.arm_i = g.arm_j = 0;
     g.v_rel = film_.v_pred[k] - c_vel;
     g.v_half = film_.v[k] - c_half;
-    if (scale != 1.0)  // a joined patch: its overlap's rate and own mass (surfaces.cpp, mesh_contacts)
-      g.v_rel += (scale - 1.0) * g.v_rel.dot(n) * n, g.v_half += (scale - 1.0) * g.v_half.dot(n) * n, g.m_eff /= scale * scale;
     g.w_half.setZero();
     Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
     [[maybe_unused]] double no_tally = 0;
     const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, law, ctx_.dt, Energy ? hist.damping_prev[at] : no_tally,
-                                                               Tangential ? &hist.tangential[at] : nullptr, nullptr,
-                                                               no_torque, diss, elastic);
+                                                               Tangential ? &hist.tangential[at] : nullptr, nullptr, no_torque, diss, elastic);
     if constexpr (Energy) dn += diss.x(), dtg += diss.y();
     return Fc;
   }
@@ -326,9 +321,8 @@ class Stepper {
   CavityState cavity_at(double t) const;
   double potential_energy() const;
   double largest_overlap_ratio() const;
-  // Calls fn(overlap, its normal elastic energy, tangential, rolling, smaller radius) for every
-  // closed contact (a triangulated surface's: 0, its energy is in mesh_elastic_),
-  // pairs in pair order then walls particle by particle (histories are null when not modelled).
+  // fn(overlap, normal elastic energy (0 on a triangulated surface: mesh_elastic_), tangential,
+  // rolling, smaller radius) for every closed contact, pairs then walls (null: not modelled).
   template <class Fn>
   void for_each_contact(Fn&& fn) const;
   double elastic_energy() const;
@@ -386,10 +380,8 @@ class Stepper {
   ContactHistories slot_hist_;                // their histories
   std::vector<std::uint8_t> slot_count_;      // per ball
   std::vector<FilmLoad> film_load_;           // per ball slot, this step
-  // Per ball, this step: the elastic energy of its surface contacts (surface_features.hpp,
-  // euler_terms; unit: J) and the forces of their terms on the film's nodes.
-  std::vector<double> mesh_elastic_;
-  std::vector<std::vector<NodePush>> film_push_;
+  std::vector<double> mesh_elastic_;               // per ball: its surface contacts' elastic energy (euler_terms; unit: J)
+  std::vector<std::vector<NodePush>> film_push_;   // per ball: their elastic forces on the film's nodes
   std::vector<Vec3> mesh_force_prev_;         // per ball: force of the STL walls at the last step (unit: N)
   // A ball that cannot touch the film before mesh_travel_ reaches mesh_wake_ (surfaces.cpp).
   bool asleep(std::size_t p) const { return !mesh_wake_.empty() && mesh_travel_ < mesh_wake_[p] && slot_count_[p] == 0; }

@@ -36,36 +36,6 @@ struct Found {
   PatchMember member[kPatchMembers];  // the first `members` when members > 1 (else unset)
 };
 
-// The contact law's force Fc (normal part F_n along fd.n) as each hit's share: hit i presses
-// F_n c_i along its own normal and carries share_i of the tangential force; the sum is
-// F_n scale n + F_t, the gradient of the joined contact's energy.
-inline void member_forces(const Found& fd, const Vec3& Fc, Vec3* out) {
-  const double Fn = Fc.dot(fd.n);
-  const Vec3 Ft = Fc - Fn * fd.n;
-  for (std::size_t i = 0; i < fd.members; ++i) out[i] = Fn * fd.member[i].c * fd.member[i].n + fd.member[i].share * Ft;
-}
-
-// The film's part of a joined contact's inverse mass: sum over the touched nodes k of
-// |sum_i c_i w_ik n_i|^2 / m_k (hits sharing a node add their pushes on it first).
-inline double joined_inverse_mass(const Found& fd, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                  const std::vector<double>& inv_mass) {
-  std::uint32_t node[3 * kPatchMembers];
-  Vec3 push[3 * kPatchMembers];
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < fd.members; ++i)
-    for (int a = 0; a < 3; ++a) {
-      const std::uint32_t k = triangles[fd.member[i].triangle][a];
-      const Vec3 g = fd.member[i].c * fd.member[i].weights[a] * fd.member[i].n;
-      std::size_t j = 0;
-      while (j < n && node[j] != k) ++j;
-      if (j == n) node[n] = k, push[n++] = g;
-      else push[j] += g;
-    }
-  double inv = 0;
-  for (std::size_t j = 0; j < n; ++j) inv += push[j].squaredNorm() * inv_mass[node[j]];
-  return inv;
-}
-
 // Normal and overlap of a body at x on `side` of a surface (-1: against its triangles' normals),
 // touching the hit's feature within `reach`. The side is judged by the touched triangle's normal
 // (exact for a face; for an edge or vertex, right whenever the centre is in that feature's region
@@ -261,6 +231,27 @@ inline void euler_terms(const TriangleMesh& mesh, const std::vector<Vec3>& vx, c
     }
     out.push_back(term);
   }
+}
+
+// The overlap each contact's law sees (out[f] for found[f]): the one whose Hertz stiffness is the
+// Euler sum's along the contact's normal, sum over its terms of sign S(delta) (n_term . n)^2 with
+// S = 2 E* sqrt(R* delta), so that the law's damping gives the requested restitution and its
+// friction the matching normal force. A term goes to the contact of its surface whose normal is
+// closest to its own. On a flat triangulation it is the contact's own overlap; where the sum is not
+// positive (a ring contact), 1e-12 of it.
+inline void law_overlaps(const std::vector<EulerTerm>& terms, const Found* found, std::size_t nf, double* out) {
+  for (std::size_t f = 0; f < nf; ++f) out[f] = 0;
+  for (const EulerTerm& e : terms) {
+    std::size_t best = nf;
+    double c_best = -2;
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (found[f].surface != e.surface) continue;
+      const double c = e.n.dot(found[f].n);
+      if (c > c_best) c_best = c, best = f;
+    }
+    if (best < nf) out[best] += e.sign * std::sqrt(e.overlap) * c_best * c_best;  // S / (2 E* sqrt(R*))
+  }
+  for (std::size_t f = 0; f < nf; ++f) out[f] = out[f] > 0 ? out[f] * out[f] : 1e-12 * found[f].overlap;
 }
 
 // The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:

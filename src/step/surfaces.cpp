@@ -211,8 +211,12 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     }
   }
 
-  // 3. The contact law, as for a wall, with the surface point's velocity and effective mass.
+  // 3. The contact law, as for a wall, with the surface point's velocity and effective mass: its
+  // damping and friction (the elastic force is the Euler sum's, step 4), on the overlap whose
+  // Hertz stiffness is the Euler sum's along the contact's normal (law_overlaps).
   const PairLawTable& laws = scene_.laws;
+  double law_overlap[K];
+  law_overlaps(terms, found, nf, law_overlap);
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const Surface& sf = surfaces_[fd.surface];
@@ -220,7 +224,7 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     MeshSlot& s = renew_slot(slot, slot_hist_, at, f, fd, prev, prev_hist);
     ContactGeometry g;
     g.n = fd.n;
-    g.overlap = fd.overlap;
+    g.overlap = law_overlap[f];
     g.R_eff = r;
     g.arm_i = r - 0.5 * fd.overlap;
     g.arm_j = 0;
@@ -237,49 +241,24 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
       inv_m_s[i] = w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
                    w[2] * w[2] * film_.inv_mass[tri[2]];
     }
-    Vec3 vs_end = v_end[0], vs_half = v_half[0];
-    double inv_m = p_.inv_mass[p] + inv_m_s[0];
-    if (fd.members > 1) {  // velocities: the hits' mean by their shares
-      vs_end = vs_half = Vec3::Zero();
-      for (std::size_t i = 0; i < fd.members; ++i) {
-        const double a = fd.member[i].share;
-        vs_end += a * v_end[i], vs_half += a * v_half[i];
-      }
-      // m*: the joined overlap's own, 1/m* = sum over the bodies of |d delta / dx|^2 / m (the ball
-      // moves it `scale` times as fast as its own position along n), so that the law's damping
-      // gives the requested restitution.
-      inv_m = fd.scale * fd.scale * p_.inv_mass[p];
-      if (sf.film) inv_m += joined_inverse_mass(fd, sf.mesh->triangles, film_.inv_mass);
+    // A patch's: the point of its hits' mean by their shares.
+    Vec3 vs_end = Vec3::Zero(), vs_half = Vec3::Zero();
+    double inv_m = p_.inv_mass[p];
+    for (std::size_t i = 0; i < fd.members; ++i) {
+      const double a = fd.members > 1 ? fd.member[i].share : 1.0;
+      vs_end += a * v_end[i], vs_half += a * v_half[i], inv_m += a * inv_m_s[i];
     }
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
     motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
-    if (fd.members > 1) {
-      // The joined overlap closes at sum_i c_i n_i . (v - v_i): the law's normal rates are that.
-      double rate_end = 0, rate_half = 0;
-      for (std::size_t i = 0; i < fd.members; ++i) {
-        rate_end += fd.member[i].c * fd.member[i].n.dot(p_.v_pred[p] - v_end[i]);
-        rate_half += fd.member[i].c * fd.member[i].n.dot(p_.v[p] - v_half[i]);
-      }
-      g.v_rel += (rate_end - g.v_rel.dot(g.n)) * g.n;
-      g.v_half += (rate_half - g.v_half.dot(g.n)) * g.n;
-      s.surface_velocity += (g.n.dot(p_.v[p] - vs_half) - rate_half) * g.n;  // for the closing tally
-    }
     [[maybe_unused]] double no_tally = 0;
     double elastic = 0;
     Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
         g, laws(p_.material[p], sf.material), dt, Energy ? slot_hist_.damping_prev[at] : no_tally,
         Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss, &elastic);
-    // The law gives damping and friction; the elastic force is the Euler sum's (step 4).
-    Vec3 parts[kPatchMembers] = {Fc - elastic * g.n};
-    if (fd.members > 1) {
-      member_forces(fd, Fc, parts);
-      for (std::size_t i = 0; i < fd.members; ++i) parts[i] -= elastic * fd.member[i].c * fd.member[i].n;
-      Fc += (fd.scale - 1.0) * Fc.dot(g.n) * g.n;
-      Fc -= elastic * fd.scale * g.n;
-    } else {
-      Fc = parts[0];
-    }
+    Fc -= elastic * g.n;
+    Vec3 parts[kPatchMembers] = {Fc};
+    for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
     if (sf.film) {
@@ -351,6 +330,8 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
   carry_slots(slot, node_slot_hist_, k * K, n_prev, found, nf, prev, prev_hist, taken);
+  double law_overlap[K];
+  law_overlaps(terms, found, nf, law_overlap);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
@@ -365,19 +346,13 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     const std::size_t at = k * K + f;
     MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
-    double elastic = 0;
-    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, fd.overlap, scene_.laws(bag.material, surfaces_[fd.surface].material),
-                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, fd.scale, &elastic);
     // The law gives damping and friction; the elastic force is the Euler sum's (below).
-    Vec3 parts[kPatchMembers] = {Fc - elastic * fd.n};
-    if (fd.members > 1) {
-      member_forces(fd, Fc, parts);
-      for (std::size_t i = 0; i < fd.members; ++i) parts[i] -= elastic * fd.member[i].c * fd.member[i].n;
-      Fc += (fd.scale - 1.0) * Fc.dot(fd.n) * fd.n;
-      Fc -= elastic * fd.scale * fd.n;
-    } else {
-      Fc = parts[0];
-    }
+    double elastic = 0;
+    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, law_overlap[f], scene_.laws(bag.material, surfaces_[fd.surface].material),
+                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, &elastic);
+    Fc -= elastic * fd.n;
+    Vec3 parts[kPatchMembers] = {Fc};
+    for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
     F_wall += Fc;
     for (std::size_t i = 0; i < fd.members; ++i) {
       const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;

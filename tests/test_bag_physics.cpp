@@ -116,14 +116,13 @@ TEST(BagEnergy, BudgetClosesUndamped) { expect_undamped_budget(false, 3e-3); }
 
 // With the tension field on (the default), the membrane's energy is only once differentiable where
 // a triangle passes between slack, wrinkled and taut, which an undamped film at rest does all the
-// time (its stress-free state lies on the slack boundary). Measured over seeds 1-5: 0.9e-3 to
-// 3.5e-3 at the auto step (8.2e-7 s), 0.4e-3 to 1.2e-3 at 2e-7 s (a floor: the joined ball-film
-// contacts lose energy where a valley's hit is dropped, test FilmContactEnergyAcrossAShallowFold).
-// Keeping only a patch's deepest hit gave 0.3e-3 to 4.4e-3 and 0.2e-3 to 2.2e-3 (its error is a
-// gain in steep valleys, MeshWallCoarse.BallInAValleyKeepsItsEnergy). Tolerances 5e-3 and 3e-3.
+// time (its stress-free state lies on the slack boundary). Measured: 4.6e-4 at the auto step (8.2e-7
+// s), 2.2e-5 at 2e-7 s. Counting the ball-film contacts' energy per contact (the joined patches
+// before the Euler sum, surface_features.hpp) left a floor of 0.4e-3 to 1.2e-3 at 2e-7 s over seeds
+// 1-5, lost where a valley's hit was dropped. Tolerances 5e-3 and 2e-4.
 TEST(BagEnergy, BudgetWithTensionFieldCloses) {
   expect_undamped_budget(true, 5e-3);
-  expect_undamped_budget(true, 3e-3, "\"0.2 us\"");
+  expect_undamped_budget(true, 2e-4, "\"0.2 us\"");
 }
 
 // Same scene with damping and friction everywhere: e = 0.5, mu = 0.3, film damping ratio 0.05,
@@ -826,71 +825,3 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   EXPECT_LT(wn, 0.5);
 }
 
-// The energy of the balls' film contacts across a shallow fold. Two triangles of a film folded into
-// a valley (each face 0.57 degrees off flat) and a ball of radius R = 0.1 pressed into both, moved
-// across the fold line in 2e4 steps of h = 1e-6; contact energy U = sum over the contacts the
-// stepper keeps (select_mesh_contacts, then join_patches) of overlap^(5/2) (Hertz, unit stiffness).
-// References: the deepest hit's energy U_max is Lipschitz with constant (5/2) overlap_max^(3/2) x 2
-// (each overlap changes at most by h per step); the joined energy lies between U_max and
-// 2^(5/16) U_max, and changes per step by at most that bound except where the feature rule drops a
-// hit of the valley (a face hit turned edge hit), where it falls to U_max: such a step's change is
-// within the bound plus the join's excess U - U_max just before. With the feature rule alone a
-// face hit turned edge hit was dropped at 38% of U (the reason for the patch rule). Measured: the
-// drop costs 18% of U at an overlap of 1% of R, 1.6% at 5e-4 of R (a film contact's).
-TEST(BagEnergy, FilmContactEnergyAcrossAShallowFold) {
-  TriangleMesh m;
-  const double lift = 0.01;  // the far corners lifted: the ball (above) sits in a valley along the y axis
-  m.vertices = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-1, 0, lift), Vec3(1, 0, lift)};
-  m.triangles = {{0, 2, 1}, {0, 1, 3}};  // normals towards -z: away from the ball's side (+z)
-  build_topology(m);
-  const double R = 0.1;
-  struct Energy {
-    double joined = 0, max = 0;
-  };
-  for (double pressed : {0.01, 5e-4}) {
-    const double z = R - pressed * R;
-    auto energy = [&](double x) {
-      std::vector<MeshHit> hits;
-      for (std::uint32_t t = 0; t < 2; ++t) {
-        const auto& tri = m.triangles[t];
-        const TriangleHit h = closest_point_on_triangle(Vec3(x, 0.1, z), m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]);
-        if (h.distance2 < R * R) hits.push_back({t, 0, h});
-      }
-      select_mesh_contacts(m, hits);
-      Vec3 normals[4];
-      double overlaps[4];
-      for (std::size_t i = 0; i < hits.size(); ++i) {
-        normals[i] = (Vec3(x, 0.1, z) - hits[i].hit.point).normalized();
-        overlaps[i] = R - std::sqrt(hits[i].hit.distance2);
-      }
-      PatchContact patch[4];
-      const std::size_t np = join_patches(normals, overlaps, hits.size(), patch);
-      Energy e;
-      for (std::size_t k = 0; k < np; ++k) {
-        e.max += std::pow(overlaps[patch[k].member[0]], 2.5);
-        e.joined += std::pow(patch[k].count > 1 ? patch[k].blend.overlap : overlaps[patch[k].member[0]], 2.5);
-      }
-      return e;
-    };
-    const double h = 1e-6, bound = 2 * 2.5 * std::pow(pressed * R * 1.1, 1.5) * h;
-    Energy prev = energy(-0.01);
-    double worst_max = 0, worst_excess = 0, jump = 0, jump_u = 0;
-    int over = 0;
-    for (int k = 1; k <= 20000; ++k) {
-      const Energy e = energy(-0.01 + k * h);
-      worst_max = std::max(worst_max, std::abs(e.max - prev.max));
-      worst_excess = std::max(worst_excess, e.joined / e.max - 1);
-      if (e.joined < e.max * (1 - 1e-12)) ++over;
-      const double d = std::abs(e.joined - prev.joined);
-      if (d > bound + std::max(prev.joined - prev.max, e.joined - e.max)) ++over;
-      if (d > jump) jump = d, jump_u = std::max(e.joined, prev.joined);
-      prev = e;
-    }
-    std::printf("BagEnergy: shallow fold, overlap %.0e R: deepest hit's energy: largest |dU| per step %.3e (bound %.3e); "
-                "joined: at most %.1f%% above it, largest |dU| per step %.3e = %.2f%% of U; steps outside the bounds %d\n",
-                pressed, worst_max, bound, 100 * worst_excess, jump, 100 * jump / jump_u, over);
-    EXPECT_LE(worst_max, bound);
-    EXPECT_LE(worst_excess, std::pow(2.0, 2.5 / 8) - 1 + 1e-12);
-    EXPECT_EQ(over, 0);
-  }
-}

@@ -53,9 +53,8 @@ void Stepper::guards() {
   if (crowded) {
     m << "ball " << order_[mesh_overflow_] << " touches more than " << kMaxMeshContacts
       << " separate patches of the film or an STL wall at once: the surface is wrapped round it (a ball much "
-         "larger than the triangles, such as one ball in a bag hardly wider than it). The film contact does not "
-         "keep its energy under a single heavy ball much larger than its triangles, at any film resolution "
-         "(docs/bag.md, Guards): give smaller balls, or a coarser STL mesh.";
+         "larger than the triangles, such as one ball in a bag hardly wider than it; docs/bag.md, Guards). Give "
+         "a coarser film (bag.triangles) or STL mesh, or smaller balls.";
     throw RunError(m.str());
   }
   if (film_out) {

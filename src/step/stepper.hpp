@@ -99,7 +99,7 @@ class Stepper {
   const SpanBalance& balance() const { return balance_; }
   const StageTimes& stage_times() const { return times_; }
   // Maximum number of triangle features one ball touches at once.
-  static constexpr std::size_t kMaxMeshContacts = 8;
+  static constexpr std::size_t kMaxMeshContacts = 16;
   // The Verlet list is renewed one step ahead: before the pairs at a step's positions when, at the
   // step before, a ball was more than skin/2 - kSkinStep x skin from its place at the build; and a
   // ball that moves more than kSkinStep x skin in one step stops the run (guards). So no ball is

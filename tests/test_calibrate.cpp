@@ -4,7 +4,7 @@
 //    the value found, the tolerance's own resolution); the stop when the seeds' interval holds the
 //    target; no root in the bounds said so, with no solution; two targets fitted by least squares
 //    (two lines in log v: the analytic minimum within the reported half-width, the residuals as
-//    computed there);
+//    computed there), and a value run that matches both preferred to an unmatched least-squares one;
 //  - the half-width's coverage with noisy ensembles: 5 seeds of normal noise (sd 1 dB) on a
 //    reduction falling as 4 ln(1/v); over 400 calibrations the true root lies inside the reported
 //    95% interval in at least 90% of them;
@@ -148,6 +148,25 @@ TEST(CalibrateSearch, TwoTargetsFitOneValueByLeastSquares) {
   EXPECT_NEAR(s.residual[0], 5.1 - 5 * u, 1e-12);
   EXPECT_NEAR(s.residual[1], 2.5 - 4 * u, 1e-12);
   EXPECT_FALSE(s.matched) << "the two lines cannot both pass through their targets";
+}
+
+TEST(CalibrateSearch, AMatchedValueIsPreferredToAnUnmatchedLeastSquaresOne) {
+  // The same two lines, the first known to 0.3 dB and the second to 2 dB: both match for u in
+  // [0.96, 1.08], the least-squares u* = 0.866 does not (r1 = 0.77). The scan (u = -1 ... 3) runs
+  // u = 1 (r1 = 0.1, r2 = -1.5), which is given instead, with a note.
+  SearchOptions o;
+  o.lo = std::exp(-1.0), o.hi = std::exp(3.0), o.log = true, o.scan = 5, o.rounds = 12;
+  const Evaluate ev = [](const std::vector<double>& values) {
+    std::vector<std::vector<Estimate>> out;
+    for (double v : values) out.push_back({Estimate{20 - 5 * std::log(v), 0.3, 5}, Estimate{17 - 4 * std::log(v), 2.0, 5}});
+    return out;
+  };
+  const SearchResult r = calibrate_search({14.9, 14.5}, o, ev);
+  ASSERT_EQ(r.solutions.size(), 1u);
+  const Solution& s = r.solutions[0];
+  EXPECT_TRUE(s.matched);
+  EXPECT_NEAR(std::log(s.value), 1.0, 1e-12);
+  EXPECT_NE(r.note.find("matches every target"), std::string::npos) << r.note;
 }
 
 TEST(CalibrateSearch, HalfWidthCoversTheRootOfNoisyEnsembles) {

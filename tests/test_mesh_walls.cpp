@@ -652,10 +652,10 @@ TEST(MeshWallCoarse, BallRestsOnLargeTrianglesIndefinitely) {
 
 TEST(MeshWallCoarse, BallInAValleyKeepsItsEnergy) {
   // A frictionless, undamped (e = 1) ball dropped 10 um onto the floor of a valley of two faces 26
-  // degrees apart (each 13 degrees off flat: one patch, its hits joined, PatchBlend): it rattles in
+  // degrees apart (each 13 degrees off flat: the Euler sum's two faces and their edge): it rattles in
   // the valley for 3e5 steps (t_c / 40). Its energy, kinetic + contact - work of gravity, is
   // conserved but for velocity Verlet's bounded error. Reference: the drop's energy m g h;
-  // tolerance: the largest change 2% of it. Measured 0.35%; keeping only the deeper face, the ball
+  // tolerance: the largest change 2% of it. Measured 0.27%; keeping only the deeper face, the ball
   // flipped between the faces and its energy wandered by 5.7%.
   const Vec3 g(0, 0, -9.81);
   const Material m{"soft steel", kRho, kE, kNu};

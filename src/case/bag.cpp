@@ -86,6 +86,19 @@ std::vector<Vec3> clear_of_film(const TriangleMesh& mesh, const std::vector<Vec3
   return inside;
 }
 
+// One ball's site: the centre moved by an offset drawn (seed) within half the ball's radius along
+// each axis, the first of 64 draws clear of the film (the centre when none is), so that the starts
+// of an ensemble differ as a bed's do.
+std::vector<Vec3> single_site(const TriangleMesh& mesh, const Vec3& centre, double r, double reach, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-0.5 * r, 0.5 * r);
+  std::vector<Vec3> tries;
+  for (int k = 0; k < 64; ++k) tries.push_back(centre + draw_vec3([&] { return u(rng); }));
+  const std::vector<Vec3> clear = clear_of_film(mesh, tries, r, reach);
+  if (!clear.empty()) return {clear.front()};
+  return clear_of_film(mesh, {centre}, r, reach);
+}
+
 // FCC lattice sites strictly inside the film at rest, clear of it by the ball radius plus half the
 // thickness (and 1% of the diameter), lowest first along gravity (nearest the centre without it).
 std::vector<Vec3> lattice_sites(const TriangleMesh& mesh, const Vec3& centre, double r, double reach, const Vec3& gravity,
@@ -354,7 +367,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     std::vector<Vec3> sites;
     for (int attempt = 0;; ++attempt) {
       make(volume);
-      sites = n == 1 ? clear_of_film(b.rest, {centre}, r, 0.5 * t) : lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
+      sites = n == 1 ? single_site(b.rest, centre, r, 0.5 * t, seed) : lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
       if (sites.size() >= n || !sized || attempt == 40) break;
       volume *= 1.05;
     }
@@ -373,7 +386,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
     for (std::size_t k = 0; k < n; ++k) s.particles.push_back({sites[k], Vec3::Zero(), Vec3::Zero(), r, ball_material});
     std::ostringstream src;
     if (n == 1)
-      src << "one ball at the bag's centre";
+      src << "one ball near the bag's centre, within half its radius (seed " << seed << ")";
     else
       src << "filled on an FCC lattice, lowest sites first (seed " << seed << ")";
     b.source = src.str();

@@ -1,5 +1,6 @@
-// The triangles stage's contact finding (surfaces.cpp): the features a ball or a film node touches,
-// one contact per patch (joined: PatchBlend), and the slots whose histories they continue.
+// The triangles stage's contact finding (surfaces.cpp): the terms of a ball's or a film node's
+// elastic energy against a triangulated surface (euler_terms), the contacts of the law (one per
+// patch, joined: PatchBlend), and the slots whose histories they continue.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -13,18 +14,18 @@
 
 namespace bagdem::surface_contacts {
 
-// A hit joined into a patch's contact (PatchBlend): where it touches, its own normal, and its
-// parts of the force (c: of the normal force, share: of the tangential force and the velocities).
+// A hit joined into a patch's contact (PatchBlend): where it touches, its own normal, and its share
+// of the law's force and of the contact point's velocity and mobility.
 struct PatchMember {
   std::uint32_t triangle;
   Vec3 weights, point, n;
-  double c, share;
+  double share;
 };
 
-// A contact found this step: the feature hit (a patch's deepest), the normal towards the body, the
-// overlap, and the slot of the previous step whose history it continues (-1: new). A contact
-// joining several hits of a patch (members > 1) has the joined normal and overlap, `scale` and
-// each hit in `member`, deepest first.
+// A contact of the law found this step (damping and friction; the elastic force is euler_terms'):
+// the feature hit (a patch's deepest), the normal towards the body, the overlap, and the slot of
+// the previous step whose history it continues (-1: new). A contact joining several hits of a patch
+// (members > 1) has the joined normal and overlap and each hit in `member`, deepest first.
 struct Found {
   std::uint32_t surface;
   MeshHit hit;
@@ -32,7 +33,6 @@ struct Found {
   double overlap;
   int from;
   std::uint8_t members = 1;
-  double scale = 1;
   PatchMember member[kPatchMembers];  // the first `members` when members > 1 (else unset)
 };
 
@@ -96,10 +96,10 @@ inline void keep_patches(std::vector<Found>& hits) {
     Found fd = hits[c.member[0]];
     if (c.count > 1) {
       fd.members = static_cast<std::uint8_t>(c.count);
-      fd.n = c.blend.n, fd.overlap = c.blend.overlap, fd.scale = c.blend.scale;
+      fd.n = c.blend.n, fd.overlap = c.blend.overlap;
       for (std::size_t j = 0; j < c.count; ++j) {
         const TriangleHit& h = hits[c.member[j]].hit.hit;
-        fd.member[j] = {hits[c.member[j]].hit.triangle, h.weights, h.point, n[c.member[j]], c.blend.c[j], c.blend.share[j]};
+        fd.member[j] = {hits[c.member[j]].hit.triangle, h.weights, h.point, n[c.member[j]], c.blend.share[j]};
       }
     }
     kept.push_back(fd);

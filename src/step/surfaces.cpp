@@ -1,23 +1,25 @@
 // The triangles stage (stage.hpp): balls against triangulated surfaces, the bag's film (deformable, surface 0
 // when there is a bag) and STL walls (rigid, moving with the cavity).
 //
-// Geometry: the closest point of each candidate triangle (contact/sphere_triangle.hpp), then the
-// one-contact-per-feature rule, so a ball on a flat triangulation has the one contact it would have
-// with the plane, then one contact per patch (hits with normals within 30 degrees, joined by the
-// p-norm of their overlaps: PatchBlend), so shallow folds of a triangulated smooth surface neither
-// double the contact, nor switch half of it on and off, nor flip it between two faces. A ball is
-// on one side of a surface for the whole run (side_: inside the film for the bag's balls, inside
-// an STL cavity always); the normal points to that side, and a centre found beyond the
-// mid-surface stops the run (guards). A joined contact's force is the gradient of its energy: each
-// hit presses along its own normal, and the law sees the joined overlap's rate (member_forces).
+// Elastic force: the Euler sum over the features within reach (surface_features.hpp, euler_terms),
+// a potential of the positions that counts no contacts: exact on a flat triangulation, continuous
+// where contacts are born, merge or split. Each term's Hertz force acts on the ball along its
+// normal, and its reaction on the feature's nodes by the closest point's barycentric weights (the
+// exact derivative of the distance with respect to the node positions): the pair is conservative.
+// Damping and friction: the contact law, on the contacts of the one-contact-per-feature rule (a
+// ball on a flat triangulation has the one contact it would have with the plane), one per patch
+// (hits with normals within 30 degrees: PatchBlend) so that a shallow fold does not double them.
+// The law sees the overlap whose Hertz stiffness is the Euler sum's along the contact's normal
+// (law_overlaps), so its damping gives the requested restitution, and its elastic part is taken
+// off. A ball is on one side of a surface for the whole run (side_: inside the film for the bag's
+// balls, inside an STL cavity always); the normal points to that side, and a centre found beyond
+// the mid-surface stops the run (guards).
 // Law: the pair law of the ball's and the surface's materials (Hertz-Mindlin with restitution
 // damping), with the film's half thickness added to the reach, R* = the ball's radius (a flat
 // triangle), and m* from the ball's mass and the contact point's effective mass on the film,
 // 1/m_s = sum_k w_k^2 / m_k over the triangle's nodes (w: barycentric weights; the exact inverse
 // mass of a point tied to three particles). A rigid wall has 1/m_s = 0, so as the film's nodes get
 // heavy (or a wall is meshed) the law is exactly the ball-wall law.
-// The force on the film at the contact point goes to its nodes by the barycentric weights: the
-// exact derivative of the overlap with respect to the node positions, so the pair is conservative.
 // Histories: each contact is a slot of its ball, keyed by surface and feature. A contact that moves
 // to a neighbouring feature (face -> edge -> next face across a shared edge) takes over the history
 // of the slot it came from (the closed slot of the same surface with the most aligned normal), so

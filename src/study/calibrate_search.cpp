@@ -43,6 +43,7 @@ class Evaluated {
     return at;
   }
   static constexpr std::size_t npos = static_cast<std::size_t>(-1);
+  std::size_t size() const { return out_.evaluated.size(); }
   std::size_t find(double v) const {
     for (std::size_t i = 0; i < out_.evaluated.size(); ++i)
       if (out_.evaluated[i].value == v) return i;
@@ -259,6 +260,18 @@ void least_squares(Evaluated& E, const std::vector<std::size_t>& scan, const Sea
     for (std::size_t i : E.run(ask, round))
       if (E.cost(i) < E.cost(best)) best = i;
     h *= 0.5;
+  }
+  // A least-squares value that leaves a target outside its interval gives way to the matched value
+  // of least squares among those run, if any: matching every target is what calibrating means.
+  if (!E.matched(best)) {
+    std::size_t chosen = Evaluated::npos;
+    for (std::size_t i = 0; i < E.size(); ++i)
+      if (E.matched(i) && (chosen == Evaluated::npos || E.cost(i) < E.cost(chosen))) chosen = i;
+    if (chosen != Evaluated::npos) {
+      note << "the least-squares value " << text(E[best].value) << " leaves a target outside its interval; "
+           << text(E[chosen].value) << " matches every target. ";
+      best = chosen;
+    }
   }
   const auto [a, b] = neighbours(best);
   out.solutions.push_back(E.solution(best, a, b));

@@ -150,38 +150,25 @@ struct MeshHit {
 // decides in place (lookups of other triangles' hits by binary search), then compacts.
 void select_mesh_contacts(const TriangleMesh& mesh, std::vector<MeshHit>& hits);
 
-// One contact per patch. Hits of a sphere on one surface whose contact normals are within 30
-// degrees of each other, directly or through a chain of such hits, form a patch (patch_labels:
-// label[i] is the smallest index of hit i's patch). A triangulation of a smooth surface meets a
-// ball in one patch: its shallow folds (a capsule's ring chords, a film's gentle wrinkles) would
-// otherwise give the ball two contacts where the surface has one, and switch the shallower on and
-// off abruptly when its foot point crosses the fold (in a valley the face hit turns into an edge
-// hit that the feature rule drops at positive overlap). Faces meeting at a real corner (a box's
-// walls, a film wrapped tightly round a ball) keep a contact each.
+// One contact of the law per patch (its damping and friction; the elastic force of a sphere against
+// a triangulated surface is the Euler sum over the features, step/surface_features.hpp,
+// euler_terms, which counts no contacts). Hits of a sphere on one surface whose contact normals are
+// within 30 degrees of each other, directly or through a chain of such hits, form a patch
+// (patch_labels: label[i] is the smallest index of hit i's patch). A triangulation of a smooth
+// surface meets a ball in one patch: its shallow folds (a capsule's ring chords, a film's gentle
+// wrinkles) would otherwise give the ball two dampers and two friction springs where the surface
+// has one contact. Faces meeting at a real corner (a box's walls, a film wrapped tightly round a
+// ball) keep a contact each.
 void patch_labels(const Vec3* normals, std::size_t count, std::size_t* label);
 
-// A patch's hits joined into one contact whose energy is a smooth function of the positions.
-// Keeping only the deepest hit makes the energy U(max overlap): continuous, but with a kink where
-// two hits are equally deep, and a ball in a valley between two faces (a film's wrinkle) flips
-// between them at every step; velocity Verlet gains energy at each flip, whatever the step (the
-// pipe bag's energy residual at mode 3: docs/bag.md, Guards). The joined overlap is the p-norm
+// A patch's hits joined into one contact: the p-norm of their overlaps,
 //   delta = (sum_i delta_i^p)^(1/p),  p = kPatchNorm,
-// smooth wherever two hits are deep, the hit's own overlap when the patch has one, and at most
-// 2^(1/p) (9%) above the deepest. Its energy U(delta) is a potential of the positions, so the
-// force on the body is U'(delta) sum_i c_i n_i with c_i = d delta / d delta_i = (delta_i/delta)^(p-1),
-// each hit's share of the force pressing on its own feature along its own normal (potential-based
-// contact conserves energy: Feng, Comput. Methods Appl. Mech. Eng. 373 (2021) 113454). p = 8 keeps
-// the joined contact's stiffness across the valley near Hertz's (a larger p sharpens the kink
-// back). Two discontinuities remain. Where two hits' normals cross the 30 degrees the energy jumps
-// between the joined contact's and the two contacts' (it jumped between the deepest's and the
-// two's before). Where the feature rule drops a joined hit (a face hit turning edge hit in a valley
-// shallower than about sqrt(2 overlap / radius) rad), the energy falls to the remaining hits' join,
-// by about (delta_dropped / delta)^8 / 8 of the overlap (BagEnergy tests); the reverse, a hit born at
-// positive overlap, is what a heavy ball on a film finer than itself meets all the time
-// (docs/bag.md, Guards: a blend across the angle does not cure it).
-// The joined contact takes the patch's kPatchMembers deepest hits (a fourth as deep as the third,
-// a ball in a valley of four faces, is rare; where the two swap they are equally deep, so the
-// energy stays continuous). A hit half as deep as the deepest gets 1/128 of its force.
+// the hit's own overlap when the patch has one and at most 2^(1/p) (9%) above the deepest; its
+// normal, the direction of sum_i c_i n_i with c_i = d delta / d delta_i = (delta_i/delta)^(p-1);
+// and each hit's share c_i / sum c of the law's force, of the contact point's velocity and of its
+// mobility. A hit half as deep as the deepest gets 1/128. (Why its U(delta) is not the elastic
+// energy: it jumps where two hits' normals cross the 30 degrees and where a hit is born at positive
+// overlap; docs/bag.md, Model.) The joined contact takes the patch's kPatchMembers deepest hits.
 inline constexpr int kPatchNorm = 8;
 inline constexpr std::size_t kPatchMembers = 3;
 struct PatchBlend {

@@ -1,6 +1,6 @@
 // One steel ball of 20 mm in an 11-mm bag (the ball-size study's 20-mm point; docs/bag.md, Guards),
 // settled on the film on the floor of a still box: after settling, the energy budget's residual
-// W_gravity + W_cavity - (K + U) - D must change by under 1e-9 J per second.
+// W_gravity + W_cavity - (K + U) - D must change by under 1e-9 J per second (its least-squares slope).
 // Reference: 5e-11 J/s for a bag of 100 balls of 4 mm. With the film contact's elastic energy
 // counted per contact (one per feature, joined in patches), hits born at positive overlap in the
 // film's shallow valleys under the ball made it gain 3.3e-7 J/s; the Euler sum
@@ -47,13 +47,14 @@ TEST(BagLargeBall, SettledInATightBagItKeepsItsEnergyBudget) {
   ASSERT_TRUE(s.bag);
   Simulation sim(s);
   const double stored0 = sim.initial_stored_energy();
-  const std::uint64_t steps = s.total_steps(), half = steps / 2;
-  // The residual's least-squares slope over the second half, sampled every 100 steps.
-  double kinetic = 0, St = 0, Sr = 0, Stt = 0, Str = 0, n = 0, time_half = 0;
+  // The residual's least-squares slope over the last 40% of the run (the ball still settles before:
+  // its kinetic energy falls from 4e-7 to 3e-7 J between 55% and 60%), sampled every 100 steps.
+  const std::uint64_t steps = s.total_steps(), settled = steps * 3 / 5;
+  double kinetic = 0, St = 0, Sr = 0, Stt = 0, Str = 0, n = 0, time_settled = 0;
   for (std::uint64_t k = 1; k <= steps; ++k) {
     sim.step();
-    if (k == half) time_half = sim.time();
-    if (k <= half || k % 100 != 0) continue;
+    if (k == settled) time_settled = sim.time();
+    if (k <= settled || k % 100 != 0) continue;
     const EnergySample e = sim.energy();
     const double t = sim.time(), r = energy_balance(e, stored0).residual;
     kinetic = std::max(kinetic, e.kinetic);
@@ -63,7 +64,7 @@ TEST(BagLargeBall, SettledInATightBagItKeepsItsEnergyBudget) {
   const EnergySample end = sim.energy();
   std::printf("  %zu triangles, %.2f edges across; %.3g s to %.3g s: residual changes by %.3e J/s; largest K %.3e J; "
               "W_gravity %.3e J, D %.3e J\n",
-              s.bag->rest.triangles.size(), 0.02 / s.bag->mean_edge, time_half, sim.time(), rate, kinetic, end.work_gravity,
+              s.bag->rest.triangles.size(), 0.02 / s.bag->mean_edge, time_settled, sim.time(), rate, kinetic, end.work_gravity,
               end.dissipated());
   EXPECT_LT(std::abs(rate), 1e-9);
 }

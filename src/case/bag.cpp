@@ -87,13 +87,15 @@ std::vector<Vec3> clear_of_film(const TriangleMesh& mesh, const std::vector<Vec3
 }
 
 // One ball's site: the centre moved by an offset drawn (seed) within half the ball's radius along
-// each axis, the first of 64 draws clear of the film (the centre when none is), so that the starts
-// of an ensemble differ as a bed's do.
+// each axis, the first of 64 draws clear of the film, each draw 10% smaller than the one before
+// (a ball hardly smaller than its bag takes one of a few um; the centre when none is clear), so
+// that the starts of an ensemble differ as a bed's do.
 std::vector<Vec3> single_site(const TriangleMesh& mesh, const Vec3& centre, double r, double reach, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.5 * r, 0.5 * r);
   std::vector<Vec3> tries;
-  for (int k = 0; k < 64; ++k) tries.push_back(centre + draw_vec3([&] { return u(rng); }));
+  double scale = 1;
+  for (int k = 0; k < 64; ++k, scale *= 0.9) tries.push_back(centre + scale * draw_vec3([&] { return u(rng); }));
   const std::vector<Vec3> clear = clear_of_film(mesh, tries, r, reach);
   if (!clear.empty()) return {clear.front()};
   return clear_of_film(mesh, {centre}, r, reach);

@@ -50,6 +50,15 @@ Evaluate exact(double (*f)(double), double ci95, std::size_t* runs = nullptr, st
 
 double wavy(double v) { return 10 + 5 * std::sin(v); }
 
+// Two targets' reductions, lines in u = ln v: 20 - 5 u and 17 - 4 u, known to ci1 and ci2 dB.
+Evaluate two_lines(double ci1, double ci2) {
+  return [=](const std::vector<double>& values) {
+    std::vector<std::vector<Estimate>> out;
+    for (double v : values) out.push_back({Estimate{20 - 5 * std::log(v), ci1, 5}, Estimate{17 - 4 * std::log(v), ci2, 5}});
+    return out;
+  };
+}
+
 }  // namespace
 
 TEST(CalibrateSearch, FindsEveryRootOfANonMonotoneReduction) {
@@ -133,12 +142,7 @@ TEST(CalibrateSearch, TwoTargetsFitOneValueByLeastSquares) {
   // u* = (5 * 5.1 + 4 * 2.5) / 41.
   SearchOptions o;
   o.lo = 0.1, o.hi = 10, o.log = true, o.scan = 5, o.rounds = 12;
-  const Evaluate ev = [](const std::vector<double>& values) {
-    std::vector<std::vector<Estimate>> out;
-    for (double v : values) out.push_back({Estimate{20 - 5 * std::log(v), 0.05, 5}, Estimate{17 - 4 * std::log(v), 0.05, 5}});
-    return out;
-  };
-  const SearchResult r = calibrate_search({14.9, 14.5}, o, ev);
+  const SearchResult r = calibrate_search({14.9, 14.5}, o, two_lines(0.05, 0.05));
   ASSERT_EQ(r.solutions.size(), 1u);
   const Solution& s = r.solutions[0];
   const double u_star = (5 * 5.1 + 4 * 2.5) / 41, v_star = std::exp(u_star);
@@ -156,12 +160,7 @@ TEST(CalibrateSearch, AMatchedValueIsPreferredToAnUnmatchedLeastSquaresOne) {
   // u = 1 (r1 = 0.1, r2 = -1.5), which is given instead, with a note.
   SearchOptions o;
   o.lo = std::exp(-1.0), o.hi = std::exp(3.0), o.log = true, o.scan = 5, o.rounds = 12;
-  const Evaluate ev = [](const std::vector<double>& values) {
-    std::vector<std::vector<Estimate>> out;
-    for (double v : values) out.push_back({Estimate{20 - 5 * std::log(v), 0.3, 5}, Estimate{17 - 4 * std::log(v), 2.0, 5}});
-    return out;
-  };
-  const SearchResult r = calibrate_search({14.9, 14.5}, o, ev);
+  const SearchResult r = calibrate_search({14.9, 14.5}, o, two_lines(0.3, 2.0));
   ASSERT_EQ(r.solutions.size(), 1u);
   const Solution& s = r.solutions[0];
   EXPECT_TRUE(s.matched);

@@ -54,8 +54,8 @@ Euler euler(const TriangleMesh& m, const std::vector<Vec3>& vx, const Vec3& x, d
   e.node_force.assign(vx.size(), Vec3::Zero());
   e.terms = terms.size();
   for (const EulerTerm& t : terms) {
-    e.energy += t.sign * std::pow(t.overlap, 2.5);
-    const Vec3 F = t.sign * 2.5 * std::pow(t.overlap, 1.5) * t.n;
+    const auto [u, F] = euler_load(t, 1.0);  // per unit Hertz constant
+    e.energy += u;
     e.force += F;
     for (int a = 0; a < 3; ++a) e.node_force[t.node[a]] -= t.weights[a] * F;
   }

@@ -131,6 +131,17 @@ struct EulerTerm {
   double sign;             // the signed number of terms carried (face +1, edge -1, vertex +1 each)
 };
 
+// A term's share of the energy and of the force on the point, with Hertz's constant c
+// (hertz.hpp, hertz_constant): U = sign c delta^(5/2) and F = -dU/dx = sign (5/2) c delta^(3/2) n.
+struct EulerLoad {
+  double energy;
+  Vec3 force;
+};
+inline EulerLoad euler_load(const EulerTerm& e, double c) {
+  const double root = std::sqrt(e.overlap);
+  return {e.sign * c * e.overlap * e.overlap * root, (e.sign * 2.5 * c * e.overlap * root) * e.n};
+}
+
 // The terms of point x (reach, in surface s's frame with vertices vx) from its triangles within
 // reach (hits: their closest points), appended to out. Each term is carried by the lowest feature
 // holding its closest point (a face's closest point on an edge is that edge's, an edge's at an end

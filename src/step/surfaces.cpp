@@ -287,9 +287,8 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   double U = 0;
   for (const EulerTerm& e : terms) {
     const Surface& sf = surfaces_[e.surface];
-    const double c = hertz_constant(laws(p_.material[p], sf.material), r), root = std::sqrt(e.overlap);
-    U += e.sign * c * e.overlap * e.overlap * root;
-    const Vec3 Fe = (e.sign * 2.5 * c * e.overlap * root) * e.n;
+    const auto [u, Fe] = euler_load(e, hertz_constant(laws(p_.material[p], sf.material), r));
+    U += u;
     F += Fe;
     if (sf.film) {
       for (int a = 0; a < 3; ++a)
@@ -365,10 +364,8 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const double c = hertz_constant(scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius);
-    const double root = std::sqrt(e.overlap);
-    U += e.sign * c * e.overlap * e.overlap * root;
-    const Vec3 Fe = (e.sign * 2.5 * c * e.overlap * root) * e.n;
+    const auto [u, Fe] = euler_load(e, hertz_constant(scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius));
+    U += u;
     F_wall += Fe;
     L -= dt * (e.point - scene_.cavity_reference).cross(Fe);
     if (couple_) load += load_moments(e.point, -Fe);

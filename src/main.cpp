@@ -1,4 +1,4 @@
-// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, reduce, compare, peaks, drop, export,
+// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, characterize, reduce, compare, peaks, drop, export,
 // modes, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
@@ -20,6 +20,7 @@
 #include "bagdem/run/frequency_sweep.hpp"
 #include "bagdem/structure/modal_table.hpp"
 #include "bagdem/study/calibrate.hpp"
+#include "bagdem/study/characterize.hpp"
 #include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
 
@@ -53,6 +54,7 @@ struct Args {
   study::SweepArgs sweep;
   study::TradeArgs trade;
   study::CalibrateArgs calibrate;
+  study::CharacterizeArgs characterize;
   // The output directory: --out, or CASE_DIR/out.
   std::string out() const { return out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir; }
 };
@@ -337,6 +339,8 @@ int main(int argc, char** argv) {
   CLI::App* trade = study::add_trade_command(app, a.trade);
   // calibrate: a case key fitted to measured peak reductions (src/study/calibrate.cpp).
   CLI::App* calibrate = study::add_calibrate_command(app, a.calibrate);
+  // characterize: the damper's effective-field map over amplitude x frequency (src/study/characterize.cpp).
+  CLI::App* characterize = study::add_characterize_command(app, a.characterize);
 
   try {
     app.parse(argc, argv);
@@ -350,6 +354,7 @@ int main(int argc, char** argv) {
   if (sweep->parsed()) return study::sweep_command(a.sweep);
   if (trade->parsed()) return study::trade_command(a.trade);
   if (calibrate->parsed()) return study::calibrate_command(a.calibrate);
+  if (characterize->parsed()) return study::characterize_command(a.characterize);
   try {
     if (!a.fidelity.empty()) {
       const auto more = study::fidelity_sets(a.case_dir, a.sets, a.fidelity);

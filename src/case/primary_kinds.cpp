@@ -407,7 +407,9 @@ void resolve_primary(const CaseReader& in, Scene& s) {
   for (const auto& k : kPrimaryKinds) names.emplace_back(k.name);
   const std::string kind = in.choice("primary.kind", names, "prescribed");
   if (kind == "prescribed") {
-    if (in.has("excitation")) in.fail("excitation", "drives a primary structure: set primary.kind (sdof, beam, fe-beam, modal), or move the cavity with [cavity.motion]");
+    // [excitation] drives a primary structure; kind = "none" (nothing) is the one allowed without.
+    if (in.has("excitation") && in.string("excitation.kind", "harmonic") != "none")
+      in.fail("excitation", "drives a primary structure: set primary.kind (sdof, beam, fe-beam, modal), or move the cavity with [cavity.motion]");
     return;
   }
   if (in.string("cavity.motion.kind", "fixed") != "fixed")

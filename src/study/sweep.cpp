@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <thread>
 
 #include "bagdem/error.hpp"
@@ -84,6 +85,11 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
 }
 
 int sweep_command(const SweepArgs& args) {
+  return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem sweep", nullptr);
+}
+
+int study_command(const std::function<StudySpec()>& read, bool check, const std::string& executable, const std::string& command,
+                  const std::function<int(const Plan&, const std::vector<bool>&)>& after) {
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<Ranks> ranks;
   try {
@@ -104,8 +110,8 @@ int sweep_command(const SweepArgs& args) {
   int failure = 0;
   std::string message;
   try {
-    plan = make_plan(read_spec(args));
-    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), "bagdem sweep");
+    plan = make_plan(read());
+    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
     warnings = validate_plan(plan);
     done = done_points(plan);
   } catch (const InputError& e) {
@@ -129,11 +135,11 @@ int sweep_command(const SweepArgs& args) {
       else
         for (const Varied& v : plan.spec.vary) shape += (shape.empty() ? "grid " : " x ") + std::to_string(v.values.size());
       if (plan.spec.seeds > 1) shape += ", " + std::to_string(plan.spec.seeds) + " seeds each";
-      std::fprintf(stderr, "bagdem sweep %s: %zu points (%s) -> %s; %d rank%s, each running %d at once with %d thread%s on %d cores (%s)\n",
-                   plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks->size(),
+      std::fprintf(stderr, "%s %s: %zu points (%s) -> %s; %d rank%s, each running %d at once with %d thread%s on %d cores (%s)\n",
+                   command.c_str(), plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks->size(),
                    ranks->size() > 1 ? "s" : "", budget.jobs, budget.threads, budget.threads > 1 ? "s" : "", budget.cores,
                    budget.cores_from.c_str());
-      if (args.check) {
+      if (check) {
         for (const Point& p : plan.points) {
           std::string values;
           for (std::size_t k = 0; k < plan.spec.vary.size(); ++k)
@@ -146,8 +152,8 @@ int sweep_command(const SweepArgs& args) {
         remove_merged_tables(plan);
       }
     }
-    if (args.check) return 0;
-    run_share(plan, done, budget, args.executable, ranks->rank(), ranks->size(), prefix);
+    if (check) return 0;
+    run_share(plan, done, budget, executable, ranks->rank(), ranks->size(), prefix);
 
     // 3. Merge.
     ranks->barrier();
@@ -179,6 +185,7 @@ int sweep_command(const SweepArgs& args) {
         for (const std::string& w : written) list += (list.empty() ? "" : ", ") + w;
         std::printf("tables: %s\n", list.c_str());
       }
+      if (after) code = std::max(code, after(plan, finished));
       std::fflush(stdout);
     }
     return ranks->broadcast(code);

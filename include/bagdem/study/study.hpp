@@ -22,6 +22,7 @@
 // allowed; a point that does not load is named with its overrides.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -262,6 +263,14 @@ bool launched_by_mpi();
 // (sweep, trade, calibrate); `cores_default` says what --cores defaults to.
 void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, const std::string& what,
                         const std::string& cores_default);
+
+// A command that runs a study (sweep, characterize), in the order above: `read` gives the spec
+// (an InputError from it is bad input, exit 2, on every rank); with `check` the plan is printed and
+// nothing runs; after the merge rank 0 calls `after` (if any) with the points that finished, and
+// the command returns the larger of its code and the sweep's (0, or 3 when a point failed).
+// `command` names it in messages ("bagdem sweep").
+int study_command(const std::function<StudySpec()>& read, bool check, const std::string& executable, const std::string& command,
+                  const std::function<int(const Plan&, const std::vector<bool>&)>& after);
 
 // Adds the `sweep` subcommand and its options (filled into `args`) to the command line.
 CLI::App* add_sweep_command(CLI::App& app, SweepArgs& args);

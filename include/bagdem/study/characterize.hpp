@@ -1,0 +1,94 @@
+// `bagdem characterize CASE`: the damper alone, its effective field mapped once. The case's contents
+// (a bag, a loose bed) in their cavity under prescribed harmonic motion x(t) = X sin(2 pi f t) along
+// the excitation direction, over a grid of amplitude x frequency, several perturbed starts per
+// cell; each run reduced (reduce/reduce.hpp) and the starts combined per cell into the map of
+// M_eff, C_eff, C_b/(M_b w), e and the loss factor, each with its 95% interval over the starts
+// (reduce/interval.hpp, independent_interval). The particle-damper literature's reduction of an
+// isolated damper to its effective mass and dissipation as functions of amplitude and frequency
+// (Meyer et al., Granular Matter 23, 2021; Meyer & Seifried, Comp. Part. Mech. 7, 2020).
+//
+// The grid: amplitudes from acceleration ratios Gamma = X w^2 / g log-spaced over [Gamma_lo,
+// Gamma_hi] at every frequency (so X = Gamma g / w^2 differs from column to column), frequencies
+// evenly spaced over each band of the case's stepped-sine sweep (a band per evaluated mode) or over
+// --band. A case with a primary structure runs without it: every point is the case with
+//   primary = {kind = "prescribed"}, excitation = {kind = "none"},
+//   cavity.motion = {kind = "harmonic", amplitude, frequency, direction = primary.direction,
+//                    ramp = 2 / f (a smooth start)},
+//   simulation.duration = (2 + skip + cycles) / f, output.skip_cycles = skip,
+// (a bag filled to a mass ratio keeps its balls: bag.balls.primary_mass = the structure's mass),
+// run by the study machinery (study.hpp: OUT/point-NNN, resumable, J at once, MPI ranks sharing
+// the points). docs/characterize.md has the outputs' columns.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "bagdem/reduce/reduce.hpp"
+#include "bagdem/scene.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace bagdem::study {
+
+struct CharacterizeArgs {
+  std::string dir;                          // CASE_DIR
+  std::vector<double> gamma = {0.5, 20};    // --gamma lo,hi: the acceleration ratios' range
+  int amplitudes = 8;                       // --amplitudes: Gamma values, log-spaced
+  std::vector<double> band;                 // --band lo,hi (Hz): default the case's sweep band(s)
+  int frequencies = 6;                      // --frequencies: per band, evenly spaced, ends included
+  int seeds = 5;                            // --seeds: perturbed starts per cell
+  int cycles = 20;                          // --cycles: the measured cycles of each run
+  int skip = 5;                             // --skip: start-up cycles left out before them
+  std::vector<std::string> sets;            // --set: overrides of every run
+  int jobs = 0, threads = 0, cores = 0;
+  std::string out;                          // default CASE_DIR/map
+  bool check = false;                       // --check: plan and load, print the grid, run nothing
+  std::string executable = "/proc/self/exe";
+};
+
+// The grid of a map (SI units).
+struct MapGrid {
+  std::vector<double> gamma;      // acceleration ratios, ascending (unit: 1)
+  std::vector<double> frequency;  // ascending (unit: Hz)
+  Vec3 direction = Vec3::UnitX(); // the prescribed motion's direction (unit vector)
+  double g = 9.81;                // |gravity| of the scene, 9.81 without gravity (unit: m/s^2)
+  // The displacement amplitude of cell (i, j): gamma[i] g / (2 pi frequency[j])^2 (unit: m).
+  double amplitude(std::size_t i, std::size_t j) const;
+};
+
+// The grid of the command's options on a loaded scene. Throws InputError (naming the option or the
+// case key) for a range that is not positive and ascending, fewer than 2 amplitudes or frequencies,
+// or no band (a case without a stepped-sine sweep needs --band), and no direction (neither a
+// primary structure nor harmonic cavity motion).
+MapGrid map_grid(const Scene& scene, const CharacterizeArgs& args);
+
+// The bands of a stepped-sine sweep: its frequencies sorted and split where a gap exceeds 3 times
+// the median gap (one band per evaluated mode), each as [lowest, highest].
+std::vector<std::pair<double, double>> sweep_bands(std::vector<double> frequencies);
+
+// One cell of the map: the starts' reductions combined.
+struct MapCell {
+  double gamma = 0, frequency = 0, amplitude = 0;  // as asked (unit: 1, Hz, m)
+  std::size_t starts = 0;          // starts reduced
+  std::size_t steady = 0;          // of those, steady windows (reduce.hpp, ReducedRow::steady)
+  Interval gamma_measured;         // the cavity's own, over the starts (unit: 1)
+  Interval M_eff, C_eff, Cb_over_Mbw, loss_factor, M_eff_ratio, energy_per_cycle, e;
+  std::size_t e_starts = 0;        // starts that gave an e (the others' is undefined: no impacts)
+};
+
+// A cell from its starts' reduced rows: every figure's mean and 95% interval over the starts that
+// have it (NaN where none, and an interval NaN with fewer than 2).
+MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& starts);
+
+// The map's tables: OUT/map.csv (a row per cell), OUT/map.json and OUT/map.h5 (a dataset per
+// figure, [amplitudes x frequencies]), each to a temporary name and renamed. Columns and units:
+// docs/characterize.md.
+void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir);
+
+CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& args);
+// Returns the exit code: 0 every cell done, 2 bad input (nothing run), 3 a run failed (the map is
+// written with the cells that have starts).
+int characterize_command(const CharacterizeArgs& args);
+
+}  // namespace bagdem::study

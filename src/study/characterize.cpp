@@ -1,0 +1,224 @@
+// `bagdem characterize` (study/characterize.hpp): the grid, the points as a study, the map.
+#include "bagdem/study/characterize.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "bagdem/case/case_reader.hpp"
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/study/study.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+double MapGrid::amplitude(std::size_t i, std::size_t j) const {
+  const double w = 2 * std::numbers::pi * frequency[j];
+  return gamma[i] * g / (w * w);
+}
+
+std::vector<std::pair<double, double>> sweep_bands(std::vector<double> f) {
+  std::sort(f.begin(), f.end());
+  std::vector<std::pair<double, double>> bands;
+  if (f.empty()) return bands;
+  std::vector<double> gaps;
+  for (std::size_t k = 1; k < f.size(); ++k) gaps.push_back(f[k] - f[k - 1]);
+  double median = 0;
+  if (!gaps.empty()) {
+    std::vector<double> s = gaps;
+    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+    median = s[s.size() / 2];
+  }
+  bands.push_back({f[0], f[0]});
+  for (std::size_t k = 1; k < f.size(); ++k) {
+    if (gaps[k - 1] > 3 * median) bands.push_back({f[k], f[k]});
+    bands.back().second = f[k];
+  }
+  return bands;
+}
+
+MapGrid map_grid(const Scene& scene, const CharacterizeArgs& a) {
+  MapGrid m;
+  auto range = [](const std::vector<double>& r, const std::string& option, const std::string& what) {
+    if (r.size() != 2 || !(r[0] > 0) || !(r[1] > r[0]))
+      throw InputError(option, "", "", "expected lo,hi with 0 < lo < hi (" + what + ")");
+  };
+  range(a.gamma, "--gamma", "acceleration ratios Gamma = X w^2 / g");
+  if (a.amplitudes < 2) throw InputError("--amplitudes", "", std::to_string(a.amplitudes), "at least 2 (a map interpolates between them)");
+  if (a.frequencies < 2) throw InputError("--frequencies", "", std::to_string(a.frequencies), "at least 2 per band");
+  for (int i = 0; i < a.amplitudes; ++i)
+    m.gamma.push_back(a.gamma[0] * std::pow(a.gamma[1] / a.gamma[0], double(i) / (a.amplitudes - 1)));
+  std::vector<std::pair<double, double>> bands;
+  if (!a.band.empty()) {
+    range(a.band, "--band", "frequencies in Hz");
+    bands.push_back({a.band[0], a.band[1]});
+  } else if (scene.primary && scene.primary->sweep) {
+    bands = sweep_bands(scene.primary->sweep->frequencies);
+  } else {
+    throw InputError(scene.case_file, "excitation", "", "has no stepped-sine sweep to take the band from: give --band lo,hi (Hz)");
+  }
+  for (const auto& [lo, hi] : bands)
+    for (int j = 0; j < a.frequencies; ++j) m.frequency.push_back(lo + (hi - lo) * j / (a.frequencies - 1));
+  std::sort(m.frequency.begin(), m.frequency.end());
+  m.frequency.erase(std::unique(m.frequency.begin(), m.frequency.end()), m.frequency.end());
+  m.direction = scene.primary ? scene.primary->direction : excitation_direction(scene);
+  if (m.direction.norm() == 0)
+    throw InputError(scene.case_file, "cavity.motion", "", "gives no direction to shake in: set primary.direction or a harmonic cavity.motion");
+  m.direction.normalize();
+  if (scene.gravity.norm() > 0) m.g = scene.gravity.norm();
+  return m;
+}
+
+namespace {
+
+// Every figure of the cell over the starts that have it (finite).
+Interval over(const std::vector<ReducedRow>& starts, double ReducedRow::*field) {
+  std::vector<double> x;
+  for (const ReducedRow& r : starts)
+    if (std::isfinite(r.*field)) x.push_back(r.*field);
+  if (x.empty()) return {std::nan(""), std::nan(""), std::nan(""), 0};
+  return independent_interval(x);
+}
+
+std::string number(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", x);
+  return b;
+}
+
+}  // namespace
+
+MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& starts) {
+  MapCell c;
+  c.gamma = gamma, c.frequency = frequency, c.amplitude = amplitude;
+  c.starts = starts.size();
+  for (const ReducedRow& r : starts) c.steady += r.steady == 1 ? 1 : 0;
+  c.gamma_measured = over(starts, &ReducedRow::gamma);
+  c.M_eff = over(starts, &ReducedRow::M_eff);
+  c.C_eff = over(starts, &ReducedRow::C_eff);
+  c.Cb_over_Mbw = over(starts, &ReducedRow::Cb_over_Mbw);
+  c.loss_factor = over(starts, &ReducedRow::loss_factor);
+  c.M_eff_ratio = over(starts, &ReducedRow::M_eff_ratio);
+  c.energy_per_cycle = over(starts, &ReducedRow::energy_per_cycle);
+  c.e = over(starts, &ReducedRow::e);
+  c.e_starts = c.e.repeats;
+  return c;
+}
+
+CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& a) {
+  auto* c = app.add_subcommand(
+      "characterize",
+      "The effective field of a case's damper, once for all structures: its contents in the cavity under prescribed harmonic "
+      "motion along the excitation direction (a coupled case drops its primary structure), over a grid of amplitude x "
+      "frequency with several starts per cell, each run reduced; writes OUT/map.csv, map.json and map.h5 (M_eff, C_eff, "
+      "C_b/(M_b w), the loss factor, e, each with its 95% interval over the starts) and tools/plot draws map.png. The runs "
+      "are a study in OUT/point-NNN (resumable; J at once; MPI ranks share them, as bagdem sweep). Exit codes: 0 every "
+      "run done, 2 bad input (nothing run), 3 a run failed. See docs/characterize.md.");
+  c->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();
+  c->add_option("--gamma", a.gamma, "lo,hi: the range of the acceleration ratio Gamma = X w^2 / g (default 0.5,20)")
+      ->delimiter(',')
+      ->expected(2);
+  c->add_option("--amplitudes", a.amplitudes, "Amplitudes per frequency, log-spaced in Gamma (default 8)");
+  c->add_option("--band", a.band, "lo,hi in Hz (default: each band of the case's stepped-sine sweep)")->delimiter(',')->expected(2);
+  c->add_option("--frequencies", a.frequencies, "Frequencies per band, evenly spaced, the ends included (default 6)");
+  c->add_option("--seeds", a.seeds, "Starts per cell (simulation.seed = 1..N; default 5)")->check(CLI::Range(1, 100000));
+  c->add_option("--cycles", a.cycles, "Cycles of each run that are reduced (default 20)")->check(CLI::Range(4, 100000));
+  c->add_option("--skip", a.skip, "Start-up cycles of each run left out before them (default 5)")->check(CLI::Range(0, 100000));
+  c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
+  add_budget_options(c, a.jobs, a.threads, a.cores, "characterization", "this machine's, divided among the MPI ranks on it");
+  c->add_option("--out", a.out, "Output directory (default CASE_DIR/map)");
+  c->add_flag("--check", a.check, "Plan the grid and load every run's case, print the runs, then exit: 0 if every one loads, 2 if not");
+  return c;
+}
+
+namespace {
+
+// The motion starts smoothly over this many cycles (cavity.motion.ramp): started at once, its
+// velocity jump X w would set rolling contents drifting for good.
+constexpr double kRampCycles = 2;
+
+// The study of a grid: a zip over the cells (Gamma slowest, then frequency) of the motion's
+// amplitude and frequency and the run's duration; the overrides that make a coupled case prescribed.
+StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid& m) {
+  StudySpec s;
+  s.case_dir = fs::absolute(a.dir).lexically_normal().string();
+  s.out_dir = fs::absolute(a.out.empty() ? fs::path(s.case_dir) / "map" : fs::path(a.out)).lexically_normal().string();
+  s.source = "bagdem characterize";
+  s.combine = Combine::zip;
+  s.seeds = a.seeds;
+  s.jobs = a.jobs, s.threads = a.threads, s.cores = a.cores;
+  s.tables = {"reduced"};
+  s.sets = a.sets;
+  if (scene.primary) {
+    // A bag filled to a mass ratio keeps its balls: the ratio is then of the dropped structure's mass.
+    const CaseReader in((fs::path(s.case_dir) / "case.toml").string(), a.sets);
+    if (in.has("bag.balls.mass_ratio") && !in.has("bag.balls.primary_mass"))
+      s.sets.push_back("bag.balls.primary_mass=\"" + number(scene.primary->structure_mass) + " kg\"");
+    s.sets.insert(s.sets.end(), {"primary={kind=\"prescribed\"}", "excitation={kind=\"none\"}"});
+  }
+  const Vec3& d = m.direction;
+  s.sets.push_back("cavity.motion={kind=\"harmonic\", direction=[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]}");
+  s.sets.push_back("output.skip_cycles=" + std::to_string(a.skip));
+  Varied X{"cavity.motion.amplitude", {}}, f{"cavity.motion.frequency", {}}, R{"cavity.motion.ramp", {}}, T{"simulation.duration", {}};
+  auto add = [](Varied& v, const std::string& given) { v.values.push_back({"\"" + given + "\"", given}); };
+  for (std::size_t i = 0; i < m.gamma.size(); ++i)
+    for (std::size_t j = 0; j < m.frequency.size(); ++j) {
+      const double period = 1 / m.frequency[j];
+      add(X, number(m.amplitude(i, j)) + " m");
+      add(f, number(m.frequency[j]) + " Hz");
+      add(R, number(kRampCycles * period) + " s");
+      add(T, number((kRampCycles + a.skip + a.cycles) * period) + " s");
+    }
+  s.vary = {X, f, R, T};
+  return s;
+}
+
+}  // namespace
+
+int characterize_command(const CharacterizeArgs& a) {
+  MapGrid grid;
+  auto read = [&] {
+    if (!fs::exists(fs::path(a.dir) / "case.toml"))
+      throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
+    const Scene scene = load_case(a.dir, a.sets);
+    grid = map_grid(scene, a);
+    return grid_spec(a, scene, grid);
+  };
+  auto after = [&](const Plan& plan, const std::vector<bool>& finished) {
+    std::vector<MapCell> cells;
+    std::size_t missing = 0;
+    for (std::size_t i = 0; i < grid.gamma.size(); ++i)
+      for (std::size_t j = 0; j < grid.frequency.size(); ++j) {
+        const std::size_t combination = i * grid.frequency.size() + j;
+        std::vector<ReducedRow> starts;
+        for (const Point& p : plan.points) {
+          if (p.combination != combination) continue;
+          const fs::path csv = fs::path(plan.point_dir(p)) / "reduced.csv";
+          if (!finished[p.index] || !fs::exists(csv)) {
+            ++missing;
+            continue;
+          }
+          const std::vector<ReducedRow> rows = read_reduced_csv(csv);
+          if (!rows.empty()) starts.push_back(rows.front());
+        }
+        cells.push_back(map_cell(grid.gamma[i], grid.frequency[j], grid.amplitude(i, j), starts));
+      }
+    write_map(plan.spec.out_dir, grid, cells, plan.spec.case_dir);
+    std::size_t unsteady = 0;
+    for (const MapCell& c : cells) unsteady += c.starts - c.steady;
+    std::printf("map: %zu amplitudes x %zu frequencies, %d start%s each -> %s/map.csv, map.json, map.h5%s\n", grid.gamma.size(),
+                grid.frequency.size(), plan.spec.seeds, plan.spec.seeds > 1 ? "s" : "", plan.spec.out_dir.c_str(),
+                missing ? (" (" + std::to_string(missing) + " runs missing)").c_str() : "");
+    if (unsteady)
+      std::printf("note: %zu run%s of %zu did not reach a steady window (energy balance off by more than 1%%): more --cycles or --skip\n",
+                  unsteady, unsteady > 1 ? "s" : "", plan.points.size());
+    return missing ? kExitRunError : 0;
+  };
+  return study_command(read, a.check, a.executable, "bagdem characterize", after);
+}
+
+}  // namespace bagdem::study

@@ -1,0 +1,146 @@
+// The effective-field map's files (study/characterize.hpp, write_map): map.csv, map.json, map.h5.
+// Each figure is given by its mean over the starts and the half-width of its 95% interval; the
+// columns are documented in docs/characterize.md.
+#include <hdf5.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "../io/h5.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/json.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/study/characterize.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The map's figures: name, unit, and where a cell keeps it.
+struct Figure {
+  const char* name;
+  const char* ci95;  // the name of its interval's column
+  const char* unit;
+  Interval MapCell::*field;
+};
+const Figure kFigures[] = {
+    {"gamma_measured", "gamma_measured_ci95", "1", &MapCell::gamma_measured},
+    {"M_eff", "M_eff_ci95", "kg", &MapCell::M_eff},
+    {"C_eff", "C_eff_ci95", "N s/m", &MapCell::C_eff},
+    {"Cb_over_Mbw", "Cb_over_Mbw_ci95", "1", &MapCell::Cb_over_Mbw},
+    {"loss_factor", "loss_factor_ci95", "1", &MapCell::loss_factor},
+    {"M_eff_ratio", "M_eff_ratio_ci95", "1", &MapCell::M_eff_ratio},
+    {"energy_per_cycle", "energy_per_cycle_ci95", "J", &MapCell::energy_per_cycle},
+    {"e", "e_ci95", "1", &MapCell::e},
+};
+
+std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(12);
+  s << x;
+  return s.str();
+}
+
+// [[row of amplitude 0], [row of amplitude 1], ...] of a value per cell (cells Gamma-major).
+template <class F>
+std::string json_rows(const MapGrid& g, const std::vector<MapCell>& cells, F value) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < g.gamma.size(); ++i) {
+    s += i ? ", [" : "[";
+    for (std::size_t j = 0; j < g.frequency.size(); ++j) s += (j ? ", " : "") + json_number(value(cells[i * g.frequency.size() + j]));
+    s += "]";
+  }
+  return s + "]";
+}
+
+void write_csv(const fs::path& path, const std::vector<MapCell>& cells) {
+  std::vector<TableColumn> columns = {{"gamma", "1"}, {"frequency", "Hz"}, {"amplitude", "m"}, {"starts", "1"}, {"steady_starts", "1"}};
+  for (const Figure& f : kFigures) {
+    columns.push_back({f.name, f.unit});
+    columns.push_back({f.ci95, f.unit});
+  }
+  columns.push_back({"e_starts", "1"});
+  std::vector<std::vector<double>> rows;
+  for (const MapCell& c : cells) {
+    std::vector<double> r = {c.gamma, c.frequency, c.amplitude, double(c.starts), double(c.steady)};
+    for (const Figure& f : kFigures) r.insert(r.end(), {(c.*f.field).mean, (c.*f.field).ci95});
+    r.push_back(double(c.e_starts));
+    rows.push_back(r);
+  }
+  write_table_csv(path, columns, rows);
+}
+
+void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
+  std::ostringstream s;
+  s.precision(12);
+  s << "{\n  \"case\": \"" << json_escape(case_dir) << "\",\n";
+  s << "  \"direction\": [" << g.direction.x() << ", " << g.direction.y() << ", " << g.direction.z() << "],\n";
+  s << "  \"g\": {\"value\": " << g.g << ", \"unit\": \"m/s^2\"},\n";
+  auto list = [](const std::vector<double>& v) {
+    std::string t = "[";
+    for (std::size_t k = 0; k < v.size(); ++k) t += (k ? ", " : "") + json_number(v[k]);
+    return t + "]";
+  };
+  s << "  \"gamma\": {\"values\": " << list(g.gamma) << ", \"unit\": \"1\"},\n";
+  s << "  \"frequency\": {\"values\": " << list(g.frequency) << ", \"unit\": \"Hz\"},\n";
+  s << "  \"amplitude\": {\"values\": " << json_rows(g, cells, [](const MapCell& c) { return c.amplitude; }) << ", \"unit\": \"m\"},\n";
+  s << "  \"starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.starts); }) << ",\n";
+  s << "  \"steady_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.steady); }) << ",\n";
+  s << "  \"e_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.e_starts); }) << ",\n";
+  s << "  \"figures\": {";
+  bool first = true;
+  for (const Figure& f : kFigures) {
+    s << (first ? "\n" : ",\n") << "    \"" << f.name << "\": {\"unit\": \"" << json_escape(f.unit) << "\", \"mean\": "
+      << json_rows(g, cells, [&](const MapCell& c) { return (c.*f.field).mean; })
+      << ", \"ci95\": " << json_rows(g, cells, [&](const MapCell& c) { return (c.*f.field).ci95; }) << "}";
+    first = false;
+  }
+  s << "\n  }\n}\n";
+  write_atomically(path, s.str());
+}
+
+void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
+  const std::string tmp = path.string() + ".part";
+  const h5::Check ok = h5::Check::with_prefix("map.h5: ");
+  {
+    h5::H5 file(ok(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create " + tmp), H5Fclose);
+    h5::write_attribute(file, "case", case_dir, ok);
+    h5::write_attribute(file, "direction", g.direction.data(), 3, ok);
+    h5::write_attribute(file, "g", g.g, ok);
+    const hsize_t na = g.gamma.size(), nf = g.frequency.size();
+    h5::write_dataset(file, "gamma", {na}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.gamma.data(), "1", ok);
+    h5::write_dataset(file, "frequency", {nf}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.frequency.data(), "Hz", ok);
+    auto grid_of = [&](auto value) {
+      std::vector<double> v;
+      for (const MapCell& c : cells) v.push_back(value(c));
+      return v;
+    };
+    auto put = [&](hid_t where, const std::string& name, const std::vector<double>& v, const std::string& unit) {
+      h5::write_dataset(where, name, {na, nf}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), unit, ok);
+    };
+    put(file, "amplitude", grid_of([](const MapCell& c) { return c.amplitude; }), "m");
+    put(file, "starts", grid_of([](const MapCell& c) { return double(c.starts); }), "1");
+    put(file, "steady_starts", grid_of([](const MapCell& c) { return double(c.steady); }), "1");
+    put(file, "e_starts", grid_of([](const MapCell& c) { return double(c.e_starts); }), "1");
+    for (const Figure& f : kFigures) {
+      h5::H5 group = h5::create_group(file, f.name, ok, true);
+      put(group, "mean", grid_of([&](const MapCell& c) { return (c.*f.field).mean; }), f.unit);
+      put(group, "ci95", grid_of([&](const MapCell& c) { return (c.*f.field).ci95; }), f.unit);
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir) {
+  const fs::path out(out_dir);
+  write_csv(out / "map.csv", cells);
+  write_json(out / "map.json", grid, cells, case_dir);
+  write_h5(out / "map.h5", grid, cells, case_dir);
+}
+
+}  // namespace bagdem::study

@@ -1,0 +1,177 @@
+// `bagdem characterize` (study/characterize.hpp):
+// 1. Its grid: Gamma log-spaced, frequencies evenly over each band of a sweep (one band per mode),
+//    X = Gamma g / w^2; bad ranges refused naming the option.
+// 2. A cell's figures are the mean and the 95% interval of its starts (Student t, n - 1).
+// 3. Through the binary, on an analytic reference: a solid steel ball resting on the floor of a
+//    box shaken horizontally below the sliding limit rolls without slip, so the floor's friction on
+//    it is (2/7) m a (I = (2/5) m r^2) and it dissipates nothing: M_eff / m = 2/7, C_eff = 0. The
+//    case is coupled (an SDOF primary): characterize drops it and prescribes the cavity's motion
+//    along primary.direction. The map's files hold the grid and the figures; a second call resumes.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/study/characterize.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/study/study.hpp"
+#include "case_texts.hpp"
+#include "h5_read.hpp"
+#include "support.hpp"
+
+using namespace bagdem;
+using namespace bagdem::study;
+using bagdem::testing::CaseText;
+using bagdem::testing::quoted;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A 10-mm steel ball (softened to 2 GPa) on the floor of a 40 x 20 x 20 mm box, mu 0.3, gravity
+// -z, on an SDOF primary moving along x swept over 18-22 Hz.
+std::string rolling_ball_case() {
+  return CaseText()
+      .simulation("0.1 s")
+      .set("simulation", "settle", "0.05 s")
+      .steel("2 GPa")
+      .interactions(0.5, 0.3)
+      .box("steel", "[\"-20 mm\", \"-10 mm\", \"-10 mm\"]", "[\"20 mm\", \"10 mm\", \"10 mm\"]")
+      .placed("ball", "steel", "10 mm", "[[0, 0, \"-4.99 mm\"]]")
+      .sdof("1 kg", "15791.367 N/m", 0.02)
+      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[18, 20, 22]"}})
+      .str();
+}
+
+}  // namespace
+
+TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
+  const auto bands = sweep_bands({80, 77, 83, 86, 470, 440, 455, 485, 89});
+  ASSERT_EQ(bands.size(), 2u);
+  EXPECT_EQ(bands[0], std::make_pair(77.0, 89.0));
+  EXPECT_EQ(bands[1], std::make_pair(440.0, 485.0));
+  EXPECT_EQ(sweep_bands({10, 20, 30, 40}).size(), 1u);
+
+  bagdem::testing::TempDir t;
+  std::ofstream(t.path / "case.toml") << rolling_ball_case();
+  const Scene s = load_case(t.path.string());
+  CharacterizeArgs a;
+  a.amplitudes = 3, a.frequencies = 3, a.gamma = {0.5, 2};
+  const MapGrid g = map_grid(s, a);
+  ASSERT_EQ(g.gamma.size(), 3u);
+  EXPECT_NEAR(g.gamma[1], 1.0, 1e-12);
+  ASSERT_EQ(g.frequency.size(), 3u);
+  EXPECT_NEAR(g.frequency[0], 18, 1e-12);
+  EXPECT_NEAR(g.frequency[1], 20, 1e-12);
+  EXPECT_NEAR(g.frequency[2], 22, 1e-12);
+  EXPECT_NEAR(g.g, 9.81, 1e-12);
+  EXPECT_NEAR(g.amplitude(2, 1), 2 * 9.81 / std::pow(2 * std::numbers::pi * 20, 2), 1e-15);
+  EXPECT_EQ(g.direction, Vec3::UnitX());
+
+  for (auto bad : {std::vector<double>{2, 0.5}, std::vector<double>{0, 1}, std::vector<double>{1}}) {
+    CharacterizeArgs b = a;
+    b.gamma = bad;
+    try {
+      map_grid(s, b);
+      ADD_FAILURE() << "accepted --gamma of " << bad.size() << " values";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--gamma"), std::string::npos) << e.what();
+    }
+  }
+  CharacterizeArgs one = a;
+  one.amplitudes = 1;
+  EXPECT_THROW(map_grid(s, one), InputError);
+}
+
+TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
+  std::vector<ReducedRow> rows(3);
+  for (int k = 0; k < 3; ++k) {
+    rows[k].M_eff = 1 + k;  // 1, 2, 3: mean 2, sd 1
+    rows[k].C_eff = 5;
+    rows[k].e = k == 1 ? ReducedRow::kUnknown : 0.5;
+    rows[k].steady = k == 2 ? 0 : 1;
+  }
+  const MapCell c = map_cell(1, 20, 1e-3, rows);
+  EXPECT_EQ(c.starts, 3u);
+  EXPECT_EQ(c.steady, 2u);
+  EXPECT_NEAR(c.M_eff.mean, 2, 1e-15);
+  EXPECT_NEAR(c.M_eff.ci95, 4.302653 / std::sqrt(3.0), 1e-4);  // t_{0.975, 2} to 4 decimals
+  EXPECT_NEAR(c.C_eff.ci95, 0, 1e-15);
+  EXPECT_EQ(c.e_starts, 2u);  // the start without an e is left out of e's figure
+  EXPECT_NEAR(c.e.mean, 0.5, 1e-15);
+}
+
+TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothing) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << rolling_ball_case();
+  const fs::path out = t.path / "map";
+  const std::vector<std::string> args = {"characterize", dir.string(), "--gamma", "0.1,0.4", "--amplitudes", "2", "--frequencies", "2",
+                                         "--seeds", "2", "--cycles", "6", "--skip", "2", "--out", out.string(), "--jobs", "2"};
+  const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("map: 2 amplitudes x 2 frequencies"), std::string::npos) << r.out;
+
+  const TextTable m = read_text_table(out / "map.csv");
+  ASSERT_EQ(m.rows.size(), 4u);
+  const std::size_t gamma = m.find("gamma"), freq = m.find("frequency"), amp = m.find("amplitude"), starts = m.find("starts"),
+                    ratio = m.find("M_eff_ratio"), cb = m.find("Cb_over_Mbw"), measured = m.find("gamma_measured");
+  ASSERT_LT(std::max({gamma, freq, amp, starts, ratio, cb, measured}), m.names.size());
+  EXPECT_EQ(m.units[m.find("C_eff")], "N s/m");
+  EXPECT_LT(m.find("C_eff_ci95"), m.names.size());
+  for (const auto& row : m.rows) {
+    const double G = std::stod(row[gamma]), f = std::stod(row[freq]);
+    std::printf("  Gamma %.2f at %.0f Hz: M_eff / m %.5f (2/7 = %.5f), C_b / (M_b w) %.2e\n", G, f, std::stod(row[ratio]), 2.0 / 7.0,
+                std::stod(row[cb]));
+    EXPECT_NEAR(std::stod(row[amp]), G * 9.81 / std::pow(2 * std::numbers::pi * f, 2), 1e-9 * std::stod(row[amp]));
+    EXPECT_EQ(row[starts], "2");
+    EXPECT_NEAR(std::stod(row[measured]), G, 0.01 * G) << "the cavity moved as asked";
+    EXPECT_NEAR(std::stod(row[ratio]), 2.0 / 7.0, 1e-3 * 2.0 / 7.0) << "rolling without slip at Gamma " << G << ", " << f << " Hz";
+    EXPECT_LT(std::abs(std::stod(row[cb])), 1e-4) << "no slip, no dissipation";
+  }
+  // map.h5: the figures on the grid [amplitudes x frequencies].
+  const hid_t h = bagdem::testing::open_read((out / "map.h5").string());
+  ASSERT_GE(h, 0);
+  const auto ratio_h5 = bagdem::testing::read_doubles(h, "M_eff_ratio/mean");
+  EXPECT_EQ(ratio_h5.dims, (std::vector<hsize_t>{2, 2}));
+  ASSERT_EQ(ratio_h5.values.size(), 4u);
+  for (double x : ratio_h5.values) EXPECT_NEAR(x, 2.0 / 7.0, 0.01 * 2.0 / 7.0);
+  EXPECT_EQ(bagdem::testing::unit_of(h, "C_eff/mean"), "N s/m");
+  EXPECT_EQ(bagdem::testing::read_doubles(h, "gamma").values.size(), 2u);
+  H5Fclose(h);
+  const std::string js = bagdem::testing::slurp(out / "map.json");
+  EXPECT_NE(js.find("\"Cb_over_Mbw\": {\"unit\": \"1\", \"mean\": [["), std::string::npos) << js;
+
+  // Again: every run is done, nothing runs, the map is the same.
+  const std::string before = bagdem::testing::slurp(out / "map.csv");
+  const bagdem::testing::CmdResult again = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("resum"), std::string::npos) << again.err;
+  EXPECT_EQ(bagdem::testing::slurp(out / "map.csv"), before);
+}
+
+TEST(Characterize, RefusesACaseWithoutABandOrADirection) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << CaseText()
+                                          .simulation("0.1 s")
+                                          .steel("2 GPa")
+                                          .interactions(0.5, 0.3)
+                                          .box("steel", "[-0.01, -0.01, -0.01]", "[0.01, 0.01, 0.01]")
+                                          .placed("ball", "steel", "4 mm", "[[0, 0, 0]]")
+                                          .str();
+  const auto r = bagdem::testing::run_bagdem({"characterize", dir.string(), "--out", (t.path / "m").string()}, t.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--band"), std::string::npos) << r.err;
+  const auto r2 = bagdem::testing::run_bagdem({"characterize", dir.string(), "--band", "20,40", "--out", (t.path / "m").string()}, t.path);
+  EXPECT_EQ(r2.code, 2) << r2.err;
+  EXPECT_NE(r2.err.find("direction"), std::string::npos) << r2.err;
+  EXPECT_FALSE(fs::exists(t.path / "m" / "map.csv"));
+}

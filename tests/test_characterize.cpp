@@ -94,6 +94,7 @@ TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
     rows[k].M_eff = 1 + k;  // 1, 2, 3: mean 2, sd 1
     rows[k].C_eff = 5;
     rows[k].e = k == 1 ? ReducedRow::kUnknown : 0.5;
+    rows[k].e_method = k == 1 ? "none" : "impact";
     rows[k].steady = k == 2 ? 0 : 1;
   }
   const MapCell c = map_cell(1, 20, 1e-3, rows);
@@ -104,6 +105,9 @@ TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
   EXPECT_NEAR(c.C_eff.ci95, 0, 1e-15);
   EXPECT_EQ(c.e_starts, 2u);  // the start without an e is left out of e's figure
   EXPECT_NEAR(c.e.mean, 0.5, 1e-15);
+  EXPECT_EQ(c.e_method, "impact");
+  rows[2].e_method = "eq19a";
+  EXPECT_EQ(map_cell(1, 20, 1e-3, rows).e_method, "mixed");
 }
 
 TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothing) {
@@ -125,12 +129,14 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   ASSERT_LT(std::max({gamma, freq, amp, starts, ratio, cb, measured}), m.names.size());
   EXPECT_EQ(m.units[m.find("C_eff")], "N s/m");
   EXPECT_LT(m.find("C_eff_ci95"), m.names.size());
+  ASSERT_LT(m.find("e_method"), m.names.size());
   for (const auto& row : m.rows) {
     const double G = std::stod(row[gamma]), f = std::stod(row[freq]);
     std::printf("  Gamma %.2f at %.0f Hz: M_eff / m %.5f (2/7 = %.5f), C_b / (M_b w) %.2e\n", G, f, std::stod(row[ratio]), 2.0 / 7.0,
                 std::stod(row[cb]));
     EXPECT_NEAR(std::stod(row[amp]), G * 9.81 / std::pow(2 * std::numbers::pi * f, 2), 1e-9 * std::stod(row[amp]));
     EXPECT_EQ(row[starts], "2");
+    EXPECT_NE(row[m.find("e_method")], "mixed") << "the starts are the same start (the ball's place is given)";
     EXPECT_NEAR(std::stod(row[measured]), G, 0.01 * G) << "the cavity moved as asked";
     EXPECT_NEAR(std::stod(row[ratio]), 2.0 / 7.0, 1e-3 * 2.0 / 7.0) << "rolling without slip at Gamma " << G << ", " << f << " Hz";
     EXPECT_LT(std::abs(std::stod(row[cb])), 1e-4) << "no slip, no dissipation";

@@ -106,6 +106,10 @@ MapCell map_cell(double gamma, double frequency, double amplitude, const std::ve
   c.energy_per_cycle = over(starts, &ReducedRow::energy_per_cycle);
   c.e = over(starts, &ReducedRow::e);
   c.e_starts = c.e.repeats;
+  for (const ReducedRow& r : starts) {
+    if (!std::isfinite(r.e)) continue;
+    c.e_method = c.e_method == "none" || c.e_method == r.e_method ? r.e_method : "mixed";
+  }
   return c;
 }
 

@@ -64,13 +64,15 @@ void write_csv(const fs::path& path, const std::vector<MapCell>& cells) {
   }
   columns.push_back({"e_starts", "1"});
   std::vector<std::vector<double>> rows;
+  std::vector<std::vector<std::string>> methods;
   for (const MapCell& c : cells) {
     std::vector<double> r = {c.gamma, c.frequency, c.amplitude, double(c.starts), double(c.steady)};
     for (const Figure& f : kFigures) r.insert(r.end(), {(c.*f.field).mean, (c.*f.field).ci95});
     r.push_back(double(c.e_starts));
     rows.push_back(r);
+    methods.push_back({c.e_method});
   }
-  write_table_csv(path, columns, rows);
+  write_table_csv(path, columns, rows, {{"e_method", "text"}}, methods);
 }
 
 void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
@@ -90,6 +92,13 @@ void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCel
   s << "  \"starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.starts); }) << ",\n";
   s << "  \"steady_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.steady); }) << ",\n";
   s << "  \"e_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.e_starts); }) << ",\n";
+  s << "  \"e_method\": [";
+  for (std::size_t i = 0; i < g.gamma.size(); ++i) {
+    s << (i ? ", [" : "[");
+    for (std::size_t j = 0; j < g.frequency.size(); ++j) s << (j ? ", " : "") << '"' << json_escape(cells[i * g.frequency.size() + j].e_method) << '"';
+    s << "]";
+  }
+  s << "],\n";
   s << "  \"figures\": {";
   bool first = true;
   for (const Figure& f : kFigures) {
@@ -125,6 +134,9 @@ void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>
     put(file, "starts", grid_of([](const MapCell& c) { return double(c.starts); }), "1");
     put(file, "steady_starts", grid_of([](const MapCell& c) { return double(c.steady); }), "1");
     put(file, "e_starts", grid_of([](const MapCell& c) { return double(c.e_starts); }), "1");
+    std::vector<std::string> methods;  // Gamma-major, as the grids' rows
+    for (const MapCell& c : cells) methods.push_back(c.e_method);
+    h5::write_strings(file, "e_method", methods, ok);
     for (const Figure& f : kFigures) {
       h5::H5 group = h5::create_group(file, f.name, ok, true);
       put(group, "mean", grid_of([&](const MapCell& c) { return (c.*f.field).mean; }), f.unit);

@@ -75,6 +75,7 @@ struct MapCell {
   Interval gamma_measured;         // the cavity's own, over the starts (unit: 1)
   Interval M_eff, C_eff, Cb_over_Mbw, loss_factor, M_eff_ratio, energy_per_cycle, e;
   std::size_t e_starts = 0;        // starts that gave an e (the others' is undefined: no impacts)
+  std::string e_method = "none";   // where e came from (reduced.csv's e_method) when the starts agree, else "mixed"
 };
 
 // A cell from its starts' reduced rows: every figure's mean and 95% interval over the starts that

@@ -1,0 +1,65 @@
+// Prediction from an effective-field map (study/characterize.hpp): a structure's steady response
+// with the damper, without running DEM. The single-harmonic balance: the contents act on the
+// cavity as the impedance Z = -w^2 M_eff + i w C_eff (their force Re(-Z U e^{iwt}), U the cavity's
+// amplitude), with M_eff and C_eff those the map measured at the cavity's own amplitude |U| and
+// frequency. So at each frequency the cavity's amplitude X solves
+//     X = |phi_b . Q(F, w, Z(X, w))|,   Q: Primary::steady_amplitudes,
+// a scalar equation in X. Every root inside the map's amplitude range is a steady solution: all
+// are found by sampling the residual on a log grid of X and refining each sign change by bisection,
+// so the branches of a folded response (a jump, a turning point) appear as several solutions at
+// one frequency. A response that would lie outside the map is refused, never extrapolated.
+//
+// Interpolation: bilinear in (log Gamma, f) on the map's grid, Gamma = X w^2 / g.
+// Intervals: the map's 95% half-widths shift M_eff and C_eff together to the four corners
+// (M_eff +- ci, C_eff +- ci); each corner is predicted again and the spread of the peak reduction
+// over the corners and the mean is its interval.
+#pragma once
+#include <complex>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bagdem/structure/primary.hpp"
+
+namespace bagdem {
+
+// The map's figures that the prediction needs, on its grid (cells Gamma-major: [i * nf + j]).
+struct EffectiveMap {
+  std::vector<double> gamma, frequency;           // ascending (unit: 1, Hz)
+  double g = 9.81;                                // (unit: m/s^2)
+  std::vector<double> M_eff, M_eff_ci95;          // (unit: kg)
+  std::vector<double> C_eff, C_eff_ci95;          // (unit: N s/m)
+  std::string source;                             // the file read, for messages
+
+  // M_eff and C_eff at cavity amplitude X (m) and frequency f (Hz), each shifted by `m_sign` and
+  // `c_sign` times its 95% half-width; nullopt outside the grid (Gamma or f beyond its ends) or in
+  // a cell whose corners lack a figure.
+  std::optional<std::pair<double, double>> at(double X, double f, int m_sign = 0, int c_sign = 0) const;
+  // The amplitude range of the grid at frequency f: Gamma's ends as X (unit: m).
+  std::pair<double, double> amplitude_range(double f) const;
+};
+
+// Reads map.csv (the columns of docs/characterize.md). Throws InputError naming the file and what
+// is wrong (a missing column, a grid that is not Gamma x frequency).
+EffectiveMap read_effective_map(const std::filesystem::path& map_csv);
+
+// One steady solution at a frequency: the cavity's amplitude and the response at x_a.
+struct HarmonicSolution {
+  double cavity_amplitude = 0;  // X (unit: m)
+  double response = 0;          // |Y| at x_a (unit: m)
+};
+
+// The solutions at one frequency. `outside` says why there is none: "" (solutions found), "below"
+// (the response lies below the map's smallest amplitude), "above" (beyond its largest) or "band"
+// (the frequency is outside the map's).
+struct FrequencyPrediction {
+  double frequency = 0;  // (unit: Hz)
+  std::vector<HarmonicSolution> solutions;
+  std::string outside;
+};
+
+FrequencyPrediction predict_at(const Primary& primary, const EffectiveMap& map, double force, double frequency, int m_sign = 0,
+                               int c_sign = 0);
+
+}  // namespace bagdem

@@ -1,0 +1,131 @@
+// Prediction from an effective-field map (reduce/predict.hpp).
+#include "bagdem/reduce/predict.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "bagdem/error.hpp"
+#include "bagdem/io/table_csv.hpp"
+
+namespace bagdem {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The interval [k, k + 1] of an ascending grid holding x (its last interval at the top end).
+std::size_t bracket(const std::vector<double>& grid, double x) {
+  const auto it = std::upper_bound(grid.begin(), grid.end(), x);
+  const std::size_t k = static_cast<std::size_t>(it - grid.begin());
+  return std::min(k == 0 ? 0 : k - 1, grid.size() - 2);
+}
+
+}  // namespace
+
+std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, int m_sign, int c_sign) const {
+  if (gamma.size() < 2 || frequency.size() < 2 || !(X > 0)) return std::nullopt;
+  if (f < frequency.front() || f > frequency.back()) return std::nullopt;
+  const double w = 2 * std::numbers::pi * f, G = X * w * w / g;
+  if (G < gamma.front() || G > gamma.back()) return std::nullopt;
+  const std::size_t i = bracket(gamma, G), j = bracket(frequency, f), nf = frequency.size();
+  const double s = std::log(G / gamma[i]) / std::log(gamma[i + 1] / gamma[i]);
+  const double t = (f - frequency[j]) / (frequency[j + 1] - frequency[j]);
+  double m = 0, c = 0;
+  for (int di = 0; di < 2; ++di)
+    for (int dj = 0; dj < 2; ++dj) {
+      const std::size_t k = (i + di) * nf + j + dj;
+      const double weight = (di ? s : 1 - s) * (dj ? t : 1 - t);
+      const double mk = M_eff[k] + m_sign * M_eff_ci95[k], ck = C_eff[k] + c_sign * C_eff_ci95[k];
+      if (!std::isfinite(mk) || !std::isfinite(ck)) return std::nullopt;
+      m += weight * mk, c += weight * ck;
+    }
+  return std::make_pair(m, c);
+}
+
+std::pair<double, double> EffectiveMap::amplitude_range(double f) const {
+  const double w = 2 * std::numbers::pi * f;
+  return {gamma.front() * g / (w * w), gamma.back() * g / (w * w)};
+}
+
+EffectiveMap read_effective_map(const fs::path& path) {
+  const TextTable t = read_text_table(path);
+  EffectiveMap m;
+  m.source = path.string();
+  auto column = [&](const std::string& name) {
+    const std::size_t c = t.find(name);
+    if (c == t.names.size()) throw InputError(path.string(), "", "", "has no column '" + name + "' (is it a map.csv of bagdem characterize?)");
+    std::vector<double> v;
+    for (const auto& row : t.rows) v.push_back(row[c].empty() || row[c] == "nan" ? std::nan("") : std::stod(row[c]));
+    return v;
+  };
+  const std::vector<double> G = column("gamma"), f = column("frequency");
+  m.M_eff = column("M_eff"), m.M_eff_ci95 = column("M_eff_ci95");
+  m.C_eff = column("C_eff"), m.C_eff_ci95 = column("C_eff_ci95");
+  for (double x : f)
+    if (std::find(m.frequency.begin(), m.frequency.end(), x) == m.frequency.end()) m.frequency.push_back(x);
+  for (double x : G)
+    if (std::find(m.gamma.begin(), m.gamma.end(), x) == m.gamma.end()) m.gamma.push_back(x);
+  const std::size_t na = m.gamma.size(), nf = m.frequency.size();
+  bool grid = na >= 2 && nf >= 2 && G.size() == na * nf && std::is_sorted(m.gamma.begin(), m.gamma.end()) &&
+              std::is_sorted(m.frequency.begin(), m.frequency.end());
+  for (std::size_t k = 0; grid && k < G.size(); ++k) grid = G[k] == m.gamma[k / nf] && f[k] == m.frequency[k % nf];
+  if (!grid)
+    throw InputError(path.string(), "", "", "is not a grid of at least 2 Gamma x 2 frequencies, Gamma varying slowest (as bagdem characterize writes it)");
+  // The cells' interval is NaN with one start: no spread to propagate.
+  for (auto* ci : {&m.M_eff_ci95, &m.C_eff_ci95})
+    for (double& x : *ci)
+      if (!std::isfinite(x)) x = 0;
+  return m;
+}
+
+FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double F, double f, int m_sign, int c_sign) {
+  FrequencyPrediction out;
+  out.frequency = f;
+  if (f < map.frequency.front() || f > map.frequency.back()) {
+    out.outside = "band";
+    return out;
+  }
+  const double w = 2 * std::numbers::pi * f;
+  auto amplitudes = [&](double X) -> std::optional<Eigen::VectorXcd> {
+    const auto mc = map.at(X, f, m_sign, c_sign);
+    if (!mc) return std::nullopt;
+    return p.steady_amplitudes(F, w, std::complex<double>(-w * w * mc->first, w * mc->second));
+  };
+  auto residual = [&](double X) -> std::optional<double> {
+    const auto Q = amplitudes(X);
+    if (!Q) return std::nullopt;
+    return std::abs(p.at_cavity.cast<std::complex<double>>().dot(*Q)) / X - 1;  // relative: |U(X)| / X - 1
+  };
+  // The range of X, pulled in by a hair so that rounding keeps its ends inside the grid.
+  auto [lo, hi] = map.amplitude_range(f);
+  lo *= 1 + 1e-12, hi *= 1 - 1e-12;
+  constexpr int kSamples = 160;
+  std::vector<double> X(kSamples + 1);
+  std::vector<std::optional<double>> r(kSamples + 1);
+  bool any_positive = false, any_negative = false;
+  for (int k = 0; k <= kSamples; ++k) {
+    X[k] = lo * std::pow(hi / lo, double(k) / kSamples);
+    r[k] = residual(X[k]);
+    if (r[k]) (*r[k] > 0 ? any_positive : any_negative) = true;
+  }
+  for (int k = 0; k < kSamples; ++k) {
+    if (!r[k] || !r[k + 1]) continue;
+    double a = X[k], b = X[k + 1], ra = *r[k];
+    if (ra == 0) b = a;
+    else if ((ra > 0) == (*r[k + 1] > 0)) continue;
+    for (int it = 0; it < 100 && b / a > 1 + 1e-14; ++it) {  // bisection in log X
+      const double m = std::sqrt(a * b);
+      const auto rm = residual(m);
+      if (!rm) break;
+      if ((*rm > 0) == (ra > 0)) a = m, ra = *rm;
+      else b = m;
+    }
+    const double root = std::sqrt(a * b);
+    if (const auto Q = amplitudes(root))
+      out.solutions.push_back({root, std::abs(p.at_response.cast<std::complex<double>>().dot(*Q))});
+  }
+  if (out.solutions.empty()) out.outside = any_positive && !any_negative ? "above" : any_negative && !any_positive ? "below" : "gap";
+  return out;
+}
+
+}  // namespace bagdem

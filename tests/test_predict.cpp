@@ -1,0 +1,142 @@
+// Prediction from an effective-field map (reduce/predict.hpp):
+// 1. A constant map (fixed M_eff, C_eff) is a linear mass and dashpot: the single-harmonic balance
+//    has one solution at every frequency and gives the linear FRF exactly, on an SDOF and on the
+//    pipe's beam (four modes).
+// 2. An amplitude-dependent map whose damping collapses above a threshold folds the response:
+//    three solutions at the frequencies of the fold, each a fixed point of the balance.
+// 3. A response outside the map is refused (below, above, or a frequency outside its band), and
+//    map.csv is read back with its grid checked.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/reduce/predict.hpp"
+#include "case_texts.hpp"
+#include "support.hpp"
+
+using namespace bagdem;
+using bagdem::testing::CaseText;
+using bagdem::testing::quoted;
+
+namespace {
+
+// A 10-mm steel ball in a box on a 1-kg SDOF of 20 Hz (damping ratio 0.02) along x.
+Scene sdof_scene(const bagdem::testing::TempDir& t) {
+  std::ofstream(t.path / "case.toml") << CaseText()
+                                             .simulation("0.1 s")
+                                             .steel("2 GPa")
+                                             .interactions(0.5, 0.3)
+                                             .box("steel", "[-0.02, -0.01, -0.01]", "[0.02, 0.01, 0.01]")
+                                             .placed("ball", "steel", "10 mm", "[[0, 0, 0]]")
+                                             .sdof("1 kg", "15791.367 N/m", 0.02)
+                                             .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+                                             .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.5 N"},
+                                                                 {"frequencies", "[18, 20, 22]"}})
+                                             .str();
+  return load_case(t.path.string());
+}
+
+// A map over Gamma [lo, hi] x frequencies, with M_eff and C_eff given by functions of (Gamma, f).
+template <class M, class C>
+EffectiveMap make_map(std::vector<double> gamma, std::vector<double> freq, M m, C c) {
+  EffectiveMap map;
+  map.gamma = gamma, map.frequency = freq;
+  for (double G : gamma)
+    for (double f : freq) {
+      map.M_eff.push_back(m(G, f)), map.C_eff.push_back(c(G, f));
+      map.M_eff_ci95.push_back(0), map.C_eff_ci95.push_back(0);
+    }
+  return map;
+}
+
+// |Y| at x_a of the linear structure with a point mass M and dashpot C at the cavity.
+double linear_response(const Primary& p, double F, double f, double M, double C) {
+  const double w = 2 * std::numbers::pi * f;
+  const Eigen::VectorXcd Q = p.steady_amplitudes(F, w, std::complex<double>(-w * w * M, w * C));
+  return std::abs(p.at_response.cast<std::complex<double>>().dot(Q));
+}
+
+}  // namespace
+
+TEST(Predict, AConstantMapGivesTheLinearResponseExactly) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  ASSERT_TRUE(s.primary);
+  const EffectiveMap map = make_map({1e-4, 1e-2, 1, 100}, {15, 20, 25}, [](double, double) { return 0.08; },
+                                    [](double, double) { return 3.0; });
+  double worst = 0;
+  for (double f = 15; f <= 25; f += 0.05) {
+    const FrequencyPrediction p = predict_at(*s.primary, map, 0.5, f);
+    ASSERT_EQ(p.solutions.size(), 1u) << f << " Hz: " << p.outside;
+    const double exact = linear_response(*s.primary, 0.5, f, 0.08, 3.0);
+    worst = std::max(worst, std::abs(p.solutions[0].response / exact - 1));
+  }
+  std::printf("  SDOF: largest relative difference from the linear FRF %.2e\n", worst);
+  EXPECT_LT(worst, 1e-12);
+
+  // The pipe's free-free beam (four elastic modes and the rigid ones) at mid-span.
+  const Scene pipe = load_case(std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag");
+  ASSERT_TRUE(pipe.primary);
+  const EffectiveMap pipe_map = make_map({1e-4, 1e-2, 1, 100}, {70, 100}, [](double, double) { return 0.026; },
+                                         [](double, double) { return 2.0; });
+  worst = 0;
+  for (double f = 70; f <= 100; f += 0.1) {
+    const FrequencyPrediction p = predict_at(*pipe.primary, pipe_map, 0.2, f);
+    ASSERT_EQ(p.solutions.size(), 1u) << f << " Hz: " << p.outside;
+    worst = std::max(worst, std::abs(p.solutions[0].response / linear_response(*pipe.primary, 0.2, f, 0.026, 2.0) - 1));
+  }
+  std::printf("  pipe: largest relative difference from the linear FRF %.2e\n", worst);
+  EXPECT_LT(worst, 1e-12);
+}
+
+TEST(Predict, AFoldedResponseGivesEverySolution) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  // Heavy damping at small amplitude that collapses above Gamma 0.2: near resonance the lightly
+  // damped branch (large X) and the heavily damped one (small X) coexist, with an unstable one between.
+  std::vector<double> gamma;
+  for (double G = 1e-3; G <= 100 * (1 + 1e-9); G *= std::pow(10.0, 0.05)) gamma.push_back(G);
+  const EffectiveMap map = make_map(gamma, {15, 25}, [](double, double) { return 0.0; },
+                                    [](double G, double) { return G < 0.2 ? 40.0 : 0.0; });
+  std::size_t most = 0;
+  for (double f = 18; f <= 22; f += 0.02) {
+    const FrequencyPrediction p = predict_at(*s.primary, map, 0.5, f);
+    most = std::max(most, p.solutions.size());
+    for (const HarmonicSolution& h : p.solutions) {  // each a fixed point: X = |U(Z(X))|
+      const auto mc = map.at(h.cavity_amplitude, f);
+      ASSERT_TRUE(mc);
+      EXPECT_NEAR(linear_response(*s.primary, 0.5, f, mc->first, mc->second), h.response, 1e-9 * h.response) << f << " Hz";
+      EXPECT_NEAR(h.response, h.cavity_amplitude, 1e-9 * h.response) << "on an SDOF the cavity is the response point";
+    }
+  }
+  EXPECT_EQ(most, 3u) << "the fold's three branches";
+}
+
+TEST(Predict, RefusesWhatLiesOutsideTheMap) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  const EffectiveMap map = make_map({0.5, 20}, {18, 22}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  EXPECT_EQ(predict_at(*s.primary, map, 0.5, 25).outside, "band");
+  EXPECT_EQ(predict_at(*s.primary, map, 1e-6, 20).outside, "below");  // a tiny force: X far below Gamma 0.5
+  EXPECT_EQ(predict_at(*s.primary, map, 1e4, 20).outside, "above");
+  // map.csv read back: its grid and its columns.
+  std::ofstream(t.path / "map.csv") << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m],C_eff_ci95 [N s/m]\n"
+                                       "0.5,18,0.08,nan,3,0.1\n0.5,22,0.08,nan,3,0.1\n20,18,0.07,nan,2,0.1\n20,22,0.07,nan,2,0.1\n";
+  const EffectiveMap back = read_effective_map(t.path / "map.csv");
+  EXPECT_EQ(back.gamma, (std::vector<double>{0.5, 20}));
+  EXPECT_EQ(back.frequency, (std::vector<double>{18, 22}));
+  EXPECT_EQ(back.M_eff_ci95[0], 0) << "one start: no spread to propagate";
+  std::ofstream(t.path / "bad.csv") << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m]\n0.5,18,1,0,1\n";
+  try {
+    read_effective_map(t.path / "bad.csv");
+    ADD_FAILURE() << "read a map without C_eff_ci95";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("C_eff_ci95"), std::string::npos) << e.what();
+  }
+}

@@ -1,4 +1,4 @@
-// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, characterize, reduce, compare, peaks, drop, export,
+// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, characterize, predict, reduce, compare, peaks, drop, export,
 // modes, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
@@ -55,6 +55,7 @@ struct Args {
   study::TradeArgs trade;
   study::CalibrateArgs calibrate;
   study::CharacterizeArgs characterize;
+  study::PredictArgs predict;
   // The output directory: --out, or CASE_DIR/out.
   std::string out() const { return out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir; }
 };
@@ -341,6 +342,8 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = study::add_calibrate_command(app, a.calibrate);
   // characterize: the damper's effective-field map over amplitude x frequency (src/study/characterize.cpp).
   CLI::App* characterize = study::add_characterize_command(app, a.characterize);
+  // predict: a structure's response with a map's damper, without DEM (src/study/predict_command.cpp).
+  CLI::App* predict = study::add_predict_command(app, a.predict);
 
   try {
     app.parse(argc, argv);
@@ -355,6 +358,7 @@ int main(int argc, char** argv) {
   if (trade->parsed()) return study::trade_command(a.trade);
   if (calibrate->parsed()) return study::calibrate_command(a.calibrate);
   if (characterize->parsed()) return study::characterize_command(a.characterize);
+  if (predict->parsed()) return study::predict_command(a.predict);
   try {
     if (!a.fidelity.empty()) {
       const auto more = study::fidelity_sets(a.case_dir, a.sets, a.fidelity);

@@ -16,6 +16,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
@@ -139,4 +140,40 @@ TEST(Predict, RefusesWhatLiesOutsideTheMap) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("C_eff_ci95"), std::string::npos) << e.what();
   }
+}
+
+TEST(Predict, TheCommandGivesTheLinearPeakReductionOfAConstantMapAndRefusesWhatItDoesNotCover) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  // A constant map: 80 g and 3 N s/m over Gamma 1e-4 to 100 and 15-25 Hz.
+  std::ofstream(t.path / "map.csv") << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m],C_eff_ci95 [N s/m]\n"
+                                       "0.0001,15,0.08,0.01,3,0.5\n0.0001,25,0.08,0.01,3,0.5\n100,15,0.08,0.01,3,0.5\n100,25,0.08,0.01,3,0.5\n";
+  const auto r = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", "0.5 N", "--points", "2001",
+                                              "--out", (t.path / "p").string()},
+                                             t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  // The exact linear peaks over the sweep's band (18-22 Hz), on a fine scan.
+  auto peak = [&](double M, double C) {
+    double best = 0;
+    for (double f = 18; f <= 22; f += 1e-4) best = std::max(best, linear_response(*s.primary, 0.5, f, M, C));
+    return best;
+  };
+  const double bare = peak(0, 0), exact = 20 * std::log10(bare / peak(0.08, 3));
+  const TextTable p = read_text_table(t.path / "p" / "predict_peaks.csv");
+  ASSERT_EQ(p.rows.size(), 1u);
+  const double db = std::stod(p.rows[0][p.find("reduction_dB")]);
+  std::printf("  predicted %.5f dB, linear %.5f dB\n", db, exact);
+  EXPECT_NEAR(db, exact, 1e-3);
+  // Its range over the map's intervals holds the corners' linear reductions.
+  const double lo = std::stod(p.rows[0][p.find("reduction_dB_lo")]), hi = std::stod(p.rows[0][p.find("reduction_dB_hi")]);
+  EXPECT_NEAR(hi, 20 * std::log10(bare / peak(0.07, 3.5)), 2e-3);  // lighter and more damped: the most reduction
+  EXPECT_LT(lo, db);
+  EXPECT_GT(hi, db);
+  // A force whose response leaves the map: refused, naming the command that would cover it.
+  const auto far = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", "1e-9 N", "--out",
+                                                (t.path / "q").string()},
+                                               t.path);
+  EXPECT_EQ(far.code, 2);
+  EXPECT_NE(far.err.find("bagdem characterize"), std::string::npos) << far.err;
+  EXPECT_FALSE(std::filesystem::exists(t.path / "q" / "predict_peaks.csv"));
 }

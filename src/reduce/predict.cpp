@@ -128,4 +128,61 @@ FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double
   return out;
 }
 
+std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& map, double F, const std::vector<double>& frequencies,
+                                         int points) {
+  std::vector<PredictedMode> out;
+  if (frequencies.empty()) return out;
+  const auto [f_lo, f_hi] = std::minmax_element(frequencies.begin(), frequencies.end());
+  auto bare = [&](double f) { return std::abs(p.bare_receptance(2 * std::numbers::pi * f)) * F; };
+  for (std::size_t dof : p.evaluated_modes(*f_lo, *f_hi)) {
+    PredictedMode m;
+    m.mode = p.elastic_mode_number(dof);
+    m.lo = INFINITY, m.hi = -INFINITY;
+    for (double f : frequencies)
+      if (p.nearest_elastic_mode(f) == dof) m.lo = std::min(m.lo, f), m.hi = std::max(m.hi, f);
+    if (!(m.hi >= m.lo)) continue;
+    // The bare peak on a fine scan (a lightly damped resonance is narrow).
+    for (int k = 0; k <= 20 * points; ++k) {
+      const double f = m.lo + (m.hi - m.lo) * k / (20.0 * points), b = bare(f);
+      if (b > m.bare_peak) m.bare_peak = b, m.bare_frequency = f;
+    }
+    // The damped peak at the map's means and at its interval's four corners.
+    double corner_peak[5] = {};
+    const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
+    for (int k = 0; k < points; ++k) {
+      const double f = points > 1 ? m.lo + (m.hi - m.lo) * k / (points - 1) : m.lo;
+      for (int c = 0; c < 5; ++c) {
+        FrequencyPrediction fp = predict_at(p, map, F, f, signs[c][0], signs[c][1]);
+        if (!fp.outside.empty()) {
+          if (c == 0) {
+            if (m.outside.empty()) m.outside_why = fp.outside;
+            m.outside.push_back(f);
+          }
+          continue;
+        }
+        for (const HarmonicSolution& h : fp.solutions)
+          if (h.response > corner_peak[c]) {
+            corner_peak[c] = h.response;
+            if (c == 0) m.peak_frequency = f;
+          }
+        if (c == 0) {
+          m.points.push_back(std::move(fp));
+          m.bare.push_back(bare(f));
+        }
+      }
+    }
+    m.peak = corner_peak[0];
+    auto db = [&](double peak) { return peak > 0 ? 20 * std::log10(m.bare_peak / peak) : std::nan(""); };
+    m.reduction_db = db(m.peak);
+    m.reduction_db_lo = m.reduction_db_hi = m.reduction_db;
+    for (int c = 1; c < 5; ++c) {
+      const double r = db(corner_peak[c]);
+      if (!std::isfinite(r)) continue;
+      m.reduction_db_lo = std::min(m.reduction_db_lo, r), m.reduction_db_hi = std::max(m.reduction_db_hi, r);
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
 }  // namespace bagdem

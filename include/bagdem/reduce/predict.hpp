@@ -62,4 +62,24 @@ struct FrequencyPrediction {
 FrequencyPrediction predict_at(const Primary& primary, const EffectiveMap& map, double force, double frequency, int m_sign = 0,
                                int c_sign = 0);
 
+// A structure's response over a mode's band at one force level: the largest solution at each
+// frequency against the bare structure, and the peak reduction with its interval.
+struct PredictedMode {
+  std::size_t mode = 0;                   // elastic mode number
+  double lo = 0, hi = 0;                  // its band (unit: Hz)
+  std::vector<FrequencyPrediction> points;  // the map's means, at `frequencies` over the band
+  std::vector<double> bare;               // |H_bare| F at x_a at the same frequencies (unit: m)
+  double bare_peak = 0, bare_frequency = 0;  // the bare structure's peak, found on a fine scan (unit: m, Hz)
+  double peak = 0, peak_frequency = 0;    // the damped peak: the largest solution over the band (unit: m, Hz)
+  double reduction_db = 0;                // 20 log10(bare_peak / peak)
+  double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)
+  std::vector<double> outside;            // frequencies the map does not cover (the prediction is then refused)
+  std::string outside_why;                // the first one's reason: below, above, band
+};
+
+// The case's evaluated modes (Primary::evaluated_modes over `frequencies`, each band the span of
+// the frequencies nearest its mode), `points` evenly spaced frequencies per band.
+std::vector<PredictedMode> predict_modes(const Primary& primary, const EffectiveMap& map, double force,
+                                         const std::vector<double>& frequencies, int points = 400);
+
 }  // namespace bagdem

@@ -87,6 +87,20 @@ MapCell map_cell(double gamma, double frequency, double amplitude, const std::ve
 // docs/characterize.md.
 void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir);
 
+// `bagdem predict CASE --map DIR` (src/study/predict_command.cpp; reduce/predict.hpp): the case's
+// structure with the map's damper, without DEM.
+struct PredictArgs {
+  std::string dir;                       // CASE_DIR
+  std::string map;                       // a directory holding map.csv, or the file
+  std::vector<std::string> amplitudes;   // force levels as written ("0.2 N"); default the case's
+  int points = 400;                      // frequencies per mode's band
+  std::vector<std::string> sets;
+  std::string out;                       // default CASE_DIR/predict
+};
+CLI::App* add_predict_command(CLI::App& app, PredictArgs& args);
+// 0 done, 2 bad input or a response outside the map (nothing written), 1 a system error.
+int predict_command(const PredictArgs& args);
+
 CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& args);
 // Returns the exit code: 0 every cell done, 2 bad input (nothing run), 3 a run failed (the map is
 // written with the cells that have starts).

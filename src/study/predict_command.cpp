@@ -1,0 +1,118 @@
+// `bagdem predict CASE --map DIR` (study/characterize.hpp): the case's structure with the damper of
+// an effective-field map, by single-harmonic balance (reduce/predict.hpp), at one or several force
+// levels. Writes OUT/predict.csv (every solution at every frequency) and OUT/predict_peaks.csv (per
+// level and mode the bare and damped peaks and the reduction with its interval), each to a
+// temporary name and renamed.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/reduce/predict.hpp"
+#include "bagdem/study/characterize.hpp"
+#include "bagdem/units.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+namespace {
+std::string short_force(double F) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g N", F);
+  return b;
+}
+}  // namespace
+
+CLI::App* add_predict_command(CLI::App& app, PredictArgs& a) {
+  auto* c = app.add_subcommand(
+      "predict",
+      "The steady response of the case's structure with the damper of an effective-field map (bagdem characterize), "
+      "without DEM: per frequency the single-harmonic balance with the map's M_eff and C_eff at the cavity's own amplitude "
+      "and frequency, every solution where the response folds; per evaluated mode the peak reduction against the bare "
+      "structure in dB and %, with its range over the map's 95% intervals. Writes OUT/predict.csv and OUT/predict_peaks.csv. "
+      "A response outside the map is refused (exit 2) with the characterize command that would cover it. See docs/characterize.md.");
+  c->add_option("dir", a.dir, "CASE_DIR (holds case.toml): the structure and its sweep's band")->required();
+  c->add_option("--map", a.map, "The map: a directory holding map.csv (bagdem characterize's OUT), or the file")->required();
+  c->add_option("--amplitude", a.amplitudes, "Force amplitude, e.g. \"0.2 N\" (repeatable; default the case's excitation.amplitude)")
+      ->allow_extra_args(false);
+  c->add_option("--points", a.points, "Frequencies per mode's band (default 400)")->check(CLI::Range(2, 1000000));
+  c->add_option("--set", a.sets, "Override a key of case.toml (repeatable)")->allow_extra_args(false);
+  c->add_option("--out", a.out, "Output directory (default CASE_DIR/predict)");
+  return c;
+}
+
+int predict_command(const PredictArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    const Scene scene = load_case(a.dir, a.sets);
+    if (!scene.primary || !scene.primary->sweep)
+      throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");
+    const Primary& P = *scene.primary;
+    fs::path map_csv = a.map;
+    if (fs::is_directory(map_csv)) map_csv /= "map.csv";
+    if (!fs::exists(map_csv)) throw InputError("--map", "", a.map, "holds no map.csv: run bagdem characterize " + a.dir + " first");
+    const EffectiveMap map = read_effective_map(map_csv);
+    std::vector<double> forces;
+    for (const std::string& t : a.amplitudes) {
+      std::string why;
+      const auto F = parse_quantity(t, dim::force, &why);
+      if (!F || !(*F > 0)) throw InputError("--amplitude", "", t, why.empty() ? "a force above 0, e.g. \"0.2 N\"" : why);
+      forces.push_back(*F);
+    }
+    if (forces.empty()) forces.push_back(P.amplitude);
+    const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
+    std::vector<std::vector<double>> rows, peaks;
+    for (double F : forces) {
+      const std::vector<PredictedMode> modes = predict_modes(P, map, F, P.sweep->frequencies, a.points);
+      for (const PredictedMode& m : modes) {
+        if (!m.outside.empty()) {
+          char range[200];
+          std::snprintf(range, sizeof range, "%.6g-%.6g Hz", m.outside.front(), m.outside.back());
+          const std::string hint = m.outside_why == "band" ? "--band covering " + std::string(range)
+                                   : m.outside_why == "below" ? "--gamma with a smaller lower end"
+                                                              : "--gamma with a larger upper end";
+          throw InputError("--map", "", map_csv.string(),
+                           "does not cover the response of mode " + std::to_string(m.mode) + " at " + short_force(F) + ": at " +
+                               std::to_string(m.outside.size()) + " of its frequencies (" + range + ") the cavity's amplitude is " +
+                               (m.outside_why == "band" ? "outside the map's band" : m.outside_why + " the map's") +
+                               ". Extend the map: bagdem characterize " + a.dir + " " + hint + " (nothing is extrapolated)");
+        }
+        for (std::size_t k = 0; k < m.points.size(); ++k)
+          for (std::size_t b = 0; b < m.points[k].solutions.size(); ++b) {
+            const HarmonicSolution& h = m.points[k].solutions[b];
+            rows.push_back({F, double(m.mode), m.points[k].frequency, double(b), h.cavity_amplitude, h.response, m.bare[k]});
+          }
+        const double pct = 100 * (1 - std::pow(10.0, -m.reduction_db / 20));
+        peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
+                         m.reduction_db_hi});
+        std::printf("%s, mode %zu: peak reduction %.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
+                    short_force(F).c_str(), m.mode, m.reduction_db, pct, m.reduction_db_lo, m.reduction_db_hi, m.peak, m.peak_frequency,
+                    m.bare_peak, m.bare_frequency);
+      }
+    }
+    fs::create_directories(out);
+    write_table_csv(out / "predict.csv",
+                    {{"force", "N"}, {"mode", "1"}, {"frequency", "Hz"}, {"branch", "1"}, {"cavity_amplitude", "m"}, {"response", "m"},
+                     {"bare_response", "m"}},
+                    rows);
+    write_table_csv(out / "predict_peaks.csv",
+                    {{"force", "N"}, {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m"}, {"frequency", "Hz"}, {"peak", "m"},
+                     {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"}},
+                    peaks);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("prediction complete: %.2f s wall -> %s/predict.csv, predict_peaks.csv\n", wall, out.string().c_str());
+    return 0;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace bagdem::study

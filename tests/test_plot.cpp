@@ -421,3 +421,35 @@ TEST(Plot, CalibrationGivesTheReductionAgainstTheKey) {
   expect_figures(r, dir.path, {"calibrate.png"}, {720});
   EXPECT_EQ(r.err, "");
 }
+
+TEST(Plot, MapAndPredictionGiveTheirFigures) {
+  // bagdem characterize's map.csv (3 Gamma x 2 frequencies) and bagdem predict's predict.csv (a
+  // resonance with two branches near its peak).
+  TempDir dir;
+  std::ostringstream map;
+  map << "gamma [1],frequency [Hz],amplitude [m],starts [1],steady_starts [1]";
+  for (const char* f : {"M_eff_ratio", "Cb_over_Mbw", "loss_factor", "e"}) map << ',' << f << " [1]," << f << "_ci95 [1]";
+  map << ",e_method [text]\n";
+  for (double G : {0.5, 2.0, 8.0})
+    for (double f : {80.0, 90.0})
+      map << G << ',' << f << ",1e-5,3,3," << 1 / (1 + G) << ",0.02," << 0.3 * G / (1 + G) << ",0.03," << 0.5 * G << ",0.05,"
+          << 0.6 - 0.02 * G << ",0.04,impact\n";
+  std::ofstream(dir.path / "map.csv") << map.str();
+  std::ostringstream pred;
+  pred << "force [N],mode [1],frequency [Hz],branch [1],cavity_amplitude [m],response [m],bare_response [m]\n";
+  for (double f = 80; f <= 90; f += 0.25) {
+    const double bare = 1e-3 / std::hypot(1 - std::pow(f / 85, 2), 0.01), damped = 1e-3 / std::hypot(1 - std::pow(f / 85, 2), 0.1);
+    pred << "0.2,1," << f << ",0," << damped << ',' << damped << ',' << bare << '\n';
+    if (std::abs(f - 85) < 1) pred << "0.2,1," << f << ",1," << 2 * damped << ',' << 2 * damped << ',' << bare << '\n';
+  }
+  std::ofstream(dir.path / "predict.csv") << pred.str();
+  const CmdResult r = run_plot({dir.str()}, dir.path);
+  expect_figures(r, dir.path, {"map.png", "predict.png"}, {0, 0});
+  EXPECT_EQ(r.err, "");
+  // A map without its intervals is refused, naming the file and the column.
+  TempDir bad;
+  std::ofstream(bad.path / "map.csv") << "gamma [1],frequency [Hz],M_eff_ratio [1]\n1,80,0.5\n";
+  const CmdResult b = run_plot({bad.str()}, bad.path);
+  EXPECT_EQ(b.code, 2) << b.err;
+  EXPECT_NE(b.err.find("map.csv"), std::string::npos) << b.err;
+}

@@ -24,7 +24,8 @@ std::size_t bracket(const std::vector<double>& grid, double x) {
 
 std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, int m_sign, int c_sign) const {
   if (gamma.size() < 2 || frequency.size() < 2 || !(X > 0)) return std::nullopt;
-  if (f < frequency.front() || f > frequency.back()) return std::nullopt;
+  if (!covers(f)) return std::nullopt;
+  f = std::clamp(f, frequency.front(), frequency.back());
   const double w = 2 * std::numbers::pi * f, G = X * w * w / g;
   if (G < gamma.front() || G > gamma.back()) return std::nullopt;
   const std::size_t i = bracket(gamma, G), j = bracket(frequency, f), nf = frequency.size();
@@ -40,6 +41,11 @@ std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, in
       m += weight * mk, c += weight * ck;
     }
   return std::make_pair(m, c);
+}
+
+bool EffectiveMap::covers(double f) const {
+  const double tol = 1e-8 * frequency.back();  // the map's grid and a sweep's band, each rounded to its digits
+  return f >= frequency.front() - tol && f <= frequency.back() + tol;
 }
 
 std::pair<double, double> EffectiveMap::amplitude_range(double f) const {
@@ -81,7 +87,7 @@ EffectiveMap read_effective_map(const fs::path& path) {
 FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double F, double f, int m_sign, int c_sign) {
   FrequencyPrediction out;
   out.frequency = f;
-  if (f < map.frequency.front() || f > map.frequency.back()) {
+  if (!map.covers(f)) {
     out.outside = "band";
     return out;
   }

@@ -36,6 +36,9 @@ struct EffectiveMap {
   // `c_sign` times its 95% half-width; nullopt outside the grid (Gamma or f beyond its ends) or in
   // a cell whose corners lack a figure.
   std::optional<std::pair<double, double>> at(double X, double f, int m_sign = 0, int c_sign = 0) const;
+  // Whether the band holds f, to a relative 1e-8 at its ends (a sweep's frequencies and the map's
+  // are each rounded to their own digits); a frequency so close is taken at the end.
+  bool covers(double f) const;
   // The amplitude range of the grid at frequency f: Gamma's ends as X (unit: m).
   std::pair<double, double> amplitude_range(double f) const;
 };

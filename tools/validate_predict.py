@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+# The work of tools/validate-predict (which installs and builds, then runs this): bagdem predict
+# against coupled DEM on cases/pipe-beanbag (8% of 4-mm balls), mode 1, at the calibrated pipe
+# damping ratio (docs/validation/README.md, section 4):
+#   1. the bag's map: `bagdem characterize cases/pipe-beanbag --gamma 0.02,20 --amplitudes 10
+#      --seeds 3` (the case's mode-1 band, 6 frequencies; Gamma down to 0.02, since at 0.04 N the
+#      bag's amplitude off the resonance is below the default's 0.5);
+#   2. the coupled case at FORCES x POSITIONS, 3 seeds each (two sweeps: 0.04 N, and 0.1 and 0.2 N);
+#   3. `bagdem predict` from the map at each force and position (excitation.span 0.08: the band's
+#      lowest frequencies at the off-antinode positions lie below the map's amplitudes);
+#   4. docs/validation/predict.csv: per position and force, the coupled runs' peak reduction (mean
+#      and 95% half-width over the seeds), the prediction and its range over the map's intervals,
+#      their difference and the criterion |predict - DEM| <= max(1.5 dB, the DEM's half-width).
+#
+#   tools/validate-predict [--out DIR] [--docs DIR] [--jobs J]
+#
+# predict.csv's columns: `position_xL [1]`, `force [N]`, `mode [1]`, `dem_reduction_db_mean [dB]`,
+# `dem_reduction_db_ci95 [dB]`, `seeds [1]`, `predict_reduction_db [dB]`, `predict_reduction_db_lo [dB]`,
+# `predict_reduction_db_hi [dB]`, `predict_minus_dem_db [dB]`, `within [1]` (1 when the criterion holds).
+# Exit codes: 0 every step done, 1 a command or a file failed (its message says which).
+import csv
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from validate_study import BAGDEM, PIPE_LENGTH, ROOT, mean_ci95, per_seed, run, write_csv  # noqa: E402
+
+ZETA = "0.003464101615"  # the calibrated damping ratio (docs/validation/README.md, section 4)
+POSITIONS = (0.5, 0.316, 0.905)  # x/L: the antinode, off it, near the end
+FORCES = ("0.04 N", "0.1 N", "0.2 N")
+MAP = ["--gamma", "0.02,20", "--amplitudes", "10", "--seeds", "3"]
+
+
+def main(argv):
+    import argparse
+    p = argparse.ArgumentParser(prog="tools/validate-predict", description="bagdem predict against coupled DEM on cases/pipe-beanbag.")
+    p.add_argument("--out", default=os.path.join(ROOT, "validation-predict"), help="where the runs go (default ./validation-predict)")
+    p.add_argument("--docs", default=os.path.join(ROOT, "docs", "validation"), help="where predict.csv goes")
+    p.add_argument("--jobs", type=int, default=2)
+    a = p.parse_args(argv)
+    if not os.access(BAGDEM, os.X_OK):
+        sys.exit(f"tools/validate-predict: no {BAGDEM}: run tools/validate-predict (it builds), not this file")
+    case = os.path.join(ROOT, "cases/pipe-beanbag")
+    map_dir = os.path.join(a.out, "map")
+    run([BAGDEM, "characterize", case, *MAP, "--out", map_dir, "--jobs", str(a.jobs)])
+    attach = ",".join(f'"{x * PIPE_LENGTH:g} m"' for x in POSITIONS)
+    sweeps = {"coupled-low": FORCES[:1], "coupled": FORCES[1:]}
+    dem = {}
+    for name, forces in sweeps.items():
+        out = os.path.join(a.out, name)
+        run([BAGDEM, "sweep", case, "--seeds", "3", "--out", out, "--jobs", str(a.jobs), "--set", f"primary.damping_ratio={ZETA}",
+             "--set", 'output.cavity_interval="0.05 ms"', "--vary", f"primary.attach={attach}",
+             "--vary", "excitation.amplitude=" + ",".join(f'"{f}"' for f in forces)])
+        for row in csv.DictReader(open(os.path.join(out, "peaks.csv"), newline="")):
+            if row["status"] != "done":
+                continue
+            key = (round(float(row["primary.attach [m]"]) / PIPE_LENGTH, 3), float(row["excitation.amplitude [kg m/s^2]"]))
+            dem.setdefault(key, []).append(float(row["reduction_dB [dB]"]))
+    table = []
+    for x in POSITIONS:
+        for force in FORCES:
+            F = float(force.split()[0])
+            out = os.path.join(a.out, "predict", f"x{x}-{force.replace(' ', '')}")
+            run([BAGDEM, "predict", case, "--map", map_dir, "--amplitude", force, "--set", f"primary.damping_ratio={ZETA}",
+                 "--set", f'primary.attach="{x * PIPE_LENGTH:g} m"', "--set", "excitation.span=0.08", "--out", out])
+            pk = next(csv.DictReader(open(os.path.join(out, "predict_peaks.csv"), newline="")))
+            m, h = mean_ci95(dem.get((round(x, 3), F), []))
+            pred = float(pk["reduction_dB [dB]"])
+            table.append({"position_xL [1]": x, "force [N]": F, "mode [1]": 1, "dem_reduction_db_mean [dB]": f"{m:.2f}",
+                          "dem_reduction_db_ci95 [dB]": f"{h:.2f}", "seeds [1]": len(dem.get((round(x, 3), F), [])),
+                          "predict_reduction_db [dB]": f"{pred:.2f}", "predict_reduction_db_lo [dB]": f"{float(pk['reduction_dB_lo [dB]']):.2f}",
+                          "predict_reduction_db_hi [dB]": f"{float(pk['reduction_dB_hi [dB]']):.2f}",
+                          "predict_minus_dem_db [dB]": f"{pred - m:+.2f}", "within [1]": int(abs(pred - m) <= max(1.5, h))})
+    write_csv(os.path.join(a.docs, "predict.csv"), list(table[0].keys()), table)
+    for r in table:
+        print(f"  x/L {r['position_xL [1]']}, {r['force [N]']} N: DEM {r['dem_reduction_db_mean [dB]']} +- {r['dem_reduction_db_ci95 [dB]']} dB, "
+              f"predict {r['predict_reduction_db [dB]']} dB ({r['predict_reduction_db_lo [dB]']} to {r['predict_reduction_db_hi [dB]']}): "
+              f"{'within' if r['within [1]'] else 'MISSES'}")
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except subprocess.CalledProcessError as e:
+        sys.exit(f"tools/validate-predict: {e}")

@@ -177,3 +177,42 @@ TEST(Predict, TheCommandGivesTheLinearPeakReductionOfAConstantMapAndRefusesWhatI
   EXPECT_NE(far.err.find("bagdem characterize"), std::string::npos) << far.err;
   EXPECT_FALSE(std::filesystem::exists(t.path / "q" / "predict_peaks.csv"));
 }
+
+TEST(Predict, RandomForceOnAConstantMapGivesTheLinearRms) {
+  // Equal lines of a band-limited random force: with a constant map the equivalent-linear
+  // iteration is the linear structure with a point mass and dashpot, whose RMS is the lines' sum.
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  const EffectiveMap map = make_map({1e-4, 1e-2, 1, 100}, {15, 25}, [](double, double) { return 0.08; },
+                                    [](double, double) { return 3.0; });
+  const RandomPrediction r = predict_random(*s.primary, map, 0.3, 16, 24, 200);
+  ASSERT_TRUE(r.outside.empty()) << r.outside;
+  EXPECT_TRUE(r.converged);
+  double y2 = 0, b2 = 0;
+  const double a = 0.3 * std::sqrt(2.0 / 200);
+  for (int k = 0; k < 200; ++k) {
+    const double f = 16 + 8.0 * k / 199;
+    y2 += 0.5 * std::pow(linear_response(*s.primary, a, f, 0.08, 3.0), 2);
+    b2 += 0.5 * std::pow(linear_response(*s.primary, a, f, 0, 0), 2);
+  }
+  std::printf("  RMS %.6e m with the damper (bare %.6e m) in %d iterations\n", r.response_rms, r.bare_response_rms, r.iterations);
+  EXPECT_NEAR(r.response_rms, std::sqrt(y2), 1e-12 * std::sqrt(y2));
+  EXPECT_NEAR(r.bare_response_rms, std::sqrt(b2), 1e-12 * std::sqrt(b2));
+  EXPECT_LT(r.response_rms, r.bare_response_rms);
+  // A map whose damping falls with the amplitude: the iteration settles where the RMS it reads the
+  // map at is the RMS it produces.
+  const EffectiveMap soft = make_map({1e-4, 1e-2, 1, 100}, {15, 25}, [](double, double) { return 0.08; },
+                                     [](double G, double) { return 3.0 / (1 + 10 * G); });
+  const RandomPrediction n = predict_random(*s.primary, soft, 0.3, 16, 24, 200);
+  ASSERT_TRUE(n.converged);
+  const double A = std::sqrt(2.0) * n.cavity_rms;
+  double u2 = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double f = 16 + 8.0 * k / 199;
+    const auto mc = soft.at(A, f);
+    ASSERT_TRUE(mc);
+    u2 += 0.5 * std::pow(linear_response(*s.primary, a, f, mc->first, mc->second), 2);  // SDOF: x_a is the cavity
+  }
+  EXPECT_NEAR(n.cavity_rms, std::sqrt(u2), 1e-8 * n.cavity_rms);
+  EXPECT_EQ(predict_random(*s.primary, map, 0.3, 10, 24, 200).outside, "band");
+}

@@ -191,4 +191,54 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
   return out;
 }
 
+RandomPrediction predict_random(const Primary& p, const EffectiveMap& map, double rms, double lo, double hi, int lines, int m_sign,
+                                int c_sign) {
+  RandomPrediction out;
+  std::vector<double> f(lines);
+  for (int k = 0; k < lines; ++k) f[k] = lines > 1 ? lo + (hi - lo) * k / (lines - 1) : lo;
+  for (double x : f)
+    if (!map.covers(x)) {
+      out.outside = "band";
+      return out;
+    }
+  const double a = rms * std::sqrt(2.0 / lines);  // each line's force amplitude
+  const Eigen::VectorXcd phi_b = p.at_cavity.cast<std::complex<double>>(), phi_a = p.at_response.cast<std::complex<double>>();
+  // sigma_U and sigma_Y with the impedance read at amplitude A (A = 0: the bare structure).
+  auto sigmas = [&](double A, double& su, double& sy) {
+    double u2 = 0, y2 = 0;
+    for (double x : f) {
+      const double w = 2 * std::numbers::pi * x;
+      std::complex<double> Z = 0;
+      if (A > 0) {
+        const auto mc = map.at(A, x, m_sign, c_sign);
+        if (!mc) return false;
+        Z = std::complex<double>(-w * w * mc->first, w * mc->second);
+      }
+      const Eigen::VectorXcd Q = p.steady_amplitudes(a, w, Z);
+      u2 += 0.5 * std::norm(phi_b.dot(Q)), y2 += 0.5 * std::norm(phi_a.dot(Q));
+    }
+    su = std::sqrt(u2), sy = std::sqrt(y2);
+    return true;
+  };
+  double su = 0, sy = 0;
+  sigmas(0, su, sy);
+  out.bare_response_rms = sy;
+  double A = std::sqrt(2.0) * su;
+  for (out.iterations = 1; out.iterations <= 500; ++out.iterations) {
+    if (!sigmas(A, su, sy)) {
+      out.outside = A < map.amplitude_range(lo).first ? "below" : "above";
+      return out;
+    }
+    const double next = 0.5 * (A + std::sqrt(2.0) * su);
+    const bool done = std::abs(next - A) <= 1e-10 * A;
+    A = next;
+    if (done) {
+      out.converged = true;
+      break;
+    }
+  }
+  out.cavity_rms = su, out.response_rms = sy;
+  return out;
+}
+
 }  // namespace bagdem

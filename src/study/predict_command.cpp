@@ -25,6 +25,61 @@ std::string short_force(double F) {
   std::snprintf(b, sizeof b, "%.6g N", F);
   return b;
 }
+
+
+double force_of(const std::string& option, const std::string& text) {
+  std::string why;
+  const auto F = parse_quantity(text, dim::force, &why);
+  if (!F || !(*F > 0)) throw InputError(option, "", text, why.empty() ? "a force above 0, e.g. \"0.2 N\"" : why);
+  return *F;
+}
+
+fs::path map_file(const PredictArgs& a) {
+  fs::path map_csv = a.map;
+  if (fs::is_directory(map_csv)) map_csv /= "map.csv";
+  if (!fs::exists(map_csv)) throw InputError("--map", "", a.map, "holds no map.csv: run bagdem characterize " + a.dir + " first");
+  return map_csv;
+}
+
+// --random: the RMS response to each level, with its range over the map's interval corners;
+// OUT/predict_random.csv.
+int predict_random_command(const PredictArgs& a, const Scene& scene) {
+  if (!scene.primary) throw InputError(scene.case_file, "primary", "", "predict needs a structure ([primary])");
+  if (a.band.size() != 2 || !(a.band[0] > 0) || !(a.band[1] > a.band[0]))
+    throw InputError("--band", "", "", "--random needs the force's band lo,hi in Hz with 0 < lo < hi");
+  const fs::path map_csv = map_file(a);
+  const EffectiveMap map = read_effective_map(map_csv);
+  std::vector<std::vector<double>> rows;
+  for (const std::string& t : a.random) {
+    const double F = force_of("--random", t);
+    const RandomPrediction r = predict_random(*scene.primary, map, F, a.band[0], a.band[1], a.lines);
+    if (!r.outside.empty() || !r.converged)
+      throw InputError("--map", "", map_csv.string(),
+                       "does not cover the random response at " + short_force(F) + " RMS (" +
+                           (r.outside.empty() ? std::string("the iteration did not converge") : r.outside) +
+                           "). Extend the map: bagdem characterize " + a.dir + " with --band covering the force's and --gamma covering "
+                           "the cavity's RMS amplitude (nothing is extrapolated)");
+    double lo = r.response_rms, hi = r.response_rms;
+    for (int m : {-1, 1})
+      for (int c : {-1, 1}) {
+        const RandomPrediction k = predict_random(*scene.primary, map, F, a.band[0], a.band[1], a.lines, m, c);
+        if (k.outside.empty() && k.converged) lo = std::min(lo, k.response_rms), hi = std::max(hi, k.response_rms);
+      }
+    const double db = 20 * std::log10(r.bare_response_rms / r.response_rms);
+    rows.push_back({F, a.band[0], a.band[1], r.bare_response_rms, r.response_rms, lo, hi, r.cavity_rms, db});
+    std::printf("%s RMS over %.6g-%.6g Hz: response RMS %.4g m (%.4g to %.4g over the map's intervals), bare %.4g m: %.2f dB lower\n",
+                short_force(F).c_str(), a.band[0], a.band[1], r.response_rms, lo, hi, r.bare_response_rms, db);
+  }
+  const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
+  fs::create_directories(out);
+  write_table_csv(out / "predict_random.csv",
+                  {{"force_rms", "N"}, {"band_lo", "Hz"}, {"band_hi", "Hz"}, {"bare_response_rms", "m"}, {"response_rms", "m"},
+                   {"response_rms_lo", "m"}, {"response_rms_hi", "m"}, {"cavity_rms", "m"}, {"reduction_dB", "dB"}},
+                  rows);
+  std::printf("prediction complete -> %s/predict_random.csv\n", out.string().c_str());
+  return 0;
+}
+
 }  // namespace
 
 CLI::App* add_predict_command(CLI::App& app, PredictArgs& a) {
@@ -40,6 +95,13 @@ CLI::App* add_predict_command(CLI::App& app, PredictArgs& a) {
   c->add_option("--amplitude", a.amplitudes, "Force amplitude, e.g. \"0.2 N\" (repeatable; default the case's excitation.amplitude)")
       ->allow_extra_args(false);
   c->add_option("--points", a.points, "Frequencies per mode's band (default 400)")->check(CLI::Range(2, 1000000));
+  c->add_option("--random", a.random,
+                "RMS of a band-limited random force, e.g. \"0.05 N\" (repeatable): the RMS response by the equivalent-linear "
+                "iteration on the cavity's RMS amplitude, instead of the sweep; needs --band")
+      ->allow_extra_args(false);
+  c->add_option("--band", a.band, "lo,hi in Hz: the random force's band")->delimiter(',')->expected(2);
+  c->add_option("--lines", a.lines, "The random force's lines, evenly over the band, its ends included (default 201: excitation.kind = \"random\"'s 200 intervals)")
+      ->check(CLI::Range(1, 10000000));
   c->add_option("--set", a.sets, "Override a key of case.toml (repeatable)")->allow_extra_args(false);
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/predict)");
   return c;
@@ -49,20 +111,14 @@ int predict_command(const PredictArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const Scene scene = load_case(a.dir, a.sets);
+    if (!a.random.empty()) return predict_random_command(a, scene);
     if (!scene.primary || !scene.primary->sweep)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");
     const Primary& P = *scene.primary;
-    fs::path map_csv = a.map;
-    if (fs::is_directory(map_csv)) map_csv /= "map.csv";
-    if (!fs::exists(map_csv)) throw InputError("--map", "", a.map, "holds no map.csv: run bagdem characterize " + a.dir + " first");
+    const fs::path map_csv = map_file(a);
     const EffectiveMap map = read_effective_map(map_csv);
     std::vector<double> forces;
-    for (const std::string& t : a.amplitudes) {
-      std::string why;
-      const auto F = parse_quantity(t, dim::force, &why);
-      if (!F || !(*F > 0)) throw InputError("--amplitude", "", t, why.empty() ? "a force above 0, e.g. \"0.2 N\"" : why);
-      forces.push_back(*F);
-    }
+    for (const std::string& t : a.amplitudes) forces.push_back(force_of("--amplitude", t));
     if (forces.empty()) forces.push_back(P.amplitude);
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
     std::vector<std::vector<double>> rows, peaks;

@@ -65,6 +65,23 @@ struct FrequencyPrediction {
 FrequencyPrediction predict_at(const Primary& primary, const EffectiveMap& map, double force, double frequency, int m_sign = 0,
                                int c_sign = 0);
 
+// Band-limited random force (excitation.kind = "random": a multisine of `lines` equal lines evenly
+// over [lo, hi], its ends included, RMS F_rms): the equivalent-linear response. The contents' impedance is read at one
+// amplitude A for every line, A = sqrt(2) sigma_U (the amplitude of a sine of the cavity's RMS
+// sigma_U), and sigma_U^2 = sum over the lines of |U_k|^2 / 2 with U_k the cavity's amplitude under
+// that line alone (Primary::steady_amplitudes, each line's force amplitude F_rms sqrt(2 / lines));
+// A is iterated from the bare structure's (A <- (A + sqrt(2) sigma_U(A)) / 2) until it changes by
+// less than 1e-10 relative. `outside` as FrequencyPrediction's when a line or A leaves the map.
+struct RandomPrediction {
+  double cavity_rms = 0, response_rms = 0;  // sigma_U at x_b and sigma_Y at x_a (unit: m)
+  double bare_response_rms = 0;             // sigma_Y of the bare structure (unit: m)
+  int iterations = 0;
+  bool converged = false;
+  std::string outside;
+};
+RandomPrediction predict_random(const Primary& primary, const EffectiveMap& map, double rms, double lo, double hi, int lines = 201,
+                                int m_sign = 0, int c_sign = 0);
+
 // A structure's response over a mode's band at one force level: the largest solution at each
 // frequency against the bare structure, and the peak reduction with its interval.
 struct PredictedMode {

@@ -94,6 +94,9 @@ struct PredictArgs {
   std::string map;                       // a directory holding map.csv, or the file
   std::vector<std::string> amplitudes;   // force levels as written ("0.2 N"); default the case's
   int points = 400;                      // frequencies per mode's band
+  std::vector<std::string> random;       // --random: RMS force levels of a band-limited random force ("0.05 N")
+  std::vector<double> band;              // --band lo,hi (Hz) of the random force
+  int lines = 201;                       // --lines: the random force's lines (excitation.kind = "random"'s default: 200 intervals)
   std::vector<std::string> sets;
   std::string out;                       // default CASE_DIR/predict
 };

@@ -27,28 +27,8 @@
 using namespace bagdem;
 using namespace bagdem::study;
 using bagdem::testing::CaseText;
-using bagdem::testing::quoted;
 namespace fs = std::filesystem;
 
-namespace {
-
-// A 10-mm steel ball (softened to 2 GPa) on the floor of a 40 x 20 x 20 mm box, mu 0.3, gravity
-// -z, on an SDOF primary moving along x swept over 18-22 Hz.
-std::string rolling_ball_case() {
-  return CaseText()
-      .simulation("0.1 s")
-      .set("simulation", "settle", "0.05 s")
-      .steel("2 GPa")
-      .interactions(0.5, 0.3)
-      .box("steel", "[\"-20 mm\", \"-10 mm\", \"-10 mm\"]", "[\"20 mm\", \"10 mm\", \"10 mm\"]")
-      .placed("ball", "steel", "10 mm", "[[0, 0, \"-4.99 mm\"]]")
-      .sdof("1 kg", "15791.367 N/m", 0.02)
-      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
-      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[18, 20, 22]"}})
-      .str();
-}
-
-}  // namespace
 
 TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
   const auto bands = sweep_bands({80, 77, 83, 86, 470, 440, 455, 485, 89});
@@ -58,7 +38,7 @@ TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
   EXPECT_EQ(sweep_bands({10, 20, 30, 40}).size(), 1u);
 
   bagdem::testing::TempDir t;
-  std::ofstream(t.path / "case.toml") << rolling_ball_case();
+  std::ofstream(t.path / "case.toml") << bagdem::testing::ball_on_sdof_floor();
   const Scene s = load_case(t.path.string());
   CharacterizeArgs a;
   a.amplitudes = 3, a.frequencies = 3, a.gamma = {0.5, 2};
@@ -114,7 +94,7 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   bagdem::testing::TempDir t;
   const fs::path dir = t.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << rolling_ball_case();
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
   const fs::path out = t.path / "map";
   const std::vector<std::string> args = {"characterize", dir.string(), "--gamma", "0.1,0.4", "--amplitudes", "2", "--frequencies", "2",
                                          "--seeds", "2", "--cycles", "6", "--skip", "2", "--out", out.string(), "--jobs", "2"};

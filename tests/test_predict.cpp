@@ -22,24 +22,12 @@
 #include "support.hpp"
 
 using namespace bagdem;
-using bagdem::testing::CaseText;
-using bagdem::testing::quoted;
 
 namespace {
 
-// A 10-mm steel ball in a box on a 1-kg SDOF of 20 Hz (damping ratio 0.02) along x.
+// The SDOF of case_texts.hpp's ball_on_sdof_floor (1 kg, 20 Hz, damping ratio 0.02, along x).
 Scene sdof_scene(const bagdem::testing::TempDir& t) {
-  std::ofstream(t.path / "case.toml") << CaseText()
-                                             .simulation("0.1 s")
-                                             .steel("2 GPa")
-                                             .interactions(0.5, 0.3)
-                                             .box("steel", "[-0.02, -0.01, -0.01]", "[0.02, 0.01, 0.01]")
-                                             .placed("ball", "steel", "10 mm", "[[0, 0, 0]]")
-                                             .sdof("1 kg", "15791.367 N/m", 0.02)
-                                             .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
-                                             .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.5 N"},
-                                                                 {"frequencies", "[18, 20, 22]"}})
-                                             .str();
+  std::ofstream(t.path / "case.toml") << bagdem::testing::ball_on_sdof_floor();
   return load_case(t.path.string());
 }
 

@@ -75,11 +75,10 @@ TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
     rows[k].C_eff = 5;
     rows[k].e = k == 1 ? ReducedRow::kUnknown : 0.5;
     rows[k].e_method = k == 1 ? "none" : "impact";
-    rows[k].steady = k == 2 ? 0 : 1;
   }
   const MapCell c = map_cell(1, 20, 1e-3, rows);
   EXPECT_EQ(c.starts, 3u);
-  EXPECT_EQ(c.steady, 2u);
+  EXPECT_EQ(c.steady, 3u);
   EXPECT_NEAR(c.M_eff.mean, 2, 1e-15);
   EXPECT_NEAR(c.M_eff.ci95, 4.302653 / std::sqrt(3.0), 1e-4);  // t_{0.975, 2} to 4 decimals
   EXPECT_NEAR(c.C_eff.ci95, 0, 1e-15);
@@ -88,6 +87,13 @@ TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
   EXPECT_EQ(c.e_method, "impact");
   rows[2].e_method = "eq19a";
   EXPECT_EQ(map_cell(1, 20, 1e-3, rows).e_method, "mixed");
+  // An unsteady start is counted and left out of the figures.
+  rows[2].steady = 0;
+  const MapCell u = map_cell(1, 20, 1e-3, rows);
+  EXPECT_EQ(u.starts, 3u);
+  EXPECT_EQ(u.steady, 2u);
+  EXPECT_NEAR(u.M_eff.mean, 1.5, 1e-15);
+  EXPECT_EQ(u.M_eff.repeats, 2u);
 }
 
 TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothing) {

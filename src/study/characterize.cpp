@@ -92,11 +92,14 @@ std::string number(double x) {
 
 }  // namespace
 
-MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& starts) {
+MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& all) {
   MapCell c;
   c.gamma = gamma, c.frequency = frequency, c.amplitude = amplitude;
-  c.starts = starts.size();
-  for (const ReducedRow& r : starts) c.steady += r.steady == 1 ? 1 : 0;
+  c.starts = all.size();
+  std::vector<ReducedRow> starts;  // the steady ones: an unsteady window is no measurement
+  for (const ReducedRow& r : all)
+    if (r.steady == 1) starts.push_back(r);
+  c.steady = starts.size();
   c.gamma_measured = over(starts, &ReducedRow::gamma);
   c.M_eff = over(starts, &ReducedRow::M_eff);
   c.C_eff = over(starts, &ReducedRow::C_eff);

@@ -128,13 +128,17 @@ int predict_command(const PredictArgs& a) {
         if (!m.outside.empty()) {
           char range[200];
           std::snprintf(range, sizeof range, "%.6g-%.6g Hz", m.outside.front(), m.outside.back());
-          const std::string hint = m.outside_why == "band" ? "--band covering " + std::string(range)
+          const std::string why = m.outside_why == "band"    ? "the frequency is outside the map's band"
+                                  : m.outside_why == "below" ? "the cavity's amplitude is below the map's"
+                                  : m.outside_why == "above" ? "the cavity's amplitude is above the map's"
+                                                             : "the map's cells there have no figures (no steady start)";
+          const std::string hint = m.outside_why == "band"    ? "--band covering " + std::string(range)
                                    : m.outside_why == "below" ? "--gamma with a smaller lower end"
-                                                              : "--gamma with a larger upper end";
+                                   : m.outside_why == "above" ? "--gamma with a larger upper end"
+                                                              : "more --cycles or --skip (or --seeds)";
           throw InputError("--map", "", map_csv.string(),
                            "does not cover the response of mode " + std::to_string(m.mode) + " at " + short_force(F) + ": at " +
-                               std::to_string(m.outside.size()) + " of its frequencies (" + range + ") the cavity's amplitude is " +
-                               (m.outside_why == "band" ? "outside the map's band" : m.outside_why + " the map's") +
+                               std::to_string(m.outside.size()) + " of its frequencies (" + range + ") " + why +
                                ". Extend the map: bagdem characterize " + a.dir + " " + hint + " (nothing is extrapolated)");
         }
         for (std::size_t k = 0; k < m.points.size(); ++k)

@@ -54,8 +54,8 @@ struct HarmonicSolution {
 };
 
 // The solutions at one frequency. `outside` says why there is none: "" (solutions found), "below"
-// (the response lies below the map's smallest amplitude), "above" (beyond its largest) or "band"
-// (the frequency is outside the map's).
+// (the response lies below the map's smallest amplitude), "above" (beyond its largest), "band"
+// (the frequency is outside the map's) or "gap" (cells without figures in the way).
 struct FrequencyPrediction {
   double frequency = 0;  // (unit: Hz)
   std::vector<HarmonicSolution> solutions;

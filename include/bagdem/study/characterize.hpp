@@ -78,8 +78,9 @@ struct MapCell {
   std::string e_method = "none";   // where e came from (reduced.csv's e_method) when the starts agree, else "mixed"
 };
 
-// A cell from its starts' reduced rows: every figure's mean and 95% interval over the starts that
-// have it (NaN where none, and an interval NaN with fewer than 2).
+// A cell from its starts' reduced rows: every figure's mean and 95% interval over the steady
+// starts that have it (NaN where none, and an interval NaN with fewer than 2); an unsteady window
+// (ReducedRow::steady = 0) is counted in `starts` and left out of the figures.
 MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& starts);
 
 // The map's tables: OUT/map.csv (a row per cell), OUT/map.json and OUT/map.h5 (a dataset per

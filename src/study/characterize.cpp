@@ -84,12 +84,6 @@ Interval over(const std::vector<ReducedRow>& starts, double ReducedRow::*field) 
   return independent_interval(x);
 }
 
-std::string number(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.10g", x);
-  return b;
-}
-
 }  // namespace
 
 MapCell map_cell(double gamma, double frequency, double amplitude, const std::vector<ReducedRow>& all) {
@@ -164,21 +158,21 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
     // A bag filled to a mass ratio keeps its balls: the ratio is then of the dropped structure's mass.
     const CaseReader in((fs::path(s.case_dir) / "case.toml").string(), a.sets);
     if (in.has("bag.balls.mass_ratio") && !in.has("bag.balls.primary_mass"))
-      s.sets.push_back("bag.balls.primary_mass=\"" + number(scene.primary->structure_mass) + " kg\"");
+      s.sets.push_back("bag.balls.primary_mass=\"" + short_text(scene.primary->structure_mass) + " kg\"");
     s.sets.insert(s.sets.end(), {"primary={kind=\"prescribed\"}", "excitation={kind=\"none\"}"});
   }
   const Vec3& d = m.direction;
-  s.sets.push_back("cavity.motion={kind=\"harmonic\", direction=[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]}");
+  s.sets.push_back("cavity.motion={kind=\"harmonic\", direction=[" + short_text(d.x()) + ", " + short_text(d.y()) + ", " + short_text(d.z()) + "]}");
   s.sets.push_back("output.skip_cycles=" + std::to_string(a.skip));
   Varied X{"cavity.motion.amplitude", {}}, f{"cavity.motion.frequency", {}}, R{"cavity.motion.ramp", {}}, T{"simulation.duration", {}};
   auto add = [](Varied& v, const std::string& given) { v.values.push_back({"\"" + given + "\"", given}); };
   for (std::size_t i = 0; i < m.gamma.size(); ++i)
     for (std::size_t j = 0; j < m.frequency.size(); ++j) {
       const double period = 1 / m.frequency[j];
-      add(X, number(m.amplitude(i, j)) + " m");
-      add(f, number(m.frequency[j]) + " Hz");
-      add(R, number(kRampCycles * period) + " s");
-      add(T, number((kRampCycles + a.skip + a.cycles) * period) + " s");
+      add(X, short_text(m.amplitude(i, j)) + " m");
+      add(f, short_text(m.frequency[j]) + " Hz");
+      add(R, short_text(kRampCycles * period) + " s");
+      add(T, short_text((kRampCycles + a.skip + a.cycles) * period) + " s");
     }
   s.vary = {X, f, R, T};
   return s;

@@ -14,17 +14,14 @@
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/study/characterize.hpp"
+#include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
 namespace {
-std::string short_force(double F) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g N", F);
-  return b;
-}
+std::string short_force(double F) { return short_text(F) + " N"; }
 
 
 double force_of(const std::string& option, const std::string& text) {

@@ -7,6 +7,7 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "bagdem/structure/response.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -147,11 +148,8 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
     for (double f : frequencies)
       if (p.nearest_elastic_mode(f) == dof) m.lo = std::min(m.lo, f), m.hi = std::max(m.hi, f);
     if (!(m.hi >= m.lo)) continue;
-    // The bare peak on a fine scan (a lightly damped resonance is narrow).
-    for (int k = 0; k <= 20 * points; ++k) {
-      const double f = m.lo + (m.hi - m.lo) * k / (20.0 * points), b = bare(f);
-      if (b > m.bare_peak) m.bare_peak = b, m.bare_frequency = f;
-    }
+    const Peak b = bare_peak(p, m.lo, m.hi);  // as a sweep's (structure/response.hpp)
+    m.bare_peak = b.magnitude * F, m.bare_frequency = b.frequency;
     // The damped peak at the map's means and at its interval's four corners.
     double corner_peak[5] = {};
     const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
@@ -178,7 +176,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
       }
     }
     m.peak = corner_peak[0];
-    auto db = [&](double peak) { return peak > 0 ? 20 * std::log10(m.bare_peak / peak) : std::nan(""); };
+    auto db = [&](double peak) { return peak > 0 ? reduction_db(m.bare_peak, peak) : std::nan(""); };
     m.reduction_db = db(m.peak);
     m.reduction_db_lo = m.reduction_db_hi = m.reduction_db;
     for (int c = 1; c < 5; ++c) {

@@ -19,28 +19,7 @@ namespace bagdem {
 
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// The peak of the bare receptance in [lo, hi] (Hz): the largest of a fine scan, refined by golden
-// section.
-Peak bare_peak(const Primary& p, double lo, double hi) {
-  auto mag = [&](double f) { return std::abs(p.bare_receptance(kTwoPi * f)); };
-  const int n = 400;
-  double best = lo, best_m = -1;
-  for (int k = 0; k <= n; ++k) {
-    const double f = lo + (hi - lo) * k / n, m = mag(f);
-    if (m > best_m) best = f, best_m = m;
-  }
-  double a = std::max(lo, best - (hi - lo) / n), b = std::min(hi, best + (hi - lo) / n);
-  const double g = 0.5 * (std::sqrt(5.0) - 1);
-  for (int it = 0; it < 80; ++it) {
-    const double c = b - g * (b - a), d = a + g * (b - a);
-    if (mag(c) > mag(d)) b = d; else a = c;
-  }
-  const double f = 0.5 * (a + b);
-  return {f, mag(f)};
-}
 
 }  // namespace
 

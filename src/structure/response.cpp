@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "bagdem/structure/primary.hpp"
+
 namespace bagdem {
 
 std::size_t steps_per_cycle(double f, double dt) {
@@ -174,6 +176,24 @@ double rms(const std::vector<double>& y, double dt, double t_skip) {
   std::size_t n = 0;
   for (std::size_t k = first; k < y.size(); ++k) s += y[k] * y[k], ++n;
   return n ? std::sqrt(s / static_cast<double>(n)) : 0.0;
+}
+
+Peak bare_peak(const Primary& p, double lo, double hi) {
+  auto mag = [&](double f) { return std::abs(p.bare_receptance(2 * std::numbers::pi * f)); };
+  const int n = 400;
+  double best = lo, best_m = -1;
+  for (int k = 0; k <= n; ++k) {
+    const double f = lo + (hi - lo) * k / n, m = mag(f);
+    if (m > best_m) best = f, best_m = m;
+  }
+  double a = std::max(lo, best - (hi - lo) / n), b = std::min(hi, best + (hi - lo) / n);
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 80; ++it) {
+    const double c = b - g * (b - a), d = a + g * (b - a);
+    if (mag(c) > mag(d)) b = d; else a = c;
+  }
+  const double f = 0.5 * (a + b);
+  return {f, mag(f)};
 }
 
 }  // namespace bagdem

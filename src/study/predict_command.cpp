@@ -13,6 +13,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
+#include "bagdem/structure/response.hpp"
 #include "bagdem/study/characterize.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
@@ -143,7 +144,7 @@ int predict_command(const PredictArgs& a) {
             const HarmonicSolution& h = m.points[k].solutions[b];
             rows.push_back({F, double(m.mode), m.points[k].frequency, double(b), h.cavity_amplitude, h.response, m.bare[k]});
           }
-        const double pct = 100 * (1 - std::pow(10.0, -m.reduction_db / 20));
+        const double pct = reduction_percent(m.reduction_db);
         peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
                          m.reduction_db_hi});
         std::printf("%s, mode %zu: peak reduction %.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",

@@ -89,7 +89,7 @@ struct PredictedMode {
   double lo = 0, hi = 0;                  // its band (unit: Hz)
   std::vector<FrequencyPrediction> points;  // the map's means, at `frequencies` over the band
   std::vector<double> bare;               // |H_bare| F at x_a at the same frequencies (unit: m)
-  double bare_peak = 0, bare_frequency = 0;  // the bare structure's peak, found on a fine scan (unit: m, Hz)
+  double bare_peak = 0, bare_frequency = 0;  // the bare structure's peak, as a sweep finds it (bare_peak) (unit: m, Hz)
   double peak = 0, peak_frequency = 0;    // the damped peak: the largest solution over the band (unit: m, Hz)
   double reduction_db = 0;                // 20 log10(bare_peak / peak)
   double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)

@@ -113,6 +113,11 @@ struct Peak {
 };
 Peak find_peak(const std::vector<double>& f, const std::vector<double>& mag, double f_lo, double f_hi);
 
+struct Primary;
+// The peak of the bare structure's receptance |H| at x_a over [lo, hi] (Hz): the largest of a
+// 400-point scan, refined by golden section (unit: Hz, m/N).
+Peak bare_peak(const Primary& p, double lo, double hi);
+
 // Free decay of a sampled response y (uniform dt, after t_skip): its positive peaks (local maxima,
 // each refined by a parabola), a least-squares line through ln(peak) against time: the decay rate
 // sigma (1/s); the damped frequency from the mean peak spacing; zeta = sigma / sqrt(sigma^2 + w_d^2);

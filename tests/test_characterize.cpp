@@ -68,6 +68,15 @@ TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
   EXPECT_THROW(map_grid(s, one), InputError);
 }
 
+TEST(CharacterizeGrid, ARunLastsAtLeastTheCyclesAndTheTimeAsked) {
+  CharacterizeArgs a;  // 5 + 20 cycles, 0.1 + 0.25 s
+  EXPECT_EQ(run_cycles(a, 20), std::make_pair(5, 20));     // 0.25 + 1 s: the counts rule at a low frequency
+  EXPECT_EQ(run_cycles(a, 85), std::make_pair(9, 22));     // 0.1 s is 8.5 cycles, 0.25 s 21.25
+  EXPECT_EQ(run_cycles(a, 480), std::make_pair(48, 120));  // whole up to rounding: not 49 and 121
+  a.skip_time = a.window_time = 0;
+  EXPECT_EQ(run_cycles(a, 480), std::make_pair(5, 20));
+}
+
 TEST(CharacterizeGrid, ACellIsTheMeanOfItsStartsWithTheirStudentInterval) {
   std::vector<ReducedRow> rows(3);
   for (int k = 0; k < 3; ++k) {

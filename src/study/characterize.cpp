@@ -127,13 +127,25 @@ CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& a) {
   c->add_option("--band", a.band, "lo,hi in Hz (default: each band of the case's stepped-sine sweep)")->delimiter(',')->expected(2);
   c->add_option("--frequencies", a.frequencies, "Frequencies per band, evenly spaced, the ends included (default 6)");
   c->add_option("--seeds", a.seeds, "Starts per cell (simulation.seed = 1..N; default 5)")->check(CLI::Range(1, 100000));
-  c->add_option("--cycles", a.cycles, "Cycles of each run that are reduced (default 20)")->check(CLI::Range(4, 100000));
-  c->add_option("--skip", a.skip, "Start-up cycles of each run left out before them (default 5)")->check(CLI::Range(0, 100000));
+  c->add_option("--cycles", a.cycles, "Cycles of each run that are reduced, at least (default 20)")->check(CLI::Range(4, 100000));
+  c->add_option("--skip", a.skip, "Start-up cycles of each run left out before them, at least (default 5)")->check(CLI::Range(0, 100000));
+  c->add_option("--window-time", a.window_time,
+                "Seconds of each run that are reduced, at least (default 0.25): at a high frequency the cycles are more than --cycles")
+      ->check(CLI::Range(0.0, 1e4));
+  c->add_option("--skip-time", a.skip_time,
+                "Seconds of start-up left out, at least (default 0.1): a bag settles into its motion in a time, not a number of cycles")
+      ->check(CLI::Range(0.0, 1e4));
   c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
   add_budget_options(c, a.jobs, a.threads, a.cores, "characterization", "this machine's, divided among the MPI ranks on it");
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/map)");
   c->add_flag("--check", a.check, "Plan the grid and load every run's case, print the runs, then exit: 0 if every one loads, 2 if not");
   return c;
+}
+
+std::pair<int, int> run_cycles(const CharacterizeArgs& a, double f) {
+  // Whole cycles spanning t seconds; the 1e-9 keeps a product that is whole up to rounding whole.
+  auto spanning = [f](double t) { return static_cast<int>(std::ceil(t * f - 1e-9)); };
+  return {std::max(a.skip, spanning(a.skip_time)), std::max(a.cycles, spanning(a.window_time))};
 }
 
 namespace {
@@ -163,18 +175,20 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
   }
   const Vec3& d = m.direction;
   s.sets.push_back("cavity.motion={kind=\"harmonic\", direction=[" + short_text(d.x()) + ", " + short_text(d.y()) + ", " + short_text(d.z()) + "]}");
-  s.sets.push_back("output.skip_cycles=" + std::to_string(a.skip));
-  Varied X{"cavity.motion.amplitude", {}}, f{"cavity.motion.frequency", {}}, R{"cavity.motion.ramp", {}}, T{"simulation.duration", {}};
+  Varied X{"cavity.motion.amplitude", {}}, f{"cavity.motion.frequency", {}}, R{"cavity.motion.ramp", {}}, T{"simulation.duration", {}},
+      K{"output.skip_cycles", {}};
   auto add = [](Varied& v, const std::string& given) { v.values.push_back({"\"" + given + "\"", given}); };
   for (std::size_t i = 0; i < m.gamma.size(); ++i)
     for (std::size_t j = 0; j < m.frequency.size(); ++j) {
       const double period = 1 / m.frequency[j];
+      const auto [skip, cycles] = run_cycles(a, m.frequency[j]);
       add(X, short_text(m.amplitude(i, j)) + " m");
       add(f, short_text(m.frequency[j]) + " Hz");
       add(R, short_text(kRampCycles * period) + " s");
-      add(T, short_text((kRampCycles + a.skip + a.cycles) * period) + " s");
+      add(T, short_text((kRampCycles + skip + cycles) * period) + " s");
+      K.values.push_back({std::to_string(skip), std::to_string(skip)});
     }
-  s.vary = {X, f, R, T};
+  s.vary = {X, f, R, T, K};
   return s;
 }
 
@@ -215,7 +229,7 @@ int characterize_command(const CharacterizeArgs& a) {
                 grid.frequency.size(), plan.spec.seeds, plan.spec.seeds > 1 ? "s" : "", plan.spec.out_dir.c_str(),
                 missing ? (" (" + std::to_string(missing) + " runs missing)").c_str() : "");
     if (unsteady)
-      std::printf("note: %zu run%s of %zu did not reach a steady window (energy balance off by more than 1%%): more --cycles or --skip\n",
+      std::printf("note: %zu run%s of %zu did not reach a steady window (energy balance off by more than 1%%): a longer --window-time or --skip-time\n",
                   unsteady, unsteady > 1 ? "s" : "", plan.points.size());
     return missing ? kExitRunError : 0;
   };

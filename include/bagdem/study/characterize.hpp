@@ -15,6 +15,9 @@
 //   cavity.motion = {kind = "harmonic", amplitude, frequency, direction = primary.direction,
 //                    ramp = 2 / f (a smooth start)},
 //   simulation.duration = (2 + skip + cycles) / f, output.skip_cycles = skip,
+// where skip and cycles are at least --skip and --cycles and span at least --skip-time and
+// --window-time seconds (a bag settles into its motion in a time, not in a number of cycles: at a
+// high mode's frequency a few cycles are a few milliseconds; docs/characterize.md),
 // (a bag filled to a mass ratio keeps its balls: bag.balls.primary_mass = the structure's mass),
 // run by the study machinery (study.hpp: OUT/point-NNN, resumable, J at once, MPI ranks sharing
 // the points). docs/characterize.md has the outputs' columns.
@@ -38,14 +41,20 @@ struct CharacterizeArgs {
   std::vector<double> band;                 // --band lo,hi (Hz): default the case's sweep band(s)
   int frequencies = 6;                      // --frequencies: per band, evenly spaced, ends included
   int seeds = 5;                            // --seeds: perturbed starts per cell
-  int cycles = 20;                          // --cycles: the measured cycles of each run
-  int skip = 5;                             // --skip: start-up cycles left out before them
+  int cycles = 20;                          // --cycles: the measured cycles of each run, at least
+  int skip = 5;                             // --skip: start-up cycles left out before them, at least
+  double window_time = 0.25;                // --window-time: the measured window, at least (unit: s)
+  double skip_time = 0.1;                   // --skip-time: the start-up left out, at least (unit: s)
   std::vector<std::string> sets;            // --set: overrides of every run
   int jobs = 0, threads = 0, cores = 0;
   std::string out;                          // default CASE_DIR/map
   bool check = false;                       // --check: plan and load, print the grid, run nothing
   std::string executable = "/proc/self/exe";
 };
+
+// The start-up cycles left out and the cycles measured at frequency f (unit: Hz): at least the
+// counts asked and at least the times asked, whole cycles.
+std::pair<int, int> run_cycles(const CharacterizeArgs& args, double f);
 
 // The grid of a map (SI units).
 struct MapGrid {

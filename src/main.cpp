@@ -1,4 +1,4 @@
-// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, characterize, predict, reduce, compare, peaks, drop, export,
+// bagdem: command line. Subcommands: check, run, sweep, trade, calibrate, characterize, predict, design, reduce, compare, peaks, drop, export,
 // modes, bench.
 // `bagdem <cmd> --help` explains each.
 #include <CLI/CLI.hpp>
@@ -21,6 +21,7 @@
 #include "bagdem/structure/modal_table.hpp"
 #include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/characterize.hpp"
+#include "bagdem/study/design.hpp"
 #include "bagdem/study/trade.hpp"
 #include "bagdem/study/study.hpp"
 
@@ -56,6 +57,7 @@ struct Args {
   study::CalibrateArgs calibrate;
   study::CharacterizeArgs characterize;
   study::PredictArgs predict;
+  study::DesignArgs design;
   // The output directory: --out, or CASE_DIR/out.
   std::string out() const { return out_dir.empty() ? (std::filesystem::path(case_dir) / "out").string() : out_dir; }
 };
@@ -344,6 +346,8 @@ int main(int argc, char** argv) {
   CLI::App* characterize = study::add_characterize_command(app, a.characterize);
   // predict: a structure's response with a map's damper, without DEM (src/study/predict_command.cpp).
   CLI::App* predict = study::add_predict_command(app, a.predict);
+  // design: the bag searched through maps and predictions, the best checked by DEM (src/study/design.cpp).
+  CLI::App* design = study::add_design_command(app, a.design);
 
   try {
     app.parse(argc, argv);
@@ -359,6 +363,7 @@ int main(int argc, char** argv) {
   if (calibrate->parsed()) return study::calibrate_command(a.calibrate);
   if (characterize->parsed()) return study::characterize_command(a.characterize);
   if (predict->parsed()) return study::predict_command(a.predict);
+  if (design->parsed()) return study::design_command(a.design);
   try {
     if (!a.fidelity.empty()) {
       const auto more = study::fidelity_sets(a.case_dir, a.sets, a.fidelity);

@@ -422,6 +422,21 @@ TEST(Plot, CalibrationGivesTheReductionAgainstTheKey) {
   EXPECT_EQ(r.err, "");
 }
 
+TEST(Plot, DesignGivesTheReductionAgainstTheAddedMass) {
+  // bagdem design's design.csv: 3 ranked pairs (2 on the front, 1 checked by DEM) and one refused.
+  TempDir dir;
+  std::ofstream(dir.path / "design.csv")
+      << "rank [1],status,bag.balls.diameter,position_xL [1],added_mass [kg],mass_ratio [1],objective_dB [dB],objective_dB_lo [dB],"
+         "objective_dB_hi [dB],pareto [1],dem_seeds [1],dem_objective_dB [dB],dem_objective_dB_ci95 [dB],map\n"
+         "1,ranked,4 mm,0.5,0.03,0.09,15.2,13.1,17.0,1,3,14.8,1.2,map-a\n"
+         "2,ranked,4 mm,0.45,0.01,0.03,9.5,8.0,10.9,1,0,,,map-b\n"
+         "3,ranked,6 mm,0.5,0.03,0.09,8.1,7.0,9.0,0,0,,,map-c\n"
+         ",over budget,8 mm,0.5,0.04,0.12,,,,0,0,,,map-d\n";
+  const CmdResult r = run_plot({dir.str()}, dir.path);
+  expect_figures(r, dir.path, {"design.png"}, {0});
+  EXPECT_EQ(r.err, "");
+}
+
 TEST(Plot, MapAndPredictionGiveTheirFigures) {
   // bagdem characterize's map.csv (3 Gamma x 2 frequencies) and bagdem predict's predict.csv (a
   // resonance with two branches near its peak).

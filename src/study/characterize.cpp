@@ -194,46 +194,51 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
 
 }  // namespace
 
+StudySpec characterize_spec(const CharacterizeArgs& a, MapGrid& grid) {
+  if (!fs::exists(fs::path(a.dir) / "case.toml"))
+    throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
+  const Scene scene = load_case(a.dir, a.sets);
+  grid = map_grid(scene, a);
+  return grid_spec(a, scene, grid);
+}
+
+MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapGrid& grid) {
+  std::vector<MapCell> cells;
+  MapOutcome o;
+  for (std::size_t i = 0; i < grid.gamma.size(); ++i)
+    for (std::size_t j = 0; j < grid.frequency.size(); ++j) {
+      const std::size_t combination = i * grid.frequency.size() + j;
+      std::vector<ReducedRow> starts;
+      for (const Point& p : plan.points) {
+        if (p.combination != combination) continue;
+        const fs::path csv = fs::path(plan.point_dir(p)) / "reduced.csv";
+        if (!finished[p.index] || !fs::exists(csv)) {
+          ++o.missing;
+          continue;
+        }
+        const std::vector<ReducedRow> rows = read_reduced_csv(csv);
+        if (!rows.empty()) starts.push_back(rows.front());
+      }
+      cells.push_back(map_cell(grid.gamma[i], grid.frequency[j], grid.amplitude(i, j), starts));
+    }
+  write_map(plan.spec.out_dir, grid, cells, plan.spec.case_dir);
+  for (const MapCell& c : cells) o.unsteady += c.starts - c.steady;
+  return o;
+}
+
 int characterize_command(const CharacterizeArgs& a) {
   MapGrid grid;
-  auto read = [&] {
-    if (!fs::exists(fs::path(a.dir) / "case.toml"))
-      throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
-    const Scene scene = load_case(a.dir, a.sets);
-    grid = map_grid(scene, a);
-    return grid_spec(a, scene, grid);
-  };
   auto after = [&](const Plan& plan, const std::vector<bool>& finished) {
-    std::vector<MapCell> cells;
-    std::size_t missing = 0;
-    for (std::size_t i = 0; i < grid.gamma.size(); ++i)
-      for (std::size_t j = 0; j < grid.frequency.size(); ++j) {
-        const std::size_t combination = i * grid.frequency.size() + j;
-        std::vector<ReducedRow> starts;
-        for (const Point& p : plan.points) {
-          if (p.combination != combination) continue;
-          const fs::path csv = fs::path(plan.point_dir(p)) / "reduced.csv";
-          if (!finished[p.index] || !fs::exists(csv)) {
-            ++missing;
-            continue;
-          }
-          const std::vector<ReducedRow> rows = read_reduced_csv(csv);
-          if (!rows.empty()) starts.push_back(rows.front());
-        }
-        cells.push_back(map_cell(grid.gamma[i], grid.frequency[j], grid.amplitude(i, j), starts));
-      }
-    write_map(plan.spec.out_dir, grid, cells, plan.spec.case_dir);
-    std::size_t unsteady = 0;
-    for (const MapCell& c : cells) unsteady += c.starts - c.steady;
+    const MapOutcome o = write_map_of(plan, finished, grid);
     std::printf("map: %zu amplitudes x %zu frequencies, %d start%s each -> %s/map.csv, map.json, map.h5%s\n", grid.gamma.size(),
                 grid.frequency.size(), plan.spec.seeds, plan.spec.seeds > 1 ? "s" : "", plan.spec.out_dir.c_str(),
-                missing ? (" (" + std::to_string(missing) + " runs missing)").c_str() : "");
-    if (unsteady)
+                o.missing ? (" (" + std::to_string(o.missing) + " runs missing)").c_str() : "");
+    if (o.unsteady)
       std::printf("note: %zu run%s of %zu did not reach a steady window (energy balance off by more than 1%%): a longer --window-time or --skip-time\n",
-                  unsteady, unsteady > 1 ? "s" : "", plan.points.size());
-    return missing ? kExitRunError : 0;
+                  o.unsteady, o.unsteady > 1 ? "s" : "", plan.points.size());
+    return o.missing ? kExitRunError : 0;
   };
-  return study_command(read, a.check, a.executable, "bagdem characterize", after);
+  return study_command([&] { return characterize_spec(a, grid); }, a.check, a.executable, "bagdem characterize", after);
 }
 
 }  // namespace bagdem::study

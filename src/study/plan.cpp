@@ -191,7 +191,9 @@ std::string join(const std::vector<std::string>& v, const std::string& sep) {
   return o;
 }
 
-// FNV-1a, 64 bits: a fingerprint of a point's resolved case text (not a security measure).
+
+}  // namespace
+
 std::string fingerprint(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
@@ -199,8 +201,6 @@ std::string fingerprint(const std::string& text) {
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
 }
-
-}  // namespace
 
 Value parse_value(const std::string& text) {
   const std::string t = trim(text);

@@ -5,6 +5,7 @@ import sys
 
 from .calibrate import plot_calibrate
 from .compare import plot_compare
+from .design import plot_design
 from .effective_map import plot_map
 from .prediction import plot_prediction
 from .figure import DPI, plt
@@ -20,7 +21,7 @@ def main(argv):
         prog="tools/plot",
         description="PNG figures (150 dpi) from bagdem's output tables: response.png (sweep.csv), reduced.png "
                     "(reduced.csv), compare.png (compare.csv), study_<key>.png (a study's peaks.csv and "
-                    "reduced.csv), trade.png (trade.csv), calibrate.png (calibrate.csv), map.png (map.csv), predict.png (predict.csv). Prints the paths written.")
+                    "reduced.csv), trade.png (trade.csv), calibrate.png (calibrate.csv), map.png (map.csv), predict.png (predict.csv), design.png (design.csv). Prints the paths written.")
     p.add_argument("dir", metavar="DIR", help="a run's or a study's output directory")
     p.add_argument("--out", metavar="PNG_DIR", help="where to write the figures (default: DIR)")
     p.add_argument("--x", metavar="COLUMN", help="the x axis of reduced.png: a column of reduced.csv (default: gamma)")
@@ -28,7 +29,7 @@ def main(argv):
     if not os.path.isdir(a.dir):
         raise BadInput(f"{a.dir}: not a directory; DIR is a run's or a study's output directory")
     tables = ("sweep.csv", "bare_curve.csv", "peaks.csv", "reduced.csv", "compare.csv", "peaks_ensemble.csv",
-              "reduced_ensemble.csv", "trade.csv", "calibrate.csv", "map.csv", "predict.csv")
+              "reduced_ensemble.csv", "trade.csv", "calibrate.csv", "map.csv", "predict.csv", "design.csv")
     if not any(os.path.isfile(os.path.join(a.dir, n)) for n in tables):
         raise BadInput(f"{a.dir}: nothing to plot: none of {', '.join(tables)} is there")
     out_dir = a.out or a.dir
@@ -43,6 +44,7 @@ def main(argv):
     plot_calibrate(a.dir, out_dir, figures)
     plot_map(a.dir, out_dir, figures)
     plot_prediction(a.dir, out_dir, figures)
+    plot_design(a.dir, out_dir, figures)
     if not figures:
         raise BadInput(f"{a.dir}: no figure drawn: its tables have no rows to plot")
     try:

@@ -114,6 +114,18 @@ CLI::App* add_predict_command(CLI::App& app, PredictArgs& args);
 // 0 done, 2 bad input or a response outside the map (nothing written), 1 a system error.
 int predict_command(const PredictArgs& args);
 
+struct StudySpec;
+struct Plan;
+// The study that characterizes args.dir: its runs as the points of a study (loads the case; fills
+// `grid`). Throws InputError.
+StudySpec characterize_spec(const CharacterizeArgs& args, MapGrid& grid);
+// After the runs: each cell from its finished points' reduced.csv, written as OUT/map.*.
+struct MapOutcome {
+  std::size_t missing = 0;   // runs without a result (failed or not run)
+  std::size_t unsteady = 0;  // runs whose window was not steady (left out of the figures)
+};
+MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapGrid& grid);
+
 CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& args);
 // Returns the exit code: 0 every cell done, 2 bad input (nothing run), 3 a run failed (the map is
 // written with the cells that have starts).

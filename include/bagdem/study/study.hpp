@@ -108,6 +108,9 @@ struct Plan {
 // "point-NNN": index zero-padded to the digits of count - 1 (at least 3).
 std::string point_name(std::size_t index, std::size_t count);
 
+// FNV-1a, 64 bits, as 16 hex digits: a fingerprint of a text (a resolved case; not a security measure).
+std::string fingerprint(const std::string& text);
+
 // The points of a spec. Throws InputError: a zip of unequal lengths,
 // a key both varied and set, simulation.seed varied with seeds > 1, an empty value list.
 Plan make_plan(const StudySpec& spec);

@@ -1,0 +1,88 @@
+// `bagdem design CASE`: the bag chosen by search, DEM characterizing each candidate once and the
+// harmonic balance ranking it at every position (study/characterize.hpp, reduce/predict.hpp), DEM
+// checking the winners. The loop the particle-damper literature describes (an isolated damper's
+// effective field, coupled to the structure; Meyer et al., Granular Matter 23, 2021):
+//   1. candidates: the grid of the bag's keys (--vary or a study's [vary], as bagdem sweep; default
+//      3 ball sizes x 3 fills within the mass budget), each one the case with those keys set;
+//   2. a candidate whose added mass (balls and film) exceeds --budget x the structure's mass is
+//      left out; the others get a map each (bagdem characterize's runs, OUT/maps/map-HASH, the hash
+//      of the case, the candidate's keys and the map's grid: a map already built is reused);
+//   3. every candidate at every --positions x/L (a beam; the case's own place otherwise) is
+//      predicted at the case's force amplitude: each chosen mode's peak reduction with its range
+//      over the map's intervals; the objective is the smallest reduction over the chosen modes (the
+//      worst mode: a design is as good as its weakest mode), its range that of that mode;
+//   4. the best --verify (candidate, position) pairs are run coupled, --verify-seeds starts each
+//      (a study in OUT/verify), their reductions' mean and 95% interval beside the prediction;
+//   5. OUT/design.csv (every pair ranked, the Pareto front of objective against added mass marked,
+//      the refused ones with why), OUT/design.json, and OUT/chosen: the case directory of the best
+//      verified pair (the DEM's objective; the prediction's when nothing was verified).
+// docs/design.md has the columns, the defaults and the run time.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "bagdem/study/characterize.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace bagdem::study {
+
+struct DesignArgs {
+  std::string dir;                       // CASE_DIR (a coupled stepped-sine sweep)
+  std::vector<std::string> vary;         // --vary key=v1,v2,...: the candidates' grid (default: ball size x fill)
+  std::vector<std::string> sets;         // --set: overrides of every run
+  double budget = 0.1;                   // --budget: added mass / the structure's mass, at most (unit: 1)
+  std::vector<double> positions;         // --positions: x/L of the bag (a beam; default 0.05, 0.10, ..., 0.95)
+  std::vector<int> modes;                // --modes: the modes whose worst reduction is maximized (default the case's evaluated ones)
+  // The maps' grid (--gamma, --amplitudes, --frequencies, --seeds): coarser than characterize's own
+  // default (a map per candidate), down to Gamma 0.02 (a bag off the antinode moves little).
+  CharacterizeArgs map = [] {
+    CharacterizeArgs m;
+    m.gamma = {0.02, 20}, m.amplitudes = 6, m.frequencies = 4, m.seeds = 3;
+    return m;
+  }();
+  int verify = 3;                        // --verify: pairs run coupled
+  int verify_seeds = 3;                  // --verify-seeds: starts each
+  int jobs = 0, threads = 0, cores = 0;
+  std::string out;                       // default CASE_DIR/design
+  bool check = false;                    // --check: list the candidates and their masses, build nothing
+  std::string executable = "/proc/self/exe";
+};
+
+// One candidate at one position, predicted (and verified).
+struct DesignRow {
+  std::size_t candidate = 0;             // index into the candidates' grid
+  std::vector<std::string> given;        // the candidate's values, as given (one per varied key)
+  double position = 0, attach = 0;       // x/L (NaN without a beam) and x_b (unit: 1, m)
+  double added_mass = 0, mass_ratio = 0; // balls and film, and over the structure's mass (unit: kg, 1)
+  std::vector<double> db, db_lo, db_hi;  // per chosen mode: the predicted reduction and its range (unit: dB)
+  double objective = 0, objective_lo = 0, objective_hi = 0;  // the worst mode's (unit: dB)
+  std::string status = "ranked";         // "ranked", "over budget", or why predict refused ("outside the map: below ...")
+  bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
+  int rank = 0;                          // 1 = best predicted objective (0: not ranked)
+  std::string map;                       // its map's directory
+  // The coupled check (NaN where not verified), per chosen mode and the worst: mean and 95% half-width.
+  std::vector<double> dem_db, dem_db_ci95;
+  double dem_objective = NAN, dem_objective_ci95 = NAN;
+  int dem_seeds = 0;
+};
+
+// The worst of the modes' reductions, with that mode's range: sets objective, objective_lo/hi.
+void set_objective(DesignRow& row);
+// Ranks the "ranked" rows by objective (best first; ties by the smaller added mass) and marks the
+// Pareto front: a row is on it when no other ranked row has at least its objective with less added
+// mass, or more objective with no more added mass.
+void rank_rows(std::vector<DesignRow>& rows);
+// The default fills: 0.3, 0.6 and 0.95 of the budget as the balls' mass ratios, the film taking
+// the rest of the top one (unit: 1).
+std::vector<double> default_fills(double budget);
+// The default ball sizes: the case's diameter x 1, 1.5 and 2 (unit: m).
+std::vector<double> default_diameters(double diameter);
+
+CLI::App* add_design_command(CLI::App& app, DesignArgs& args);
+// 0 done, 2 bad input (nothing run), 3 a run failed (the design is written from what finished).
+int design_command(const DesignArgs& args);
+
+}  // namespace bagdem::study

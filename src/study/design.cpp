@@ -1,0 +1,391 @@
+// `bagdem design` (study/design.hpp): the candidates, their maps, the predictions at every position,
+// the ranking and the coupled check of the best. The files it writes are in design_files.cpp.
+#include "bagdem/study/design.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "bagdem/case/case_reader.hpp"
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+#include "bagdem/reduce/interval.hpp"
+#include "bagdem/reduce/predict.hpp"
+#include "bagdem/reduce/reduce.hpp"
+#include "bagdem/study/design_files.hpp"
+#include "bagdem/study/study.hpp"
+#include "bagdem/units.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+void set_objective(DesignRow& r) {
+  r.objective = r.objective_lo = r.objective_hi = NAN;
+  for (std::size_t k = 0; k < r.db.size(); ++k)
+    if (k == 0 || r.db[k] < r.objective) r.objective = r.db[k], r.objective_lo = r.db_lo[k], r.objective_hi = r.db_hi[k];
+}
+
+void rank_rows(std::vector<DesignRow>& rows) {
+  std::stable_sort(rows.begin(), rows.end(), [](const DesignRow& a, const DesignRow& b) {
+    const bool ra = a.status == "ranked", rb = b.status == "ranked";
+    if (ra != rb) return ra;
+    if (!ra) return false;
+    if (a.objective != b.objective) return a.objective > b.objective;
+    return a.added_mass < b.added_mass;
+  });
+  int rank = 0;
+  for (DesignRow& r : rows) {
+    r.rank = r.status == "ranked" ? ++rank : 0;
+    r.pareto = false;
+    if (r.status != "ranked") continue;
+    bool dominated = false;
+    for (const DesignRow& o : rows)
+      if (&o != &r && o.status == "ranked" &&
+          ((o.objective >= r.objective && o.added_mass < r.added_mass) || (o.objective > r.objective && o.added_mass <= r.added_mass)))
+        dominated = true;
+    r.pareto = !dominated;
+  }
+}
+
+std::vector<double> default_fills(double budget) { return {0.3 * budget, 0.6 * budget, 0.95 * budget}; }
+std::vector<double> default_diameters(double d) { return {d, 1.5 * d, 2 * d}; }
+
+CLI::App* add_design_command(CLI::App& app, DesignArgs& a) {
+  auto* c = app.add_subcommand(
+      "design",
+      "Search the bag (ball size, fill, bag size: any keys, --vary) and its position for the largest peak reduction of the "
+      "chosen modes under a mass budget: each candidate characterized once by DEM (bagdem characterize; maps already built "
+      "are reused), every candidate at every position predicted by harmonic balance (bagdem predict) and ranked by its worst "
+      "mode, the best run coupled with several starts. Writes OUT/design.csv (ranked, the Pareto front of reduction against "
+      "added mass marked, the coupled check beside), OUT/chosen (a ready case directory) and tools/plot draws design.png. "
+      "See docs/design.md.");
+  c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep) or STUDY_DIR (holds study.toml: its [vary] "
+                              "are the candidates, its set every run's)")
+      ->required();
+  c->add_option("--vary", a.vary,
+                "A key of the bag and its candidate values, as bagdem sweep's (repeatable; the candidates are the grid). Default: "
+                "bag.balls.diameter at the case's x 1, 1.5, 2 and bag.balls.mass_ratio at 0.3, 0.6 and 0.95 of the budget (the film takes the rest)")
+      ->allow_extra_args(false);
+  c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
+  c->add_option("--budget", a.budget, "The added mass (balls and film) over the structure's mass, at most (default 0.1)")
+      ->check(CLI::Range(1e-6, 10.0));
+  c->add_option("--positions", a.positions, "x/L of the bag on a beam (default 0.05,0.1,...,0.95)")->delimiter(',');
+  c->add_option("--modes", a.modes, "The modes whose worst peak reduction is maximized (default: the case's evaluated modes)")->delimiter(',');
+  c->add_option("--gamma", a.map.gamma, "The maps' Gamma range lo,hi (default 0.02,20)")->delimiter(',')->expected(2);
+  c->add_option("--amplitudes", a.map.amplitudes, "The maps' amplitudes (default 6)");
+  c->add_option("--frequencies", a.map.frequencies, "The maps' frequencies per mode's band (default 4)");
+  c->add_option("--seeds", a.map.seeds, "The maps' starts per cell (default 3)")->check(CLI::Range(1, 100000));
+  c->add_option("--cycles", a.map.cycles, "The maps' runs: cycles reduced, at least (default 20)")->check(CLI::Range(4, 100000));
+  c->add_option("--skip", a.map.skip, "The maps' runs: start-up cycles left out, at least (default 5)")->check(CLI::Range(0, 100000));
+  c->add_option("--window-time", a.map.window_time, "The maps' runs: seconds reduced, at least (default 0.25)")->check(CLI::Range(0.0, 1e4));
+  c->add_option("--skip-time", a.map.skip_time, "The maps' runs: seconds of start-up left out, at least (default 0.1)")->check(CLI::Range(0.0, 1e4));
+  c->add_option("--verify", a.verify, "Pairs (candidate, position) run coupled, best first (default 3; 0: none)")->check(CLI::Range(0, 1000));
+  c->add_option("--verify-seeds", a.verify_seeds, "Starts of each coupled check (default 3)")->check(CLI::Range(1, 1000));
+  add_budget_options(c, a.jobs, a.threads, a.cores, "design", "this machine's");
+  c->add_option("--out", a.out, "Output directory (default CASE_DIR/design)");
+  c->add_flag("--check", a.check, "List the candidates, their added mass and whether their map is built, then exit; runs nothing");
+  return c;
+}
+
+namespace {
+
+struct Candidate {
+  std::vector<std::string> sets;   // the case's overrides: every run's, then the candidate's
+  std::vector<std::string> given;  // its values as given, one per varied key
+  double added_mass = NAN;
+  std::string status = "ranked";   // or "over budget", "does not load: ..."
+  std::string map;                 // OUT/maps/map-HASH
+};
+
+// The map options that shape a map, for its directory's hash.
+std::string map_options_text(const CharacterizeArgs& m) {
+  std::string t;
+  for (double x : m.gamma) t += short_text(x) + ",";
+  for (double x : m.band) t += short_text(x) + ",";
+  return t + std::to_string(m.amplitudes) + "," + std::to_string(m.frequencies) + "," + std::to_string(m.seeds) + "," +
+         std::to_string(m.cycles) + "," + std::to_string(m.skip) + "," + short_text(m.window_time) + "," + short_text(m.skip_time);
+}
+
+std::vector<int> case_modes(const Primary& P) {
+  const auto [lo, hi] = std::minmax_element(P.sweep->frequencies.begin(), P.sweep->frequencies.end());
+  std::vector<int> m;
+  for (std::size_t d : P.evaluated_modes(*lo, *hi)) m.push_back(static_cast<int>(P.elastic_mode_number(d)));
+  return m;
+}
+
+// The candidates' grid: the study's [vary] and --vary, or the default ball size x fill.
+StudySpec candidate_spec(const DesignArgs& a, const fs::path& out) {
+  SweepArgs s;
+  s.dir = a.dir, s.vary = a.vary, s.sets = a.sets, s.out = out.string();
+  StudySpec spec = read_spec(s);
+  spec.seeds = 1;
+  if (!spec.vary.empty()) return spec;
+  const CaseReader in((fs::path(spec.case_dir) / "case.toml").string(), spec.sets);
+  if (!in.has("bag.balls.diameter") || !in.has("bag.balls.mass_ratio"))
+    throw InputError(in.file(), "bag.balls", "",
+                     "the default search varies bag.balls.diameter and bag.balls.mass_ratio, which the case must give: give them, or "
+                     "the candidates with --vary key=v1,v2,...");
+  const double d = in.quantity("bag.balls.diameter", dim::length);
+  Varied D{"bag.balls.diameter", {}}, F{"bag.balls.mass_ratio", {}};
+  for (double x : default_diameters(d)) {
+    const std::string mm = short_text(std::round(x * 1e7) / 1e4) + " mm";
+    D.values.push_back({"\"" + mm + "\"", mm});
+  }
+  for (double x : default_fills(a.budget)) F.values.push_back({short_text(std::round(x * 1e6) / 1e6), short_text(std::round(x * 1e6) / 1e6)});
+  spec.vary = {D, F};
+  return spec;
+}
+
+// A map for a candidate: bagdem characterize's runs, in OUT/maps/map-HASH (built once).
+void build_map(const DesignArgs& a, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n, bool& failed) {
+  CharacterizeArgs m = a.map;
+  m.dir = base.case_dir, m.sets = c.sets;
+  m.jobs = a.jobs, m.threads = a.threads, m.cores = a.cores;
+  m.out = c.map;
+  MapGrid grid;
+  Plan plan = make_plan(characterize_spec(m, grid));
+  validate_plan(plan);
+  const std::vector<bool> done = done_points(plan);
+  const Budget budget = resolve_budget(plan.spec, machine_cores(), "the cores of this machine", "bagdem design");
+  fs::create_directories(plan.spec.out_dir);
+  char prefix[64];
+  std::snprintf(prefix, sizeof prefix, "map %zu/%zu: ", k + 1, n);
+  run_share(plan, done, budget, a.executable, 0, 1, prefix);
+  const MapOutcome o = write_map_of(plan, finished_points(plan), grid);
+  failed = failed || o.missing > 0;
+}
+
+// Every chosen mode's predicted reduction of a candidate at a place (its overrides `sets`).
+void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map, const std::vector<int>& modes,
+                 DesignRow& r) {
+  const Scene s = load_case(case_dir.string(), sets);
+  const Primary& P = *s.primary;
+  r.attach = P.attach;
+  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies, 200)) {
+    const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
+    if (k == modes.end()) continue;
+    const std::size_t i = static_cast<std::size_t>(k - modes.begin());
+    if (!m.outside.empty()) {
+      r.status = "outside the map at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")";
+      return;
+    }
+    r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
+  }
+  for (std::size_t i = 0; i < modes.size(); ++i)
+    if (!std::isfinite(r.db[i])) {
+      r.status = "mode " + std::to_string(modes[i]) + " not in the sweep at this place";
+      return;
+    }
+  set_objective(r);
+}
+
+// The best `a.verify` ranked rows run coupled: a zip of their keys (and place), seeds each.
+bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes,
+                 std::vector<DesignRow>& rows) {
+  std::vector<DesignRow*> best;
+  for (DesignRow& r : rows)
+    if (r.status == "ranked" && static_cast<int>(best.size()) < a.verify) best.push_back(&r);
+  if (best.empty()) return false;
+  StudySpec spec = cand;
+  spec.out_dir = (fs::path(cand.out_dir) / "verify").string();
+  spec.source = "bagdem design";
+  spec.combine = Combine::zip;
+  spec.seeds = a.verify_seeds;
+  spec.tables = {"peaks", "reduced"};
+  spec.vary.clear();
+  const Plan grid = make_plan(cand);
+  for (std::size_t k = 0; k < cand.vary.size(); ++k) {
+    Varied z{cand.vary[k].key, {}};
+    for (const DesignRow* r : best) z.values.push_back(cand.vary[k].values.at(grid.points.at(r->candidate).choice.at(k)));
+    spec.vary.push_back(z);
+  }
+  if (beam) {
+    Varied x{"primary.attach", {}};
+    for (const DesignRow* r : best) x.values.push_back({"\"" + short_text(r->position * length) + " m\"", short_text(r->position * length) + " m"});
+    spec.vary.push_back(x);
+  }
+  Plan plan = make_plan(spec);
+  validate_plan(plan);
+  std::vector<bool> done;
+  try {
+    done = done_points(plan);
+  } catch (const InputError& e) {
+    throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
+  }
+  fs::create_directories(spec.out_dir);
+  remove_merged_tables(plan);
+  run_share(plan, done, resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem design"), a.executable, 0, 1, "verify: ");
+  const std::vector<bool> finished = finished_points(plan);
+  merge_tables(plan, finished);
+  // Per pair, per start, per chosen mode: the reduction.
+  std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
+  if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
+    const auto col = [&](const std::string& name) {
+      return static_cast<std::size_t>(std::find(t->columns.begin(), t->columns.end(), name) - t->columns.begin());
+    };
+    const std::size_t c_mode = col("mode [1]"), c_db = col("reduction_dB [dB]");
+    for (const auto& row : t->rows) {
+      if (row[1] != "done" || c_mode >= row.size() || c_db >= row.size() || row[c_db].empty()) continue;
+      const Point& p = plan.points.at(std::stoul(row[0]));
+      const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(std::strtod(row[c_mode].c_str(), nullptr)));
+      if (k == modes.end()) continue;
+      auto& start = x[p.combination][p.index];
+      start.resize(modes.size(), NAN);
+      start[static_cast<std::size_t>(k - modes.begin())] = std::strtod(row[c_db].c_str(), nullptr);
+    }
+  }
+  bool failed = false;
+  for (bool f : finished) failed = failed || !f;
+  for (std::size_t p = 0; p < best.size(); ++p) {
+    DesignRow& r = *best[p];
+    r.dem_db.assign(modes.size(), NAN), r.dem_db_ci95.assign(modes.size(), NAN);
+    // Each mode over the starts; the objective as each start saw it (its worst mode), over the starts.
+    std::vector<double> worst;
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+      std::vector<double> v;
+      for (const auto& [point, db] : x[p])
+        if (std::isfinite(db[k])) v.push_back(db[k]);
+      const Interval in = independent_interval(v);
+      r.dem_db[k] = in.mean, r.dem_db_ci95[k] = in.ci95;
+    }
+    for (const auto& [point, db] : x[p]) {
+      const double w = *std::min_element(db.begin(), db.end());
+      if (std::all_of(db.begin(), db.end(), [](double d) { return std::isfinite(d); })) worst.push_back(w);
+    }
+    r.dem_seeds = static_cast<int>(worst.size());
+    const Interval in = independent_interval(worst);
+    r.dem_objective = in.mean, r.dem_objective_ci95 = in.ci95;
+  }
+  return failed;
+}
+
+}  // namespace
+
+int design_command(const DesignArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StudySpec cand;
+  std::vector<Candidate> cs;
+  std::vector<int> modes;
+  std::vector<double> positions = a.positions;
+  double structure_mass = 0, length = 0;
+  bool beam = false;
+  std::string first_load_error;
+  try {
+    const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
+    cand = candidate_spec(a, fs::absolute(out).lexically_normal());
+    const Scene s = load_case(cand.case_dir, cand.sets);
+    if (!s.primary || !s.primary->sweep)
+      throw InputError(s.case_file, "excitation.kind", "", "design needs a structure ([primary]) and a stepped-sine sweep: its modes' peaks are what is reduced");
+    const Primary& P = *s.primary;
+    structure_mass = P.structure_mass;
+    beam = P.kind == "beam" || P.kind == "fe-beam";
+    length = P.length;
+    const std::vector<int> have = case_modes(P);
+    modes = a.modes.empty() ? have : a.modes;
+    for (int m : modes)
+      if (std::find(have.begin(), have.end(), m) == have.end())
+        throw InputError("--modes", "", std::to_string(m), "the case's sweep evaluates other modes: set excitation.around_modes to include it");
+    if (positions.empty() && beam)
+      for (int k = 1; k <= 19; ++k) positions.push_back(0.05 * k);
+    if (!beam) positions = {NAN};
+    for (double x : positions)
+      if (beam && !(x > 0 && x < 1)) throw InputError("--positions", "", short_text(x), "x/L between 0 and 1 (ends excluded)");
+    const Plan grid = make_plan(cand);
+    for (const Point& p : grid.points) {
+      Candidate c;
+      c.sets = p.sets;
+      for (std::size_t k = 0; k < cand.vary.size(); ++k) c.given.push_back(cand.vary[k].values[p.choice[k]].given);
+      try {
+        const Scene cs_scene = load_case(cand.case_dir, c.sets);
+        c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
+        if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = "over budget";
+      } catch (const InputError& e) {
+        c.status = std::string("does not load: ") + e.what();
+        if (first_load_error.empty()) first_load_error = e.what();
+      }
+      const CaseReader text((fs::path(cand.case_dir) / "case.toml").string(), c.sets);
+      c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(a.map)).substr(0, 12))).string();
+      cs.push_back(c);
+    }
+    if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status == "ranked"; }))
+      throw InputError(a.dir, "", "", first_load_error.empty() ? "no candidate is within the budget of " + short_text(a.budget) + " of the structure's mass (--budget)"
+                                                               : "no candidate loads; the first: " + first_load_error);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+
+  std::printf("bagdem design %s: %zu candidates x %zu position%s, modes", cand.case_dir.c_str(), cs.size(), positions.size(),
+              positions.size() > 1 ? "s" : "");
+  for (int m : modes) std::printf(" %d", m);
+  std::printf(", budget %s of %s kg -> %s\n", short_text(a.budget).c_str(), short_text(structure_mass).c_str(), cand.out_dir.c_str());
+  for (const Candidate& c : cs) {
+    std::string v;
+    for (std::size_t k = 0; k < c.given.size(); ++k) v += (k ? ", " : "") + cand.vary[k].key + " = " + c.given[k];
+    std::printf("  %-60s %8.4g kg (%5.1f%%)  %s%s\n", v.c_str(), c.added_mass, 100 * c.added_mass / structure_mass, c.status.c_str(),
+                c.status == "ranked" ? (fs::exists(fs::path(c.map) / "map.csv") ? ", map built" : ", map to build") : "");
+  }
+  std::fflush(stdout);
+  if (a.check) return 0;
+
+  bool failed = false;
+  try {
+    // 1. The maps.
+    std::size_t n = 0, k = 0;
+    for (const Candidate& c : cs) n += c.status == "ranked";
+    for (Candidate& c : cs)
+      if (c.status == "ranked") build_map(a, cand, c, k++, n, failed);
+    // 2. The predictions.
+    std::vector<DesignRow> rows;
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const Candidate& c = cs[i];
+      std::optional<EffectiveMap> map;
+      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) map = read_effective_map(fs::path(c.map) / "map.csv");
+      for (double x : positions) {
+        DesignRow r;
+        r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / structure_mass;
+        r.status = c.status, r.map = c.map;
+        r.attach = beam ? x * length : NAN;
+        r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
+        r.objective = r.objective_lo = r.objective_hi = NAN;
+        if (c.status == "ranked" && !map) r.status = "no map (its runs failed)";
+        if (r.status == "ranked") {
+          std::vector<std::string> sets = c.sets;
+          if (beam) sets.push_back("primary.attach=\"" + short_text(x * length) + " m\"");
+          predict_row(cand.case_dir, sets, *map, modes, r);
+          if (!beam) r.attach = NAN;
+        }
+        rows.push_back(r);
+      }
+    }
+    rank_rows(rows);
+    // 3. The coupled check of the best.
+    if (a.verify > 0) failed = verify_rows(a, cand, beam, length, modes, rows) || failed;
+    // 4. The files.
+    std::vector<std::vector<std::string>> sets;
+    for (const Candidate& c : cs) sets.push_back(c.sets);
+    const DesignSummary sum{cand, modes, structure_mass, a.budget, beam, length};
+    write_design(sum, rows);
+    const std::string chosen = write_chosen_case(sum, rows, sets);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    print_design(sum, rows);
+    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, cand.out_dir.c_str(),
+                chosen.empty() ? "" : (", " + chosen).c_str());
+    return failed ? kExitRunError : 0;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace bagdem::study

@@ -1,0 +1,109 @@
+// The files of `bagdem design` (study/design_files.hpp).
+#include "bagdem/study/design_files.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "bagdem/case/case_reader.hpp"
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/table_csv.hpp"
+
+namespace bagdem::study {
+namespace fs = std::filesystem;
+
+namespace {
+std::string cell(double x) { return std::isfinite(x) ? short_text(x) : ""; }
+
+// The overrides that make a row's case: its candidate's, then its place on a beam.
+std::vector<std::string> row_sets(const DesignSummary& s, const DesignRow& r, const std::vector<std::vector<std::string>>& sets) {
+  std::vector<std::string> o = sets.at(r.candidate);
+  if (s.beam) o.push_back("primary.attach=\"" + short_text(r.position * s.length) + " m\"");
+  return o;
+}
+}  // namespace
+
+void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
+  std::vector<std::string> head = {"rank [1]", "status"};
+  for (const Varied& v : s.candidates.vary) head.push_back(v.key);
+  for (const char* c : {"position_xL [1]", "attach [m]", "added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
+  for (int m : s.modes)
+    for (const char* c : {"reduction_dB", "reduction_dB_lo", "reduction_dB_hi"}) head.push_back(std::string(c) + "_mode" + std::to_string(m) + " [dB]");
+  for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "pareto [1]", "dem_seeds [1]"}) head.push_back(c);
+  for (int m : s.modes)
+    for (const char* c : {"dem_reduction_dB", "dem_reduction_dB_ci95"}) head.push_back(std::string(c) + "_mode" + std::to_string(m) + " [dB]");
+  for (const char* c : {"dem_objective_dB [dB]", "dem_objective_dB_ci95 [dB]", "map"}) head.push_back(c);
+  std::string text;
+  for (std::size_t k = 0; k < head.size(); ++k) text += (k ? "," : "") + csv_cell(head[k]);
+  text += "\n";
+  for (const DesignRow& r : rows) {
+    std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status};
+    c.insert(c.end(), r.given.begin(), r.given.end());
+    for (double x : {r.position, r.attach, r.added_mass, r.mass_ratio}) c.push_back(cell(x));
+    for (std::size_t k = 0; k < s.modes.size(); ++k)
+      for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
+    for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
+    c.push_back(r.pareto ? "1" : "0");
+    c.push_back(std::to_string(r.dem_seeds));
+    for (std::size_t k = 0; k < s.modes.size(); ++k)
+      for (double x : {k < r.dem_db.size() ? r.dem_db[k] : NAN, k < r.dem_db_ci95.size() ? r.dem_db_ci95[k] : NAN}) c.push_back(cell(x));
+    c.push_back(cell(r.dem_objective));
+    c.push_back(cell(r.dem_objective_ci95));
+    c.push_back(fs::path(r.map).filename().string());
+    for (std::size_t k = 0; k < c.size(); ++k) text += (k ? "," : "") + csv_cell(c[k]);
+    text += "\n";
+  }
+  write_atomically(fs::path(s.candidates.out_dir) / "design.csv", text);
+}
+
+const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {
+  const DesignRow* best = nullptr;
+  for (const DesignRow& r : rows)
+    if (r.status == "ranked" && std::isfinite(r.dem_objective) && (!best || r.dem_objective > best->dem_objective)) best = &r;
+  if (best) return best;
+  for (const DesignRow& r : rows)
+    if (r.rank == 1) return &r;
+  return nullptr;
+}
+
+std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows, const std::vector<std::vector<std::string>>& sets) {
+  const DesignRow* r = chosen_row(rows);
+  if (!r) return "";
+  const fs::path from = s.candidates.case_dir, to = fs::path(s.candidates.out_dir) / "chosen", part = to.string() + ".part";
+  fs::remove_all(part);
+  fs::create_directories(part);
+  for (const fs::directory_entry& e : fs::directory_iterator(from))
+    if (e.is_regular_file() && e.path().filename() != "case.toml") fs::copy_file(e.path(), part / e.path().filename());
+  const std::vector<std::string> o = row_sets(s, *r, sets);
+  std::string header = "# The bag chosen by bagdem design (" + s.candidates.out_dir + "/design.csv, rank " + std::to_string(r->rank) + "): " +
+                       from.string() + "/case.toml with\n";
+  for (const std::string& x : o) header += "#   " + x + "\n";
+  header += "# Predicted worst-mode reduction " + cell(r->objective) + " dB (" + cell(r->objective_lo) + " to " + cell(r->objective_hi) + ")";
+  if (std::isfinite(r->dem_objective))
+    header += "; coupled DEM " + cell(r->dem_objective) + " +- " + cell(r->dem_objective_ci95) + " dB over " + std::to_string(r->dem_seeds) + " starts";
+  header += ".\n# The comments of the original case are in its file.\n\n";
+  write_atomically(part / "case.toml", header + CaseReader((from / "case.toml").string(), o).text() + "\n");
+  load_case(part.string(), {});  // ready: it loads as it is
+  fs::remove_all(to);
+  fs::rename(part, to);
+  return to.string();
+}
+
+void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
+  std::printf("rank  %-44s %9s %8s  %-26s %s\n", "candidate", "x/L", "mass", "worst mode, predicted [dB]", "coupled DEM [dB]");
+  int shown = 0;
+  for (const DesignRow& r : rows) {
+    if (r.status != "ranked" || (shown >= 10 && !r.pareto && !std::isfinite(r.dem_objective))) continue;
+    ++shown;
+    std::string v;
+    for (std::size_t k = 0; k < r.given.size(); ++k) v += (k ? ", " : "") + r.given[k];
+    char pred[64], dem[64] = "";
+    std::snprintf(pred, sizeof pred, "%6.2f (%.2f to %.2f)%s", r.objective, r.objective_lo, r.objective_hi, r.pareto ? " P" : "");
+    if (std::isfinite(r.dem_objective)) std::snprintf(dem, sizeof dem, "%.2f +- %.2f (%d)", r.dem_objective, r.dem_objective_ci95, r.dem_seeds);
+    std::printf("%4d  %-44s %9s %7.2f%%  %-26s %s\n", r.rank, v.c_str(), s.beam ? short_text(r.position).c_str() : "-", 100 * r.mass_ratio, pred, dem);
+  }
+  std::printf("(P: on the Pareto front of reduction against added mass)\n");
+}
+
+}  // namespace bagdem::study

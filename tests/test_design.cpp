@@ -1,0 +1,138 @@
+// `bagdem design` (study/design.hpp):
+// 1. The ranking: a design's objective is its worst mode's reduction (with that mode's range); the
+//    rows are ranked best first and the Pareto front of objective against added mass is marked.
+// 2. Through the binary, on an analytic reference: a steel ball rolling without slip on the floor of
+//    a box carried by a light SDOF (20 Hz) adds (2/7) m of mass and no damping (tests/
+//    test_characterize.cpp), so the structure's peak rises: with the damping c = 2 zeta sqrt(k M)
+//    fixed, the ratio becomes zeta' = zeta sqrt(M / (M + 2m/7)) and the peak |H| = 1 / (2 zeta' k
+//    sqrt(1 - zeta'^2)), a reduction of 20 log10(zeta' sqrt(1 - zeta'^2) / (zeta sqrt(1 - zeta^2)))
+//    dB, below zero and the lower the heavier the ball. Three ball sizes, the largest over the mass
+//    budget: design builds two maps, ranks the lighter ball first, runs it coupled, and writes the
+//    chosen case, which loads with that ball.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/io/table_csv.hpp"
+#include "bagdem/study/design.hpp"
+#include "case_texts.hpp"
+#include "support.hpp"
+
+using namespace bagdem;
+using namespace bagdem::study;
+namespace fs = std::filesystem;
+
+namespace {
+DesignRow row(std::vector<double> db, double mass) {
+  DesignRow r;
+  r.db = db, r.db_lo = db, r.db_hi = db, r.added_mass = mass;
+  for (double& x : r.db_lo) x -= 1;
+  for (double& x : r.db_hi) x += 2;
+  set_objective(r);
+  return r;
+}
+}  // namespace
+
+TEST(DesignRank, TheWorstModeRanksAndTheParetoFrontIsMarked) {
+  const DesignRow a = row({12, 9}, 0.03);
+  EXPECT_EQ(a.objective, 9);
+  EXPECT_EQ(a.objective_lo, 8);
+  EXPECT_EQ(a.objective_hi, 11);
+  std::vector<DesignRow> rows = {row({5, 6}, 0.01), a, row({10, 11}, 0.03), row({4, 20}, 0.005), row({7, 7}, 0.05)};
+  rows[1].given = {"b"}, rows[2].given = {"c"};
+  rows.push_back(row({30, 30}, 0.001));
+  rows.back().status = "over budget";
+  rank_rows(rows);
+  // By objective: 10 (0.03), 9 (0.03), 7 (0.05), 5 (0.01), 4 (0.005); the refused row last, unranked.
+  ASSERT_EQ(rows.size(), 6u);
+  const std::vector<double> objective = {10, 9, 7, 5, 4};
+  for (std::size_t k = 0; k < objective.size(); ++k) {
+    EXPECT_EQ(rows[k].objective, objective[k]);
+    EXPECT_EQ(rows[k].rank, static_cast<int>(k + 1));
+  }
+  EXPECT_EQ(rows[5].rank, 0);
+  EXPECT_FALSE(rows[5].pareto) << "a refused row is not on the front";
+  // The front: 10 dB at 0.03, 5 dB at 0.01, 4 dB at 0.005 (9 dB at 0.03 and 7 at 0.05 are dominated).
+  const std::vector<bool> front = {true, false, false, true, true};
+  for (std::size_t k = 0; k < front.size(); ++k) EXPECT_EQ(rows[k].pareto, front[k]) << "row ranked " << k + 1;
+  const std::vector<double> fills = default_fills(0.1), diameters = default_diameters(0.004);
+  ASSERT_EQ(fills.size(), 3u);
+  ASSERT_EQ(diameters.size(), 3u);
+  const double f[] = {0.03, 0.06, 0.095}, d[] = {0.004, 0.006, 0.008};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(fills[k], f[k], 1e-15);
+    EXPECT_NEAR(diameters[k], d[k], 1e-15);
+  }
+}
+
+TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseLoads) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  // A 0.02-kg SDOF of 20 Hz: the balls' 2/7 weigh 1-3% of it. 2 mN keeps Gamma below 0.3 at
+  // the peak (rolling without slip needs Gamma < 3.5 mu).
+  const double M = 0.02, k = M * std::pow(2 * std::numbers::pi * 20, 2), zeta = 0.02;
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const fs::path out = t.path / "design";
+  const std::vector<std::string> args = {
+      "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\",\"8 mm\",\"10 mm\"", "--budget", "0.15",
+      "--set", "primary.mass=\"" + std::to_string(M) + " kg\"", "--set", "primary.stiffness=\"" + std::to_string(k) + " N/m\"",
+      "--set", "excitation.amplitude=\"2 mN\"", "--gamma", "0.02,0.5", "--amplitudes", "3", "--frequencies", "2", "--seeds", "2",
+      "--cycles", "6", "--skip", "2", "--window-time", "0", "--skip-time", "0", "--verify", "1", "--verify-seeds", "2",
+      "--out", out.string(), "--jobs", "2"};
+  const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+
+  const std::vector<std::vector<std::string>> cells = read_csv_cells(out / "design.csv");
+  ASSERT_EQ(cells.size(), 4u) << "a header and a row per candidate (an SDOF: one place)";
+  auto col = [&](const std::string& name) {
+    const auto it = std::find(cells[0].begin(), cells[0].end(), name);
+    EXPECT_NE(it, cells[0].end()) << name;
+    return static_cast<std::size_t>(it - cells[0].begin());
+  };
+  const std::size_t status = col("status"), rank = col("rank [1]"), diameter = col("particles.ball.diameter"), mass = col("added_mass [kg]"),
+                    objective = col("objective_dB [dB]"), dem = col("dem_objective_dB [dB]"), seeds = col("dem_seeds [1]");
+  col("reduction_dB_mode1 [dB]");
+  col("pareto [1]");
+  const double rho = 7800;
+  for (std::size_t i = 1; i < cells.size(); ++i) {
+    const auto& c = cells[i];
+    const double d = c[diameter] == "6 mm" ? 6e-3 : c[diameter] == "8 mm" ? 8e-3 : 10e-3;
+    const double m = rho * std::numbers::pi * d * d * d / 6;
+    EXPECT_NEAR(std::stod(c[mass]), m, 1e-9 * m);
+    if (d == 10e-3) {
+      EXPECT_EQ(c[status], "over budget") << "0.0041 kg is 20% of the structure";
+      EXPECT_EQ(c[rank], "");
+      continue;
+    }
+    ASSERT_EQ(c[status], "ranked");
+    const double z = zeta * std::sqrt(M / (M + 2 * m / 7));
+    const double expected = 20 * std::log10(z * std::sqrt(1 - z * z) / (zeta * std::sqrt(1 - zeta * zeta)));
+    std::printf("  %s ball: predicted %s dB, analytic %.4f dB\n", c[diameter].c_str(), c[objective].c_str(), expected);
+    // 0.01 dB: the damped peak is sampled at 200 frequencies over the band (0.02 Hz apart).
+    EXPECT_NEAR(std::stod(c[objective]), expected, 0.01);
+    EXPECT_EQ(c[rank], d == 6e-3 ? "1" : "2") << "the lighter ball raises the peak less";
+  }
+  EXPECT_EQ(cells[1][diameter], "6 mm");
+  EXPECT_EQ(cells[1][seeds], "2") << "the best pair run coupled with 2 starts";
+  EXPECT_TRUE(std::isfinite(std::stod(cells[1][dem])));
+  EXPECT_EQ(cells[2][seeds], "0");
+  EXPECT_EQ(cells[2][dem], "");
+
+  // The chosen case: the 6-mm ball, ready to run.
+  const Scene chosen = load_case((out / "chosen").string());
+  ASSERT_EQ(chosen.particles.size(), 1u);
+  EXPECT_NEAR(chosen.particles[0].radius, 3e-3, 1e-12);
+  EXPECT_NEAR(chosen.primary->structure_mass, M, 1e-12);
+
+  // Again: every map and the check are reused (nothing runs), the same table.
+  const auto before = bagdem::testing::slurp(out / "design.csv");
+  const bagdem::testing::CmdResult again = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(bagdem::testing::slurp(out / "design.csv"), before);
+  EXPECT_NE(again.out.find("map built"), std::string::npos) << again.out;
+}

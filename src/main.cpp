@@ -247,6 +247,9 @@ int run_case(const Args& a, const Scene& s, const RunOptions& o) {
                 r.acceleration_rms);
     if (r.decay_time > 0)
       std::printf("decay: damping ratio %.4g, time to fall by 20 dB %.4g s\n", r.decay_zeta, r.decay_time);
+    if (s.primary->random_hi > 0)
+      std::printf("structure: RMS response in the force's band %.4e m (after %.4g s; the RMS above holds every frequency, a hung "
+                  "structure's swing too)\n", r.band_response_rms, s.primary->random_skip);
   }
   return 0;
 }

@@ -18,6 +18,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "bagdem/structure/response.hpp"
 #include "bagdem/study/design.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
@@ -135,4 +136,51 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_EQ(bagdem::testing::slurp(out / "design.csv"), before);
   EXPECT_NE(again.out.find("map built"), std::string::npos) << again.out;
+}
+
+// The same balls under a band-limited random force (18-22 Hz, 2 mN RMS): the objective is the
+// in-band RMS response's reduction, and with (2/7) m added and no damping it is the multisine's
+// analytic 20 log10(sigma_bare / sigma), sigma^2 = sum over the lines of a^2 |H(w_k)|^2 / 2
+// (tests/test_structure.cpp), H the SDOF's receptance with the mass M or M + 2m/7 and the damping
+// c = 2 zeta sqrt(k M). The best is run coupled once: its summary gives an in-band RMS.
+TEST(Design, ARandomForceRanksByTheInBandRms) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  const double M = 0.02, k = M * std::pow(2 * std::numbers::pi * 20, 2), zeta = 0.02, c = 2 * zeta * std::sqrt(k * M);
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const fs::path out = t.path / "design";
+  const std::vector<std::string> args = {
+      "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\",\"8 mm\"", "--budget", "0.15", "--set",
+      "primary.mass=\"" + std::to_string(M) + " kg\"", "--set", "primary.stiffness=\"" + std::to_string(k) + " N/m\"", "--set",
+      "excitation={kind=\"random\", rms=\"2 mN\", band=[18, 22], skip=\"0.5 s\"}", "--set", "simulation.duration=\"2 s\"", "--gamma",
+      "0.02,0.5", "--amplitudes", "3", "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0", "--skip-time", "0",
+      "--verify", "1", "--verify-seeds", "1", "--out", out.string(), "--jobs", "2"};
+  const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const std::vector<std::vector<std::string>> cells = read_csv_cells(out / "design.csv");
+  ASSERT_EQ(cells.size(), 3u);
+  auto col = [&](const std::string& name) {
+    const auto it = std::find(cells[0].begin(), cells[0].end(), name);
+    EXPECT_NE(it, cells[0].end()) << name;
+    return static_cast<std::size_t>(it - cells[0].begin());
+  };
+  const std::size_t diameter = col("particles.ball.diameter"), objective = col("objective_dB [dB]"), dem = col("dem_objective_dB [dB]");
+  col("reduction_dB_random [dB]");
+  const int lines = 201;  // 200 intervals over the band
+  auto sigma = [&](double mass) {
+    double s2 = 0;
+    for (int i = 0; i < lines; ++i) s2 += std::norm(sdof_receptance(mass, c, k, 2 * std::numbers::pi * (18 + 4.0 * i / (lines - 1))));
+    return std::sqrt(s2 / 2 * 2.0 / lines);  // a = rms sqrt(2 / lines); the rms cancels in the ratio
+  };
+  for (std::size_t i = 1; i < cells.size(); ++i) {
+    const double d = cells[i][diameter] == "6 mm" ? 6e-3 : 8e-3, m = 7800 * std::numbers::pi * d * d * d / 6;
+    const double expected = 20 * std::log10(sigma(M) / sigma(M + 2 * m / 7));
+    std::printf("  %s ball: predicted %s dB, analytic %.6f dB\n", cells[i][diameter].c_str(), cells[i][objective].c_str(), expected);
+    // The map's M_eff is 2/7 m to 0.1%; the lines are the case's (201 over the band, ends included).
+    EXPECT_NEAR(std::stod(cells[i][objective]), expected, 1e-4);
+  }
+  // The heavier ball detunes the resonance toward the band's lower end: less RMS in the band.
+  EXPECT_EQ(cells[1][diameter], "8 mm");
+  EXPECT_TRUE(std::isfinite(std::stod(cells[1][dem]))) << "the coupled run's in-band RMS";
 }

@@ -218,6 +218,25 @@ TEST(Response, FitDecayRecoversDampingRatioAndDecayTime) {
   EXPECT_NEAR(rms(std::vector<double>(100, 3.0), 0.1), 3.0, 1e-15);
 }
 
+// The in-band RMS: a sine on a DFT bin is exact; beside a swing 10 times larger at 1.3 Hz and a
+// tone at 300 Hz, both outside 78-93 Hz, it is still the sine's A / sqrt(2) (to the 1.3-Hz swing's
+// leakage, 1%), while the plain RMS is the swing's.
+TEST(Response, BandRmsKeepsTheBandOnly) {
+  const double dt = 5e-5, A = 2e-5;
+  std::vector<double> tone, mixed;
+  for (int k = 0; k < 80000; ++k) {  // 4 s
+    const double t = k * dt, s = A * std::sin(2 * kPi * 85 * t);
+    tone.push_back(s);
+    mixed.push_back(s + 10 * A * std::sin(2 * kPi * 1.3 * t + 0.4) + A * std::sin(2 * kPi * 300 * t));
+  }
+  EXPECT_NEAR(band_rms(tone, dt, 78, 93, 1.0), A / std::sqrt(2.0), 1e-9 * A);  // 3 s: 85 Hz is bin 255
+  const double b = band_rms(mixed, dt, 78, 93, 1.0);
+  std::printf("  band RMS %.5e (the tone's %.5e); whole RMS %.5e\n", b, A / std::sqrt(2.0), rms(mixed, dt, 1.0));
+  EXPECT_NEAR(b, A / std::sqrt(2.0), 0.01 * A / std::sqrt(2.0));
+  EXPECT_GT(rms(mixed, dt, 1.0), 5 * b);
+  EXPECT_EQ(band_rms(tone, dt, 100, 200, 1.0) < 1e-3 * A, true) << "no power outside the tone";
+}
+
 TEST(Excitation, ImpulseIntegratesToItsImpulse) {
   const auto f = make_impulse_force(0.05, 2e-4, 1e-3);
   EXPECT_EQ(f->force(0.9e-3), 0.0);

@@ -381,6 +381,12 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
     if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");
     p.excitation = make_random_force(rms, band[0], band[1], seed, period);
+    p.random_lo = band[0], p.random_hi = band[1], p.random_rms = rms;
+    const double T = period > 0 ? period : 200.0 / (band[1] - band[0]);  // as make_random_force's
+    p.random_lines = static_cast<int>(std::floor(band[1] * T + 1e-9) - std::ceil(band[0] * T - 1e-9)) + 1;
+    p.random_skip = in.quantity("excitation.skip", dim::time, s.duration / 4);
+    if (!(p.random_skip >= 0 && p.random_skip < s.duration))
+      in.fail("excitation.skip", "must be >= 0 and below simulation.duration (s): the start-up left out of the response's in-band RMS");
     p.force_time_scale = 1 / band[1];
     // A bound: the RMS force at the worst frequency of the band, times 3 (peak factor).
     for (int k = 0; k <= 200; ++k) {

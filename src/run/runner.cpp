@@ -167,7 +167,13 @@ std::string summary_json(const Scene& scene, const Simulation& sim, RunReport& r
     rep.response_rms = rms(response, ds, 0.0);
     rep.acceleration_rms = rms(response_acc, ds, 0.0);
     j << "  \"structure\": {\"kind\": \"" << P.kind << "\", \"response_at_m\": " << P.response_at
-      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms
+      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms;
+    if (P.random_hi > 0) {
+      rep.band_response_rms = band_rms(response, ds, P.random_lo, P.random_hi, P.random_skip);
+      j << ", \"band_response_rms_m\": " << rep.band_response_rms << ", \"band_Hz\": [" << P.random_lo << ", " << P.random_hi
+        << "], \"band_from_s\": " << P.random_skip;
+    }
+    j
       << ", \"work_external_J\": " << S.work_external << ", \"work_contents_J\": " << S.work_contents
       << ", \"dissipated_J\": " << S.dissipated << ", \"energy_J\": " << sim.structure_energy();
     if (!P.harmonic && response.size() > 8) {

@@ -178,6 +178,28 @@ double rms(const std::vector<double>& y, double dt, double t_skip) {
   return n ? std::sqrt(s / static_cast<double>(n)) : 0.0;
 }
 
+double band_rms(const std::vector<double>& y, double dt, double lo, double hi, double t_skip) {
+  const auto first = std::min(y.size(), static_cast<std::size_t>(std::ceil(t_skip / dt)));
+  const std::size_t n = y.size() - first;
+  if (n < 4) return 0;
+  const double T = static_cast<double>(n) * dt;
+  const auto k_lo = static_cast<std::size_t>(std::max(1.0, std::ceil(lo * T)));
+  const auto k_hi = static_cast<std::size_t>(std::min(std::floor(hi * T), std::ceil(static_cast<double>(n) / 2) - 1));
+  double power = 0;
+  for (std::size_t k = k_lo; k <= k_hi; ++k) {
+    // exp(-2 pi i k j / n) by rotation, renormalised every 1024 samples against drift.
+    const std::complex<double> step = std::polar(1.0, -2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
+    std::complex<double> w = 1, sum = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      sum += y[first + j] * w;
+      w *= step;
+      if ((j & 1023) == 1023) w = std::polar(1.0, -2 * std::numbers::pi * static_cast<double>(k) * static_cast<double>(j + 1) / static_cast<double>(n));
+    }
+    power += 2 * std::norm(sum);
+  }
+  return std::sqrt(power) / static_cast<double>(n);
+}
+
 Peak bare_peak(const Primary& p, double lo, double hi) {
   auto mag = [&](double f) { return std::abs(p.bare_receptance(2 * std::numbers::pi * f)); };
   const int n = 400;

@@ -135,7 +135,10 @@ CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& a) {
   c->add_option("--skip-time", a.skip_time,
                 "Seconds of start-up left out, at least (default 0.1): a bag settles into its motion in a time, not a number of cycles")
       ->check(CLI::Range(0.0, 1e4));
-  c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
+  c->add_option("--set", a.sets,
+                "Override a key of case.toml in every run (repeatable; simulation.duration, output.skip_cycles and cavity.motion "
+                "are the map's own and left out)")
+      ->allow_extra_args(false);
   add_budget_options(c, a.jobs, a.threads, a.cores, "characterization", "this machine's, divided among the MPI ranks on it");
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/map)");
   c->add_flag("--check", a.check, "Plan the grid and load every run's case, print the runs, then exit: 0 if every one loads, 2 if not");
@@ -165,7 +168,11 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
   s.seeds = a.seeds;
   s.jobs = a.jobs, s.threads = a.threads, s.cores = a.cores;
   s.tables = {"reduced"};
-  s.sets = a.sets;
+  // The keys a map's run sets itself (its length, its motion) are its own: an override of them,
+  // made for the coupled case (bagdem design passes the coupled runs' length), is left out.
+  for (const std::string& x : a.sets)
+    if (x.rfind("simulation.duration", 0) != 0 && x.rfind("output.skip_cycles", 0) != 0 && x.rfind("cavity.motion", 0) != 0)
+      s.sets.push_back(x);
   if (scene.primary) {
     // A bag filled to a mass ratio keeps its balls: the ratio is then of the dropped structure's mass.
     const CaseReader in((fs::path(s.case_dir) / "case.toml").string(), a.sets);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "bagdem/case/case_reader.hpp"
@@ -50,6 +51,8 @@ void rank_rows(std::vector<DesignRow>& rows) {
     r.pareto = !dominated;
   }
 }
+
+std::string mode_label(int mode) { return mode == 0 ? "random" : "mode" + std::to_string(mode); }
 
 std::vector<double> default_fills(double budget) { return {0.3 * budget, 0.6 * budget, 0.95 * budget}; }
 std::vector<double> default_diameters(double d) { return {d, 1.5 * d, 2 * d}; }
@@ -140,9 +143,18 @@ StudySpec candidate_spec(const DesignArgs& a, const fs::path& out) {
   return spec;
 }
 
+// A number of a run's summary.json by its (unique) key; NaN when absent.
+double summary_number(const fs::path& summary, const std::string& key) {
+  std::ifstream in(summary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.find("\"" + key + "\":");
+  return at == std::string::npos ? NAN : std::strtod(text.c_str() + at + key.size() + 3, nullptr);
+}
+
 // A map for a candidate: bagdem characterize's runs, in OUT/maps/map-HASH (built once).
-void build_map(const DesignArgs& a, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n, bool& failed) {
-  CharacterizeArgs m = a.map;
+void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n,
+               bool& failed) {
+  CharacterizeArgs m = grid_args;
   m.dir = base.case_dir, m.sets = c.sets;
   m.jobs = a.jobs, m.threads = a.threads, m.cores = a.cores;
   m.out = c.map;
@@ -165,6 +177,24 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   const Scene s = load_case(case_dir.string(), sets);
   const Primary& P = *s.primary;
   r.attach = P.attach;
+  if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band
+    const RandomPrediction p = predict_random(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
+    if (!p.outside.empty() || !p.converged) {
+      r.status = "outside the map (" + (p.outside.empty() ? std::string("no convergence") : p.outside) + ")";
+      return;
+    }
+    r.bare_rms = p.bare_response_rms;
+    r.db[0] = r.db_lo[0] = r.db_hi[0] = 20 * std::log10(p.bare_response_rms / p.response_rms);
+    for (int m : {-1, 1})
+      for (int c : {-1, 1}) {
+        const RandomPrediction k = predict_random(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines, m, c);
+        if (!k.outside.empty() || !k.converged) continue;
+        const double db = 20 * std::log10(k.bare_response_rms / k.response_rms);
+        r.db_lo[0] = std::min(r.db_lo[0], db), r.db_hi[0] = std::max(r.db_hi[0], db);
+      }
+    set_objective(r);
+    return;
+  }
   for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies, 200)) {
     const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
     if (k == modes.end()) continue;
@@ -223,7 +253,13 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   merge_tables(plan, finished);
   // Per pair, per start, per chosen mode: the reduction.
   std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
-  if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
+  if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
+    for (const Point& p : plan.points)
+      if (finished[p.index]) {
+        const double rms = summary_number(fs::path(plan.point_dir(p)) / "summary.json", "band_response_rms_m");
+        x[p.combination][p.index] = {20 * std::log10(best[p.combination]->bare_rms / rms)};
+      }
+  } else if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
     const auto col = [&](const std::string& name) {
       return static_cast<std::size_t>(std::find(t->columns.begin(), t->columns.end(), name) - t->columns.begin());
     };
@@ -270,6 +306,7 @@ int design_command(const DesignArgs& a) {
   StudySpec cand;
   std::vector<Candidate> cs;
   std::vector<int> modes;
+  CharacterizeArgs map = a.map;  // the maps' grid (a random force's band when the case has no sweep)
   std::vector<double> positions = a.positions;
   double structure_mass = 0, length = 0;
   bool beam = false;
@@ -278,17 +315,25 @@ int design_command(const DesignArgs& a) {
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
     cand = candidate_spec(a, fs::absolute(out).lexically_normal());
     const Scene s = load_case(cand.case_dir, cand.sets);
-    if (!s.primary || !s.primary->sweep)
-      throw InputError(s.case_file, "excitation.kind", "", "design needs a structure ([primary]) and a stepped-sine sweep: its modes' peaks are what is reduced");
+    if (!s.primary || (!s.primary->sweep && !(s.primary->random_hi > 0)))
+      throw InputError(s.case_file, "excitation.kind", "",
+                       "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "
+                       "(its response's RMS in the band is)");
     const Primary& P = *s.primary;
     structure_mass = P.structure_mass;
     beam = P.kind == "beam" || P.kind == "fe-beam";
     length = P.length;
-    const std::vector<int> have = case_modes(P);
-    modes = a.modes.empty() ? have : a.modes;
-    for (int m : modes)
-      if (std::find(have.begin(), have.end(), m) == have.end())
-        throw InputError("--modes", "", std::to_string(m), "the case's sweep evaluates other modes: set excitation.around_modes to include it");
+    if (P.sweep) {
+      const std::vector<int> have = case_modes(P);
+      modes = a.modes.empty() ? have : a.modes;
+      for (int m : modes)
+        if (std::find(have.begin(), have.end(), m) == have.end())
+          throw InputError("--modes", "", std::to_string(m), "the case's sweep evaluates other modes: set excitation.around_modes to include it");
+    } else {
+      if (!a.modes.empty()) throw InputError("--modes", "", "", "a random force's case has no modes to choose: its band's RMS is the objective");
+      modes = {0};
+      if (map.band.empty()) map.band = {P.random_lo, P.random_hi};
+    }
     if (positions.empty() && beam)
       for (int k = 1; k <= 19; ++k) positions.push_back(0.05 * k);
     if (!beam) positions = {NAN};
@@ -308,7 +353,7 @@ int design_command(const DesignArgs& a) {
         if (first_load_error.empty()) first_load_error = e.what();
       }
       const CaseReader text((fs::path(cand.case_dir) / "case.toml").string(), c.sets);
-      c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(a.map)).substr(0, 12))).string();
+      c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(map)).substr(0, 12))).string();
       cs.push_back(c);
     }
     if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status == "ranked"; }))
@@ -322,9 +367,10 @@ int design_command(const DesignArgs& a) {
     return 1;
   }
 
-  std::printf("bagdem design %s: %zu candidates x %zu position%s, modes", cand.case_dir.c_str(), cs.size(), positions.size(),
-              positions.size() > 1 ? "s" : "");
-  for (int m : modes) std::printf(" %d", m);
+  std::printf("bagdem design %s: %zu candidates x %zu position%s, %s", cand.case_dir.c_str(), cs.size(), positions.size(),
+              positions.size() > 1 ? "s" : "", modes == std::vector<int>{0} ? "the random force's RMS" : "modes");
+  for (int m : modes)
+    if (m > 0) std::printf(" %d", m);
   std::printf(", budget %s of %s kg -> %s\n", short_text(a.budget).c_str(), short_text(structure_mass).c_str(), cand.out_dir.c_str());
   for (const Candidate& c : cs) {
     std::string v;
@@ -341,7 +387,7 @@ int design_command(const DesignArgs& a) {
     std::size_t n = 0, k = 0;
     for (const Candidate& c : cs) n += c.status == "ranked";
     for (Candidate& c : cs)
-      if (c.status == "ranked") build_map(a, cand, c, k++, n, failed);
+      if (c.status == "ranked") build_map(a, map, cand, c, k++, n, failed);
     // 2. The predictions.
     std::vector<DesignRow> rows;
     for (std::size_t i = 0; i < cs.size(); ++i) {

@@ -45,6 +45,7 @@ struct RunReport {
   Vec3 bag_outer = Vec3::Zero();       // its outer length, width, height then (m)
   bool structure = false;              // the scene has a primary structure: the figures below are set
   double response_rms = 0;             // RMS displacement at x_a after release (m)
+  double band_response_rms = 0;        // random force: its part in the force's band after excitation.skip (m)
   double acceleration_rms = 0;         // RMS acceleration at x_a (m/s^2)
   double decay_time = 0;               // decay and impulse excitations: time to fall by 20 dB (s)
   double decay_zeta = 0;               // their fitted damping ratio

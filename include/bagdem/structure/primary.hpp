@@ -88,6 +88,11 @@ struct Primary {
                                      // highest drive frequency, the decaying mode's, or else the
                                      // first elastic mode's (unit: Hz); output.cavity_interval
                                      // samples it at least 40 times per period by default
+  // A random force's band (excitation.kind = "random"; 0 otherwise) and when its response's
+  // in-band RMS starts (excitation.skip): summary.json's band_response_rms_m (unit: Hz, s).
+  double random_lo = 0, random_hi = 0, random_skip = 0;
+  double random_rms = 0;             // its RMS (unit: N)
+  int random_lines = 0;              // its lines in the band
   double expected_cavity_speed = 0;  // largest cavity speed the excitation should cause (bare
                                      // structure), for the time step and impact checks (unit: m/s)
 

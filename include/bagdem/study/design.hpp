@@ -8,11 +8,16 @@
 //      left out; the others get a map each (bagdem characterize's runs, OUT/maps/map-HASH, the hash
 //      of the case, the candidate's keys and the map's grid: a map already built is reused);
 //   3. every candidate at every --positions x/L (a beam; the case's own place otherwise) is
-//      predicted at the case's force amplitude: each chosen mode's peak reduction with its range
-//      over the map's intervals; the objective is the smallest reduction over the chosen modes (the
-//      worst mode: a design is as good as its weakest mode), its range that of that mode;
+//      predicted at the case's force: for a stepped-sine case each chosen mode's peak reduction
+//      with its range over the map's intervals, the objective the smallest over the chosen modes
+//      (the worst mode: a design is as good as its weakest mode), its range that of that mode; for
+//      a random force (excitation.kind = "random") the in-band RMS response's reduction against
+//      the bare structure's, 20 log10(bare / damped) (reduce/predict.hpp, predict_random), the
+//      "mode" 0 of the tables;
 //   4. the best --verify (candidate, position) pairs are run coupled, --verify-seeds starts each
-//      (a study in OUT/verify), their reductions' mean and 95% interval beside the prediction;
+//      (a study in OUT/verify), their reductions' mean and 95% interval beside the prediction (a
+//      random force's: each start's in-band RMS, summary.json's band_response_rms_m, against the
+//      bare structure's predicted RMS, which is linear and exact);
 //   5. OUT/design.csv (every pair ranked, the Pareto front of objective against added mass marked,
 //      the refused ones with why), OUT/design.json, and OUT/chosen: the case directory of the best
 //      verified pair (the DEM's objective; the prediction's when nothing was verified).
@@ -35,7 +40,7 @@ struct DesignArgs {
   std::vector<std::string> sets;         // --set: overrides of every run
   double budget = 0.1;                   // --budget: added mass / the structure's mass, at most (unit: 1)
   std::vector<double> positions;         // --positions: x/L of the bag (a beam; default 0.05, 0.10, ..., 0.95)
-  std::vector<int> modes;                // --modes: the modes whose worst reduction is maximized (default the case's evaluated ones)
+  std::vector<int> modes;                // --modes: the modes whose worst reduction is maximized (default the case's evaluated ones; 0: a random force's band)
   // The maps' grid (--gamma, --amplitudes, --frequencies, --seeds): coarser than characterize's own
   // default (a map per candidate), down to Gamma 0.02 (a bag off the antinode moves little).
   CharacterizeArgs map = [] {
@@ -58,6 +63,7 @@ struct DesignRow {
   double position = 0, attach = 0;       // x/L (NaN without a beam) and x_b (unit: 1, m)
   double added_mass = 0, mass_ratio = 0; // balls and film, and over the structure's mass (unit: kg, 1)
   std::vector<double> db, db_lo, db_hi;  // per chosen mode: the predicted reduction and its range (unit: dB)
+  double bare_rms = NAN;                 // a random force: the bare structure's in-band RMS at x_a (unit: m)
   double objective = 0, objective_lo = 0, objective_hi = 0;  // the worst mode's (unit: dB)
   std::string status = "ranked";         // "ranked", "over budget", or why predict refused ("outside the map: below ...")
   bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
@@ -79,6 +85,8 @@ void rank_rows(std::vector<DesignRow>& rows);
 // the rest of the top one (unit: 1).
 std::vector<double> default_fills(double budget);
 // The default ball sizes: the case's diameter x 1, 1.5 and 2 (unit: m).
+// The tables' name of a chosen mode: "mode1", ..., "random" for 0 (a random force's band).
+std::string mode_label(int mode);
 std::vector<double> default_diameters(double diameter);
 
 CLI::App* add_design_command(CLI::App& app, DesignArgs& args);

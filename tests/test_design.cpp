@@ -114,7 +114,7 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
     const double z = zeta * std::sqrt(M / (M + 2 * m / 7));
     const double expected = 20 * std::log10(z * std::sqrt(1 - z * z) / (zeta * std::sqrt(1 - zeta * zeta)));
     std::printf("  %s ball: predicted %s dB, analytic %.4f dB\n", c[diameter].c_str(), c[objective].c_str(), expected);
-    // 0.01 dB: the damped peak is sampled at 200 frequencies over the band (0.02 Hz apart).
+    // 0.01 dB: the damped peak is sampled at 400 frequencies over the band (0.01 Hz apart).
     EXPECT_NEAR(std::stod(c[objective]), expected, 0.01);
     EXPECT_EQ(c[rank], d == 6e-3 ? "1" : "2") << "the lighter ball raises the peak less";
   }

@@ -1,14 +1,14 @@
 // primary.kind = "modal" (structure/modal_table.hpp, src/structure/primary_modal.cpp) and
 // `bagdem modes`, which writes a primary's modal table:
-//  - the shipped cases/stepped-beam-modal (its modes.csv written from cases/stepped-beam, an
-//    fe-beam) has the fe-beam's bare receptance within 1e-9 (relative) at every frequency of a
-//    fine scan over its four modes;
+//  - fed cases/stepped-beam's modes (an fe-beam; written by this build), the modal case has the
+//    fe-beam's bare receptance within 1e-9 (relative) at every frequency of a fine scan over its
+//    four modes; the shipped table (written on another CPU) within 1e-3;
 //  - a free-free beam (rigid-body modes on their suspension) with a cavity mass, written and read
 //    back, the same: frequencies, damping ratios, shapes, mode numbering and the load's fit;
 //  - an sdof written as one row of modal mass M_p gives the sdof's receptance;
 //  - bad tables are refused naming the file, the column and what is allowed;
-//  - `bagdem modes` writes the shipped table byte for byte, from the fe-beam and from the modal case
-//    itself, and refuses a case without a structure.
+//  - `bagdem modes` writes the shipped table (to the CPU-dependent digits), and from the modal case
+//    itself byte for byte what it read, and refuses a case without a structure.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -67,14 +67,27 @@ std::string refusal(const TempDir& d, const std::string& table_text, const std::
 
 }  // namespace
 
+// Fed the fe-beam's own modes (written by this build), the modal primary gives its bare receptance
+// to 1e-9. The shipped table, written on another machine, agrees to 1e-3: the FE eigenproblem's
+// smallest eigenvalues carry an absolute error of order eps times the largest (the stepped beam's
+// stiffness spans many decades), and -march=native builds order their sums by the CPU's vector
+// width, so mode 1's frequency moves by about 1e-6 relative from one CPU to another (measured 6e-7,
+// which moves the receptance near the resonance by 1.2e-4).
 TEST(ModalPrimary, ShippedTableGivesTheFeBeamsBareReceptance) {
-  const Scene fe = load_case(kCases + "/stepped-beam"), modal = load_case(kCases + "/stepped-beam-modal");
-  ASSERT_TRUE(fe.primary && modal.primary);
+  const Scene fe = load_case(kCases + "/stepped-beam"), shipped = load_case(kCases + "/stepped-beam-modal");
+  TempDir d;
+  write_modal_table(d.path / "modes.csv", *fe.primary);
+  d.write("case.toml", modal_case_with((d.path / "modes.csv").string()));
+  const Scene modal = load_case(d.str());
+  ASSERT_TRUE(fe.primary && modal.primary && shipped.primary);
   ASSERT_EQ(modal.primary->kind, "modal");
   ASSERT_EQ(fe.primary->size(), modal.primary->size());
   const double worst = worst_receptance_difference(*fe.primary, *modal.primary, 10, 3000, 4000);
-  std::printf("  stepped cantilever, %zu modes: largest relative difference of the bare receptance %.2e\n", fe.primary->size(), worst);
-  EXPECT_LT(worst, 1e-9) << "regenerate the table: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
+  const double across = worst_receptance_difference(*fe.primary, *shipped.primary, 10, 3000, 4000);
+  std::printf("  stepped cantilever, %zu modes: largest relative difference of the bare receptance %.2e (the shipped table: %.2e)\n",
+              fe.primary->size(), worst, across);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(across, 1e-3) << "regenerate the table: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
   EXPECT_EQ(fe.bag->balls, modal.bag->balls);
   EXPECT_NEAR(modal.primary->structure_mass, fe.primary->structure_mass, 1e-5 * fe.primary->structure_mass);
 }
@@ -164,8 +177,13 @@ TEST(ModalPrimary, ModesCommandWritesTheShippedTable) {
   const CmdResult r = run_bagdem({"modes", kCases + "/stepped-beam", "--to", to}, d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("4 modes"), std::string::npos) << r.out;
-  EXPECT_EQ(slurp(to), slurp(kCases + "/stepped-beam-modal/modes.csv"))
-      << "regenerate: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
+  // The shipped table, to the CPU-dependent digits (ShippedTableGivesTheFeBeamsBareReceptance).
+  const ModalTable mine = read_modal_table(to), shipped = read_modal_table(kCases + "/stepped-beam-modal/modes.csv");
+  ASSERT_EQ(mine.rows.size(), shipped.rows.size()) << "regenerate: bagdem modes cases/stepped-beam --to cases/stepped-beam-modal/modes.csv";
+  for (std::size_t k = 0; k < mine.rows.size(); ++k) {
+    EXPECT_NEAR(mine.rows[k].frequency, shipped.rows[k].frequency, 1e-5 * shipped.rows[k].frequency);
+    EXPECT_NEAR(mine.rows[k].shape_attach, shipped.rows[k].shape_attach, 1e-5 * std::abs(shipped.rows[k].shape_attach));
+  }
   // Read back and written again, the table is the same to the last digit.
   ASSERT_EQ(run_bagdem({"modes", kCases + "/stepped-beam-modal", "--to", to}, d.path).code, 0);
   EXPECT_EQ(slurp(to), slurp(kCases + "/stepped-beam-modal/modes.csv"));

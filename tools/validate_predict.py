@@ -1,23 +1,24 @@
 #!/usr/bin/env python3
 # The work of tools/validate-predict (which installs and builds, then runs this): bagdem predict
-# against coupled DEM on cases/pipe-beanbag (8% of 4-mm balls), mode 1, at the calibrated pipe
-# damping ratio (docs/validation/README.md, section 4):
+# against coupled DEM on cases/pipe-beanbag (8% of 4-mm balls), modes 1 and 3 (MODE_SETUP), at
+# the calibrated pipe damping ratio (docs/validation/README.md, section 4); per mode:
 #   1. the bag's map: `bagdem characterize cases/pipe-beanbag --gamma 0.02,20 --amplitudes 10
-#      --seeds 3` (the case's mode-1 band, 6 frequencies; Gamma down to 0.02, since at 0.04 N the
-#      bag's amplitude off the resonance is below the default's 0.5);
-#   2. the coupled case at FORCES x POSITIONS, 3 seeds each (two sweeps: 0.04 N, and 0.1 and 0.2 N);
+#      --seeds 3` (the mode's band, 6 frequencies; Gamma down to 0.02, since at 0.04 N the bag's
+#      amplitude off the resonance is below the default's 0.5; to 40 at mode 3);
+#   2. the coupled case at FORCES x the mode's positions, 3 seeds each (two sweeps: 0.04 N, and 0.1
+#      and 0.2 N);
 #   3. `bagdem predict` from the map at each force and position (excitation.span 0.08: the band's
 #      lowest frequencies at the off-antinode positions lie below the map's amplitudes);
 #   4. docs/validation/predict.csv: per position and force, the coupled runs' peak reduction (mean
 #      and 95% half-width over the seeds), the prediction and its range over the map's intervals,
 #      their difference and the criterion |predict - DEM| <= max(1.5 dB, the DEM's half-width);
-#   5. a band-limited random force (RANDOM_RMS over RANDOM_BAND, 4 s, 3 seeds) on the coupled case at
+#   5. with mode 1, a band-limited random force (RANDOM_RMS over RANDOM_BAND, 4 s, 3 seeds) on the coupled case at
 #      mid-span against `bagdem predict --random`: the DEM's RMS at x_a in the force's band (the
 #      recorded /structure/displacement after RANDOM_SKIP, band-passed by FFT: the whole signal's RMS
 #      holds the rigid-body swing that the abrupt start sets off on the 1-Hz suspension), mean and
 #      95% half-width over the seeds, into docs/validation/predict-random.csv.
 #
-#   tools/validate-predict [--out DIR] [--docs DIR] [--jobs J]
+#   tools/validate-predict [--out DIR] [--docs DIR] [--jobs J] [--modes 1,3]
 #
 # predict.csv's columns: `position_xL [1]`, `force [N]`, `mode [1]`, `dem_reduction_db_mean [dB]`,
 # `dem_reduction_db_ci95 [dB]`, `seeds [1]`, `predict_reduction_db [dB]`, `predict_reduction_db_lo [dB]`,

@@ -239,4 +239,17 @@ RandomPrediction predict_random(const Primary& p, const EffectiveMap& map, doubl
   return out;
 }
 
+RandomPredictionRange predict_random_range(const Primary& p, const EffectiveMap& map, double rms, double lo, double hi, int lines) {
+  RandomPredictionRange r;
+  r.mean = predict_random(p, map, rms, lo, hi, lines);
+  r.response_rms_lo = r.response_rms_hi = r.mean.response_rms;
+  if (!r.mean.outside.empty() || !r.mean.converged) return r;
+  for (int m : {-1, 1})
+    for (int c : {-1, 1}) {
+      const RandomPrediction k = predict_random(p, map, rms, lo, hi, lines, m, c);
+      if (k.outside.empty() && k.converged) r.response_rms_lo = std::min(r.response_rms_lo, k.response_rms), r.response_rms_hi = std::max(r.response_rms_hi, k.response_rms);
+    }
+  return r;
+}
+
 }  // namespace bagdem

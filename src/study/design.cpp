@@ -65,7 +65,7 @@ CLI::App* add_design_command(CLI::App& app, DesignArgs& a) {
       "are reused), every candidate at every position predicted by harmonic balance (bagdem predict) and ranked by its worst "
       "mode, the best run coupled with several starts. Writes OUT/design.csv (ranked, the Pareto front of reduction against "
       "added mass marked, the coupled check beside), OUT/chosen (a ready case directory) and tools/plot draws design.png. "
-      "See docs/design.md.");
+      "See docs/bag-design.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep) or STUDY_DIR (holds study.toml: its [vary] "
                               "are the candidates, its set every run's)")
       ->required();
@@ -166,6 +166,9 @@ void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const Stu
   fs::create_directories(plan.spec.out_dir);
   char prefix[64];
   std::snprintf(prefix, sizeof prefix, "map %zu/%zu: ", k + 1, n);
+  std::string v;
+  for (const std::string& g : c.given) v += (v.empty() ? "" : ", ") + g;
+  std::fprintf(stderr, "%s%s: %zu runs -> %s\n", prefix, v.c_str(), plan.points.size(), plan.spec.out_dir.c_str());
   run_share(plan, done, budget, a.executable, 0, 1, prefix);
   const MapOutcome o = write_map_of(plan, finished_points(plan), grid);
   failed = failed || o.missing > 0;
@@ -178,24 +181,18 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   const Primary& P = *s.primary;
   r.attach = P.attach;
   if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band
-    const RandomPrediction p = predict_random(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
-    if (!p.outside.empty() || !p.converged) {
-      r.status = "outside the map (" + (p.outside.empty() ? std::string("no convergence") : p.outside) + ")";
+    const RandomPredictionRange p = predict_random_range(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
+    if (!p.mean.outside.empty() || !p.mean.converged) {
+      r.status = "outside the map (" + (p.mean.outside.empty() ? std::string("no convergence") : p.mean.outside) + ")";
       return;
     }
-    r.bare_rms = p.bare_response_rms;
-    r.db[0] = r.db_lo[0] = r.db_hi[0] = 20 * std::log10(p.bare_response_rms / p.response_rms);
-    for (int m : {-1, 1})
-      for (int c : {-1, 1}) {
-        const RandomPrediction k = predict_random(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines, m, c);
-        if (!k.outside.empty() || !k.converged) continue;
-        const double db = 20 * std::log10(k.bare_response_rms / k.response_rms);
-        r.db_lo[0] = std::min(r.db_lo[0], db), r.db_hi[0] = std::max(r.db_hi[0], db);
-      }
+    r.bare_rms = p.mean.bare_response_rms;
+    r.db[0] = 20 * std::log10(r.bare_rms / p.mean.response_rms);
+    r.db_lo[0] = 20 * std::log10(r.bare_rms / p.response_rms_hi), r.db_hi[0] = 20 * std::log10(r.bare_rms / p.response_rms_lo);
     set_objective(r);
     return;
   }
-  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies, 200)) {
+  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies)) {
     const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
     if (k == modes.end()) continue;
     const std::size_t i = static_cast<std::size_t>(k - modes.begin());

@@ -50,19 +50,15 @@ int predict_random_command(const PredictArgs& a, const Scene& scene) {
   std::vector<std::vector<double>> rows;
   for (const std::string& t : a.random) {
     const double F = force_of("--random", t);
-    const RandomPrediction r = predict_random(*scene.primary, map, F, a.band[0], a.band[1], a.lines);
+    const RandomPredictionRange range = predict_random_range(*scene.primary, map, F, a.band[0], a.band[1], a.lines);
+    const RandomPrediction& r = range.mean;
     if (!r.outside.empty() || !r.converged)
       throw InputError("--map", "", map_csv.string(),
                        "does not cover the random response at " + short_force(F) + " RMS (" +
                            (r.outside.empty() ? std::string("the iteration did not converge") : r.outside) +
                            "). Extend the map: bagdem characterize " + a.dir + " with --band covering the force's and --gamma covering "
                            "the cavity's RMS amplitude (nothing is extrapolated)");
-    double lo = r.response_rms, hi = r.response_rms;
-    for (int m : {-1, 1})
-      for (int c : {-1, 1}) {
-        const RandomPrediction k = predict_random(*scene.primary, map, F, a.band[0], a.band[1], a.lines, m, c);
-        if (k.outside.empty() && k.converged) lo = std::min(lo, k.response_rms), hi = std::max(hi, k.response_rms);
-      }
+    const double lo = range.response_rms_lo, hi = range.response_rms_hi;
     const double db = 20 * std::log10(r.bare_response_rms / r.response_rms);
     rows.push_back({F, a.band[0], a.band[1], r.bare_response_rms, r.response_rms, lo, hi, r.cavity_rms, db});
     std::printf("%s RMS over %.6g-%.6g Hz: response RMS %.4g m (%.4g to %.4g over the map's intervals), bare %.4g m: %.2f dB lower\n",

@@ -82,6 +82,15 @@ struct RandomPrediction {
 RandomPrediction predict_random(const Primary& primary, const EffectiveMap& map, double rms, double lo, double hi, int lines = 201,
                                 int m_sign = 0, int c_sign = 0);
 
+// predict_random at the map's means, and the range of the response RMS over the map's four
+// interval corners (a corner outside the map, or not converging, is left out of the range).
+struct RandomPredictionRange {
+  RandomPrediction mean;
+  double response_rms_lo = 0, response_rms_hi = 0;  // (unit: m)
+};
+RandomPredictionRange predict_random_range(const Primary& primary, const EffectiveMap& map, double rms, double lo, double hi,
+                                           int lines = 201);
+
 // A structure's response over a mode's band at one force level: the largest solution at each
 // frequency against the bare structure, and the peak reduction with its interval.
 struct PredictedMode {

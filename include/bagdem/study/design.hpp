@@ -21,7 +21,7 @@
 //   5. OUT/design.csv (every pair ranked, the Pareto front of objective against added mass marked,
 //      the refused ones with why), OUT/design.json, and OUT/chosen: the case directory of the best
 //      verified pair (the DEM's objective; the prediction's when nothing was verified).
-// docs/design.md has the columns, the defaults and the run time.
+// docs/bag-design.md has the columns, the defaults and the run time.
 #pragma once
 #include <string>
 #include <vector>

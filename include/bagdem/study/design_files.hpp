@@ -17,7 +17,7 @@ struct DesignSummary {
   double length = 0;
 };
 
-// OUT/design.csv, a row per (candidate, position), ranked first (columns: docs/design.md; an
+// OUT/design.csv, a row per (candidate, position), ranked first (columns: docs/bag-design.md; an
 // empty cell where a figure is undefined), to a temporary name and renamed.
 void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows);
 

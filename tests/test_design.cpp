@@ -184,3 +184,24 @@ TEST(Design, ARandomForceRanksByTheInBandRms) {
   EXPECT_EQ(cells[1][diameter], "8 mm");
   EXPECT_TRUE(std::isfinite(std::stod(cells[1][dem]))) << "the coupled run's in-band RMS";
 }
+
+// Bad input is refused before anything runs (exit 2), naming the option or key: a mode the sweep
+// does not evaluate, a budget no candidate fits, the default search on a case without a bag.
+TEST(Design, RefusesWhatItCannotSearch) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const std::string vary = "particles.ball.diameter=\"6 mm\",\"8 mm\"";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"design", dir.string(), "--vary", vary, "--modes", "3"}, "--modes"},
+      {{"design", dir.string(), "--vary", vary, "--budget", "0.0001"}, "no candidate is within the budget"},
+      {{"design", dir.string()}, "bag.balls"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "design" / "design.csv")) << "nothing written";
+}

@@ -308,7 +308,7 @@ int design_command(const DesignArgs& a) {
   double structure_mass = 0, length = 0;
   bool beam = false;
   std::string first_load_error;
-  try {
+  if (const int code = reporting_errors([&] {
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
     cand = candidate_spec(a, fs::absolute(out).lexically_normal());
     const Scene s = load_case(cand.case_dir, cand.sets);
@@ -356,13 +356,9 @@ int design_command(const DesignArgs& a) {
     if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status == "ranked"; }))
       throw InputError(a.dir, "", "", first_load_error.empty() ? "no candidate is within the budget of " + short_text(a.budget) + " of the structure's mass (--budget)"
                                                                : "no candidate loads; the first: " + first_load_error);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+    return 0;
+  }))
+    return code;
 
   std::printf("bagdem design %s: %zu candidates x %zu position%s, %s", cand.case_dir.c_str(), cs.size(), positions.size(),
               positions.size() > 1 ? "s" : "", modes == std::vector<int>{0} ? "the random force's RMS" : "modes");
@@ -378,8 +374,8 @@ int design_command(const DesignArgs& a) {
   std::fflush(stdout);
   if (a.check) return 0;
 
-  bool failed = false;
-  try {
+  return reporting_errors([&] {
+    bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;
     for (const Candidate& c : cs) n += c.status == "ranked";
@@ -422,13 +418,7 @@ int design_command(const DesignArgs& a) {
     std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, cand.out_dir.c_str(),
                 chosen.empty() ? "" : (", " + chosen).c_str());
     return failed ? kExitRunError : 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace bagdem::study

@@ -103,7 +103,7 @@ CLI::App* add_predict_command(CLI::App& app, PredictArgs& a) {
 
 int predict_command(const PredictArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
-  try {
+  return reporting_errors([&] {
     const Scene scene = load_case(a.dir, a.sets);
     if (!a.random.empty()) return predict_random_command(a, scene);
     if (!scene.primary || !scene.primary->sweep)
@@ -160,13 +160,7 @@ int predict_command(const PredictArgs& a) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("prediction complete: %.2f s wall -> %s/predict.csv, predict_peaks.csv\n", wall, out.string().c_str());
     return 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace bagdem::study

@@ -84,6 +84,18 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArgs& a) {
   return s;
 }
 
+int reporting_errors(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
 int sweep_command(const SweepArgs& args) {
   return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem sweep", nullptr);
 }

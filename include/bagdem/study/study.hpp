@@ -275,6 +275,10 @@ void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, 
 int study_command(const std::function<StudySpec()>& read, bool check, const std::string& executable, const std::string& command,
                   const std::function<int(const Plan&, const std::vector<bool>&)>& after);
 
+// Runs a command's body: its return value, or on an exception "error: <what>" on stderr and the
+// exit code, 2 (kExitInputError) for an InputError, 1 for any other.
+int reporting_errors(const std::function<int()>& body);
+
 // Adds the `sweep` subcommand and its options (filled into `args`) to the command line.
 CLI::App* add_sweep_command(CLI::App& app, SweepArgs& args);
 

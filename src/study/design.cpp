@@ -86,7 +86,7 @@ CLI::App* add_design_command(CLI::App& app, DesignArgs& a) {
   c->add_option("--skip", a.map.skip, "The maps' runs: start-up cycles left out, at least (default 5)")->check(CLI::Range(0, 100000));
   c->add_option("--window-time", a.map.window_time, "The maps' runs: seconds reduced, at least (default 0.25)")->check(CLI::Range(0.0, 1e4));
   c->add_option("--skip-time", a.map.skip_time, "The maps' runs: seconds of start-up left out, at least (default 0.1)")->check(CLI::Range(0.0, 1e4));
-  c->add_option("--verify", a.verify, "Pairs (candidate, position) run coupled, best first (default 3; 0: none)")->check(CLI::Range(0, 1000));
+  c->add_option("--verify", a.verify, "Candidates run coupled, each at its best position, best first (default 3; 0: none)")->check(CLI::Range(0, 1000));
   c->add_option("--verify-seeds", a.verify_seeds, "Starts of each coupled check (default 3)")->check(CLI::Range(1, 1000));
   add_budget_options(c, a.jobs, a.threads, a.cores, "design", "this machine's");
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/design)");
@@ -210,12 +210,15 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   set_objective(r);
 }
 
-// The best `a.verify` ranked rows run coupled: a zip of their keys (and place), seeds each.
+// The best `a.verify` candidates, each at its best position, run coupled: a zip of their keys (and
+// place), seeds each. (Neighbouring positions of one bag would tell the ranking of bags nothing.)
 bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes,
                  std::vector<DesignRow>& rows) {
   std::vector<DesignRow*> best;
   for (DesignRow& r : rows)
-    if (r.status == "ranked" && static_cast<int>(best.size()) < a.verify) best.push_back(&r);
+    if (r.status == "ranked" && static_cast<int>(best.size()) < a.verify &&
+        std::none_of(best.begin(), best.end(), [&](const DesignRow* b) { return b->candidate == r.candidate; }))
+      best.push_back(&r);  // the rows are ranked: a candidate's first is its best position
   if (best.empty()) return false;
   StudySpec spec = cand;
   spec.out_dir = (fs::path(cand.out_dir) / "verify").string();

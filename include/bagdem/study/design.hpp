@@ -14,7 +14,7 @@
 //      a random force (excitation.kind = "random") the in-band RMS response's reduction against
 //      the bare structure's, 20 log10(bare / damped) (reduce/predict.hpp, predict_random), the
 //      "mode" 0 of the tables;
-//   4. the best --verify (candidate, position) pairs are run coupled, --verify-seeds starts each
+//   4. the best --verify candidates, each at its best position, are run coupled, --verify-seeds starts each
 //      (a study in OUT/verify), their reductions' mean and 95% interval beside the prediction (a
 //      random force's: each start's in-band RMS, summary.json's band_response_rms_m, against the
 //      bare structure's predicted RMS, which is linear and exact);
@@ -48,7 +48,7 @@ struct DesignArgs {
     m.gamma = {0.02, 20}, m.amplitudes = 6, m.frequencies = 4, m.seeds = 3;
     return m;
   }();
-  int verify = 3;                        // --verify: pairs run coupled
+  int verify = 3;                        // --verify: candidates run coupled (each at its best position)
   int verify_seeds = 3;                  // --verify-seeds: starts each
   int jobs = 0, threads = 0, cores = 0;
   std::string out;                       // default CASE_DIR/design

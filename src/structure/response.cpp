@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <unsupported/Eigen/FFT>
+
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
@@ -179,24 +181,25 @@ double rms(const std::vector<double>& y, double dt, double t_skip) {
 }
 
 double band_rms(const std::vector<double>& y, double dt, double lo, double hi, double t_skip) {
-  const auto first = std::min(y.size(), static_cast<std::size_t>(std::ceil(t_skip / dt)));
-  const std::size_t n = y.size() - first;
-  if (n < 4) return 0;
+  const std::size_t after = y.size() - std::min(y.size(), static_cast<std::size_t>(std::ceil(t_skip / dt)));
+  if (after < 4) return 0;
+  // The last n samples, n the largest 2^a 3^b 5^c not above them (within 7%): the FFT's cost stays
+  // n log n whatever the run's length.
+  std::size_t n = 1;
+  for (std::size_t p2 = 1; p2 <= after; p2 *= 2)
+    for (std::size_t p3 = p2; p3 <= after; p3 *= 3)
+      for (std::size_t p5 = p3; p5 <= after; p5 *= 5) n = std::max(n, p5);
+  const std::size_t first = y.size() - n;
   const double T = static_cast<double>(n) * dt;
   const auto k_lo = static_cast<std::size_t>(std::max(1.0, std::ceil(lo * T)));
   const auto k_hi = static_cast<std::size_t>(std::min(std::floor(hi * T), std::ceil(static_cast<double>(n) / 2) - 1));
+  // Eigen's FFT (kissfft, any n): the half spectrum Y_0 .. Y_{n/2}.
+  const std::vector<double> x(y.begin() + static_cast<std::ptrdiff_t>(first), y.end());
+  std::vector<std::complex<double>> Y;
+  Eigen::FFT<double> fft;
+  fft.fwd(Y, x);
   double power = 0;
-  for (std::size_t k = k_lo; k <= k_hi; ++k) {
-    // exp(-2 pi i k j / n) by rotation, renormalised every 1024 samples against drift.
-    const std::complex<double> step = std::polar(1.0, -2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
-    std::complex<double> w = 1, sum = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-      sum += y[first + j] * w;
-      w *= step;
-      if ((j & 1023) == 1023) w = std::polar(1.0, -2 * std::numbers::pi * static_cast<double>(k) * static_cast<double>(j + 1) / static_cast<double>(n));
-    }
-    power += 2 * std::norm(sum);
-  }
+  for (std::size_t k = k_lo; k <= k_hi && k < Y.size(); ++k) power += 2 * std::norm(Y[k]);
   return std::sqrt(power) / static_cast<double>(n);
 }
 

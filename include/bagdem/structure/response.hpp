@@ -133,8 +133,8 @@ DecayFit fit_decay(const std::vector<double>& y, double dt, double factor = 10, 
 double rms(const std::vector<double>& y, double dt, double t_skip = 0);
 
 // Root mean square of the part of a sampled signal (after t_skip) inside the band [lo, hi] (Hz):
-// the DFT of the n samples left, Y_k = sum_j y_j exp(-2 pi i k j / n), over the bins k / (n dt) in
-// the band (0 < k < n / 2), by Parseval RMS^2 = sum 2 |Y_k|^2 / n^2. What a random force's band
+// the DFT of the last n samples, n the largest 2^a 3^b 5^c not above those after t_skip, Y_k = sum_j y_j exp(-2 pi i k j / n), over the bins k / (n dt) in
+// the band (0 < k < n / 2; Eigen's FFT), by Parseval RMS^2 = sum 2 |Y_k|^2 / n^2. What a random force's band
 // drives, without the slow swing of a hung structure or a mode outside the band.
 double band_rms(const std::vector<double>& y, double dt, double lo, double hi, double t_skip = 0);
 

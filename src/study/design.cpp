@@ -401,7 +401,11 @@ int design_command(const DesignArgs& a) {
         if (r.status == "ranked") {
           std::vector<std::string> sets = c.sets;
           if (beam) sets.push_back("primary.attach=\"" + short_text(x * length) + " m\"");
-          predict_row(cand.case_dir, sets, *map, modes, r);
+          try {
+            predict_row(cand.case_dir, sets, *map, modes, r);
+          } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
+            r.status = std::string("does not load: ") + e.what();
+          }
           if (!beam) r.attach = NAN;
         }
         rows.push_back(r);

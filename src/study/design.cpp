@@ -344,13 +344,21 @@ int design_command(const DesignArgs& a) {
       Candidate c;
       c.sets = p.sets;
       for (std::size_t k = 0; k < cand.vary.size(); ++k) c.given.push_back(cand.vary[k].values[p.choice[k]].given);
-      try {
-        const Scene cs_scene = load_case(cand.case_dir, c.sets);
-        c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
-        if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = "over budget";
-      } catch (const InputError& e) {
-        c.status = std::string("does not load: ") + e.what();
-        if (first_load_error.empty()) first_load_error = e.what();
+      // It must load with the case's seed and every start's (the seed places the fill's lattice,
+      // and with it the bag's length): the maps' and the check's runs use simulation.seed 1..N.
+      const int starts = std::max(map.seeds, a.verify > 0 ? a.verify_seeds : 1);
+      for (int seed = starts > 1 ? 0 : starts; seed <= (starts > 1 ? starts : 0) && c.status == "ranked"; ++seed) {
+        std::vector<std::string> sets = c.sets;
+        if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
+        try {
+          const Scene cs_scene = load_case(cand.case_dir, sets);
+          if (seed > 0) continue;
+          c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
+          if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = "over budget";
+        } catch (const InputError& e) {
+          c.status = std::string("does not load") + (seed > 0 ? " (simulation.seed " + std::to_string(seed) + ")" : "") + ": " + e.what();
+          if (first_load_error.empty()) first_load_error = e.what();
+        }
       }
       const CaseReader text((fs::path(cand.case_dir) / "case.toml").string(), c.sets);
       c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(map)).substr(0, 12))).string();
@@ -383,7 +391,12 @@ int design_command(const DesignArgs& a) {
     std::size_t n = 0, k = 0;
     for (const Candidate& c : cs) n += c.status == "ranked";
     for (Candidate& c : cs)
-      if (c.status == "ranked") build_map(a, map, cand, c, k++, n, failed);
+      if (c.status == "ranked") try {
+          build_map(a, map, cand, c, k++, n, failed);
+        } catch (const InputError& e) {  // a run of its map does not load: the candidate is out, the search goes on
+          c.status = std::string("does not load: ") + e.what();
+          std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.c_str());
+        }
     // 2. The predictions.
     std::vector<DesignRow> rows;
     for (std::size_t i = 0; i < cs.size(); ++i) {

@@ -79,9 +79,13 @@ std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRo
   std::string header = "# The bag chosen by bagdem design (" + s.candidates.out_dir + "/design.csv, rank " + std::to_string(r->rank) + "): " +
                        from.string() + "/case.toml with\n";
   for (const std::string& x : o) header += "#   " + x + "\n";
-  header += "# Predicted worst-mode reduction " + cell(r->objective) + " dB (" + cell(r->objective_lo) + " to " + cell(r->objective_hi) + ")";
-  if (std::isfinite(r->dem_objective))
-    header += "; coupled DEM " + cell(r->dem_objective) + " +- " + cell(r->dem_objective_ci95) + " dB over " + std::to_string(r->dem_seeds) + " starts";
+  char figures[240];
+  std::snprintf(figures, sizeof figures, "# Predicted worst-mode reduction %.2f dB (%.2f to %.2f)", r->objective, r->objective_lo, r->objective_hi);
+  header += figures;
+  if (std::isfinite(r->dem_objective)) {
+    std::snprintf(figures, sizeof figures, "; coupled DEM %.2f +- %.2f dB over %d starts", r->dem_objective, r->dem_objective_ci95, r->dem_seeds);
+    header += figures;
+  }
   header += ".\n# The comments of the original case are in its file.\n\n";
   write_atomically(part / "case.toml", header + CaseReader((from / "case.toml").string(), o).text() + "\n");
   load_case(part.string(), {});  // ready: it loads as it is

@@ -205,3 +205,21 @@ TEST(Design, RefusesWhatItCannotSearch) {
   }
   EXPECT_FALSE(fs::exists(dir / "design" / "design.csv")) << "nothing written";
 }
+
+// The shipped example plans as docs/bag-design.md says: 9 candidates, 7 of them fit the 80-mm bore
+// with every start, the fullest 8-mm and 6-mm bags do not (listed, not built).
+TEST(Design, TheShippedExamplePlansSevenOfNineCandidates) {
+  bagdem::testing::TempDir t;
+  const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(
+      {"design", std::string(BAGDEM_CASES_DIR) + "/studies/design", "--budget", "0.1", "--frequencies", "3", "--amplitudes", "5",
+       "--out", (t.path / "design").string(), "--check"},
+      t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  std::size_t ranked = 0, refused = 0;
+  for (std::size_t at = 0; (at = r.out.find("ranked, map to build", at)) != std::string::npos; ++at) ++ranked;
+  for (std::size_t at = 0; (at = r.out.find("does not load", at)) != std::string::npos; ++at) ++refused;
+  EXPECT_EQ(ranked, 7u) << r.out;
+  EXPECT_EQ(refused, 2u) << r.out;
+  EXPECT_NE(r.out.find("9 candidates x 19 positions, modes 1 3, budget 0.1"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(t.path / "design")) << "--check writes nothing";
+}

@@ -261,7 +261,7 @@ int calibrate_command(const CalibrateArgs& args) {
   Scale scale;
   StudySpec base;
   Budget budget;
-  try {
+  if (const int code = reporting_errors([&] {
     base.case_dir = fs::absolute(args.dir).lexically_normal().string();
     if (!fs::exists(fs::path(base.case_dir) / "case.toml"))
       throw InputError(args.dir, "", "", "holds no case.toml (bagdem calibrate takes a case directory)");
@@ -290,13 +290,9 @@ int calibrate_command(const CalibrateArgs& args) {
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
     budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+    return 0;
+  }))
+    return code;
 
   std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s\n",
                base.case_dir.c_str(), args.key.c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",

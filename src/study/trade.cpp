@@ -297,7 +297,7 @@ int trade_command(const TradeArgs& args) {
   std::vector<Rung> ladder;
   Budget budget;
   std::vector<bool> done;
-  try {
+  if (const int code = reporting_errors([&] {
     StudySpec& spec = plan.spec;
     spec.case_dir = fs::absolute(args.dir).lexically_normal().string();
     if (!fs::exists(fs::path(spec.case_dir) / "case.toml"))
@@ -322,13 +322,9 @@ int trade_command(const TradeArgs& args) {
     budget = resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     done = done_points(plan);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+    return 0;
+  }))
+    return code;
   try {
     std::fprintf(stderr, "bagdem trade %s: %zu runs -> %s; %d at once with %d thread%s\n", plan.spec.case_dir.c_str(), ladder.size(),
                  plan.spec.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "");

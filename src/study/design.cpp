@@ -325,6 +325,8 @@ int design_command(const DesignArgs& a) {
     length = P.length;
     if (P.sweep) {
       const std::vector<int> have = case_modes(P);
+      if (have.empty())
+        throw InputError(s.case_file, "excitation", "", "the sweep's band holds no natural frequency of the structure: no peak to reduce (set excitation.around_modes)");
       modes = a.modes.empty() ? have : a.modes;
       for (int m : modes)
         if (std::find(have.begin(), have.end(), m) == have.end())
@@ -347,7 +349,7 @@ int design_command(const DesignArgs& a) {
       // It must load with the case's seed and every start's (the seed places the fill's lattice,
       // and with it the bag's length): the maps' and the check's runs use simulation.seed 1..N.
       const int starts = std::max(map.seeds, a.verify > 0 ? a.verify_seeds : 1);
-      for (int seed = starts > 1 ? 0 : starts; seed <= (starts > 1 ? starts : 0) && c.status == "ranked"; ++seed) {
+      for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status == "ranked"; ++seed) {  // 0: the case's own
         std::vector<std::string> sets = c.sets;
         if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
         try {
@@ -401,8 +403,8 @@ int design_command(const DesignArgs& a) {
     std::vector<DesignRow> rows;
     for (std::size_t i = 0; i < cs.size(); ++i) {
       const Candidate& c = cs[i];
-      std::optional<EffectiveMap> map;
-      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) map = read_effective_map(fs::path(c.map) / "map.csv");
+      std::optional<EffectiveMap> effective;
+      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) effective = read_effective_map(fs::path(c.map) / "map.csv");
       for (double x : positions) {
         DesignRow r;
         r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / structure_mass;
@@ -410,12 +412,12 @@ int design_command(const DesignArgs& a) {
         r.attach = beam ? x * length : NAN;
         r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
         r.objective = r.objective_lo = r.objective_hi = NAN;
-        if (c.status == "ranked" && !map) r.status = "no map (its runs failed)";
+        if (c.status == "ranked" && !effective) r.status = "no map (its runs failed)";
         if (r.status == "ranked") {
           std::vector<std::string> sets = c.sets;
           if (beam) sets.push_back("primary.attach=\"" + short_text(x * length) + " m\"");
           try {
-            predict_row(cand.case_dir, sets, *map, modes, r);
+            predict_row(cand.case_dir, sets, *effective, modes, r);
           } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
             r.status = std::string("does not load: ") + e.what();
           }

@@ -1,7 +1,8 @@
 // Run guards through the command line: a run that goes unstable (overlap beyond
 // simulation.max_overlap, a particle leaving the cavity, NaN) stops with exit code 3 and a message
-// that says what happened and what to change; results.h5 is a valid HDF5 file whose root attribute
-// "status" starts with "failed", and summary.json (the mark of a complete run) is not written.
+// that says what happened and what to change; its record, results.failed.h5, is a valid HDF5 file
+// whose root attribute "status" starts with "failed", and summary.json (the mark of a complete run)
+// is not written. An earlier complete results.h5 in the same directory is kept, bit for bit.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
@@ -61,9 +62,9 @@ std::string read_string_attribute(hid_t obj, const std::string& name) {
   return out;
 }
 
-// Writes the case, runs it, and checks everything a failed run must leave: exit code 3, a message
-// on stderr holding every one of `message_parts`, results.h5 valid with status "failed...", no
-// summary.json, no results.h5.part.
+// Writes the case, runs it (with `sets`), and checks everything a failed run must leave: exit code
+// 3, a message on stderr holding every one of `message_parts` and naming the run's record,
+// results.failed.h5 valid with status "failed...", no summary.json, no results.h5.part, no results.h5.
 void run_and_expect_failure(const std::string& toml, const std::vector<std::string>& message_parts) {
   TempDir tmp;
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
@@ -74,10 +75,13 @@ void run_and_expect_failure(const std::string& toml, const std::vector<std::stri
   EXPECT_NE(r.err.find("error: run stopped at t = "), std::string::npos) << r.err;
   for (const auto& p : message_parts)
     EXPECT_NE(r.err.find(p), std::string::npos) << "the message lacks '" << p << "':\n" << r.err;
+  EXPECT_NE(r.err.find((out / "results.failed.h5").string()), std::string::npos) << r.err;
 
   EXPECT_FALSE(fs::exists(out / "summary.json")) << "a failed run must not look complete";
   EXPECT_FALSE(fs::exists(out / "results.h5.part"));
-  const fs::path h5 = out / "results.h5";
+  EXPECT_FALSE(fs::exists(out / "results.h5")) << "a failed run's record must not take the complete run's name";
+  EXPECT_TRUE(fs::exists(out / "results.failed.xmf"));
+  const fs::path h5 = out / "results.failed.h5";
   ASSERT_TRUE(fs::exists(h5));
   ASSERT_GT(H5Fis_hdf5(h5.string().c_str()), 0);
   const hid_t f = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -161,6 +165,37 @@ TEST(RunGuards, StableRunCompletes) {
   ASSERT_GE(f, 0);
   EXPECT_EQ(read_string_attribute(f, "status"), "complete");
   H5Fclose(f);
+}
+
+// A failed run into a directory that holds a complete run keeps that run's results.h5 bit for bit
+// (it used to be replaced by the failed run's), and the next complete run removes the failed
+// run's record.
+TEST(RunGuards, AFailedRunKeepsTheEarlierCompleteResults) {
+  TempDir tmp;
+  const fs::path dir = tmp.path / "case", out = tmp.path / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[0.5, 0, 0]", {});
+  const std::vector<std::string> run = {"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"};
+  ASSERT_EQ(run_bagdem(run, tmp.path).code, 0);
+  const std::string complete = slurp(out / "results.h5");
+  ASSERT_FALSE(complete.empty());
+
+  std::vector<std::string> failing = run;
+  for (const char* s : {"simulation.timestep=1 ms", "simulation.force_timestep=true", "particles.balls.velocities=[[10, 0, 0]]"})
+    failing.insert(failing.end(), {"--set", s});
+  const CmdResult f = run_bagdem(failing, tmp.path);
+  ASSERT_EQ(f.code, 3) << f.err;
+  EXPECT_NE(f.err.find("results.failed.h5"), std::string::npos) << f.err;
+  EXPECT_EQ(slurp(out / "results.h5"), complete) << "the failed run changed the earlier complete results.h5";
+  ASSERT_TRUE(fs::exists(out / "results.failed.h5"));
+  const hid_t h = H5Fopen((out / "results.failed.h5").string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(h, 0);
+  EXPECT_EQ(read_string_attribute(h, "status").rfind("failed", 0), 0u);
+  H5Fclose(h);
+
+  ASSERT_EQ(run_bagdem(run, tmp.path).code, 0);
+  EXPECT_FALSE(fs::exists(out / "results.failed.h5")) << "a failed run's record outlived a later complete run";
+  EXPECT_FALSE(fs::exists(out / "results.failed.xmf"));
 }
 
 }  // namespace

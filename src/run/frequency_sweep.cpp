@@ -107,12 +107,9 @@ class FrequencySweep {
     state_.lengths = file_->lengths(), state_.points = rep_.points, state_.reduced = rep_.reduced;
     save_sweep_checkpoint(out_ / "checkpoint.bin", scene_, state_);
   }
-  void close_results(const std::string& status) {
-    file_->set_attribute("status", status);
-    file_->close();
-    fs::rename(out_ / "results.h5.part", out_ / "results.h5");
-    write_xdmf((out_ / "results.xmf").string(), "results.h5", sim0().particles().size(), state_.frame_times,
-               sim0().film().size(), scene_.bag ? scene_.bag->rest.triangles.size() : 0);
+  fs::path close_results(const std::string& status, bool complete) {
+    return close_results_file(*file_, out_, status, complete, state_.frame_times,
+                              {sim0().particles().size(), sim0().film().size(), scene_.bag ? scene_.bag->rest.triangles.size() : 0});
   }
   void settle();
   void start_chains();
@@ -447,8 +444,10 @@ SweepReport FrequencySweep::halted(const SweepHalt& h) {
 }
 
 SweepReport FrequencySweep::failed(const RunError& e) {
-  rep_.message = e.what();
-  close_results(std::string("failed: ") + e.what());
+  // The points done are this failed sweep's: their tables carry its name too, beside its record.
+  for (const char* t : {"sweep", "reduced"})
+    if (fs::exists(out_ / (std::string(t) + ".csv"))) fs::rename(out_ / (std::string(t) + ".csv"), out_ / (std::string(t) + ".failed.csv"));
+  rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
   return rep_;
 }
 
@@ -456,7 +455,7 @@ SweepReport FrequencySweep::finish() {
   rep_.complete = true;
   rep_.wall_seconds = since(t_start_);
   rep_.peaks = sweep_peaks(P_, rep_.points);
-  close_results("complete");
+  close_results("complete", true);
   fs::remove(out_ / "checkpoint.bin");
 
   const std::string summary = sweep_summary_json(scene_, rep_, sim0().particles().size(), chains_.size());

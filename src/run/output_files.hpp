@@ -34,16 +34,43 @@ inline void append_frame(ResultsFile& file, const Frame& f) {
   if (!f.film.empty()) file.append_film_frame(f.film);
 }
 
-// The tables a run, a sweep, `reduce`, `compare`, `drop` and `export` derive in an output
-// directory: a new run (or a resumed one) removes them first, so that none of an earlier run is
-// left beside its results. results.h5 is not among them: it is replaced when the new one is
-// complete (renamed over it), so an interrupted or failed run leaves the earlier one intact.
+// The files a run, a sweep, `reduce`, `compare`, `drop` and `export` derive in an output directory,
+// and what a failed run left: a new run (or a resumed one) removes them first, so that none of an
+// earlier run is left beside its results. results.h5 is not among them: it is replaced when the new
+// one is complete (renamed over it), so an interrupted or failed run leaves the earlier one intact.
 inline constexpr const char* kDerivedTables[] = {"summary.json", "reduced.csv", "compare.csv", "peaks.csv",
                                                  "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv",
-                                                 "export.csv", "export.json", "export.h5"};
+                                                 "export.csv", "export.json", "export.h5",
+                                                 "results.failed.h5", "results.failed.xmf", "sweep.failed.csv",
+                                                 "reduced.failed.csv"};
 
 inline void remove_derived_tables(const std::filesystem::path& out) {
   for (const char* name : kDerivedTables) std::filesystem::remove(out / name);
+}
+
+// What the XDMF index of a results file needs besides its frames' times: the balls, and the film's
+// nodes and triangles (0 without a bag).
+struct XdmfShape {
+  std::size_t particles = 0, film_nodes = 0, film_triangles = 0;
+};
+
+// Ends results.h5.part of a run in OUT: its status set, closed, and renamed with the XDMF index
+// beside it. A complete run's becomes results.h5 (over an earlier one); a failed run's becomes
+// results.failed.h5, so that an earlier complete results.h5 stays as it was. Returns the new path.
+inline std::filesystem::path close_results_file(ResultsFile& file, const std::filesystem::path& out, const std::string& status,
+                                                bool complete, const std::vector<double>& frame_times, const XdmfShape& shape) {
+  file.set_attribute("status", status);
+  file.close();
+  const std::string name = complete ? "results" : "results.failed";
+  const std::filesystem::path to = out / (name + ".h5");
+  std::filesystem::rename(out / "results.h5.part", to);
+  write_xdmf((out / (name + ".xmf")).string(), name + ".h5", shape.particles, frame_times, shape.film_nodes, shape.film_triangles);
+  return to;
+}
+
+// A failed run's message, with where its record went and that an earlier run's results are kept.
+inline std::string failed_run_message(const std::string& what, const std::filesystem::path& record) {
+  return what + " (this run's record: " + record.string() + "; the results.h5 of an earlier run, if any, is kept)";
 }
 
 }  // namespace bagdem

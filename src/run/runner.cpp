@@ -253,12 +253,9 @@ class RunLoop {
     save_checkpoint(ckpt(), sim_, run_);
   }
   void interrupted(int sig);
-  void close_results(const std::string& status) {
-    file_->set_attribute("status", status);
-    file_->close();
-    fs::rename(out_ / "results.h5.part", out_ / "results.h5");
-    write_xdmf((out_ / "results.xmf").string(), "results.h5", sim_.particles().size(), frame_times_, sim_.film().size(),
-               scene_.bag ? scene_.bag->rest.triangles.size() : 0);
+  fs::path close_results(const std::string& status, bool complete) {
+    return close_results_file(*file_, out_, status, complete, frame_times_,
+                              {sim_.particles().size(), sim_.film().size(), scene_.bag ? scene_.bag->rest.triangles.size() : 0});
   }
   fs::path part() const { return out_ / "results.h5.part"; }
   fs::path ckpt() const { return out_ / "checkpoint.bin"; }
@@ -442,8 +439,7 @@ bool RunLoop::step_all() {
       progress.update(sim_.steps_done(), at_.total, sim_.time());
     }
   } catch (const RunError& e) {
-    rep_.message = e.what();
-    close_results(std::string("failed: ") + e.what());
+    rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
     return false;
   }
   wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -466,7 +462,7 @@ void RunLoop::finish() {
       rep_.dissipated_per_cycle = (total_dissipation(e) - run_.dissipated_at_measure) / rep_.cycles;
     }
   }
-  close_results("complete");
+  close_results("complete", true);
   fs::remove(ckpt());
 
   const double ds = static_cast<double>(at_.n_cavity) * scene_.dt;

@@ -2,10 +2,11 @@
 // goes), checkpoints, progress, and the files of a finished run.
 //
 // Files in the output directory (default CASE_DIR/out):
-//   results.h5      written as results.h5.part and renamed when the run ends (complete or failed);
-//                   its root attribute "status" says which. An earlier run's results.h5 stays until
-//                   then; the earlier run's tables (summary.json, reduced.csv, compare.csv, the drop
-//                   test's, ...: output_files.hpp) are removed when the run starts
+//   results.h5      written as results.h5.part and renamed when the run is complete; a run that
+//                   fails renames it results.failed.h5 instead (root attribute "status" says why).
+//                   An earlier run's results.h5 stays until a complete run replaces it; the earlier
+//                   run's tables (summary.json, reduced.csv, compare.csv, the drop test's, ...:
+//                   output_files.hpp) are removed when the run starts
 //   results.xmf     XDMF index of the particle frames for ParaView
 //   summary.json    written last and atomically: its presence marks a complete run
 //   reduced.csv     harmonic cavity motion: the contents' effective parameters (reduce/reduce.hpp)
@@ -54,7 +55,7 @@ struct RunReport {
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that
-// went unstable returns complete = false with the message; results.h5 stays readable).
+// went unstable returns complete = false with the message; its record results.failed.h5 is readable).
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 
 }  // namespace bagdem

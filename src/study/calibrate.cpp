@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -12,6 +13,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/json.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/study.hpp"
@@ -261,6 +263,7 @@ int calibrate_command(const CalibrateArgs& args) {
   Scale scale;
   StudySpec base;
   Budget budget;
+  std::optional<OutputLock> lock;
   if (const int code = reporting_errors([&] {
     base.case_dir = fs::absolute(args.dir).lexically_normal().string();
     if (!fs::exists(fs::path(base.case_dir) / "case.toml"))
@@ -290,6 +293,7 @@ int calibrate_command(const CalibrateArgs& args) {
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
     budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
+    lock.emplace(base.out_dir);  // one study writes a directory at a time
     return 0;
   }))
     return code;

@@ -14,6 +14,7 @@
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/reduce/reduce.hpp"
@@ -388,6 +389,7 @@ int design_command(const DesignArgs& a) {
   if (a.check) return 0;
 
   return reporting_errors([&] {
+    const OutputLock lock(cand.out_dir);  // one design writes a directory at a time
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;

@@ -1,6 +1,7 @@
 // `bagdem sweep` (study/study.hpp): the command line, the core budget, and the order of the work:
 //  1. every rank reads the study, plans it, checks the budget, loads every point's case and
-//     compares OUT with the plan; an error here is the same on every rank: rank 0 prints it, all
+//     compares OUT with the plan, and rank 0 locks OUT (io/output_lock.hpp: a second study into it
+//     meanwhile is refused); an error here is the same on every rank: rank 0 prints it, all
 //     return 2, nothing is written;
 //  2. rank 0 removes merged tables of an earlier sweep; each rank runs its points
 //     (index % ranks == rank) that are not done, in its own pool of J children of T threads;
@@ -13,10 +14,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <functional>
 #include <thread>
 
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
 
 namespace bagdem::study {
@@ -119,12 +122,14 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
   Budget budget;
   std::vector<bool> done;
   std::vector<std::string> warnings;
+  std::optional<OutputLock> lock;  // the lead's, on OUT: one study writes a directory at a time
   int failure = 0;
   std::string message;
   try {
     plan = make_plan(read());
     budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
     warnings = validate_plan(plan);
+    if (lead && !check) lock.emplace(plan.spec.out_dir);
     done = done_points(plan);
   } catch (const InputError& e) {
     failure = kExitInputError, message = e.what();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <map>
 #include <set>
@@ -17,6 +18,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
 
 namespace bagdem::study {
@@ -296,6 +298,7 @@ int trade_command(const TradeArgs& args) {
   Plan plan;
   std::vector<Rung> ladder;
   Budget budget;
+  std::optional<OutputLock> lock;
   std::vector<bool> done;
   if (const int code = reporting_errors([&] {
     StudySpec& spec = plan.spec;
@@ -321,6 +324,7 @@ int trade_command(const TradeArgs& args) {
     }
     budget = resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    lock.emplace(plan.spec.out_dir);  // one study writes a directory at a time
     done = done_points(plan);
     return 0;
   }))

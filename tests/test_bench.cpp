@@ -3,6 +3,7 @@
 // tools/peers/growth.py, the tiling and fit of tools/peers/growth; and tools/peers/compare.py, the
 // jittered starts and the intervals of tools/peers/compare --starts K.
 #include <gtest/gtest.h>
+#include <zlib.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -137,6 +138,35 @@ TEST(Bench, CsvFormatNamesEachColumnWithItsUnitAndHasARowPerConfiguration) {
   const auto row = t.out.find("\n| 8 | 100 | hash | 1 | ");
   ASSERT_NE(row, std::string::npos) << t.out;
   EXPECT_NE(t.out.substr(row, t.out.find('\n', row + 1) - row).find(counts), std::string::npos) << counts << " not in\n" << t.out;
+}
+
+// A gzipped bed in a peers' directory whose name holds a quote and a command: read in-process
+// (zlib), so nothing is run and nothing is cached outside the run. The bench used to build
+// `gunzip -c '<dir>...'` for std::system, which ran the command in the name.
+TEST(Bench, AGzippedBedIsReadInProcessWhateverTheDirectorysName) {
+  using namespace bagdem::testing;
+  const TempDir dir;
+  const std::filesystem::path marker = std::filesystem::current_path() / "bagdem_bench_injected";
+  std::filesystem::remove(marker);
+  const std::filesystem::path peers = dir.path / "pe'ers; touch bagdem_bench_injected; '";
+  write_lattice_bed(peers, 8, 2);
+  const std::filesystem::path plain = peers / "runs" / "N8.vib1.data";
+  const std::string text = slurp(plain);
+  gzFile f = gzopen((plain.string() + ".gz").c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  ASSERT_EQ(gzwrite(f, text.data(), static_cast<unsigned>(text.size())), static_cast<int>(text.size()));
+  ASSERT_EQ(gzclose(f), Z_OK);
+  std::filesystem::remove(plain);
+  const CmdResult r = run_bagdem({"bench", "--sizes", "8", "--threads", "1", "--repeats", "1", "--steps", "1e-9", "--methods", "hash",
+                                  "--format", "csv", "--peers", peers.string()},
+                                 dir.path);
+  const bool injected = std::filesystem::exists(marker);
+  std::filesystem::remove(marker);
+  EXPECT_FALSE(injected) << "the directory's name ran as a command";
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 2u) << r.out;
+  EXPECT_EQ(cell(rows, 1, "particles [1]"), 8) << "the bed was not the peers' (8 balls)";
 }
 
 TEST(Bench, GrowthCsvHasARowPerSize) {

@@ -1,11 +1,14 @@
 // The case features a user composes scenes from: cavity kinds, motion kinds, particle sources.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
@@ -123,4 +126,37 @@ TEST(CaseFeatures, CsvParticlesAreReadExactly) {
   EXPECT_EQ(s.particles[0].x, Vec3(0.005, 0.005, 0.005));
   EXPECT_EQ(s.particles[0].v, Vec3(0.1, 0, -0.2));
   EXPECT_EQ(s.particles[1].radius, 0.002);
+}
+
+// A particle file may be gzip-compressed (read in-process through zlib): the same particles as the
+// plain file; a truncated stream is bad input naming the key and the file.
+TEST(CaseFeatures, GzippedParticleFilesReadAsThePlainOnesAndATruncatedOneIsRefused) {
+  const std::string csv = "x,y,z,diameter,vx,vy,vz\n0.005,0.005,0.005,0.004,0.1,0,-0.2\n0.015,0.005,0.005,0.004,0,0,0\n";
+  const std::string data = "bed\n\n2 atoms\n1 atom types\n\nAtoms\n\n1 1 0.004 7800 0.005 0.005 0.005\n2 1 0.004 7800 0.015 0.005 0.005\n"
+                           "\nVelocities\n\n1 0.1 0 -0.2 0 0 0\n2 0 0 0 0 0 0\n";
+  for (const auto& [text, format] : {std::pair{csv, "csv"}, std::pair{data, "lammps-data"}}) {
+    CaseDir c(in_box().set("particles.balls", {{"material", quoted("steel")}, {"file", quoted("balls.gz")}, {"format", quoted(format)}}));
+    const std::string gz = c.str() + "/balls.gz";
+    gzFile f = gzopen(gz.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(gzwrite(f, text.data(), static_cast<unsigned>(text.size())), static_cast<int>(text.size()));
+    ASSERT_EQ(gzclose(f), Z_OK);
+    ASSERT_NE(slurp(gz).substr(0, 2), text.substr(0, 2)) << "the file is compressed";
+    const Scene s = load_case(c.str());
+    ASSERT_EQ(s.particles.size(), 2u) << format;
+    EXPECT_EQ(s.particles[0].x, Vec3(0.005, 0.005, 0.005));
+    EXPECT_EQ(s.particles[0].v, Vec3(0.1, 0, -0.2));
+    EXPECT_EQ(s.particles[1].radius, 0.002);
+
+    const std::string whole = slurp(gz);
+    std::ofstream(gz, std::ios::binary | std::ios::trunc) << whole.substr(0, whole.size() - 12);  // the trailer cut
+    try {
+      load_case(c.str());
+      ADD_FAILURE() << format << ": a truncated gzip file was read";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("particles.balls.file"), std::string::npos) << m;
+      EXPECT_NE(m.find("balls.gz"), std::string::npos) << m;
+    }
+  }
 }

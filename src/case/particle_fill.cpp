@@ -3,14 +3,14 @@
 //   file      file = "name.csv" (header; columns x, y, z, diameter [, vx, vy, vz [, wx, wy, wz]],
 //             SI) or format = "lammps-data" (atom_style granular: id type diameter density x y z;
 //             optional Velocities section: id vx vy vz wx wy wz; the file's density is ignored,
-//             the group's material sets it)
+//             the group's material sets it); either may be gzip-compressed (name.gz)
 //   generated count or total_mass, diameter or [diameter_distribution], fill = "random" (random
 //             sequential addition) or "lattice" (FCC sites, lowest first along gravity), region,
 //             seed; never overlapping each other, earlier groups, or the walls.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <optional>
 #include <functional>
 #include <numbers>
 #include <random>
@@ -20,6 +20,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/text_file.hpp"
 #include "bagdem/particles.hpp"
 
 namespace bagdem {
@@ -95,9 +96,20 @@ struct Group {
   double density = 0;
 };
 
+// A particle file's text (gzip-compressed or not), or an input error naming the key.
+std::istringstream particle_file(const CaseReader& in, const std::string& key, const std::string& path) {
+  std::optional<std::string> text;
+  try {
+    text = read_text_file(path);
+  } catch (const std::runtime_error& e) {
+    in.fail(key, e.what());
+  }
+  if (!text) in.fail(key, "cannot open the file " + path);
+  return std::istringstream(std::move(*text));
+}
+
 std::vector<ParticleInit> read_csv(const CaseReader& in, const std::string& key, const std::string& path) {
-  std::ifstream f(path);
-  if (!f) in.fail(key, "cannot open the file " + path);
+  std::istringstream f = particle_file(in, key, path);
   std::vector<ParticleInit> out;
   std::string line;
   std::getline(f, line);  // header
@@ -125,8 +137,7 @@ std::vector<ParticleInit> read_csv(const CaseReader& in, const std::string& key,
 
 std::vector<ParticleInit> read_lammps_data(const CaseReader& in, const std::string& key,
                                            const std::string& path) {
-  std::ifstream f(path);
-  if (!f) in.fail(key, "cannot open the file " + path);
+  std::istringstream f = particle_file(in, key, path);
   std::vector<ParticleInit> out;
   std::unordered_map<long, std::size_t> by_id;
   std::string line, section;

@@ -172,20 +172,12 @@ Timing time_repeats(const Scene& sc, long long steps, int threads, int repeats, 
   return t;
 }
 
-// The peers' bed of N particles (runs/N*.vib1.data), unpacked if gzipped; "" if absent.
+// The peers' bed of N particles (runs/N*.vib1.data, or its .gz: the case reads either); "" if absent.
 std::string peers_bed(const std::string& peers, int N) {
-  std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
-  if (!fs::exists(data) && fs::exists(data + ".gz")) {
-    const std::string tmp = (fs::temp_directory_path() / ("bagdem_N" + std::to_string(N) + ".vib1.data")).string();
-    // Unpacked to a temporary name and renamed: an interrupted unpack leaves no truncated bed.
-    if (!fs::exists(tmp)) {
-      if (std::system(("gunzip -c '" + data + ".gz' > '" + tmp + ".part'").c_str()) != 0)
-        throw std::runtime_error("cannot unpack " + data + ".gz");
-      fs::rename(tmp + ".part", tmp);
-    }
-    data = tmp;
-  }
-  return fs::exists(data) ? data : "";
+  const std::string data = peers + "/runs/N" + std::to_string(N) + ".vib1.data";
+  for (const std::string& path : {data, data + ".gz"})
+    if (fs::exists(path)) return fs::absolute(path).string();  // the case would read a relative path from its own directory
+  return "";
 }
 
 // Peak resident memory of this process so far (VmHWM) (unit: bytes).

@@ -110,6 +110,47 @@ TEST(Faults, TruncatedCheckpointIsRefused) {
   EXPECT_NE(r.err.find("without --resume"), std::string::npos) << r.err;
 }
 
+// The file offset of the first chunk of a chunked dataset (where its first rows' bytes lie).
+haddr_t first_chunk_address(const fs::path& h5, const char* dataset) {
+  const hid_t f = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t ds = H5Dopen2(f, dataset, H5P_DEFAULT);
+  const hsize_t origin[3] = {0, 0, 0};
+  unsigned mask = 0;
+  haddr_t addr = HADDR_UNDEF;
+  hsize_t size = 0;
+  EXPECT_GE(H5Dget_chunk_info_by_coord(ds, origin, &mask, &addr, &size), 0) << dataset;
+  H5Dclose(ds);
+  H5Fclose(f);
+  return addr;
+}
+
+// A resume continues only from what its checkpoint recorded: results.h5.part with 256 bytes
+// overwritten in its first frame (data the checkpoint covers), or in its superblock, is refused
+// with exit 2 and nothing is written. It used to resume and finish "complete" with M_eff/M_bag
+// 1.5e124.
+TEST(Faults, AResumeFromADamagedPartialResultsFileIsRefused) {
+  for (const bool superblock : {false, true}) {
+    CaseDir c(shaken_box("0.1 s", "10 ms"));
+    stop_after(c, 2500);
+    const fs::path part = c.out / "results.h5.part";
+    const haddr_t at = superblock ? 0 : first_chunk_address(part, "/frames/position");
+    ASSERT_NE(at, HADDR_UNDEF);
+    {
+      std::fstream f(part, std::ios::binary | std::ios::in | std::ios::out);
+      f.seekp(static_cast<std::streamoff>(at));
+      const std::string junk(256, '\x7f');
+      f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+      ASSERT_TRUE(f);
+    }
+    const CmdResult r = c.run({"--resume"});
+    EXPECT_EQ(r.code, 2) << (superblock ? "superblock: " : "frame 0: ") << r.err;
+    EXPECT_NE(r.err.find(part.string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("without --resume"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(c.out / "results.h5")) << "a refused resume wrote results";
+    EXPECT_FALSE(fs::exists(c.out / "summary.json"));
+  }
+}
+
 // ---- SIGTERM and SIGINT ---------------------------------------------------------------------------
 
 // `bagdem run` started in the background (stdout and stderr to files in the case's directory).

@@ -98,13 +98,17 @@ const std::vector<int> kMaterial{0, 0};
 std::vector<Vec3> balls(int frame) { return {Vec3(frame, 0, 0), Vec3(0, frame, 1)}; }
 
 // results.h5 with 3 frames (times 0, 0.1, 0.2) of two balls and the tetrahedron's film.
-void write_three_frames(const std::string& path) {
+// Returns the lengths after two frames (what a checkpoint then would record).
+SeriesLengths write_three_frames(const std::string& path) {
   ResultsFile rf(path, kRadius, kMaterial, {"steel"}, 0.01);
   rf.write_film(kTet, 4);
+  SeriesLengths two;
   for (int f = 0; f < 3; ++f) {
     rf.append_frame(0.1 * f, balls(f), balls(f), balls(f));
     rf.append_film_frame(film_frame(f, 4));
+    if (f == 1) two = rf.lengths();
   }
+  return two;
 }
 
 // ---- bag.h5 ---------------------------------------------------------------------------------
@@ -272,12 +276,15 @@ TEST(ResultsFileFilm, FramesReadBackExactly) {
 TEST(ResultsFileFilm, ReopenTruncatesTheFilm) {
   TempDir dir;
   const std::string path = at(dir, "results.h5");
-  write_three_frames(path);
+  const SeriesLengths two = write_three_frames(path);
+  ASSERT_EQ(two.frames, 2u);
+  SeriesLengths again;  // after the frame appended on reopening
   {
-    ResultsFile rf = ResultsFile::reopen(path, {2, 0, 0});
+    ResultsFile rf = ResultsFile::reopen(path, two);
     rf.write_film(kTet, 4);  // the same film: accepted, nothing rewritten
     rf.append_frame(0.15, balls(7), balls(7), balls(7));
     rf.append_film_frame(film_frame(7, 4));
+    again = rf.lengths();
   }
   hid_t file = open_read(path);
   ASSERT_GE(file, 0);
@@ -288,7 +295,8 @@ TEST(ResultsFileFilm, ReopenTruncatesTheFilm) {
   EXPECT_EQ(read_doubles(file, "/frames/time").values, (std::vector<double>{0.0, 0.1, 0.15}));
   H5Fclose(file);
 
-  { ResultsFile rf = ResultsFile::reopen(path, {2, 0, 0}); }
+  EXPECT_EQ(again.frames, 3u);
+  { ResultsFile rf = ResultsFile::reopen(path, two); }  // the first two frames are still those checkpointed
   file = open_read(path);
   ASSERT_GE(file, 0);
   EXPECT_EQ(read_doubles(file, "/film/position").dims, (std::vector<hsize_t>{2, 4, 3}));
@@ -300,13 +308,15 @@ TEST(ResultsFileFilm, ReopenTruncatesTheFilm) {
 TEST(ResultsFileFilm, NoFilmNoGroup) {
   TempDir dir;
   const std::string path = at(dir, "results.h5");
+  SeriesLengths one;
   {
     ResultsFile rf(path, kRadius, kMaterial, {"steel"}, 0.01);
     rf.append_frame(0.0, balls(0), balls(0), balls(0));
     EXPECT_THROW(rf.append_film_frame(film_frame(0, 4)), std::logic_error);
     EXPECT_THROW(rf.write_film(kTet, 4), std::logic_error);  // too late: a frame has no film
+    one = rf.lengths();
   }
-  { ResultsFile rf = ResultsFile::reopen(path, {1, 0, 0}); }  // no /film to truncate
+  { ResultsFile rf = ResultsFile::reopen(path, one); }  // no /film to truncate
   hid_t file = open_read(path);
   ASSERT_GE(file, 0);
   EXPECT_EQ(H5Lexists(file, "film", H5P_DEFAULT), 0);

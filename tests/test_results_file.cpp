@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/step/energy.hpp"
 #include "h5_read.hpp"
@@ -231,15 +232,20 @@ TEST(ResultsFileDeathTest, KilledRunLeavesTheLastFrame) {
 TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
   TempDir dir;
   const std::string path = dir / "results.h5";
+  SeriesLengths checkpoint;  // 1 frame, 2 cavity samples, 3 energy rows, as a checkpoint records them
   {
     ResultsFile rf(path, kRadius, kMaterial, {"glass", "steel"}, 0.005);
-    for (int f = 0; f < 3; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
-    for (int s = 0; s < 5; ++s)
-      rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4));
-    for (int k = 0; k < 5; ++k) rf.append_energy(0.02 * k, energy(k).terms());
+    auto cavity = [&](int s) { rf.append_cavity(0.005 * (s + 1), v3(s, 10, 0), v3(s, 11, 1), v3(s, 12, 2), v3(s, 13, 3), v3(s, 14, 4)); };
+    rf.append_frame(0, field(0, 0), field(0, 1), field(0, 2));
+    for (int s = 0; s < 2; ++s) cavity(s);
+    for (int k = 0; k < 3; ++k) rf.append_energy(0.02 * k, energy(k).terms());
+    checkpoint = rf.lengths();
+    for (int f = 1; f < 3; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
+    for (int s = 2; s < 5; ++s) cavity(s);
+    for (int k = 3; k < 5; ++k) rf.append_energy(0.02 * k, energy(k).terms());
   }
   {
-    ResultsFile rf = ResultsFile::reopen(path, {1, 2, 3});
+    ResultsFile rf = ResultsFile::reopen(path, checkpoint);
     EXPECT_EQ(rf.lengths().frames, 1u);
     EXPECT_EQ(rf.lengths().cavity, 2u);
     EXPECT_EQ(rf.lengths().energy, 3u);
@@ -261,6 +267,46 @@ TEST(ResultsFileReopen, TruncatesToLengthsAndContinues) {
     EXPECT_EQ(force.values[2 * 3 + c], v3(7, 22, 2)[c]);  // appended after reopen
   }
   H5Fclose(file);
+}
+
+// A resume continues only from the data its checkpoint recorded: a value changed in the rows kept
+// (a damaged or edited file) is refused, naming the file; the same lengths with the data intact
+// are accepted.
+TEST(ResultsFileReopen, RefusesDataThatDifferFromTheCheckpoints) {
+  TempDir dir;
+  const std::string path = dir / "results.h5";
+  SeriesLengths checkpoint;
+  {
+    ResultsFile rf(path, kRadius, kMaterial, {"glass"}, 0.005);
+    for (int f = 0; f < 2; ++f) rf.append_frame(0.1 * f, field(f, 0), field(f, 1), field(f, 2));
+    rf.append_cavity(0.005, v3(0, 10, 0), v3(0, 11, 1), v3(0, 12, 2), v3(0, 13, 3), v3(0, 14, 4));
+    rf.append_table_row("structure", {{"time", "s"}, {"displacement", "m"}}, {0.005, 1e-6});
+    checkpoint = rf.lengths();
+    rf.append_frame(0.2, field(2, 0), field(2, 1), field(2, 2));  // after the checkpoint: cut on reopening
+  }
+  { ResultsFile rf = ResultsFile::reopen(path, checkpoint); }
+  for (const char* dataset : {"/frames/velocity", "/cavity/force", "/structure/displacement", "/particles/radius"}) {
+    const std::string copy = dir / "copy.h5";
+    std::filesystem::copy_file(path, copy, std::filesystem::copy_options::overwrite_existing);
+    {  // one value of the rows kept changed in place
+      const hid_t f = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+      const hid_t ds = H5Dopen2(f, dataset, H5P_DEFAULT);
+      ASSERT_GE(ds, 0) << dataset;
+      std::vector<double> v = read_doubles(f, dataset).values;
+      v[0] += 1e-9;
+      ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+      H5Dclose(ds);
+      H5Fclose(f);
+    }
+    try {
+      ResultsFile::reopen(copy, checkpoint);
+      ADD_FAILURE() << dataset << " changed, yet the file was reopened";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(copy), std::string::npos) << m;
+      EXPECT_NE(m.find("differ from those the checkpoint recorded"), std::string::npos) << m;
+    }
+  }
 }
 
 TEST(ResultsFileReopen, RefusesToGrowASeries) {
@@ -285,8 +331,10 @@ TEST(ResultsFileErrors, MessageNamesThePath) {
 TEST(ResultsFileAttributes, SetAttributeOverwrites) {
   TempDir dir;
   const std::string path = dir / "results.h5";
+  SeriesLengths lengths;
   {
     ResultsFile rf(path, kRadius, kMaterial, {"glass"}, 0.01);
+    lengths = rf.lengths();
     rf.set_attribute("status", "running");
     rf.set_attribute("settle_end", 0.25);
     rf.set_attribute("status", std::string("failed: ") + std::string(70000, 'x'));  // > 64 KiB
@@ -300,7 +348,7 @@ TEST(ResultsFileAttributes, SetAttributeOverwrites) {
   EXPECT_EQ(read_string_attribute(file, "settle_end"), "string now");
   H5Fclose(file);
 
-  ResultsFile rf = ResultsFile::reopen(path, {});
+  ResultsFile rf = ResultsFile::reopen(path, lengths);
   rf.set_attribute("settle_end", 0.75);
   rf.close();
   file = open_read(path);

@@ -2,6 +2,7 @@
 #include "bagdem/io/results_file.hpp"
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include <charconv>
 #include <filesystem>
@@ -12,8 +13,10 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 
+#include "bagdem/error.hpp"
 #include "h5.hpp"
 
 namespace bagdem {
@@ -34,6 +37,16 @@ const char* name_of(const std::pair<const char*, const char*>& field) { return f
 const char* name_of(const char* term) { return term; }
 
 constexpr hsize_t kRowsPerChunk = 1024;  // time, cavity and energy series: 8-24 KiB chunks
+
+// CRC-32 (zlib) of `n` doubles' bytes, continuing `crc`.
+std::uint32_t crc_of(std::uint32_t crc, const double* v, std::size_t n) {
+  return static_cast<std::uint32_t>(crc32_z(crc, reinterpret_cast<const Bytef*>(v), n * sizeof(double)));
+}
+template <class T>
+std::uint32_t crc_as_doubles(std::uint32_t crc, const T* v, std::size_t n) {
+  const std::vector<double> d(v, v + n);
+  return crc_of(crc, d.data(), d.size());
+}
 
 // Guard of every operation that needs an open file (a template because Impl is private).
 template <class Impl>
@@ -61,6 +74,11 @@ struct ResultsFile::Impl {
   };
   std::map<std::string, Table> tables;
   hsize_t film_rows = 0, film_nodes = 0, film_triangles = 0;
+  // What a resume verifies (digest()): the CRC-32 of each appended series' rows so far, by its
+  // dataset, and of the datasets written once (/particles/radius, /particles/material,
+  // /film/triangles, as doubles, in that order).
+  std::unordered_map<hid_t, std::uint32_t> crc;
+  std::uint32_t fixed_crc = 0;
 
   h5::Check ok;  // failures throw "results file PATH: what"
 
@@ -102,11 +120,38 @@ struct ResultsFile::Impl {
     return ds;
   }
 
+  // The data's digest: the CRC-32 of the per-dataset CRCs of the fixed datasets, the frames, the
+  // cavity and energy series, the film's frames and /structure, in that order (/sweep is written
+  // again on a resume), with their count in the upper 32 bits.
+  std::uint64_t digest() const {
+    std::vector<std::uint32_t> parts{fixed_crc};
+    auto add = [&](hid_t ds) {
+      const auto it = crc.find(ds);
+      parts.push_back(it == crc.end() ? 0 : it->second);
+    };
+    for (const auto* g : {&frames, &cavity, &energy})
+      for (const H5& ds : *g) add(ds);
+    if (film) add(film_position);
+    if (const auto t = tables.find("structure"); t != tables.end())
+      for (const H5& ds : t->second.columns) add(ds);
+    const auto c = static_cast<std::uint32_t>(crc32_z(0, reinterpret_cast<const Bytef*>(parts.data()), parts.size() * sizeof parts[0]));
+    return (static_cast<std::uint64_t>(parts.size()) << 32) | c;
+  }
+
+  // The CRC of a dataset as it stands in the file (a reopened one's rows).
+  void crc_from_file(hid_t ds, const std::string& name) {
+    const std::vector<double> v = h5::read_doubles(ds, name, ok);
+    crc[ds] = crc_of(0, v.data(), v.size());
+  }
+
   // Grows a series to row + 1 rows and writes row `row` (doubles, row-major).
   void append_row(hid_t ds, hsize_t row, const double* data) {
     const std::string what = "cannot append to a dataset";
     std::vector<hsize_t> d = dims(ds);
     d[0] = row + 1;
+    std::size_t n = 1;
+    for (std::size_t k = 1; k < d.size(); ++k) n *= d[k];
+    crc[ds] = crc_of(crc[ds], data, n);
     ok(H5Dset_extent(ds, d.data()), what);
     std::vector<hsize_t> start(d.size(), 0), count = d;
     start[0] = row;
@@ -142,6 +187,7 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
   std::string names;
   for (const std::string& m : materials) names += (names.empty() ? "" : ",") + m;
   p->attribute(mat, "materials", names);
+  p->fixed_crc = crc_as_doubles(crc_of(0, radius.data(), radius.size()), material.data(), material.size());
 
   H5 frames = p->group("frames");  // one frame per chunk: frames are written and read whole
   p->frames.push_back(p->series(frames, "time", {}, kRowsPerChunk, "s"));
@@ -213,6 +259,22 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
     if (n != "particles" && n != "frames" && n != "cavity" && n != "energy" && n != "film" && n != "structure") others.push_back(n);
   }
   for (const std::string& n : others) p->ok(H5Ldelete(p->file, n.c_str(), H5P_DEFAULT), "cannot remove /" + n);
+  // The data kept must be those the checkpoint recorded.
+  for (const char* fixed : {"/particles/radius", "/particles/material", "/film/triangles"}) {
+    if (std::string(fixed) == "/film/triangles" && !p->film) continue;
+    H5 ds(p->ok(H5Dopen2(p->file, fixed, H5P_DEFAULT), std::string("cannot open dataset ") + fixed), H5Dclose);
+    const std::vector<double> v = h5::read_doubles(ds, fixed, p->ok);
+    p->fixed_crc = crc_of(p->fixed_crc, v.data(), v.size());
+  }
+  for (const auto* g : {&p->frames, &p->cavity, &p->energy})
+    for (const H5& ds : *g) p->crc_from_file(ds, "a series");
+  if (p->film) p->crc_from_file(p->film_position, "/film/position");
+  if (const auto t = p->tables.find("structure"); t != p->tables.end())
+    for (const H5& ds : t->second.columns) p->crc_from_file(ds, "/structure");
+  if (p->digest() != lengths.digest)
+    throw InputError(path, "", "",
+                     "its data differ from those the checkpoint recorded (the file was changed or damaged since the run was "
+                     "interrupted): it cannot be continued; run again without --resume");
   p->flush();
   return ResultsFile(p.release());
 }
@@ -313,6 +375,7 @@ void ResultsFile::write_film(const std::vector<std::array<std::uint32_t, 3>>& tr
   p.film_triangles = triangles.size();
   p.film_rows = 0;
   p.film = true;
+  p.fixed_crc = crc_as_doubles(p.fixed_crc, flat.data(), flat.size());
   p.flush();
 }
 
@@ -376,7 +439,12 @@ std::vector<double> ResultsFile::read_series(const std::string& dataset) const {
   return h5::read_doubles(ds, dataset, p.ok);
 }
 
-SeriesLengths ResultsFile::lengths() const { return impl_ ? impl_->len : SeriesLengths{}; }
+SeriesLengths ResultsFile::lengths() const {
+  if (!impl_) return {};
+  SeriesLengths l = impl_->len;
+  l.digest = impl_->digest();
+  return l;
+}
 
 void ResultsFile::flush() {
   if (impl_) impl_->flush();

@@ -13,7 +13,8 @@
 
 namespace bagdem {
 
-inline constexpr std::uint64_t kCheckpointFormat = 2;  // 1: no header, no checksum
+// 1: no header, no checksum; 2: no digest of the results file's data (SeriesLengths::digest)
+inline constexpr std::uint64_t kCheckpointFormat = 3;
 
 struct CheckpointData {
   std::string kind;                 // "run" or "sweep"

@@ -155,13 +155,9 @@ void FrequencySweep::open() {
   const fs::path part = out_ / "results.h5.part", csv = out_ / "sweep.csv";
   std::vector<std::string> mats;
   for (const auto& m : scene_.materials) mats.push_back(m.name);
-  file_.emplace(opt_.resume ? ResultsFile::reopen(part.string(), state_.lengths) : open_results(part.string(), sim0(), mats, scene_.dt));
-  file_->set_attribute("status", "running");
+  file_.emplace(opt_.resume ? reopen_results(part, state_.lengths) : open_results(part.string(), sim0(), mats, scene_.dt));
+  write_run_attributes(*file_, scene_);
   if (!opt_.resume) {
-    file_->set_attribute("case_file", scene_.case_file);
-    file_->set_attribute("resolved_config", scene_.resolved);
-    file_->set_attribute("settle_end", scene_.settle);
-    file_->set_attribute("timestep", scene_.dt);
     if (scene_.bag) file_->write_film(scene_.bag->rest.triangles, scene_.bag->rest.vertices.size());
     frame(frame_of(sim0(), sim0().time()));
   }

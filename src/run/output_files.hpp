@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/step/simulation.hpp"
 
@@ -15,6 +16,29 @@ inline ResultsFile open_results(const std::string& path, const Simulation& sim,
                                 const std::vector<std::string>& materials, double cavity_interval) {
   return ResultsFile(path, sim.in_scene_order(sim.particles().radius), sim.in_scene_order(sim.particles().material),
                      materials, cavity_interval);
+}
+
+// The root attributes of a run's results file that say what made it, and its status "running":
+// a new file's, and written again when a run resumes, whatever the interrupted file holds.
+inline void write_run_attributes(ResultsFile& file, const Scene& scene) {
+  file.set_attribute("case_file", scene.case_file);
+  file.set_attribute("resolved_config", scene.resolved);
+  file.set_attribute("settle_end", scene.settle);
+  file.set_attribute("timestep", scene.dt);
+  file.set_attribute("status", "running");
+}
+
+// results.h5.part of an interrupted run reopened to continue it (ResultsFile::reopen verifies its
+// data against the checkpoint's digest): a file HDF5 cannot read is refused as damaged data are,
+// with InputError (exit 2) saying to run again without --resume.
+inline ResultsFile reopen_results(const std::filesystem::path& part, const SeriesLengths& lengths) {
+  try {
+    return ResultsFile::reopen(part.string(), lengths);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(part.string(), "", "", std::string(e.what()) + ": the interrupted run cannot be continued; run again without --resume");
+  }
 }
 
 // The balls' positions, velocities and spins and the bag's film nodes as a frame at time t, in the

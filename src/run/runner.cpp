@@ -321,8 +321,8 @@ void RunLoop::resume() {
     rep_.bag_outer = Vec3(run_.bag_outer[0], run_.bag_outer[1], run_.bag_outer[2]);
   }
   remove_derived_tables(out_);  // a run in progress is not complete
-  file_.emplace(ResultsFile::reopen(part().string(), run_.lengths));
-  file_->set_attribute("status", "running");
+  file_.emplace(reopen_results(part(), run_.lengths));
+  write_run_attributes(*file_, scene_);
   if (scene_.primary && run_.lengths.structure > 0) {
     // The response before the interruption, for the summary's RMS and decay over the whole run:
     // the rows after release (the structure is released at the start of the step after settling).
@@ -345,11 +345,7 @@ void RunLoop::start() {
   std::vector<std::string> mats;
   for (const auto& m : scene_.materials) mats.push_back(m.name);
   file_.emplace(open_results(part().string(), sim_, mats, at_.n_cavity * scene_.dt));
-  file_->set_attribute("case_file", scene_.case_file);
-  file_->set_attribute("resolved_config", scene_.resolved);
-  file_->set_attribute("settle_end", scene_.settle);
-  file_->set_attribute("timestep", scene_.dt);
-  file_->set_attribute("status", "running");
+  write_run_attributes(*file_, scene_);
   if (scene_.bag) file_->write_film(scene_.bag->rest.triangles, scene_.bag->rest.vertices.size());
   append_frame(*file_, frame_of(sim_, 0));
   if (scene_.models.energy) file_->append_energy(0, sim_.energy().terms());

@@ -30,7 +30,8 @@
 //   /sweep/<column>        [P]                a stepped-sine sweep, one row per frequency
 //                                             (run/frequency_sweep.hpp lists the columns and units)
 // Datasets are chunked and extendible; the file is flushed after each frame so that a killed run
-// leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded.
+// leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded
+// and verifies what is left against the checkpoint's digest (a CRC-32 per dataset).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -48,9 +49,11 @@ inline constexpr std::array<const char*, 8> kEnergyTerms = {
     "kinetic", "elastic", "work_cavity", "work_gravity", "dissipated_normal", "dissipated_tangential",
     "dissipated_rolling", "dissipated_damping"};
 
-// Lengths of the time series written so far (stored in checkpoints; resume truncates to them).
+// Lengths of the time series written so far, and a digest of the data they hold (stored in
+// checkpoints; resume truncates to them and verifies the digest).
 struct SeriesLengths {
   std::size_t frames = 0, cavity = 0, energy = 0, structure = 0;
+  std::uint64_t digest = 0;  // CRC-32 over every dataset but /sweep, and the datasets' count
 };
 
 // A column of a table of scalars (append_table_row).
@@ -67,6 +70,8 @@ class ResultsFile {
               double cavity_interval);
   // Reopens an existing file to continue a run: every series is cut to `lengths`; tables other than
   // /structure (/sweep) are removed, for their writer to write again from the rows it restored.
+  // The data kept must match lengths.digest (what lengths() gave when the checkpoint was taken):
+  // otherwise InputError naming the file (it was changed or damaged since).
   static ResultsFile reopen(const std::string& path, const SeriesLengths& lengths);
   ResultsFile(ResultsFile&&) noexcept;
   ResultsFile& operator=(ResultsFile&&) noexcept;

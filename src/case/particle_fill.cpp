@@ -14,6 +14,7 @@
 #include <functional>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <sstream>
 #include <unordered_map>
 
@@ -22,6 +23,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/text_file.hpp"
 #include "bagdem/particles.hpp"
+#include "fcc_lattice.hpp"
 
 namespace bagdem {
 namespace {
@@ -269,37 +271,33 @@ void generate(const CaseReader& in, const std::string& g, const Group& grp, Scen
   const Vec3 v0 = in.vector(g + ".velocity", dim::speed, Vec3::Zero());
   const std::string fill = in.choice(g + ".fill", {"random", "lattice"}, "random");
   const double dmax = ds.max();
-  std::vector<Vec3> sites;
+  std::optional<FccLattice> lattice;
   if (fill == "lattice") {
     // FCC sites, nearest-neighbour distance 1.01 dmax, lowest first along gravity (or z).
-    const double a = 1.01 * dmax * std::numbers::sqrt2;
     const Vec3 down = s.gravity.norm() > 0 ? Vec3(s.gravity.normalized()) : Vec3(-Vec3::UnitZ());
-    const Vec3 basis[4] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-    const Vec3 o = lo + Vec3::Constant(0.5 * dmax * 1.01);
-    for (double i = 0; o.x() + i * a <= hi.x(); ++i)
-      for (double j = 0; o.y() + j * a <= hi.y(); ++j)
-        for (double k = 0; o.z() + k * a <= hi.z(); ++k)
-          for (const Vec3& b : basis) {
-            const Vec3 x = o + a * (Vec3(i, j, k) + b);
-            if ((x.array() <= hi.array()).all()) sites.push_back(x);
-          }
-    std::stable_sort(sites.begin(), sites.end(), [&](const Vec3& p, const Vec3& q) {
-      return p.dot(down) > q.dot(down) + 1e-12 * dmax;
-    });
+    try {
+      lattice.emplace(lo, hi, 1.01 * dmax, down, diameters.size());
+    } catch (const std::length_error& e) {
+      std::ostringstream m;
+      const Vec3 size = hi - lo;
+      m << "the lattice over the region (" << size.x() << " x " << size.y() << " x " << size.z() << " m) has " << e.what()
+        << " (at most " << FccLattice::kMaxLayerSites << ") for " << diameters.size() << " particles of " << dmax
+        << " m: check the units of the cavity's keys and of " << g << ".region_min/region_max (a plain number is in metres, write "
+        << "\"20 mm\" for millimetres), or use fill = \"random\"";
+      in.fail(g + ".fill", m.str());
+    }
   }
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::size_t site = 0;
   const std::size_t max_attempts = 1000 * diameters.size() + 100000;
   std::size_t attempts = 0;
   for (double d : diameters) {
     const double r = 0.5 * d;
     for (;;) {
       Vec3 x;
-      if (fill == "lattice") {
-        if (site >= sites.size())
+      if (lattice) {
+        if (!lattice->next(x))
           in.fail(g + ".count", "only " + std::to_string(s.particles.size()) +
                                     " particles fit on the lattice in the region; enlarge the region or lower the count");
-        x = sites[site++];
         // Small jitter (1% of d) breaks the lattice symmetry reproducibly.
         x += 0.005 * d * draw_vec3([&] { return 2 * U(rng) - 1; });
       } else {

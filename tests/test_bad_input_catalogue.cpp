@@ -286,7 +286,9 @@ TEST(BadInputCatalogue, CommandLines) {
       {{"check", c, "--fidelity", "best"}, {"--fidelity", "best", "fast"}},
       {{"reduce"}, {"case_dir is required"}},
       {{"compare", c, "--form", "x"}, {"--form", "x", "consistent"}},
-      {{"drop", c, "--speed", "abc"}, {"--speed", "abc", "Could not convert"}},
+      {{"drop", c, "--speed", "abc"}, {"--speed", "'abc'", "not a launch speed", "> 0"}},
+      {{"drop", c, "--speed", "-1"}, {"--speed", "'-1'", "not a launch speed", "> 0"}},  // used to run at the default
+      {{"drop", c, "--speed", "0"}, {"--speed", "'0'", "not a launch speed", "> 0"}},
       {{"export", c, "--formats", "xml"}, {"--formats", "xml", "csv"}},
       {{"bench", "--sizes", "x"}, {"--sizes", "x", "Could not convert"}},
       {{"sweep", c, "--jobs", "0"}, {"--jobs", "0", "not in range 1 to 4096"}},

@@ -11,7 +11,8 @@
 // 1% of the flight time) with the contents no longer approaching, or as soon as, on the way back,
 // another wall pushes the contents, so that the rebound is measured before any other wall acts on
 // it. The contact time is the pulse's span foot to foot (no force threshold, so it does not shrink
-// with the step). e_drop lies in [0, 1], or the test fails saying why. Gravity stays as in the
+// with the step). e_drop lies in [0, 1] (a rebound faster than the approach by less than the
+// integration's tolerance is an elastic impact, e_drop = 1), or the test fails saying why. Gravity stays as in the
 // case; the cavity is held fixed and a primary structure is not simulated.
 #pragma once
 #include <filesystem>
@@ -22,6 +23,12 @@
 
 namespace bagdem {
 
+// The drop's record: the wall force along the launch and the contents' approach velocity at each
+// step (drop.csv).
+struct DropSeries {
+  std::vector<double> time, wall_force, approach_velocity;  // s, N, m/s
+};
+
 struct DropResult {
   double speed = 0;          // launch speed V (m/s)
   double v_before = 0;       // centre-of-mass speed along the impact normal just before contact (m/s)
@@ -30,13 +37,20 @@ struct DropResult {
   double peak_force = 0;     // largest wall force during the impact (N)
   double duration = 0;       // the impact's span, foot to foot (s)
   double gap = 0;            // gap crossed before the impact (m)
+  double tolerance = 0;      // how far above 1 an elastic impact's e_drop may come out: (dt / duration)^2,
+                             // velocity Verlet's energy error over the contact's steps; within it e_drop is 1
+  std::string note;          // how the launch speed was found, when the case's own gave no figure
+  DropSeries series;
 };
 
 // Runs the drop; speed <= 0 takes the case's expected impact speed (the cavity's speed amplitude
-// of its motion, or of the primary's bare response). Throws InputError when the scene has no
-// contents or no excitation direction, RunError if the run goes unstable. Writes out_dir/drop.csv
-// (time, wall force, relative velocity of the centre of mass) and returns the figures.
+// of its motion, or of the primary's bare response), and where the impact at that speed does not
+// stand out of the sliding friction (or the contents do not reach the wall in time) launches again
+// twice as fast, up to 16 times that speed, saying so in `note`. Throws InputError when the scene
+// has no contents or no excitation direction, RunError if the run goes unstable or no launch gave
+// a figure. Writes out_dir/drop.csv (write_drop_series) and returns the figures.
 DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem::path& out_dir, bool quiet);
+void write_drop_series(const std::filesystem::path& path, const DropSeries& series);
 // drop_result.csv: the figures above, one row (read by `bagdem reduce`).
 void write_drop_result(const std::filesystem::path& path, const DropResult& result);
 

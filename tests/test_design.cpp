@@ -103,6 +103,7 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
                     objective = col("objective_dB"), dem = col("dem_objective_dB"), seeds = col("dem_seeds");
   col("reduction_dB_mode1");
   col("pareto");
+  const std::size_t edge = col("at_band_edge");
   const double rho = 7800;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const auto& c = cells[i];
@@ -115,6 +116,7 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
       continue;
     }
     ASSERT_EQ(c[status], "ranked");
+    EXPECT_EQ(c[edge], "0") << "the damped peak lies inside the band";
     const double z = zeta * std::sqrt(M / (M + 2 * m / 7));
     const double expected = 20 * std::log10(z * std::sqrt(1 - z * z) / (zeta * std::sqrt(1 - zeta * zeta)));
     std::printf("  %s ball: predicted %s dB, analytic %.4f dB\n", c[diameter].c_str(), c[objective].c_str(), expected);

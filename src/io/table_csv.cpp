@@ -43,11 +43,7 @@ void write_table_csv(const std::filesystem::path& path, const std::vector<TableC
 std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& path, const std::vector<TableColumn>& columns) {
   const TextTable t = read_text_table(path);
   std::vector<std::size_t> index;
-  for (const TableColumn& c : columns) {
-    const std::size_t k = t.find(c.name);
-    if (k == t.names.size()) throw InputError(path.string(), c.name, "", "column missing from the table");
-    index.push_back(k);
-  }
+  for (const TableColumn& c : columns) index.push_back(t.column(c));
   std::vector<std::vector<double>> rows;
   for (const std::vector<std::string>& cells : t.rows) {
     std::vector<double> row;
@@ -66,6 +62,16 @@ std::vector<std::vector<double>> read_table_csv(const std::filesystem::path& pat
 std::size_t TextTable::find(const std::string& name) const {
   std::size_t k = 0;
   while (k < names.size() && names[k] != name) ++k;
+  return k;
+}
+
+std::size_t TextTable::column(const TableColumn& c, const std::string& what, bool required) const {
+  const std::size_t k = find(c.name);
+  if (k == names.size()) {
+    if (required) throw InputError(path, std::string(c.name) + " [" + c.unit + "]", "", "column missing from " + what);
+    return k;
+  }
+  if (units[k] != c.unit) throw InputError(path, c.name, "[" + units[k] + "]", std::string("must be in [") + c.unit + "]");
   return k;
 }
 
@@ -108,6 +114,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
   std::vector<std::vector<std::string>> cells = read_csv_cells(path);
   if (cells.empty()) throw InputError(path.string(), "", "", "is empty: no header");
   TextTable t;
+  t.path = path.string();
   for (const std::string& h : cells.front()) {
     const std::size_t b = h.rfind(" [");
     const bool unit = b != std::string::npos && h.back() == ']';

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 
 #include "bagdem/error.hpp"
@@ -58,16 +59,25 @@ EffectiveMap read_effective_map(const fs::path& path) {
   const TextTable t = read_text_table(path);
   EffectiveMap m;
   m.source = path.string();
-  auto column = [&](const std::string& name) {
-    const std::size_t c = t.find(name);
-    if (c == t.names.size()) throw InputError(path.string(), "", "", "has no column '" + name + "' (is it a map.csv of bagdem characterize?)");
+  // A column in its unit (the rule of every table bagdem reads back); its values numbers, NaN (an
+  // empty cell or "nan") allowed only for a figure.
+  auto column = [&](const char* name, const char* unit, bool figure) {
+    const std::size_t c = t.column({name, unit}, "the map (is it a map.csv of bagdem characterize?)");
     std::vector<double> v;
-    for (const auto& row : t.rows) v.push_back(row[c].empty() || row[c] == "nan" ? std::nan("") : std::stod(row[c]));
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+      const std::string& cell = t.rows[r][c];
+      char* end = nullptr;
+      const double x = cell.empty() || cell == "nan" ? std::nan("") : std::strtod(cell.c_str(), &end);
+      if ((end && *end != '\0') || (!figure && !(std::isfinite(x) && x > 0)))
+        throw InputError(path.string(), name, "'" + cell + "'", std::string(figure ? "must be a number or nan" : "must be a number > 0") +
+                                                                   " (row " + std::to_string(r + 1) + ")");
+      v.push_back(x);
+    }
     return v;
   };
-  const std::vector<double> G = column("gamma"), f = column("frequency");
-  m.M_eff = column("M_eff"), m.M_eff_ci95 = column("M_eff_ci95");
-  m.C_eff = column("C_eff"), m.C_eff_ci95 = column("C_eff_ci95");
+  const std::vector<double> G = column("gamma", "1", false), f = column("frequency", "Hz", false);
+  m.M_eff = column("M_eff", "kg", true), m.M_eff_ci95 = column("M_eff_ci95", "kg", true);
+  m.C_eff = column("C_eff", "N s/m", true), m.C_eff_ci95 = column("C_eff_ci95", "N s/m", true);
   for (double x : f)
     if (std::find(m.frequency.begin(), m.frequency.end(), x) == m.frequency.end()) m.frequency.push_back(x);
   for (double x : G)
@@ -152,6 +162,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
     m.bare_peak = b.magnitude * F, m.bare_frequency = b.frequency;
     // The damped peak at the map's means and at its interval's four corners.
     double corner_peak[5] = {};
+    int peak_k = -1;  // where the means' peak lies among the frequencies
     const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
     for (int k = 0; k < points; ++k) {
       const double f = points > 1 ? m.lo + (m.hi - m.lo) * k / (points - 1) : m.lo;
@@ -167,7 +178,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
         for (const HarmonicSolution& h : fp.solutions)
           if (h.response > corner_peak[c]) {
             corner_peak[c] = h.response;
-            if (c == 0) m.peak_frequency = f;
+            if (c == 0) m.peak_frequency = f, peak_k = k;
           }
         if (c == 0) {
           m.points.push_back(std::move(fp));
@@ -176,6 +187,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
       }
     }
     m.peak = corner_peak[0];
+    m.at_band_edge = points > 1 && (peak_k == 0 || peak_k == points - 1);  // as a sweep marks its peak (run/frequency_sweep.hpp)
     auto db = [&](double peak) { return peak > 0 ? reduction_db(m.bare_peak, peak) : std::nan(""); };
     m.reduction_db = db(m.peak);
     m.reduction_db_lo = m.reduction_db_hi = m.reduction_db;

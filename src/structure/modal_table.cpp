@@ -35,15 +35,7 @@ ModalTable read_modal_table(const std::filesystem::path& path) {
   const std::string file = path.string();
   ModalTable m;
   std::vector<std::size_t> at;
-  for (const Column& c : kColumns) {
-    const std::size_t k = t.find(c.name);
-    if (k == t.names.size()) {
-      if (c.required) throw InputError(file, std::string(c.name) + " [" + c.unit + "]", "", "column missing from the modal table (docs/case-schema.md, [primary] modal)");
-    } else if (t.units[k] != c.unit) {
-      throw InputError(file, c.name, "[" + t.units[k] + "]", std::string("must be in [") + c.unit + "]");
-    }
-    at.push_back(k);
-  }
+  for (const Column& c : kColumns) at.push_back(t.column({c.name, c.unit}, "the modal table (docs/case-schema.md, [primary] modal)", c.required));
   m.has_slope = at[6] != t.names.size();
   m.has_curvature = at[7] != t.names.size();
   const std::size_t rigid = t.find("rigid_body");

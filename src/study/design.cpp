@@ -202,6 +202,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
       return;
     }
     r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
+    r.at_band_edge += m.at_band_edge ? 1 : 0;
   }
   for (std::size_t i = 0; i < modes.size(); ++i)
     if (!std::isfinite(r.db[i])) {

@@ -30,7 +30,8 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   for (const char* c : {"position_xL [1]", "attach [m]", "added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
   for (int m : s.modes)
     for (const char* c : {"reduction_dB", "reduction_dB_lo", "reduction_dB_hi"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
-  for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "pareto [1]", "dem_seeds [1]"}) head.push_back(c);
+  for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "at_band_edge [1]", "pareto [1]", "dem_seeds [1]"})
+    head.push_back(c);
   for (int m : s.modes)
     for (const char* c : {"dem_reduction_dB", "dem_reduction_dB_ci95"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
   for (const char* c : {"dem_objective_dB [dB]", "dem_objective_dB_ci95 [dB]", "map"}) head.push_back(c);
@@ -44,6 +45,7 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
     for (std::size_t k = 0; k < s.modes.size(); ++k)
       for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
     for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
+    c.push_back(std::to_string(r.at_band_edge));
     c.push_back(r.pareto ? "1" : "0");
     c.push_back(std::to_string(r.dem_seeds));
     for (std::size_t k = 0; k < s.modes.size(); ++k)
@@ -103,11 +105,17 @@ void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
     std::string v;
     for (std::size_t k = 0; k < r.given.size(); ++k) v += (k ? ", " : "") + r.given[k];
     char pred[64], dem[64] = "";
-    std::snprintf(pred, sizeof pred, "%6.2f (%.2f to %.2f)%s", r.objective, r.objective_lo, r.objective_hi, r.pareto ? " P" : "");
+    std::snprintf(pred, sizeof pred, "%s%6.2f (%.2f to %.2f)%s", r.at_band_edge ? "<=" : "", r.objective, r.objective_lo, r.objective_hi,
+                  r.pareto ? " P" : "");
     if (std::isfinite(r.dem_objective)) std::snprintf(dem, sizeof dem, "%.2f +- %.2f (%d)", r.dem_objective, r.dem_objective_ci95, r.dem_seeds);
     std::printf("%4d  %-44s %9s %7.2f%%  %-26s %s\n", r.rank, v.c_str(), s.beam ? short_text(r.position).c_str() : "-", 100 * r.mass_ratio, pred, dem);
   }
   std::printf("(P: on the Pareto front of reduction against added mass)\n");
+  int edge = 0;
+  for (const DesignRow& r : rows) edge += r.status == "ranked" && r.at_band_edge > 0;
+  if (edge > 0)
+    std::printf("<=: %d ranked row%s predict a peak at the band's edge (at_band_edge in design.csv): the peak may lie beyond the band, "
+                "so the reduction is only a bound; widen excitation.span\n", edge, edge > 1 ? "s" : "");
 }
 
 }  // namespace bagdem::study

@@ -142,10 +142,15 @@ int predict_command(const PredictArgs& a) {
           }
         const double pct = reduction_percent(m.reduction_db);
         peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
-                         m.reduction_db_hi});
-        std::printf("%s, mode %zu: peak reduction %.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
-                    short_force(F).c_str(), m.mode, m.reduction_db, pct, m.reduction_db_lo, m.reduction_db_hi, m.peak, m.peak_frequency,
-                    m.bare_peak, m.bare_frequency);
+                         m.reduction_db_hi, m.at_band_edge ? 1.0 : 0.0});
+        std::printf("%s, mode %zu: %speak reduction %s%.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
+                    short_force(F).c_str(), m.mode, m.at_band_edge ? "AT THE BAND'S EDGE: " : "", m.at_band_edge ? "at most " : "",
+                    m.reduction_db, pct, m.reduction_db_lo, m.reduction_db_hi, m.peak, m.peak_frequency, m.bare_peak, m.bare_frequency);
+        if (m.at_band_edge)
+          std::fprintf(stderr,
+                       "warning: %s, mode %zu: the damped peak lies at the band's edge (%.4g Hz of %.4g-%.4g Hz): it may lie beyond the "
+                       "band, and the reduction is then only a bound; widen excitation.span\n",
+                       short_force(F).c_str(), m.mode, m.peak_frequency, m.lo, m.hi);
       }
     }
     fs::create_directories(out);
@@ -155,7 +160,8 @@ int predict_command(const PredictArgs& a) {
                     rows);
     write_table_csv(out / "predict_peaks.csv",
                     {{"force", "N"}, {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m"}, {"frequency", "Hz"}, {"peak", "m"},
-                     {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"}},
+                     {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"},
+                     {"at_band_edge", "1"}},
                     peaks);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("prediction complete: %.2f s wall -> %s/predict.csv, predict_peaks.csv\n", wall, out.string().c_str());

@@ -102,6 +102,8 @@ struct PredictedMode {
   double peak = 0, peak_frequency = 0;    // the damped peak: the largest solution over the band (unit: m, Hz)
   double reduction_db = 0;                // 20 log10(bare_peak / peak)
   double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)
+  bool at_band_edge = false;              // the damped peak is the band's first or last frequency: it may lie
+                                          // beyond the band, and the reduction is then only a bound (at most)
   std::vector<double> outside;            // frequencies the map does not cover (the prediction is then refused)
   std::string outside_why;                // the first one's reason: below, above, band
 };

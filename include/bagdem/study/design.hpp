@@ -65,6 +65,7 @@ struct DesignRow {
   std::vector<double> db, db_lo, db_hi;  // per chosen mode: the predicted reduction and its range (unit: dB)
   double bare_rms = NAN;                 // a random force: the bare structure's in-band RMS at x_a (unit: m)
   double objective = 0, objective_lo = 0, objective_hi = 0;  // the worst mode's (unit: dB)
+  int at_band_edge = 0;                  // chosen modes whose predicted peak lies at the band's edge (their reduction is a bound)
   std::string status = "ranked";         // "ranked", "over budget", or why predict refused ("outside the map: below ...")
   bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
   int rank = 0;                          // 1 = best predicted objective (0: not ranked)

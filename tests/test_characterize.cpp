@@ -155,6 +155,35 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.err.find("resum"), std::string::npos) << again.err;
   EXPECT_EQ(bagdem::testing::slurp(out / "map.csv"), before);
+
+  // The map records its damper (damper.toml), and predict refuses a case whose damper differs,
+  // naming the keys; the structure, the drive and where the damper sits are not the damper's.
+  // (predict used to print a figure for any case with any map.)
+  EXPECT_NE(bagdem::testing::slurp(out / "damper.toml").find("'particles.ball.diameter' = '0.01'"), std::string::npos)
+      << bagdem::testing::slurp(out / "damper.toml");
+  auto predict = [&](const std::vector<std::string>& sets) {
+    // Near the peak at 0.1 N the cavity's amplitude lies within the map's Gamma.
+    std::vector<std::string> p = {"predict", dir.string(), "--map", out.string(), "--out", (t.path / "p").string(), "--amplitude", "0.1 N",
+                                  "--set", "excitation.frequencies=[19.8, 20, 20.2]"};
+    for (const std::string& x : sets) p.insert(p.end(), {"--set", x});
+    return bagdem::testing::run_bagdem(p, t.path);
+  };
+  for (const auto& sets : {std::vector<std::string>{}, {"primary.damping_ratio=0.021", "excitation.amplitude=\"1 mN\""}}) {
+    const auto same = predict(sets);
+    EXPECT_EQ(same.code, 0) << same.err << same.out;
+    EXPECT_EQ(same.err.find("records no damper"), std::string::npos) << same.err;
+  }
+  struct Other {
+    std::string set, expect;
+  };
+  for (const Other& o : {Other{"particles.ball.diameter=\"8 mm\"", "particles.ball.diameter is 0.01 in the map, 0.008 in the case"},
+                         Other{"cavity.max=[\"20 mm\", \"12 mm\", \"10 mm\"]", "cavity.max is [0.02, 0.01, 0.01] in the map, [0.02, 0.012, 0.01]"},
+                         Other{"interactions.default.friction=0.5", "interactions.default.friction is 0.3 in the map, 0.5 in the case"}}) {
+    const auto r = predict({o.set});
+    EXPECT_EQ(r.code, 2) << o.set << ": " << r.err << r.out;
+    EXPECT_NE(r.err.find("characterised another damper than the case's"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(o.expect), std::string::npos) << o.expect << " not in: " << r.err;
+  }
 }
 
 TEST(Characterize, RefusesACaseWithoutABandOrADirection) {

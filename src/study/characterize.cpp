@@ -206,6 +206,7 @@ StudySpec characterize_spec(const CharacterizeArgs& a, MapGrid& grid) {
     throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
   const Scene scene = load_case(a.dir, a.sets);
   grid = map_grid(scene, a);
+  grid.damper = damper_record(scene);
   return grid_spec(a, scene, grid);
 }
 

@@ -405,9 +405,16 @@ int design_command(const DesignArgs& a) {
     // 2. The predictions.
     std::vector<DesignRow> rows;
     for (std::size_t i = 0; i < cs.size(); ++i) {
-      const Candidate& c = cs[i];
+      Candidate& c = cs[i];
       std::optional<EffectiveMap> effective;
-      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) effective = read_effective_map(fs::path(c.map) / "map.csv");
+      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) {
+        effective = read_effective_map(fs::path(c.map) / "map.csv");
+        // The map must be of this candidate's damper (a map directory reused from elsewhere).
+        const std::optional<DamperRecord> made = read_damper_record(fs::path(c.map) / "damper.toml");
+        const std::vector<std::string> diff =
+            made ? damper_differences(*made, damper_record(load_case(cand.case_dir, c.sets))) : std::vector<std::string>{"no damper.toml"};
+        if (!diff.empty()) c.status = "map of another damper (" + diff.front() + (diff.size() > 1 ? ", ..." : "") + ")";
+      }
       for (double x : positions) {
         DesignRow r;
         r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / structure_mass;

@@ -153,6 +153,7 @@ void write_map(const std::string& out_dir, const MapGrid& grid, const std::vecto
   write_csv(out / "map.csv", cells);
   write_json(out / "map.json", grid, cells, case_dir);
   write_h5(out / "map.h5", grid, cells, case_dir);
+  write_damper_record(out / "damper.toml", grid.damper);
 }
 
 }  // namespace bagdem::study

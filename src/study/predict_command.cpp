@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
@@ -15,6 +16,7 @@
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/structure/response.hpp"
 #include "bagdem/study/characterize.hpp"
+#include "bagdem/study/damper_record.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
 
@@ -39,6 +41,26 @@ fs::path map_file(const PredictArgs& a) {
   return map_csv;
 }
 
+// The map's damper must be the case's (study/damper_record.hpp): refused, naming the keys, when
+// it is not; a map that does not record its damper (not made by bagdem characterize) is said so.
+void require_same_damper(const fs::path& map_csv, const Scene& scene, const std::string& case_dir) {
+  const fs::path record = map_csv.parent_path() / "damper.toml";
+  const std::optional<DamperRecord> map = read_damper_record(record);
+  if (!map) {
+    std::fprintf(stderr, "warning: %s records no damper (no damper.toml beside it, as bagdem characterize writes): it is not checked "
+                 "against the case's\n", map_csv.string().c_str());
+    return;
+  }
+  const std::vector<std::string> diff = damper_differences(*map, damper_record(scene));
+  if (diff.empty()) return;
+  std::string list;
+  for (std::size_t k = 0; k < diff.size() && k < 8; ++k) list += (k ? "; " : "") + diff[k];
+  if (diff.size() > 8) list += "; and " + std::to_string(diff.size() - 8) + " more";
+  throw InputError("--map", "", map_csv.parent_path().string(),
+                   "characterised another damper than the case's (" + record.string() + "): " + list +
+                       ". Characterize this case's damper (bagdem characterize " + case_dir + "), or give its map");
+}
+
 // --random: the RMS response to each level, with its range over the map's interval corners;
 // OUT/predict_random.csv.
 int predict_random_command(const PredictArgs& a, const Scene& scene) {
@@ -47,6 +69,7 @@ int predict_random_command(const PredictArgs& a, const Scene& scene) {
     throw InputError("--band", "", "", "--random needs the force's band lo,hi in Hz with 0 < lo < hi");
   const fs::path map_csv = map_file(a);
   const EffectiveMap map = read_effective_map(map_csv);
+  require_same_damper(map_csv, scene, a.dir);
   std::vector<std::vector<double>> rows;
   for (const std::string& t : a.random) {
     const double F = force_of("--random", t);
@@ -111,6 +134,7 @@ int predict_command(const PredictArgs& a) {
     const Primary& P = *scene.primary;
     const fs::path map_csv = map_file(a);
     const EffectiveMap map = read_effective_map(map_csv);
+    require_same_damper(map_csv, scene, a.dir);
     std::vector<double> forces;
     for (const std::string& t : a.amplitudes) forces.push_back(force_of("--amplitude", t));
     if (forces.empty()) forces.push_back(P.amplitude);

@@ -22,6 +22,7 @@
 // run by the study machinery (study.hpp: OUT/point-NNN, resumable, J at once, MPI ranks sharing
 // the points). docs/characterize.md has the outputs' columns.
 #pragma once
+#include "bagdem/study/damper_record.hpp"
 #include <string>
 #include <vector>
 
@@ -62,6 +63,7 @@ struct MapGrid {
   std::vector<double> frequency;  // ascending (unit: Hz)
   Vec3 direction = Vec3::UnitX(); // the prescribed motion's direction (unit vector)
   double g = 9.81;                // |gravity| of the scene, 9.81 without gravity (unit: m/s^2)
+  DamperRecord damper;            // the damper characterised (study/damper_record.hpp): OUT/damper.toml
   // The displacement amplitude of cell (i, j): gamma[i] g / (2 pi frequency[j])^2 (unit: m).
   double amplitude(std::size_t i, std::size_t j) const;
 };

@@ -1,0 +1,37 @@
+// The damper a map characterises, recorded beside it (OUT/damper.toml) so that a map is never
+// applied to another damper: `bagdem predict` and `bagdem design` compare the record with the
+// case's and refuse a case whose damper differs, naming the keys.
+//
+// The record is the case's keys that make the damper, each value in SI as text ("4 mm" and 0.004
+// are the same; a plain number is SI): every key of [bag], [particles] and [cavity] but its motion,
+// the [materials] they name, [interactions], simulation.gravity, and the direction the contents are
+// shaken in (primary.direction, or the cavity's harmonic motion). A bag filled to a mass ratio of a
+// structure's mass records that mass as bag.balls.primary_mass, as the map's runs pin it. Where the
+// bag sits on the structure (primary.attach), the structure itself and the drive are not the
+// damper's: a map serves them all.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bagdem/scene.hpp"
+
+namespace bagdem::study {
+
+using DamperRecord = std::map<std::string, std::string>;  // dotted key -> its value in SI, as text
+
+DamperRecord damper_record(const Scene& scene);
+
+// damper.toml: the record as a [damper] table, written atomically.
+void write_damper_record(const std::filesystem::path& path, const DamperRecord& record);
+// The record of a damper.toml; std::nullopt when there is no such file; InputError naming the file
+// when it is not a record.
+std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path);
+
+// Each key whose value differs between a map's record and a case's (or that only one has), as
+// "KEY is A in the map, B in the case"; empty when the dampers are the same.
+std::vector<std::string> damper_differences(const DamperRecord& map, const DamperRecord& case_record);
+
+}  // namespace bagdem::study

@@ -1,0 +1,121 @@
+// The damper a map characterises (study/damper_record.hpp).
+#include "bagdem/study/damper_record.hpp"
+
+#include <toml++/toml.h>
+
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
+#include "bagdem/reduce/reduce.hpp"
+#include "bagdem/units.hpp"
+
+namespace bagdem::study {
+namespace {
+
+std::string number(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.12g", x);
+  return b;
+}
+
+// A value in SI as text: numbers to 12 digits, a string with a unit converted ("4 mm" -> 0.004),
+// arrays element by element.
+std::string si_text(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return number(static_cast<double>(i->get()));
+  if (const auto* d = n.as_floating_point()) return number(d->get());
+  if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+  if (const auto* s = n.as_string()) {
+    const auto q = parse_any_quantity(s->get());
+    return q ? number(q->si) : s->get();
+  }
+  if (const auto* a = n.as_array()) {
+    std::string t = "[";
+    for (std::size_t k = 0; k < a->size(); ++k) t += (k ? ", " : "") + si_text(*a->get(k));
+    return t + "]";
+  }
+  return "(a date or time)";  // no damper key takes one
+}
+
+// Every leaf under `n` as "prefix.key" (arrays of tables by index: bag.strings.0.stiffness).
+void flatten(const toml::node& n, const std::string& prefix, const std::set<std::string>& skip, DamperRecord& out) {
+  if (skip.count(prefix)) return;
+  if (const auto* t = n.as_table()) {
+    for (const auto& [k, v] : *t) flatten(v, prefix + "." + std::string(k.str()), skip, out);
+    return;
+  }
+  if (const auto* a = n.as_array(); a && !a->empty() && a->get(0)->is_table()) {
+    for (std::size_t k = 0; k < a->size(); ++k) flatten(*a->get(k), prefix + "." + std::to_string(k), skip, out);
+    return;
+  }
+  out[prefix] = si_text(n);
+}
+
+}  // namespace
+
+DamperRecord damper_record(const Scene& scene) {
+  const toml::table root = toml::parse(scene.resolved);
+  DamperRecord r;
+  for (const char* table : {"bag", "particles", "cavity", "interactions"})
+    if (const toml::node* n = root.get(table)) flatten(*n, table, {"cavity.motion"}, r);
+  // The materials the contents and the cavity name.
+  std::set<std::string> used;
+  for (const auto& [key, value] : r)
+    if (key.size() >= 9 && key.compare(key.size() - 9, 9, ".material") == 0) used.insert(value);
+  if (const toml::table* m = root["materials"].as_table())
+    for (const std::string& name : used)
+      if (const toml::node* n = m->get(name)) flatten(*n, "materials." + name, {}, r);
+  const Vec3 g = scene.gravity, e = excitation_direction(scene), d = e.norm() > 0 ? Vec3(e.normalized()) : e;
+  r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
+  r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";
+  // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
+  if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
+    r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);
+  return r;
+}
+
+void write_damper_record(const std::filesystem::path& path, const DamperRecord& record) {
+  toml::table damper;
+  for (const auto& [k, v] : record) damper.insert(k, v);
+  std::ostringstream s;
+  s << "# The damper this map characterised (bagdem characterize): the case's keys that make it, each in SI.\n"
+       "# bagdem predict and design refuse a case whose damper differs (docs/characterize.md).\n"
+    << toml::table{{"damper", damper}} << "\n";
+  write_atomically(path, s.str());
+}
+
+std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  toml::table t;
+  try {
+    t = toml::parse_file(path.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(path.string(), "", "", std::string("is not a damper record: ") + std::string(e.description()));
+  }
+  const toml::table* d = t["damper"].as_table();
+  if (!d) throw InputError(path.string(), "damper", "", "is missing: not a damper record of bagdem characterize");
+  DamperRecord r;
+  for (const auto& [k, v] : *d) {
+    const auto s = v.value<std::string>();
+    if (!s) throw InputError(path.string(), "damper." + std::string(k.str()), "", "must be a string (the value in SI, as text)");
+    r[std::string(k.str())] = *s;
+  }
+  return r;
+}
+
+std::vector<std::string> damper_differences(const DamperRecord& map, const DamperRecord& case_record) {
+  std::vector<std::string> out;
+  std::set<std::string> keys;
+  for (const auto& [k, v] : map) keys.insert(k);
+  for (const auto& [k, v] : case_record) keys.insert(k);
+  for (const std::string& k : keys) {
+    const auto a = map.find(k), b = case_record.find(k);
+    const std::string x = a == map.end() ? "(not set)" : a->second, y = b == case_record.end() ? "(not set)" : b->second;
+    if (x != y) out.push_back(k + " is " + x + " in the map, " + y + " in the case");
+  }
+  return out;
+}
+
+}  // namespace bagdem::study

@@ -257,3 +257,56 @@ TEST(Predict, APeakAtTheBandsEdgeIsMarked) {
     EXPECT_EQ(r.err.find("widen excitation.span") != std::string::npos, edge == 1) << r.err;
   }
 }
+
+// The resolution check (reduce/predict.hpp): the interpolation's bounds |f''| h^2 / 8 per node,
+// exact for a quadratic; NaN where an axis (a band) has fewer than 3 lines.
+TEST(Predict, TheInterpolationBoundIsThatOfAQuadratic) {
+  // C = ln(Gamma)^2 on lines 1 apart in ln Gamma: f'' = 2, h = 1, bound 1/4 at every node; along f
+  // (two bands of 3 lines 10 Hz apart) M = f^2: f'' = 2, h = 10, bound 25.
+  std::vector<double> gamma;
+  for (int k = 0; k < 5; ++k) gamma.push_back(std::exp(double(k)));
+  const EffectiveMap map = make_map(gamma, {80, 90, 100, 400, 410, 420}, [](double, double f) { return f * f; },
+                                    [](double G, double) { return std::pow(std::log(G), 2); });
+  const EffectiveMap b = map.interpolation_bounds();
+  for (std::size_t k = 0; k < b.C_eff_ci95.size(); ++k) {
+    EXPECT_NEAR(b.C_eff_ci95[k], 0.25, 1e-9) << k;
+    EXPECT_NEAR(b.M_eff_ci95[k], 25, 1e-6) << k;
+  }
+  const auto one = [](double, double) { return 1.0; };
+  const EffectiveMap two = make_map({0.1, 10}, {80, 90, 100, 450, 510}, one, one).interpolation_bounds();
+  for (double x : two.C_eff_ci95) EXPECT_TRUE(std::isnan(x)) << "2 amplitudes, 2 frequencies in the upper band: no curvature to see";
+}
+
+// A map whose damping has a bump in log Gamma across the peak's amplitude: the estimated
+// interpolation error bounds the map's actual error (its difference from a map 16 times finer) and
+// falls as the map is refined; a map of a constant figure estimates 0.
+TEST(Predict, TheEstimatedInterpolationErrorBoundsTheMapsActualOne) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  auto damping = [](double G, double) { return 2 + 6 * std::exp(-0.5 * std::pow(std::log(G), 2)); };
+  auto grid = [](int n) {
+    std::vector<double> G;
+    for (int k = 0; k < n; ++k) G.push_back(1e-2 * std::pow(1e4, double(k) / (n - 1)));
+    return G;
+  };
+  auto mass = [](double, double) { return 0.05; };
+  auto reduction = [&](int n) { return predict_modes(*s.primary, make_map(grid(n), {15, 20, 25}, mass, damping), 0.5, {18, 20, 22}).at(0); };
+  const double truth = reduction(129).reduction_db;
+  double last = INFINITY;
+  for (int n : {5, 9, 17, 33}) {
+    const PredictedMode m = reduction(n);
+    const double actual = std::abs(m.reduction_db - truth);
+    std::printf("  %3d amplitudes: %.4f dB (129: %.4f), actual error %.4f dB, estimated %.4f dB\n", n, m.reduction_db, truth, actual,
+                m.interpolation_db);
+    EXPECT_GE(m.interpolation_db, actual) << n;
+    EXPECT_LT(m.interpolation_db, last) << "a finer map, a smaller estimate";
+    last = m.interpolation_db;
+  }
+  EXPECT_LT(last, 0.05);
+  EXPECT_EQ(predict_modes(*s.primary, make_map(grid(5), {15, 20, 25}, mass, [](double, double) { return 3.0; }), 0.5, {18, 20, 22})
+                .at(0)
+                .interpolation_db,
+            0);
+  // 2 amplitudes: nothing to estimate the curvature from.
+  EXPECT_TRUE(std::isnan(predict_modes(*s.primary, make_map(grid(2), {15, 20, 25}, mass, damping), 0.5, {18, 20, 22}).at(0).interpolation_db));
+}

@@ -50,6 +50,68 @@ bool EffectiveMap::covers(double f) const {
   return f >= frequency.front() - tol && f <= frequency.back() + tol;
 }
 
+namespace {
+
+// |f''| h^2 / 8 at every line of an axis for one cell row (values v at coordinates x), the largest
+// of the line's and its neighbours' (a point between two lines is read from both); the lines
+// parted into bands by gaps over 3 times the median spacing when `bands`; NaN in a band of fewer
+// than 3 lines or next to a NaN value.
+std::vector<double> curvature_bounds(const std::vector<double>& x, const std::vector<double>& v, bool bands) {
+  const std::size_t n = x.size();
+  std::vector<double> out(n, NAN), gaps;
+  for (std::size_t k = 1; k < n; ++k) gaps.push_back(x[k] - x[k - 1]);
+  double median = INFINITY;
+  if (bands && !gaps.empty()) {
+    std::vector<double> s = gaps;
+    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+    median = s[s.size() / 2];
+  }
+  for (std::size_t first = 0; first < n;) {
+    std::size_t last = first;  // the band [first, last]
+    while (last + 1 < n && !(gaps[last] > 3 * median)) ++last;
+    if (last - first >= 2)
+      for (std::size_t k = first; k <= last; ++k) {
+        const std::size_t c = std::clamp(k, first + 1, last - 1);  // an end takes its inner neighbour's f''
+        const double h0 = x[c] - x[c - 1], h1 = x[c + 1] - x[c];
+        const double f2 = 2 * ((v[c + 1] - v[c]) / h1 - (v[c] - v[c - 1]) / h0) / (h0 + h1);
+        const double h = std::max(k > first ? x[k] - x[k - 1] : 0.0, k < last ? x[k + 1] - x[k] : 0.0);
+        out[k] = std::abs(f2) * h * h / 8;
+      }
+    first = last + 1;
+  }
+  // A point between two lines is read from both: each line takes the larger bound of its cells'.
+  std::vector<double> widest = out;
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t j : {k - 1, k + 1})
+      if (j < n && !(k > 0 && j == k - 1 && bands && gaps[j] > 3 * median) && !(j == k + 1 && bands && gaps[k] > 3 * median))
+        widest[k] = std::max(widest[k], out[j]);  // NaN stays NaN (std::max keeps its first argument)
+  return widest;
+}
+
+}  // namespace
+
+EffectiveMap EffectiveMap::interpolation_bounds() const {
+  EffectiveMap b = *this;
+  const std::size_t na = gamma.size(), nf = frequency.size();
+  std::vector<double> log_gamma;
+  for (double G : gamma) log_gamma.push_back(std::log(G));
+  for (auto [value, bound] : {std::pair{&M_eff, &b.M_eff_ci95}, {&C_eff, &b.C_eff_ci95}}) {
+    bound->assign(na * nf, 0.0);
+    for (std::size_t j = 0; j < nf; ++j) {  // along Gamma, a column at a time
+      std::vector<double> v;
+      for (std::size_t i = 0; i < na; ++i) v.push_back((*value)[i * nf + j]);
+      const std::vector<double> e = curvature_bounds(log_gamma, v, false);
+      for (std::size_t i = 0; i < na; ++i) (*bound)[i * nf + j] += e[i];
+    }
+    for (std::size_t i = 0; i < na; ++i) {  // along f, a row at a time
+      const std::vector<double> v(value->begin() + static_cast<long>(i * nf), value->begin() + static_cast<long>((i + 1) * nf));
+      const std::vector<double> e = curvature_bounds(frequency, v, true);
+      for (std::size_t j = 0; j < nf; ++j) (*bound)[i * nf + j] += e[j];
+    }
+  }
+  return b;
+}
+
 std::pair<double, double> EffectiveMap::amplitude_range(double f) const {
   const double w = 2 * std::numbers::pi * f;
   return {gamma.front() * g / (w * w), gamma.back() * g / (w * w)};
@@ -146,7 +208,7 @@ FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double
 }
 
 std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& map, double F, const std::vector<double>& frequencies,
-                                         int points) {
+                                         int points, Checks checks) {
   std::vector<PredictedMode> out;
   if (frequencies.empty()) return out;
   const auto [f_lo, f_hi] = std::minmax_element(frequencies.begin(), frequencies.end());
@@ -166,7 +228,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
     const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
     for (int k = 0; k < points; ++k) {
       const double f = points > 1 ? m.lo + (m.hi - m.lo) * k / (points - 1) : m.lo;
-      for (int c = 0; c < 5; ++c) {
+      for (int c = 0; c < (checks == Checks::none ? 1 : 5); ++c) {
         FrequencyPrediction fp = predict_at(p, map, F, f, signs[c][0], signs[c][1]);
         if (!fp.outside.empty()) {
           if (c == 0) {
@@ -178,7 +240,10 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
         for (const HarmonicSolution& h : fp.solutions)
           if (h.response > corner_peak[c]) {
             corner_peak[c] = h.response;
-            if (c == 0) m.peak_frequency = f, peak_k = k;
+            if (c == 0) {
+              m.peak_frequency = f, peak_k = k;
+              m.peak_cavity_gamma = h.cavity_amplitude * std::pow(2 * std::numbers::pi * f, 2) / map.g;
+            }
           }
         if (c == 0) {
           m.points.push_back(std::move(fp));
@@ -194,10 +259,17 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
     for (int c = 1; c < 5; ++c) {
       const double r = db(corner_peak[c]);
       if (!std::isfinite(r)) continue;
+      ++m.corners;
       m.reduction_db_lo = std::min(m.reduction_db_lo, r), m.reduction_db_hi = std::max(m.reduction_db_hi, r);
     }
     out.push_back(std::move(m));
   }
+  if (checks != Checks::all) return out;
+  // The resolution check: the interpolation's bounds to the four corners, as the interval's.
+  for (const PredictedMode& b : predict_modes(p, map.interpolation_bounds(), F, frequencies, points, Checks::interval))
+    for (PredictedMode& m : out)
+      if (m.mode == b.mode && b.outside.empty() && b.corners == 4)
+        m.interpolation_db = std::max(m.reduction_db - b.reduction_db_lo, b.reduction_db_hi - m.reduction_db);
   return out;
 }
 

@@ -193,6 +193,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
     set_objective(r);
     return;
   }
+  r.interpolation_db = 0;
   for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies)) {
     const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
     if (k == modes.end()) continue;
@@ -203,6 +204,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
     }
     r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
     r.at_band_edge += m.at_band_edge ? 1 : 0;
+    r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);  // NaN stays NaN
   }
   for (std::size_t i = 0; i < modes.size(); ++i)
     if (!std::isfinite(r.db[i])) {

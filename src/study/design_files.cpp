@@ -9,6 +9,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "bagdem/reduce/predict.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
@@ -30,7 +31,8 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   for (const char* c : {"position_xL [1]", "attach [m]", "added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
   for (int m : s.modes)
     for (const char* c : {"reduction_dB", "reduction_dB_lo", "reduction_dB_hi"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
-  for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "at_band_edge [1]", "pareto [1]", "dem_seeds [1]"})
+  for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "at_band_edge [1]", "interpolation_dB [dB]",
+                        "pareto [1]", "dem_seeds [1]"})
     head.push_back(c);
   for (int m : s.modes)
     for (const char* c : {"dem_reduction_dB", "dem_reduction_dB_ci95"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
@@ -46,6 +48,7 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
       for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
     for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
     c.push_back(std::to_string(r.at_band_edge));
+    c.push_back(cell(r.interpolation_db));
     c.push_back(r.pareto ? "1" : "0");
     c.push_back(std::to_string(r.dem_seeds));
     for (std::size_t k = 0; k < s.modes.size(); ++k)
@@ -116,6 +119,17 @@ void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   if (edge > 0)
     std::printf("<=: %d ranked row%s predict a peak at the band's edge (at_band_edge in design.csv): the peak may lie beyond the band, "
                 "so the reduction is only a bound; widen excitation.span\n", edge, edge > 1 ? "s" : "");
+  int coarse = 0, unchecked = 0;
+  for (const DesignRow& r : rows) {
+    if (r.status != "ranked") continue;
+    if (std::isnan(r.interpolation_db)) ++unchecked;
+    else if (r.interpolation_db > kInterpolationWarning) ++coarse;
+  }
+  if (coarse + unchecked > 0)
+    std::printf("warning: the maps are too coarse for %d ranked row%s (an estimated interpolation error above %.1f dB) and too coarse to "
+                "check for %d (interpolation_dB in design.csv, empty): those predictions may be off by more than their ranges; "
+                "a finer map (--amplitudes, --frequencies) or the coupled check (--verify) tells\n",
+                coarse, coarse == 1 ? "" : "s", kInterpolationWarning, unchecked);
 }
 
 }  // namespace bagdem::study

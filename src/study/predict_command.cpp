@@ -61,6 +61,26 @@ void require_same_damper(const fs::path& map_csv, const Scene& scene, const std:
                        ". Characterize this case's damper (bagdem characterize " + case_dir + "), or give its map");
 }
 
+// The resolution check of a mode's prediction (reduce/predict.hpp): printed, and a warning when the
+// map is too coarse for the answer or too coarse to check it.
+void report_resolution(const PredictedMode& m, double F) {
+  const std::string where = short_force(F) + ", mode " + std::to_string(m.mode) + ": ";
+  if (!std::isfinite(m.interpolation_db)) {
+    std::printf("  interpolation error: not checked (the map is too coarse to estimate it)\n");
+    std::fprintf(stderr,
+                 "warning: %sthe map is too coarse to check its own interpolation at this answer (3 amplitudes and 3 frequencies a "
+                 "band at least, with figures around the answer): the figure may be off by more than its interval; characterize with "
+                 "more --amplitudes and --frequencies\n", where.c_str());
+    return;
+  }
+  std::printf("  interpolation error: up to %.2f dB (the map's curvature between its lines)\n", m.interpolation_db);
+  if (m.interpolation_db > kInterpolationWarning)
+    std::fprintf(stderr,
+                 "warning: %sthe map is too coarse for this answer: interpolating between its lines may move the reduction by up to "
+                 "%.2f dB (above %.1f dB); characterize with more --amplitudes and --frequencies around Gamma %.3g, %.4g Hz\n",
+                 where.c_str(), m.interpolation_db, kInterpolationWarning, m.peak_cavity_gamma, m.peak_frequency);
+}
+
 // --random: the RMS response to each level, with its range over the map's interval corners;
 // OUT/predict_random.csv.
 int predict_random_command(const PredictArgs& a, const Scene& scene) {
@@ -166,10 +186,11 @@ int predict_command(const PredictArgs& a) {
           }
         const double pct = reduction_percent(m.reduction_db);
         peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
-                         m.reduction_db_hi, m.at_band_edge ? 1.0 : 0.0});
+                         m.reduction_db_hi, m.at_band_edge ? 1.0 : 0.0, m.interpolation_db});
         std::printf("%s, mode %zu: %speak reduction %s%.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
                     short_force(F).c_str(), m.mode, m.at_band_edge ? "AT THE BAND'S EDGE: " : "", m.at_band_edge ? "at most " : "",
                     m.reduction_db, pct, m.reduction_db_lo, m.reduction_db_hi, m.peak, m.peak_frequency, m.bare_peak, m.bare_frequency);
+        report_resolution(m, F);
         if (m.at_band_edge)
           std::fprintf(stderr,
                        "warning: %s, mode %zu: the damped peak lies at the band's edge (%.4g Hz of %.4g-%.4g Hz): it may lie beyond the "
@@ -185,7 +206,7 @@ int predict_command(const PredictArgs& a) {
     write_table_csv(out / "predict_peaks.csv",
                     {{"force", "N"}, {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m"}, {"frequency", "Hz"}, {"peak", "m"},
                      {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"},
-                     {"at_band_edge", "1"}},
+                     {"at_band_edge", "1"}, {"interpolation_dB", "dB"}},
                     peaks);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("prediction complete: %.2f s wall -> %s/predict.csv, predict_peaks.csv\n", wall, out.string().c_str());

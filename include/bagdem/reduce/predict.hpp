@@ -13,7 +13,14 @@
 // Intervals: the map's 95% half-widths shift M_eff and C_eff together to the four corners
 // (M_eff +- ci, C_eff +- ci); each corner is predicted again and the spread of the peak reduction
 // over the corners and the mean is its interval.
+// Resolution: linear interpolation between grid lines h apart errs by up to |f''| h^2 / 8 for a
+// smooth f; f'' is estimated at each node from its neighbours (second divided differences in
+// log Gamma, and in f within each band). M_eff and C_eff shifted by those bounds to the four corners
+// are predicted again like the interval's, and the largest change of the peak reduction is the
+// map's interpolation error at that answer. A map with 2 lines along an axis (2 frequencies a band)
+// has no curvature to estimate and cannot check its own interpolation: it is said so.
 #pragma once
+#include <cmath>
 #include <complex>
 #include <filesystem>
 #include <optional>
@@ -41,6 +48,11 @@ struct EffectiveMap {
   bool covers(double f) const;
   // The amplitude range of the grid at frequency f: Gamma's ends as X (unit: m).
   std::pair<double, double> amplitude_range(double f) const;
+  // The same map with M_eff_ci95 and C_eff_ci95 replaced by the bound of the interpolation's error
+  // at each node, |f''| h^2 / 8 summed over the two axes (h the larger spacing beside the node; an
+  // end node takes its inner neighbour's f''; the frequencies' bands, parted by gaps over 3 times
+  // the median spacing, each on their own); NaN where an axis (a band) has fewer than 3 lines.
+  EffectiveMap interpolation_bounds() const;
 };
 
 // Reads map.csv (the columns of docs/characterize.md). Throws InputError naming the file and what
@@ -100,17 +112,28 @@ struct PredictedMode {
   std::vector<double> bare;               // |H_bare| F at x_a at the same frequencies (unit: m)
   double bare_peak = 0, bare_frequency = 0;  // the bare structure's peak, as a sweep finds it (bare_peak) (unit: m, Hz)
   double peak = 0, peak_frequency = 0;    // the damped peak: the largest solution over the band (unit: m, Hz)
+  double peak_cavity_gamma = 0;           // the cavity's Gamma = X w^2 / g there: where the map is read (unit: 1)
   double reduction_db = 0;                // 20 log10(bare_peak / peak)
   double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)
+  int corners = 0;                        // of the four corners, those inside the map (the range is over them)
   bool at_band_edge = false;              // the damped peak is the band's first or last frequency: it may lie
                                           // beyond the band, and the reduction is then only a bound (at most)
+  // The resolution check: the largest change of reduction_db over the interpolation bounds' four
+  // corners (NaN: the map has too few lines to estimate them, or a corner leaves the map) (unit: dB).
+  double interpolation_db = NAN;
   std::vector<double> outside;            // frequencies the map does not cover (the prediction is then refused)
   std::string outside_why;                // the first one's reason: below, above, band
 };
 
 // The case's evaluated modes (Primary::evaluated_modes over `frequencies`, each band the span of
 // the frequencies nearest its mode), `points` evenly spaced frequencies per band.
+// An estimated interpolation error above this is "a map too coarse for the answer" (unit: dB): a
+// third of the 1.5 dB within which predictions met coupled DEM (docs/characterize.md).
+inline constexpr double kInterpolationWarning = 0.5;
+
+// What predict_modes works out besides the means: the interval over the corners, and the resolution check.
+enum class Checks { none, interval, all };
 std::vector<PredictedMode> predict_modes(const Primary& primary, const EffectiveMap& map, double force,
-                                         const std::vector<double>& frequencies, int points = 400);
+                                         const std::vector<double>& frequencies, int points = 400, Checks checks = Checks::all);
 
 }  // namespace bagdem

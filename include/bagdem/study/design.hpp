@@ -66,6 +66,8 @@ struct DesignRow {
   double bare_rms = NAN;                 // a random force: the bare structure's in-band RMS at x_a (unit: m)
   double objective = 0, objective_lo = 0, objective_hi = 0;  // the worst mode's (unit: dB)
   int at_band_edge = 0;                  // chosen modes whose predicted peak lies at the band's edge (their reduction is a bound)
+  double interpolation_db = NAN;         // the largest estimated interpolation error of the chosen modes' predictions
+                                         // (reduce/predict.hpp; NaN: the map is too coarse to check, or a random force) (unit: dB)
   std::string status = "ranked";         // "ranked", "over budget", or why predict refused ("outside the map: below ...")
   bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
   int rank = 0;                          // 1 = best predicted objective (0: not ranked)

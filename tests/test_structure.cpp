@@ -97,6 +97,19 @@ TEST(PrimaryCase, SdofKeysAreResolvedAndBadOnesRefused) {
                 .find("excitation"),
             std::string::npos);
   EXPECT_FALSE(load(d, case_text("[excitation]\nkind = \"none\"\n" + std::string(kLoneBall))).primary);
+
+  // An SDOF moving along x needs no primary.axis (it has none: it takes one normal to its
+  // direction); a beam along the default axis x cannot move along x, and says to give the axis.
+  // (The SDOF used to fail with "primary.axis must be normal to primary.direction".)
+  const Scene along_x = load(d, case_text(primary + "direction = [1, 0, 0]\n" + drive + kLoneBall));
+  EXPECT_EQ(along_x.primary->direction, Vec3(1, 0, 0));
+  EXPECT_NEAR(along_x.primary->axis.dot(along_x.primary->direction), 0, 1e-15);
+  EXPECT_EQ(along_x.primary->dof_names, std::vector<std::string>{"mode 1"}) << "its peak is reported as a beam's mode 1";
+  std::string beam_x = beam;
+  beam_x.insert(beam_x.find("length ="), "direction = [1, 0, 0]\n");
+  const std::string beam_along_x = input_error(d, case_text(beam_x + kLoneBall));
+  EXPECT_NE(beam_along_x.find("primary.axis"), std::string::npos) << beam_along_x;
+  EXPECT_NE(beam_along_x.find("give primary.axis, the direction along the beam"), std::string::npos) << beam_along_x;
 }
 
 // An SDOF without contents: the simulated receptance is the analytic one.

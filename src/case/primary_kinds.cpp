@@ -408,6 +408,16 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
 
 }  // namespace
 
+namespace {
+// A unit vector normal to d: the coordinate axis least along d, its part along d taken out.
+Vec3 any_normal(const Vec3& d) {
+  int k = 0;
+  d.cwiseAbs().minCoeff(&k);
+  const Vec3 u = d.normalized(), e = Vec3::Unit(k);
+  return (e - e.dot(u) * u).normalized();
+}
+}  // namespace
+
 void resolve_primary(const CaseReader& in, Scene& s) {
   std::vector<std::string> names = {"prescribed"};
   for (const auto& k : kPrimaryKinds) names.emplace_back(k.name);
@@ -421,10 +431,15 @@ void resolve_primary(const CaseReader& in, Scene& s) {
   if (in.string("cavity.motion.kind", "fixed") != "fixed")
     in.fail("cavity.motion.kind", "must be \"fixed\" (or absent) with a primary structure: the structure moves the cavity");
   const Vec3 dir = in.vector("primary.direction", dim::none, Vec3::UnitY());
-  const Vec3 axis = in.vector("primary.axis", dim::none, Vec3::UnitX());
   if (dir.norm() == 0) in.fail("primary.direction", "must not be the zero vector");
+  // An SDOF has no axis of its own: without primary.axis it takes one normal to its direction
+  // (the coordinate axis least along it, made normal).
+  const Vec3 axis = in.vector("primary.axis", dim::none, kind == "sdof" ? any_normal(dir) : Vec3::UnitX());
   if (axis.norm() == 0) in.fail("primary.axis", "must not be the zero vector");
-  if (std::abs(dir.normalized().dot(axis.normalized())) > 1e-9) in.fail("primary.axis", "must be normal to primary.direction");
+  if (std::abs(dir.normalized().dot(axis.normalized())) > 1e-9)
+    in.fail("primary.axis", in.has("primary.axis") ? "must be normal to primary.direction"
+                                                    : "the beam's axis (default [1, 0, 0]) must be normal to primary.direction: give "
+                                                      "primary.axis, the direction along the beam");
   Primary p;
   for (const auto& k : kPrimaryKinds)
     if (kind == k.name) p = k.make(in, s, axis.normalized());

@@ -401,7 +401,10 @@ std::string describe_restitution(const std::vector<ReducedRow>& rows) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double e : {r.e_impact, r.e_eq19a, r.e_drop})
       if (std::isfinite(e)) lo = std::min(lo, e), hi = std::max(hi, e);
-    o << "restitution at " << r.frequency << " Hz: e = " << r.e << " +- " << r.e_ci95 << " (" << r.e_method << "); per impact "
+    o << "restitution at " << r.frequency << " Hz: ";
+    if (r.e_method == "none") o << "none (no estimator gave one: e is left empty)";
+    else o << "e = " << r.e << " +- " << r.e_ci95 << " (" << r.e_method << ")";
+    o << "; per impact "
       << r.e_impact << " (sd " << r.e_impact_sd << ", " << r.e_impact_count << " impacts between free flights), Eq. (19a) "
       << r.e_eq19a << ", drop test " << (std::isfinite(r.e_drop) ? std::to_string(r.e_drop) : std::string("not run"));
     if (hi > lo) o << "; they span " << hi - lo;
@@ -422,6 +425,15 @@ void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_di
   write_reduced_csv(fs::path(out_dir) / "reduced.csv", rows);
 }
 
+namespace {
+// A figure as the table's other cells print (4 significant digits).
+std::string number_text(double x) {
+  std::ostringstream o;
+  o << std::setprecision(4) << x;
+  return o.str();
+}
+}  // namespace
+
 std::string describe_reduced(const std::vector<ReducedRow>& rows) {
   std::ostringstream o;
   o << std::setprecision(4);
@@ -434,7 +446,8 @@ std::string describe_reduced(const std::vector<ReducedRow>& rows) {
       << r.gamma << " " << std::setw(7) << r.clearance_ratio << " " << std::setw(8) << r.M_eff_ratio << " (" << std::setw(7)
       << r.M_eff_ci95 / r.bag_mass << ") " << std::setw(8) << r.Cb_over_Mbw << " (" << std::setw(7) << r.Cb_over_Mbw_ci95 << ") "
       << std::setw(8) << r.loss_factor << " " << std::setw(12) << r.energy_per_cycle << " " << std::setw(10) << r.impact_phase << " "
-      << std::setw(6) << r.e << " (" << std::setw(7) << r.e_ci95 << ") " << std::setw(7) << r.e_method << " " << std::setw(11)
+      << std::setw(6) << (r.e_method == "none" ? std::string("-") : number_text(r.e)) << " (" << std::setw(7)
+      << (r.e_method == "none" ? std::string("-") : number_text(r.e_ci95)) << ") " << std::setw(7) << r.e_method << " " << std::setw(11)
       << r.peak_impact_force << " " << std::setw(10) << r.impact_duration << "\n";
   }
   return o.str();

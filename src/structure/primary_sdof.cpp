@@ -18,7 +18,7 @@ Primary make_sdof_primary(double M, double K, double C, double cavity_mass) {
   p.slope_at_cavity = Eigen::VectorXd::Zero(1);
   p.cavity_mass = cavity_mass;
   p.structure_mass = M;
-  p.dof_names = {"mass"};
+  p.dof_names = {"mode 1"};  // its one mode, named as a beam's are
   const double wn = std::sqrt(K / M);
   p.natural_frequency = {wn / (2 * std::numbers::pi)};
   p.damping_ratio = {C / (2 * std::sqrt(K * M))};

@@ -69,7 +69,7 @@ struct Primary {
   Eigen::VectorXd slope_at_cavity;   // phi'(x_b) (unit: 1/(m sqrt(kg)); zero for sdof)
   double half_extent = 0;            // half the cavity's length along the axis (unit: m)
   Eigen::MatrixXd load_fit;          // n x 3: Q = load_fit * (m0, m1, m2) (see above)
-  std::vector<std::string> dof_names;  // "mass", "rigid translation", "mode 1", ...
+  std::vector<std::string> dof_names;  // "rigid translation", "mode 1", ... (an SDOF: "mode 1")
   std::vector<double> natural_frequency;  // per DOF of the bare structure without cavity mass (unit: Hz)
   std::vector<double> damping_ratio;      // per DOF
   std::vector<bool> rigid_body;           // per DOF: a rigid-body mode of a free-free beam (on its suspension)

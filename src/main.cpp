@@ -232,6 +232,7 @@ int sweep_case(const Args& a, const Scene& s, const RunOptions& o) {
   if (const int code = unfinished(r.complete, r.signal, r.message)) return code;
   std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
   for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
+  for (const std::string& why : missing_peaks(*s.primary, r.points)) std::printf("%s\n", why.c_str());
   std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
   std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
   return 0;
@@ -367,6 +368,20 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // A first word that names no subcommand: said so, with the subcommands (CLI11 would say "A
+    // subcommand is required").
+    if (argc > 1 && argv[1][0] != '-') {
+      std::string names;
+      bool known = false;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+        known = known || sub->get_name() == argv[1];
+      }
+      if (!known) {
+        std::cerr << "unknown subcommand '" << argv[1] << "': the subcommands are " << names << " (bagdem --help)\n";
+        return kExitInputError;
+      }
+    }
     // CLI11 prints its message (or the help and version, which succeed); a command-line error is
     // bad input like any other: exit code 2, not CLI11's own codes.
     return app.exit(e) == 0 ? 0 : kExitInputError;

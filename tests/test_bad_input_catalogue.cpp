@@ -294,6 +294,7 @@ TEST(BadInputCatalogue, CommandLines) {
       {{"sweep", c, "--jobs", "0"}, {"--jobs", "0", "not in range 1 to 4096"}},
       {{"trade", c, "--threads", "-1"}, {"--threads", "-1", "not in range 1 to 4096"}},
       {{}, {"A subcommand is required"}},
+      {{"simulate", c}, {"unknown subcommand 'simulate'", "the subcommands are check, run", "design"}},  // was "A subcommand is required"
   };
   for (const Entry& e : entries) {
     std::string line = "bagdem";

@@ -116,6 +116,8 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
   ASSERT_EQ(r.code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("map: 2 amplitudes x 2 frequencies"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("characterize: 8 done"), std::string::npos) << "the progress names the command (it said sweep:)\n" << r.err;
+  EXPECT_EQ(r.err.find("sweep:"), std::string::npos) << r.err;
 
   const TextTable m = read_text_table(out / "map.csv");
   ASSERT_EQ(m.rows.size(), 4u);

@@ -256,6 +256,15 @@ TEST(Predict, APeakAtTheBandsEdgeIsMarked) {
     EXPECT_EQ(r.out.find("AT THE BAND'S EDGE") != std::string::npos, edge == 1) << r.out;
     EXPECT_EQ(r.err.find("widen excitation.span") != std::string::npos, edge == 1) << r.err;
   }
+  // A force as --vary and calibrate's --bounds take it: quoted as TOML or bare (the quoted form used
+  // to be refused).
+  for (const char* force : {"\"0.5 N\"", "0.5 N", "0.5"}) {
+    const auto r = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", force, "--out",
+                                                (t.path / "q").string()},
+                                               t.path);
+    EXPECT_EQ(r.code, 0) << force << ": " << r.err;
+    EXPECT_EQ(r.out.rfind("0.5 N, mode 1:", 0), 0u) << r.out;
+  }
 }
 
 // The resolution check (reduce/predict.hpp): the interpolation's bounds |f''| h^2 / 8 per node,

@@ -232,6 +232,29 @@ TEST(SweepPeak, MarkedAtTheBandEdgeAndReducedWithIntervals) {
   }
 }
 
+// A sweep without a peak says why, on stdout and in summary.json's peaks_missing (it used to end
+// with "peaks": [], exit 0 and no word): a band that holds no mode, and a mode whose every point is
+// unsteady (here: each point 11 cycles from rest, a chain each, against a tolerance no decaying
+// transient meets).
+TEST(SweepPeak, NoPeakSaysWhy) {
+  struct Case {
+    CaseText::Keys sweep;
+    std::string expect;
+  };
+  for (const Case& c : {Case{{{"frequencies", "[40, 42]"}}, "holds no natural frequency of the structure"},
+                        Case{{{"frequencies", "[29, 30]"}, {"start", "\"rest\""}, {"chains", 2}, {"steady_tolerance", "1e-15"}, {"max_cycles", 11}},
+                             "no peak reduction for mode 1: every one of its 2 points was unsteady"}}) {
+    TempDir d;
+    d.write("case.toml", glued_ball_sweep(c.sweep));
+    const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--quiet"}, d.path);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << r.out;
+    const std::string summary = bagdem::testing::slurp(d.path / "out" / "summary.json");
+    EXPECT_NE(summary.find("\"peaks\": []"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"peaks_missing\": [\"no peak reduction"), std::string::npos) << summary;
+  }
+}
+
 // Progress in a log: stderr is a file here, so no carriage returns; a sweep writes one line per
 // point ("[k/n] f Hz: ..."), a run one line per tenth.
 TEST(Logs, OneLinePerPointWhenStderrIsNotATerminal) {

@@ -350,6 +350,24 @@ void CaseReader::reject_unknown_keys() const {
   walk(root_, "");
 }
 
+std::vector<std::pair<std::string, const toml::node*>> toml_leaves(const toml::node& n, const std::string& prefix,
+                                                                   const std::vector<std::string>& skip) {
+  std::vector<std::pair<std::string, const toml::node*>> out;
+  if (std::find(skip.begin(), skip.end(), prefix) != skip.end()) return out;
+  auto add = [&](const toml::node& child, const std::string& key) {
+    const auto more = toml_leaves(child, prefix.empty() ? key : prefix + "." + key, skip);
+    out.insert(out.end(), more.begin(), more.end());
+  };
+  if (const auto* t = n.as_table()) {
+    for (const auto& [k, v] : *t) add(v, std::string(k.str()));
+  } else if (const auto* a = n.as_array(); a && !a->empty() && a->get(0)->is_table()) {
+    for (std::size_t k = 0; k < a->size(); ++k) add(*a->get(k), std::to_string(k));
+  } else {
+    out.emplace_back(prefix, &n);
+  }
+  return out;
+}
+
 std::string CaseReader::text() const {
   std::ostringstream s;
   s << root_;

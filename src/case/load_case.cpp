@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <numbers>
 #include <sstream>
 
+#include "bagdem/case/case_reader.hpp"
 #include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
@@ -221,7 +223,30 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   return s;
 }
 
-std::string first_difference(const std::string& was, const std::string& now) {
+std::string case_differences(const std::string& was, const std::string& now, const std::vector<std::string>& ignore) {
+  // By key: each differing key with its two values as written (TOML), the first few.
+  try {
+    const toml::table a = toml::parse(was), b = toml::parse(now);
+    std::map<std::string, std::string> va, vb;
+    auto text = [](const toml::node& n) {
+      std::ostringstream o;
+      n.visit([&](const auto& x) { o << x; });
+      return o.str();
+    };
+    for (const auto& [k, n] : toml_leaves(a, "", ignore)) va[k] = text(*n);
+    for (const auto& [k, n] : toml_leaves(b, "", ignore)) vb[k] = text(*n);
+    std::vector<std::string> diff;
+    for (const auto& [k, x] : va)
+      if (const auto it = vb.find(k); it == vb.end() || it->second != x) diff.push_back(k + ": was " + x + ", now " + (it == vb.end() ? "not set" : it->second));
+    for (const auto& [k, y] : vb)
+      if (!va.count(k)) diff.push_back(k + ": was not set, now " + y);
+    std::string list;
+    for (std::size_t k = 0; k < diff.size() && k < 4; ++k) list += (k ? "; " : "") + diff[k];
+    if (diff.size() > 4) list += "; and " + std::to_string(diff.size() - 4) + " more";
+    return list;
+  } catch (const toml::parse_error&) {
+  }
+  // Not TOML (an old file): the first differing line.
   std::istringstream sa(was), sb(now);
   std::string la, lb;
   while (true) {

@@ -313,18 +313,10 @@ void require_case_of_run(const fs::path& h5, const Scene& scene, const char* mis
   const ResultsReader in{h5.string(), h5::H5(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)};
   if (in.file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
   // output.skip_cycles chooses what is reduced, not what was run: it may differ.
-  auto ran_as = [](const std::string& text) {
-    std::istringstream lines(text);
-    std::string kept;
-    for (std::string line; std::getline(lines, line);)
-      if (line.compare(line.find_first_not_of(" \t") == std::string::npos ? 0 : line.find_first_not_of(" \t"), 11, "skip_cycles") != 0)
-        kept += line + "\n";
-    return kept;
-  };
-  const std::string ran = ran_as(in.text("resolved_config")), now = ran_as(scene.resolved);
-  if (ran != now)
+  const std::string diff = case_differences(in.text("resolved_config"), scene.resolved, {"output.skip_cycles"});
+  if (!diff.empty())
     throw InputError(h5.string(), "resolved_config", "",
-                     "the case differs from the one the run was made with (" + first_difference(ran, now) +
+                     "the case differs from the one the run was made with (" + diff +
                          "); give the case and the --set options of the run (only output.skip_cycles may change), or run it again");
 }
 

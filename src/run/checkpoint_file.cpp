@@ -108,7 +108,7 @@ CheckpointData load_checkpoint_file(const fs::path& path, const std::string& kin
 void require_checkpoint_case(const CheckpointData& data, const std::string& case_file, const std::string& resolved) {
   if (data.case_text != resolved)
     throw InputError(case_file, "", "",
-                     "the case differs from the one of the interrupted run (" + first_difference(data.case_text, resolved) +
+                     "the case differs from the one of the interrupted run (" + case_differences(data.case_text, resolved) +
                          "); resume with the same case and --set options, or run again without --resume");
 }
 

@@ -85,8 +85,10 @@ std::string sweep_summary_json(const Scene& scene, const SweepReport& rep, std::
     << "  \"threads\": " << omp_get_max_threads() << ",\n  \"chains\": " << chains << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
     << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
     << std::count_if(rep.points.begin(), rep.points.end(), [](const SweepPoint& p) { return !p.steady; }) << ",\n"
-    << "  \"force_amplitude_N\": " << scene.primary->amplitude << ",\n  \"peaks\": ";
-  j << peaks_json(rep.peaks) << "\n}\n";
+    << "  \"force_amplitude_N\": " << scene.primary->amplitude << ",\n  \"peaks_missing\": [";
+  const std::vector<std::string> missing = missing_peaks(*scene.primary, rep.points);  // why a mode has no peak
+  for (std::size_t k = 0; k < missing.size(); ++k) j << (k ? ", " : "") << '"' << json_escape(missing[k]) << '"';
+  j << "],\n  \"peaks\": " << peaks_json(rep.peaks) << "\n}\n";  // the peaks last: bagdem peaks rewrites them
   return j.str();
 }
 

@@ -147,6 +147,24 @@ std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesys
   return peaks;
 }
 
+std::vector<std::string> missing_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+  std::vector<std::string> out;
+  if (points.empty()) return out;
+  const std::vector<ModePoints> modes = group_by_mode(P, points);
+  if (modes.empty()) {
+    const auto [lo, hi] = std::minmax_element(points.begin(), points.end(), [](const SweepPoint& a, const SweepPoint& b) { return a.frequency < b.frequency; });
+    std::ostringstream m;
+    m << "no peak reduction: the swept band " << lo->frequency << "-" << hi->frequency
+      << " Hz holds no natural frequency of the structure (bagdem check lists them): set excitation.around_modes, or the frequencies around one";
+    out.push_back(m.str());
+  }
+  for (const ModePoints& m : modes)
+    if (std::none_of(m.points.begin(), m.points.end(), [](const SweepPoint* p) { return p->steady; }))
+      out.push_back("no peak reduction for " + P.dof_names[m.dof] + ": every one of its " + std::to_string(m.points.size()) +
+                    " points was unsteady (the warnings above say why): raise excitation.max_cycles or excitation.steady_tolerance");
+  return out;
+}
+
 std::string describe_peak(const ModePeak& m) {
   std::ostringstream o;
   o << std::setprecision(4) << m.name << ": ";

@@ -270,6 +270,7 @@ int calibrate_command(const CalibrateArgs& args) {
       throw InputError(args.dir, "", "", "holds no case.toml (bagdem calibrate takes a case directory)");
     base.out_dir = fs::absolute(args.out.empty() ? fs::path(base.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal().string();
     base.source = "bagdem calibrate";
+    base.command = "calibrate";
     base.sets = args.sets;
     base.seeds = args.seeds;
     base.jobs = args.jobs, base.threads = args.threads, base.cores = args.cores;

@@ -164,6 +164,7 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
   s.case_dir = fs::absolute(a.dir).lexically_normal().string();
   s.out_dir = fs::absolute(a.out.empty() ? fs::path(s.case_dir) / "map" : fs::path(a.out)).lexically_normal().string();
   s.source = "bagdem characterize";
+  s.command = "characterize";
   s.combine = Combine::zip;
   s.seeds = a.seeds;
   s.jobs = a.jobs, s.threads = a.threads, s.cores = a.cores;

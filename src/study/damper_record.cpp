@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "bagdem/case/case_reader.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
@@ -39,34 +40,23 @@ std::string si_text(const toml::node& n) {
   return "(a date or time)";  // no damper key takes one
 }
 
-// Every leaf under `n` as "prefix.key" (arrays of tables by index: bag.strings.0.stiffness).
-void flatten(const toml::node& n, const std::string& prefix, const std::set<std::string>& skip, DamperRecord& out) {
-  if (skip.count(prefix)) return;
-  if (const auto* t = n.as_table()) {
-    for (const auto& [k, v] : *t) flatten(v, prefix + "." + std::string(k.str()), skip, out);
-    return;
-  }
-  if (const auto* a = n.as_array(); a && !a->empty() && a->get(0)->is_table()) {
-    for (std::size_t k = 0; k < a->size(); ++k) flatten(*a->get(k), prefix + "." + std::to_string(k), skip, out);
-    return;
-  }
-  out[prefix] = si_text(n);
-}
-
 }  // namespace
 
 DamperRecord damper_record(const Scene& scene) {
   const toml::table root = toml::parse(scene.resolved);
   DamperRecord r;
+  auto add = [&](const toml::node& n, const std::string& prefix) {
+    for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"})) r[key] = si_text(*leaf);
+  };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
-    if (const toml::node* n = root.get(table)) flatten(*n, table, {"cavity.motion"}, r);
+    if (const toml::node* n = root.get(table)) add(*n, table);
   // The materials the contents and the cavity name.
   std::set<std::string> used;
   for (const auto& [key, value] : r)
     if (key.size() >= 9 && key.compare(key.size() - 9, 9, ".material") == 0) used.insert(value);
   if (const toml::table* m = root["materials"].as_table())
     for (const std::string& name : used)
-      if (const toml::node* n = m->get(name)) flatten(*n, "materials." + name, {}, r);
+      if (const toml::node* n = m->get(name)) add(*n, "materials." + name);
   const Vec3 g = scene.gravity, e = excitation_direction(scene), d = e.norm() > 0 ? Vec3(e.normalized()) : e;
   r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
   r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";

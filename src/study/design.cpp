@@ -227,6 +227,7 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   StudySpec spec = cand;
   spec.out_dir = (fs::path(cand.out_dir) / "verify").string();
   spec.source = "bagdem design";
+  spec.command = "design";
   spec.combine = Combine::zip;
   spec.seeds = a.verify_seeds;
   spec.tables = {"peaks", "reduced"};

@@ -172,7 +172,8 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       for (const Child& c : running) work += std::max(0.0, mean - seconds_since(c.start));
       eta = duration_text(work / static_cast<double>(jobs));
     }
-    std::fprintf(stderr, "%ssweep: %zu done, %zu running, %zu failed, %zu left (of %zu); %s elapsed, ETA %s\n", prefix.c_str(), done,
+    std::fprintf(stderr, "%s%s: %zu done, %zu running, %zu failed, %zu left (of %zu); %s elapsed, ETA %s\n", prefix.c_str(),
+                 plan.spec.command.c_str(), done,
                  running.size(), failed, queue.size(), opt.total, duration_text(el).c_str(), eta.c_str());
   };
 

@@ -27,9 +27,10 @@ namespace {
 std::string short_force(double F) { return short_text(F) + " N"; }
 
 
+// A force given as --vary and calibrate's --bounds take values: "0.2 N" quoted as TOML or 0.2 N bare.
 double force_of(const std::string& option, const std::string& text) {
   std::string why;
-  const auto F = parse_quantity(text, dim::force, &why);
+  const auto F = parse_quantity(parse_value(text).given, dim::force, &why);
   if (!F || !(*F > 0)) throw InputError(option, "", text, why.empty() ? "a force above 0, e.g. \"0.2 N\"" : why);
   return *F;
 }

@@ -307,6 +307,7 @@ int trade_command(const TradeArgs& args) {
       throw InputError(args.dir, "", "", "holds no case.toml (bagdem trade takes a case directory)");
     spec.out_dir = fs::absolute(args.out.empty() ? fs::path(spec.case_dir) / "trade" : fs::path(args.out)).lexically_normal().string();
     spec.source = "bagdem trade";
+    spec.command = "trade";
     spec.combine = Combine::zip;
     spec.jobs = args.jobs, spec.threads = args.threads, spec.cores = args.cores;
     spec.tables = {"reduced", "peaks"};

@@ -83,4 +83,10 @@ std::optional<std::string> nearest_key(const std::string& name, const std::vecto
 // Splits "a.b.0.c" into its parts.
 std::vector<std::string> split_key(const std::string& key);
 
+// Every leaf under `node` as ("prefix.key", its node), tables' keys in order, an array of tables
+// by index ("bag.strings.0.stiffness"), an array of values as one leaf; keys in `skip` (with all
+// under them) left out. `prefix` "" for a whole case.
+std::vector<std::pair<std::string, const toml::node*>> toml_leaves(const toml::node& node, const std::string& prefix,
+                                                                   const std::vector<std::string>& skip = {});
+
 }  // namespace bagdem

@@ -12,10 +12,12 @@ namespace bagdem {
 
 Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides = {});
 
-// The first line where two resolved case texts (Scene::resolved) differ, as "was 'LINE', now
-// 'LINE'" ("(nothing)" past the end of one); "" when they are equal. Used to refuse a resume, a
-// reduction or a comparison with another case than the run's.
-std::string first_difference(const std::string& was, const std::string& now);
+// Where two resolved case texts (Scene::resolved) differ, key by key: "cavity.radius: was 0.01175,
+// now 0.01; ..." (the first four, and how many more), the keys in `ignore` (and those under them)
+// left out; "" when they are the same. Texts that are not TOML: the first differing line, as "was
+// 'LINE', now 'LINE'". Used to refuse a resume, a reduction or a comparison with another case than
+// the run's.
+std::string case_differences(const std::string& was, const std::string& now, const std::vector<std::string>& ignore = {});
 
 // Human-readable report of a resolved scene (what `bagdem check` prints).
 std::string describe_scene(const Scene& s);

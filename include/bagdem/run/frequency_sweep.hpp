@@ -116,5 +116,9 @@ std::vector<ModePeak> recompute_sweep_peaks(const Primary& primary, const std::f
 // One line for a mode's peak: the fitted and the largest simulated peak, the reduction with its
 // interval, and the band-edge mark.
 std::string describe_peak(const ModePeak& peak);
+// Why a sweep has no peak where one was looked for: a line for a band that holds no natural
+// frequency of the structure, and one per mode whose every point was unsteady; none when each
+// mode has its peak.
+std::vector<std::string> missing_peaks(const Primary& primary, const std::vector<SweepPoint>& points);
 
 }  // namespace bagdem

@@ -55,6 +55,7 @@ struct StudySpec {
   std::string case_dir;                  // the base case (absolute)
   std::string out_dir;                   // OUT (absolute)
   std::string source;                    // where the study came from, for messages ("STUDY/study.toml" or "the command line")
+  std::string command = "sweep";         // the command running it, for the progress lines ("characterize", ...)
   Combine combine = Combine::grid;
   std::vector<Varied> vary;              // in the order of the plan (the file's keys, then --vary)
   std::vector<std::string> sets;         // fixed overrides of every point, "key=value"

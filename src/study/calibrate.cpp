@@ -294,7 +294,6 @@ int calibrate_command(const CalibrateArgs& args) {
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
     budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
-    lock.emplace(base.out_dir);  // one study writes a directory at a time
     return 0;
   }))
     return code;
@@ -326,6 +325,7 @@ int calibrate_command(const CalibrateArgs& args) {
     std::string list;
     for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
     std::fprintf(stderr, "round %d: %s = %s\n", round, args.key.c_str(), list.c_str());
+    if (!lock) lock.emplace(base.out_dir);  // one study writes a directory at a time; taken before it writes
     fs::create_directories(spec.out_dir);
     remove_merged_tables(plan);
     run_share(plan, done, budget, args.executable, 0, 1, name + std::string(": "));

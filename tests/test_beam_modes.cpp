@@ -482,7 +482,9 @@ TEST(BeamModes, SteppedBeam) {
   }
   // (b) A stepped free-free beam (EI 0.4x and rhoA 0.6x beyond 0.6 L): under refinement 10, 20, 40,
   // 80, 160 elements the change in f1..f4 falls ~16x per halving (cubic Hermite: frequency error
-  // ~ h^4); asserted > 10x while the change is above round-off (1e-8), and the last change < 1e-6.
+  // ~ h^4); asserted > 10x while the change expected (the previous one / 16) is above round-off
+  // (1e-8: this eigenproblem's frequencies move by that from one CPU's -march=native build to
+  // another's), and the last change < 1e-6.
   FeBeam b = fe_of(pipe(BeamEnds::free_free), 10);
   b.segments = {{0, 0.6 * kL, kEI, kRhoA}, {0.6 * kL, kL, 0.4 * kEI, 0.6 * kRhoA}};
   std::vector<double> prev, change_prev(4, 0);
@@ -498,7 +500,7 @@ TEST(BeamModes, SteppedBeam) {
         const double c = std::abs(f[k] / prev[k] - 1);
         std::printf(" %.1e", c);
         if (change_prev[k] > 0) std::printf(" (%.1f)", change_prev[k] / c);
-        if (change_prev[k] > 0 && c > 1e-8) {
+        if (change_prev[k] / 16 > 1e-8) {
           EXPECT_GT(change_prev[k] / c, 10.0) << n << " elements, mode " << k;
         }
         if (n == 160) {

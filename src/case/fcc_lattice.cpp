@@ -39,6 +39,7 @@ FccLattice::FccLattice(const Vec3& lo, const Vec3& hi, double spacing, const Vec
     throw std::length_error(m.str());
   }
   double e_low = INFINITY;
+  e_top_ = -INFINITY;
   for (int c = 0; c < 8; ++c) {  // the extreme elevations lie at corners of the lattice's box
     Vec3 corner;
     for (int k = 0; k < 3; ++k) corner[k] = c >> k & 1 ? origin_[k] + a_ * static_cast<double>(n_[static_cast<std::size_t>(k)]) : origin_[k];

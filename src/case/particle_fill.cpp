@@ -10,12 +10,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <optional>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <random>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "bagdem/case/load_case.hpp"

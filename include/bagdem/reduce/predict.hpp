@@ -125,14 +125,14 @@ struct PredictedMode {
   std::string outside_why;                // the first one's reason: below, above, band
 };
 
-// The case's evaluated modes (Primary::evaluated_modes over `frequencies`, each band the span of
-// the frequencies nearest its mode), `points` evenly spaced frequencies per band.
 // An estimated interpolation error above this is "a map too coarse for the answer" (unit: dB): a
 // third of the 1.5 dB within which predictions met coupled DEM (docs/characterize.md).
 inline constexpr double kInterpolationWarning = 0.5;
 
 // What predict_modes works out besides the means: the interval over the corners, and the resolution check.
 enum class Checks { none, interval, all };
+// The case's evaluated modes (Primary::evaluated_modes over `frequencies`, each band the span of
+// the frequencies nearest its mode), `points` evenly spaced frequencies per band.
 std::vector<PredictedMode> predict_modes(const Primary& primary, const EffectiveMap& map, double force,
                                          const std::vector<double>& frequencies, int points = 400, Checks checks = Checks::all);
 

@@ -304,6 +304,20 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   return failed;
 }
 
+// A ranked candidate's map, if its runs gave one; a map of another damper than the candidate's (a
+// map directory from elsewhere) takes the candidate out, saying why.
+std::optional<EffectiveMap> candidate_map(const StudySpec& cand, Candidate& c) {
+  if (c.status != "ranked" || !fs::exists(fs::path(c.map) / "map.csv")) return std::nullopt;
+  const std::optional<DamperRecord> made = read_damper_record(fs::path(c.map) / "damper.toml");
+  const std::vector<std::string> diff =
+      made ? damper_differences(*made, damper_record(load_case(cand.case_dir, c.sets))) : std::vector<std::string>{"no damper.toml"};
+  if (!diff.empty()) {
+    c.status = "map of another damper (" + diff.front() + (diff.size() > 1 ? ", ..." : "") + ")";
+    return std::nullopt;
+  }
+  return read_effective_map(fs::path(c.map) / "map.csv");
+}
+
 }  // namespace
 
 int design_command(const DesignArgs& a) {
@@ -409,15 +423,7 @@ int design_command(const DesignArgs& a) {
     std::vector<DesignRow> rows;
     for (std::size_t i = 0; i < cs.size(); ++i) {
       Candidate& c = cs[i];
-      std::optional<EffectiveMap> effective;
-      if (c.status == "ranked" && fs::exists(fs::path(c.map) / "map.csv")) {
-        effective = read_effective_map(fs::path(c.map) / "map.csv");
-        // The map must be of this candidate's damper (a map directory reused from elsewhere).
-        const std::optional<DamperRecord> made = read_damper_record(fs::path(c.map) / "damper.toml");
-        const std::vector<std::string> diff =
-            made ? damper_differences(*made, damper_record(load_case(cand.case_dir, c.sets))) : std::vector<std::string>{"no damper.toml"};
-        if (!diff.empty()) c.status = "map of another damper (" + diff.front() + (diff.size() > 1 ? ", ..." : "") + ")";
-      }
+      const std::optional<EffectiveMap> effective = candidate_map(cand, c);
       for (double x : positions) {
         DesignRow r;
         r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / structure_mass;

@@ -82,14 +82,15 @@ CLI::App* add_run(CLI::App& app, Args& a) {
   CLI::App* run = app.add_subcommand("run", "Run a case: writes results.h5 (+ results.xmf for ParaView) and, when complete, summary.json. "
                                       "A case with a primary structure ([primary]: sdof, beam, fe-beam) driven by a stepped-sine "
                                       "[excitation] runs a frequency sweep instead: sweep.csv, the table /sweep in results.h5, and "
-                                      "each mode's peak reduction (dB, %) against the bare structure in summary.json.");
+                                      "each mode's peak reduction (dB, %) against the bare structure in summary.json. A run that goes "
+                                      "unstable leaves its record as results.failed.h5 and an earlier complete results.h5 as it was.");
   run->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
   run->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
   run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; a stepped-sine sweep runs its chains, excitation.chains, side by side on them)")->check(CLI::Range(1, 1024));
   run->add_option("--set", a.sets, "Override a key of case.toml, dotted path: --set particles.balls.count=200 (repeatable)");
   add_fidelity(run, a.fidelity);
   run->add_flag("--quiet", a.quiet, "No progress line");
-  run->add_flag("--resume", a.resume, "Continue an interrupted run from OUT/checkpoint.bin (left by output.checkpoint_interval > 0, and by SIGINT or SIGTERM, which stop a run with exit code 130 or 143)");
+  run->add_flag("--resume", a.resume, "Continue an interrupted run from OUT/checkpoint.bin (left by output.checkpoint_interval > 0, and by SIGINT or SIGTERM, which stop a run with exit code 130 or 143); OUT/results.h5.part must hold the data the checkpoint recorded (verified), or the resume is refused");
   run->add_option("--seeds", a.seeds,
                   "An ensemble of N perturbed starts (simulation.seed = 1..N, each in OUT/point-NNN, resumable, as bagdem sweep runs "
                   "them; --threads is then per start): every table with its mean and 95% interval over the starts "

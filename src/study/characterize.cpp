@@ -116,7 +116,8 @@ CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& a) {
       "The effective field of a case's damper, once for all structures: its contents in the cavity under prescribed harmonic "
       "motion along the excitation direction (a coupled case drops its primary structure), over a grid of amplitude x "
       "frequency with several starts per cell, each run reduced; writes OUT/map.csv, map.json and map.h5 (M_eff, C_eff, "
-      "C_b/(M_b w), the loss factor, e, each with its 95% interval over the starts) and tools/plot draws map.png. The runs "
+      "C_b/(M_b w), the loss factor, e, each with its 95% interval over the starts), and OUT/damper.toml, the damper it "
+      "characterised (predict and design refuse a case whose damper differs); tools/plot draws map.png. The runs "
       "are a study in OUT/point-NNN (resumable; J at once; MPI ranks share them, as bagdem sweep). Exit codes: 0 every "
       "run done, 2 bad input (nothing run), 3 a run failed. See docs/characterize.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();

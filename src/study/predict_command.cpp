@@ -126,7 +126,9 @@ CLI::App* add_predict_command(CLI::App& app, PredictArgs& a) {
       "The steady response of the case's structure with the damper of an effective-field map (bagdem characterize), "
       "without DEM: per frequency the single-harmonic balance with the map's M_eff and C_eff at the cavity's own amplitude "
       "and frequency, every solution where the response folds; per evaluated mode the peak reduction against the bare "
-      "structure in dB and %, with its range over the map's 95% intervals. Writes OUT/predict.csv and OUT/predict_peaks.csv. "
+      "structure in dB and %, with its range over the map's 95% intervals, a peak at the band's edge marked, and the map's "
+      "interpolation error at the answer (a warning when the map is too coarse for it). Writes OUT/predict.csv and OUT/predict_peaks.csv. "
+      "The map must be of the case's damper (its damper.toml; another damper is refused, naming the keys). "
       "A response outside the map is refused (exit 2) with the characterize command that would cover it. See docs/characterize.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml): the structure and its sweep's band")->required();
   c->add_option("--map", a.map, "The map: a directory holding map.csv (bagdem characterize's OUT), or the file")->required();

@@ -126,8 +126,8 @@ haddr_t first_chunk_address(const fs::path& h5, const char* dataset) {
 
 // A resume continues only from what its checkpoint recorded: results.h5.part with 256 bytes
 // overwritten in its first frame (data the checkpoint covers), or in its superblock, is refused
-// with exit 2 and nothing is written. It used to resume and finish "complete" with M_eff/M_bag
-// 1.5e124.
+// with exit 2, left as it was, and nothing is written. It used to resume and finish "complete"
+// with M_eff/M_bag 1.5e124.
 TEST(Faults, AResumeFromADamagedPartialResultsFileIsRefused) {
   for (const bool superblock : {false, true}) {
     CaseDir c(shaken_box("0.1 s", "10 ms"));
@@ -142,8 +142,10 @@ TEST(Faults, AResumeFromADamagedPartialResultsFileIsRefused) {
       f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
       ASSERT_TRUE(f);
     }
+    const std::string damaged = slurp(part);
     const CmdResult r = c.run({"--resume"});
     EXPECT_EQ(r.code, 2) << (superblock ? "superblock: " : "frame 0: ") << r.err;
+    EXPECT_EQ(slurp(part), damaged) << "the refused resume changed the file it refused (it used to cut it first)";
     EXPECT_NE(r.err.find(part.string()), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("without --resume"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(c.out / "results.h5")) << "a refused resume wrote results";

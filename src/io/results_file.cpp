@@ -79,6 +79,13 @@ struct ResultsFile::Impl {
   // /film/triangles, as doubles, in that order).
   std::unordered_map<hid_t, std::uint32_t> crc;
   std::uint32_t fixed_crc = 0;
+  // The series a reopened file holds, as opened (open_series): name, dataset, rows kept.
+  struct Opened {
+    std::string name;
+    hid_t ds;
+    hsize_t rows;
+  };
+  std::vector<Opened> opened;
 
   h5::Check ok;  // failures throw "results file PATH: what"
 
@@ -109,12 +116,15 @@ struct ResultsFile::Impl {
 
   std::vector<hsize_t> dims(hid_t ds) const { return h5::dims(ds, ok); }
 
-  // Opens `name` and cuts it to `rows` rows; growing it would invent data, so that is an error.
-  H5 open_truncated(const std::string& name, hsize_t rows) {
+  // Opens `name`, which must hold at least `rows` rows (growing it would invent data), and with
+  // `cut` cuts it to them; records it in `opened` with its rows.
+  H5 open_rows(const std::string& name, hsize_t rows, bool cut) {
     H5 ds(ok(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open dataset " + name), H5Dclose);
     std::vector<hsize_t> d = dims(ds);
     if (d.empty() || d[0] < rows)
       ok.fail(name + " has fewer than the " + std::to_string(rows) + " rows to resume from");
+    opened.push_back({name, ds, rows});
+    if (!cut) return ds;
     d[0] = rows;
     ok(H5Dset_extent(ds, d.data()), "cannot truncate " + name);
     return ds;
@@ -138,11 +148,28 @@ struct ResultsFile::Impl {
     return (static_cast<std::uint64_t>(parts.size()) << 32) | c;
   }
 
-  // The CRC of a dataset as it stands in the file (a reopened one's rows).
-  void crc_from_file(hid_t ds, const std::string& name) {
-    const std::vector<double> v = h5::read_doubles(ds, name, ok);
-    crc[ds] = crc_of(0, v.data(), v.size());
+  // The CRC of a dataset's first `rows` rows as they stand in the file (doubles).
+  std::uint32_t crc_from_file(hid_t ds, const std::string& name, hsize_t rows) {
+    std::vector<hsize_t> d = dims(ds);
+    d[0] = rows;
+    std::size_t n = 1;
+    for (hsize_t x : d) n *= x;
+    std::vector<double> v(n);
+    if (n > 0) {
+      const std::vector<hsize_t> start(d.size(), 0);
+      H5 file_space(ok(H5Dget_space(ds), "cannot read " + name), H5Sclose);
+      ok(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, d.data(), nullptr), "cannot read " + name);
+      H5 mem_space(ok(H5Screate_simple(int(d.size()), d.data(), nullptr), "cannot read " + name), H5Sclose);
+      ok(H5Dread(ds, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, v.data()), "cannot read " + name);
+    }
+    return crc_of(0, v.data(), v.size());
   }
+
+  // Opens the series of an existing file to continue it (cut to `lengths` with `cut`): the frames,
+  // the cavity and energy series, the film and /structure, in digest()'s order.
+  void open_series(const SeriesLengths& lengths, bool cut);
+  // The CRC of the datasets written once (/particles/radius, /particles/material, /film/triangles).
+  std::uint32_t fixed_crc_from_file();
 
   // Grows a series to row + 1 rows and writes row `row` (doubles, row-major).
   void append_row(hid_t ds, hsize_t row, const double* data) {
@@ -208,46 +235,74 @@ ResultsFile::ResultsFile(const std::string& path, const std::vector<double>& rad
   impl_ = p.release();
 }
 
-ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& lengths) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  auto p = std::make_unique<Impl>(path);
-  p->file =
-      H5(p->ok(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open file"), H5Fclose);
-  p->len = lengths;
-  // group/time, then group/<field> for each field, all cut to `rows`.
-  auto open = [&](std::vector<H5>& out, const std::string& group, const auto& fields,
-                  std::size_t rows) {
-    out.push_back(p->open_truncated(group + "/time", rows));
-    for (const auto& field : fields) out.push_back(p->open_truncated(group + "/" + name_of(field), rows));
+void ResultsFile::Impl::open_series(const SeriesLengths& lengths, bool cut) {
+  // group/time, then group/<field> for each field, all with `rows` rows.
+  auto open = [&](std::vector<H5>& out, const std::string& group, const auto& fields, std::size_t rows) {
+    out.push_back(open_rows(group + "/time", rows, cut));
+    for (const auto& field : fields) out.push_back(open_rows(group + "/" + name_of(field), rows, cut));
   };
-  open(p->frames, "/frames", kFrameFields, lengths.frames);
-  open(p->cavity, "/cavity", kCavityFields, lengths.cavity);
-  open(p->energy, "/energy", kEnergyTerms, lengths.energy);
-  p->n = p->dims(p->frames[1]).at(1);  // /frames/position is [F, N, 3]
-  if (p->ok(H5Lexists(p->file, "film", H5P_DEFAULT), "cannot look for /film") > 0) {
-    p->film_position = p->open_truncated("/film/position", lengths.frames);
-    p->film_nodes = p->dims(p->film_position).at(1);  // [F, V, 3]
-    H5 triangles(p->ok(H5Dopen2(p->file, "/film/triangles", H5P_DEFAULT),
-                       "cannot open dataset /film/triangles"),
-                 H5Dclose);
-    p->film_triangles = p->dims(triangles).at(0);  // [T, 3]
-    p->film_rows = lengths.frames;
-    p->film = true;
+  open(frames, "/frames", kFrameFields, lengths.frames);
+  open(cavity, "/cavity", kCavityFields, lengths.cavity);
+  open(energy, "/energy", kEnergyTerms, lengths.energy);
+  n = dims(frames[1]).at(1);  // /frames/position is [F, N, 3]
+  if (ok(H5Lexists(file, "film", H5P_DEFAULT), "cannot look for /film") > 0) {
+    film_position = open_rows("/film/position", lengths.frames, cut);
+    film_nodes = dims(film_position).at(1);  // [F, V, 3]
+    H5 triangles(ok(H5Dopen2(file, "/film/triangles", H5P_DEFAULT), "cannot open dataset /film/triangles"), H5Dclose);
+    film_triangles = dims(triangles).at(0);  // [T, 3]
+    film_rows = lengths.frames;
+    film = true;
   }
-  // Tables: /structure follows the time series (cut to the checkpoint's rows).
-  if (p->ok(H5Lexists(p->file, "structure", H5P_DEFAULT), "cannot look for /structure") > 0) {
-    H5 g(p->ok(H5Gopen2(p->file, "/structure", H5P_DEFAULT), "cannot open /structure"), H5Gclose);
+  // Tables: /structure follows the time series (the checkpoint's rows).
+  if (ok(H5Lexists(file, "structure", H5P_DEFAULT), "cannot look for /structure") > 0) {
+    H5 g(ok(H5Gopen2(file, "/structure", H5P_DEFAULT), "cannot open /structure"), H5Gclose);
     H5G_info_t info;
-    p->ok(H5Gget_info(g, &info), "cannot read /structure");
-    Impl::Table& t = p->tables["structure"];
+    ok(H5Gget_info(g, &info), "cannot read /structure");
+    Table& t = tables["structure"];
     for (hsize_t k = 0; k < info.nlinks; ++k) {
       char name[256];
-      p->ok(H5Lget_name_by_idx(g, ".", H5_INDEX_CRT_ORDER, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT),
-            "cannot list /structure");
-      t.columns.push_back(p->open_truncated(std::string("/structure/") + name, lengths.structure));
+      ok(H5Lget_name_by_idx(g, ".", H5_INDEX_CRT_ORDER, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT), "cannot list /structure");
+      t.columns.push_back(open_rows(std::string("/structure/") + name, lengths.structure, cut));
     }
     t.rows = lengths.structure;
   }
+}
+
+std::uint32_t ResultsFile::Impl::fixed_crc_from_file() {
+  std::uint32_t c = 0;
+  for (const char* fixed : {"/particles/radius", "/particles/material", "/film/triangles"}) {
+    if (std::string(fixed) == "/film/triangles" && !film) continue;
+    H5 ds(ok(H5Dopen2(file, fixed, H5P_DEFAULT), std::string("cannot open dataset ") + fixed), H5Dclose);
+    const std::vector<double> v = h5::read_doubles(ds, fixed, ok);
+    c = crc_of(c, v.data(), v.size());
+  }
+  return c;
+}
+
+ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& lengths) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  // 1. Read-only, the rows to continue from must be those the checkpoint recorded: a file that is
+  // refused is left exactly as it was.
+  std::map<std::string, std::uint32_t> kept;
+  std::uint32_t fixed = 0;
+  {
+    auto v = std::make_unique<Impl>(path);
+    v->file = H5(v->ok(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open file"), H5Fclose);
+    v->open_series(lengths, false);
+    for (const Impl::Opened& o : v->opened) kept[o.name] = v->crc[o.ds] = v->crc_from_file(o.ds, o.name, o.rows);
+    fixed = v->fixed_crc = v->fixed_crc_from_file();
+    if (v->digest() != lengths.digest)
+      throw InputError(path, "", "",
+                       "its data differ from those the checkpoint recorded (the file was changed or damaged since the run was "
+                       "interrupted): it cannot be continued, and is left as it is; run again without --resume");
+  }
+  // 2. Continue: every series cut to the checkpoint's rows, with the CRCs of those rows.
+  auto p = std::make_unique<Impl>(path);
+  p->file = H5(p->ok(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open file"), H5Fclose);
+  p->len = lengths;
+  p->open_series(lengths, true);
+  for (const Impl::Opened& o : p->opened) p->crc[o.ds] = kept.at(o.name);
+  p->fixed_crc = fixed;
   // Any other table (/sweep) goes: its writer writes it again, from the rows it restored.
   H5G_info_t root;
   p->ok(H5Gget_info(p->file, &root), "cannot read /");
@@ -259,22 +314,6 @@ ResultsFile ResultsFile::reopen(const std::string& path, const SeriesLengths& le
     if (n != "particles" && n != "frames" && n != "cavity" && n != "energy" && n != "film" && n != "structure") others.push_back(n);
   }
   for (const std::string& n : others) p->ok(H5Ldelete(p->file, n.c_str(), H5P_DEFAULT), "cannot remove /" + n);
-  // The data kept must be those the checkpoint recorded.
-  for (const char* fixed : {"/particles/radius", "/particles/material", "/film/triangles"}) {
-    if (std::string(fixed) == "/film/triangles" && !p->film) continue;
-    H5 ds(p->ok(H5Dopen2(p->file, fixed, H5P_DEFAULT), std::string("cannot open dataset ") + fixed), H5Dclose);
-    const std::vector<double> v = h5::read_doubles(ds, fixed, p->ok);
-    p->fixed_crc = crc_of(p->fixed_crc, v.data(), v.size());
-  }
-  for (const auto* g : {&p->frames, &p->cavity, &p->energy})
-    for (const H5& ds : *g) p->crc_from_file(ds, "a series");
-  if (p->film) p->crc_from_file(p->film_position, "/film/position");
-  if (const auto t = p->tables.find("structure"); t != p->tables.end())
-    for (const H5& ds : t->second.columns) p->crc_from_file(ds, "/structure");
-  if (p->digest() != lengths.digest)
-    throw InputError(path, "", "",
-                     "its data differ from those the checkpoint recorded (the file was changed or damaged since the run was "
-                     "interrupted): it cannot be continued; run again without --resume");
   p->flush();
   return ResultsFile(p.release());
 }

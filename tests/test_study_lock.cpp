@@ -50,3 +50,24 @@ TEST(StudyLock, AStudyIntoADirectoryAnotherWritesIsRefusedAndTouchesNothing) {
     EXPECT_EQ(listing(out), std::vector<std::string>{".bagdem-lock"}) << args[0] << " wrote into a directory another study holds";
   }
 }
+
+// A study's rounds, maps and points lie inside its OUT: a run or a study into a directory inside an
+// OUT another process holds is refused too (a sweep into a running calibration's OUT/round-00 used
+// to replace its points, and the calibration reported the sweep's figure as its own). The study's
+// own runs write there (the Study suite runs them).
+TEST(StudyLock, ARunOrStudyInsideADirectoryAnotherWritesIsRefused) {
+  TempDir t;
+  const fs::path dir = t.path / "case", out = t.path / "cal";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const bagdem::OutputLock held(out);  // as a calibration in progress holds it
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"sweep", dir.string(), "--vary", "excitation.amplitude=\"0.05 N\",\"0.1 N\"", "--out", (out / "round-00").string()},
+           {"run", dir.string(), "--out", (out / "round-00" / "point-001").string()}}) {
+    const CmdResult r = run_bagdem(args, t.path);
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err << r.out;
+    EXPECT_NE(r.err.find("lies inside " + out.string() + ", which another bagdem process (a study) is writing now"), std::string::npos)
+        << args[0] << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out / "round-00")) << args[0] << " wrote inside a directory another study holds";
+  }
+}

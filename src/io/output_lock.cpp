@@ -5,15 +5,72 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "bagdem/error.hpp"
 
 namespace bagdem {
 
+namespace {
+
+constexpr const char* kEnclosing = "BAGDEM_ENCLOSING_OUTPUTS";  // directories a parent study writes in, ':'-separated
+
+std::filesystem::path normal(const std::filesystem::path& dir) {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
+  return ec ? std::filesystem::absolute(dir).lexically_normal() : p;
+}
+
+std::vector<std::string> enclosing_outputs() {
+  std::vector<std::string> out;
+  const char* env = std::getenv(kEnclosing);
+  for (std::string list = env ? env : "", item; !list.empty();) {
+    const auto colon = list.find(':');
+    item = list.substr(0, colon);
+    list = colon == std::string::npos ? "" : list.substr(colon + 1);
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+// A directory inside one that another bagdem process writes now (a study's OUT holds the lock,
+// and its rounds, maps and points lie inside it) is refused, unless that study is our own parent
+// (it named its OUT in the environment when it started us).
+void refuse_inside_another(const std::filesystem::path& dir) {
+  const std::vector<std::string> ours = enclosing_outputs();
+  const std::filesystem::path d = normal(dir);
+  for (std::filesystem::path a = d.parent_path(); !a.empty(); a = a.parent_path()) {
+    const std::filesystem::path lock = a / ".bagdem-lock";
+    if (std::find(ours.begin(), ours.end(), a.string()) == ours.end()) {
+      const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC);
+      if (fd >= 0) {
+        const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+        ::close(fd);
+        if (held)
+          throw InputError(dir.string() + ": lies inside " + a.string() + ", which another bagdem process (a study) is writing now; "
+                           "wait for it to end, or give an --out outside it");
+      }
+    }
+    if (a == a.root_path()) break;
+  }
+}
+
+}  // namespace
+
+void share_output_with_children(const std::filesystem::path& dir) {
+  const char* env = std::getenv(kEnclosing);
+  const std::string list = (env && *env ? std::string(env) + ":" : std::string()) + normal(dir).string();
+  ::setenv(kEnclosing, list.c_str(), 1);
+}
+
 OutputLock::OutputLock(const std::filesystem::path& dir) {
+  refuse_inside_another(dir);
   std::filesystem::create_directories(dir);
   const std::filesystem::path path = dir / ".bagdem-lock";
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);

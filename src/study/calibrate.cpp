@@ -325,7 +325,10 @@ int calibrate_command(const CalibrateArgs& args) {
     std::string list;
     for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
     std::fprintf(stderr, "round %d: %s = %s\n", round, args.key.c_str(), list.c_str());
-    if (!lock) lock.emplace(base.out_dir);  // one study writes a directory at a time; taken before it writes
+    if (!lock) {  // one study writes a directory at a time; taken before it writes; its runs write inside it
+      lock.emplace(base.out_dir);
+      share_output_with_children(base.out_dir);
+    }
     fs::create_directories(spec.out_dir);
     remove_merged_tables(plan);
     run_share(plan, done, budget, args.executable, 0, 1, name + std::string(": "));

@@ -407,7 +407,8 @@ int design_command(const DesignArgs& a) {
   if (a.check) return 0;
 
   return reporting_errors([&] {
-    const OutputLock lock(cand.out_dir);  // one design writes a directory at a time
+    const OutputLock lock(cand.out_dir);  // one design writes a directory at a time; its runs write inside it
+    share_output_with_children(cand.out_dir);
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;

@@ -1,8 +1,9 @@
 // `bagdem sweep` (study/study.hpp): the command line, the core budget, and the order of the work:
 //  1. every rank reads the study, plans it, checks the budget, loads every point's case and
-//     compares OUT with the plan, and rank 0 locks OUT (io/output_lock.hpp: a second study into it
-//     meanwhile is refused); an error here is the same on every rank: rank 0 prints it, all
-//     return 2, nothing is written;
+//     compares OUT with the plan, and rank 0 locks OUT (io/output_lock.hpp: a second study into it,
+//     or into a directory inside it, is refused meanwhile; the ranks' own runs may write inside
+//     it); an error here is the same on every rank: rank 0 prints it, all return 2, nothing is
+//     written;
 //  2. rank 0 removes merged tables of an earlier sweep; each rank runs its points
 //     (index % ranks == rank) that are not done, in its own pool of J children of T threads;
 //  3. after a barrier rank 0 merges the tables and prints the summary; every rank returns its code.
@@ -130,6 +131,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
     budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
     warnings = validate_plan(plan);
     if (lead && !check) lock.emplace(plan.spec.out_dir);
+    if (!check) share_output_with_children(plan.spec.out_dir);  // every rank's runs write inside OUT
     done = done_points(plan);
   } catch (const InputError& e) {
     failure = kExitInputError, message = e.what();

@@ -325,7 +325,8 @@ int trade_command(const TradeArgs& args) {
     }
     budget = resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    lock.emplace(plan.spec.out_dir);  // one study writes a directory at a time
+    lock.emplace(plan.spec.out_dir);  // one study writes a directory at a time; its runs write inside it
+    share_output_with_children(plan.spec.out_dir);
     done = done_points(plan);
     return 0;
   }))

@@ -2,16 +2,23 @@
 // results.h5.part; HDF5 truncates a file when it creates it, before its own lock refuses the
 // second writer, so the first run's results would be destroyed. A run therefore holds an
 // exclusive advisory lock (flock) on OUT/.bagdem-lock while it writes, and a second run into OUT
-// is refused before it touches anything.
+// is refused before it touches anything. A study's rounds, maps and points lie inside its OUT:
+// a run or study into a directory inside one that another process holds is refused too, but for
+// the study's own children (share_output_with_children).
 #pragma once
 #include <filesystem>
 
 namespace bagdem {
 
+// Lets the processes this one starts from now on write inside `dir` while it (or its MPI rank 0)
+// holds dir's lock: names it in their environment (BAGDEM_ENCLOSING_OUTPUTS).
+void share_output_with_children(const std::filesystem::path& dir);
+
 class OutputLock {
  public:
   // Creates `dir` if need be and locks it; InputError naming the directory when another process
-  // holds the lock (std::runtime_error when the lock file cannot be made). The lock file is left in
+  // holds the lock, or holds that of a directory `dir` lies inside (std::runtime_error when the
+  // lock file cannot be made). The lock file is left in
   // place (removing it would let a third run lock a new file while the first still writes).
   explicit OutputLock(const std::filesystem::path& dir);
   ~OutputLock();

@@ -140,15 +140,17 @@ TEST(Bench, CsvFormatNamesEachColumnWithItsUnitAndHasARowPerConfiguration) {
   EXPECT_NE(t.out.substr(row, t.out.find('\n', row + 1) - row).find(counts), std::string::npos) << counts << " not in\n" << t.out;
 }
 
-// A gzipped bed in a peers' directory whose name holds a quote and a command: read in-process
-// (zlib), so nothing is run and nothing is cached outside the run. The bench used to build
+// A gzipped bed in a peers' directory whose name holds quotes, an escape and a command: read
+// in-process (zlib), so nothing is run and nothing is cached outside the run. The bench used to build
 // `gunzip -c '<dir>...'` for std::system, which ran the command in the name.
 TEST(Bench, AGzippedBedIsReadInProcessWhateverTheDirectorysName) {
   using namespace bagdem::testing;
   const TempDir dir;
   const std::filesystem::path marker = std::filesystem::current_path() / "bagdem_bench_injected";
   std::filesystem::remove(marker);
-  const std::filesystem::path peers = dir.path / "pe'ers; touch bagdem_bench_injected; '";
+  // A quote, a double quote and a TOML escape in the name: the case must read this very directory
+  // (the name used to go into a TOML string unescaped: \u0041 read another directory).
+  const std::filesystem::path peers = dir.path / "pe'e\"rs\\u0041; touch bagdem_bench_injected; '";
   write_lattice_bed(peers, 8, 2);
   const std::filesystem::path plain = peers / "runs" / "N8.vib1.data";
   const std::string text = slurp(plain);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <tuple>
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
@@ -157,6 +158,26 @@ TEST(CaseFeatures, GzippedParticleFilesReadAsThePlainOnesAndATruncatedOneIsRefus
       const std::string m = e.what();
       EXPECT_NE(m.find("particles.balls.file"), std::string::npos) << m;
       EXPECT_NE(m.find("balls.gz"), std::string::npos) << m;
+    }
+  }
+}
+
+// A LAMMPS data file whose Atoms section holds fewer atoms than its header declares (a truncated
+// file, as `head` makes one) is refused, and so is a CSV without a particle; both used to load the
+// particles that were there.
+TEST(CaseFeatures, ATruncatedParticleFileIsRefused) {
+  const std::string data = "bed\n\n3 atoms\n1 atom types\n\nAtoms\n\n1 1 0.004 7800 0.005 0.005 0.005\n2 1 0.004 7800 0.015 0.005 0.005\n";
+  for (const auto& [text, format, says] : {std::tuple{data, "lammps-data", "declares 3 atoms in its header but its Atoms section holds 2"},
+                                           std::tuple{std::string("x,y,z,diameter\n"), "csv", "holds no particles"}}) {
+    CaseDir c(in_box().set("particles.balls", {{"material", quoted("steel")}, {"file", quoted("balls.txt")}, {"format", quoted(format)}}));
+    c.write("balls.txt", text);
+    try {
+      load_case(c.str());
+      ADD_FAILURE() << format << ": loaded";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("particles.balls.file"), std::string::npos) << m;
+      EXPECT_NE(m.find(says), std::string::npos) << m;
     }
   }
 }

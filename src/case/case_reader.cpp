@@ -350,6 +350,12 @@ void CaseReader::reject_unknown_keys() const {
   walk(root_, "");
 }
 
+std::string toml_string(const std::string& text) {
+  std::ostringstream o;
+  o << toml::value<std::string>(text);
+  return o.str();
+}
+
 std::vector<std::pair<std::string, const toml::node*>> toml_leaves(const toml::node& n, const std::string& prefix,
                                                                    const std::vector<std::string>& skip) {
   std::vector<std::pair<std::string, const toml::node*>> out;

@@ -134,6 +134,7 @@ std::vector<ParticleInit> read_csv(const CaseReader& in, const std::string& key,
     if (v.size() == 10) p.w = {v[7], v[8], v[9]};
     out.push_back(p);
   }
+  if (out.empty()) in.fail(key, path + " holds no particles (a header line, then a row per particle)");
   return out;
 }
 
@@ -143,9 +144,16 @@ std::vector<ParticleInit> read_lammps_data(const CaseReader& in, const std::stri
   std::vector<ParticleInit> out;
   std::unordered_map<long, std::size_t> by_id;
   std::string line, section;
+  long declared = -1;  // the header's "N atoms"
   while (std::getline(f, line)) {
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos) continue;
+    if (section != "Atoms" && section != "Velocities") {  // the header: "N atoms" is the count the Atoms section must hold
+      std::istringstream h(line);
+      long count = 0;
+      std::string word;
+      if (h >> count >> word && word == "atoms") declared = count;
+    }
     if (std::isalpha(static_cast<unsigned char>(line[first]))) {
       section = line.substr(first, line.find_first_of(" \t\r#", first) - first);
       continue;
@@ -172,6 +180,9 @@ std::vector<ParticleInit> read_lammps_data(const CaseReader& in, const std::stri
     }
   }
   if (out.empty()) in.fail(key, path + " has no Atoms section");
+  if (declared >= 0 && static_cast<long>(out.size()) != declared)
+    in.fail(key, path + " declares " + std::to_string(declared) + " atoms in its header but its Atoms section holds " +
+                     std::to_string(out.size()) + " (a truncated or edited file)");
   return out;
 }
 

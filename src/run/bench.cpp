@@ -12,6 +12,7 @@
 #include <sstream>
 #include <variant>
 
+#include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
@@ -97,7 +98,7 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   mx << "cavity.max=[" << L << ", " << L << ", " << H << "]";
   std::vector<std::string> o{mx.str()};
   if (!data_file.empty()) {
-    o.push_back("particles.bed.file=\"" + data_file + "\"");
+    o.push_back("particles.bed.file=" + toml_string(data_file));  // any path: a quote or a backslash in it is escaped
   } else {
     o.push_back("particles.bed.count=" + std::to_string(N));
   }

@@ -80,6 +80,10 @@ class CaseReader {
 // typo of `name` meant (at most 2 edits, or a third of the longer name).
 std::optional<std::string> nearest_key(const std::string& name, const std::vector<std::string>& candidates);
 
+// A string as a TOML value, quoted and escaped (for an override built from text such as a path:
+// "a\"b" for a"b).
+std::string toml_string(const std::string& text);
+
 // Splits "a.b.0.c" into its parts.
 std::vector<std::string> split_key(const std::string& key);
 

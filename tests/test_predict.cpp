@@ -219,11 +219,13 @@ TEST(Predict, ADamagedMapIsRefusedByTheRuleOfEveryTable) {
   std::string in_grams = good, in_mm = good;
   in_grams.replace(in_grams.find("M_eff [kg]"), 10, "M_eff [g]");
   in_mm.replace(in_mm.find("frequency [Hz]"), 14, "frequency [rad/s]");
-  std::string word = rows;
+  std::string word = rows, infinite = rows;
   word.replace(word.find("0.07"), 4, "fast");
+  infinite.replace(infinite.find("0.08,0,3"), 8, "0.08,0,inf");
   for (const Case& c : {Case{in_grams, rows, {"key 'M_eff' = [g]", "must be in [kg]"}},
                         Case{in_mm, rows, {"key 'frequency' = [rad/s]", "must be in [Hz]"}},
-                        Case{good, word, {"key 'M_eff' = 'fast'", "must be a number or nan", "row 3"}},
+                        Case{good, word, {"key 'M_eff' = 'fast'", "must be a finite number or nan", "row 3"}},
+                        Case{good, infinite, {"key 'C_eff' = 'inf'", "must be a finite number or nan", "row 1"}},
                         Case{good.substr(0, good.find(",C_eff_ci95")) + "\n", "0.5,18,0.08,0,3\n", {"C_eff_ci95 [N s/m]", "column missing"}}}) {
     std::ofstream(t.path / "map.csv", std::ios::trunc) << c.header << c.rows;
     try {
@@ -256,6 +258,13 @@ TEST(Predict, APeakAtTheBandsEdgeIsMarked) {
     EXPECT_EQ(r.out.find("AT THE BAND'S EDGE") != std::string::npos, edge == 1) << r.out;
     EXPECT_EQ(r.err.find("widen excitation.span") != std::string::npos, edge == 1) << r.err;
   }
+  // A band without a natural frequency: refused, saying so (it used to write empty tables, exit 0).
+  const auto none = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", "0.5 N", "--set",
+                                                 "excitation.frequencies=[17, 17.5, 18]", "--out", (t.path / "n").string()},
+                                                t.path);
+  EXPECT_EQ(none.code, 2) << none.err << none.out;
+  EXPECT_NE(none.err.find("holds no natural frequency"), std::string::npos) << none.err;
+  EXPECT_FALSE(std::filesystem::exists(t.path / "n" / "predict_peaks.csv"));
   // A force as --vary and calibrate's --bounds take it: quoted as TOML or bare (the quoted form used
   // to be refused).
   for (const char* force : {"\"0.5 N\"", "0.5 N", "0.5"}) {

@@ -80,6 +80,7 @@ void run_and_expect_failure(const std::string& toml, const std::vector<std::stri
   EXPECT_FALSE(fs::exists(out / "summary.json")) << "a failed run must not look complete";
   EXPECT_FALSE(fs::exists(out / "results.h5.part"));
   EXPECT_FALSE(fs::exists(out / "results.h5")) << "a failed run's record must not take the complete run's name";
+  EXPECT_FALSE(fs::exists(out / "checkpoint.bin")) << "a failed run is not continued";
   EXPECT_TRUE(fs::exists(out / "results.failed.xmf"));
   const fs::path h5 = out / "results.failed.h5";
   ASSERT_TRUE(fs::exists(h5));

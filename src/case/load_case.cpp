@@ -130,7 +130,7 @@ void warn_oversized_cavity(Scene& s) {
   if (!(contents > 0) || !(cavity > 1e6 * contents)) return;
   std::ostringstream w;
   w << "the cavity (" << ext.x() << " x " << ext.y() << " x " << ext.z() << " m) is " << std::cbrt(cavity / contents)
-    << " times the size of its contents (" << contents << " m^3): ";
+    << " times the size of its contents (the cube root of its volume over theirs, " << contents << " m^3): ";
   if (s.cavity_kind == "stl")
     w << "is the STL file in millimetres? Set cavity.scale = \"1 mm\" (the length of one unit of the file; default 1 m)";
   else

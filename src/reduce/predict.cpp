@@ -130,8 +130,8 @@ EffectiveMap read_effective_map(const fs::path& path) {
       const std::string& cell = t.rows[r][c];
       char* end = nullptr;
       const double x = cell.empty() || cell == "nan" ? std::nan("") : std::strtod(cell.c_str(), &end);
-      if ((end && *end != '\0') || (!figure && !(std::isfinite(x) && x > 0)))
-        throw InputError(path.string(), name, "'" + cell + "'", std::string(figure ? "must be a number or nan" : "must be a number > 0") +
+      if ((end && *end != '\0') || std::isinf(x) || (!figure && !(std::isfinite(x) && x > 0)))
+        throw InputError(path.string(), name, "'" + cell + "'", std::string(figure ? "must be a finite number or nan" : "must be a number > 0") +
                                                                    " (row " + std::to_string(r + 1) + ")");
       v.push_back(x);
     }

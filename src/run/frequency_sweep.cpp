@@ -444,6 +444,7 @@ SweepReport FrequencySweep::failed(const RunError& e) {
   for (const char* t : {"sweep", "reduced"})
     if (fs::exists(out_ / (std::string(t) + ".csv"))) fs::rename(out_ / (std::string(t) + ".csv"), out_ / (std::string(t) + ".failed.csv"));
   rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
+  fs::remove(out_ / "checkpoint.bin");  // a failed sweep is not continued: resuming it would fail again
   return rep_;
 }
 

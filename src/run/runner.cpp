@@ -436,6 +436,7 @@ bool RunLoop::step_all() {
     }
   } catch (const RunError& e) {
     rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
+    fs::remove(ckpt());  // a failed run is not continued: resuming it would fail again
     return false;
   }
   wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -165,6 +165,10 @@ int predict_command(const PredictArgs& a) {
     std::vector<std::vector<double>> rows, peaks;
     for (double F : forces) {
       const std::vector<PredictedMode> modes = predict_modes(P, map, F, P.sweep->frequencies, a.points);
+      if (modes.empty())
+        throw InputError(scene.case_file, "excitation", "",
+                         "the sweep's band holds no natural frequency of the structure (bagdem check lists them): no peak to predict; set "
+                         "excitation.around_modes, or the frequencies around one");
       for (const PredictedMode& m : modes) {
         if (!m.outside.empty()) {
           char range[200];

@@ -290,6 +290,13 @@ TEST(Predict, TheInterpolationBoundIsThatOfAQuadratic) {
     EXPECT_NEAR(b.C_eff_ci95[k], 0.25, 1e-9) << k;
     EXPECT_NEAR(b.M_eff_ci95[k], 25, 1e-6) << k;
   }
+  // Values that zigzag by 0.1 about 3 with 95% half-widths of 0.3: a curvature the cells' scatter
+  // could make, not the map's shape: no bound. With no scatter given, the same zigzag is curvature.
+  EffectiveMap zigzag = make_map(gamma, {80, 90, 100}, [](double, double) { return 1.0; },
+                                 [](double G, double) { return 3 + 0.1 * std::cos(std::numbers::pi * std::round(std::log(G))); });
+  EXPECT_GT(zigzag.interpolation_bounds().C_eff_ci95[5], 0.01);
+  for (double& c : zigzag.C_eff_ci95) c = 0.3;
+  for (double x : zigzag.interpolation_bounds().C_eff_ci95) EXPECT_EQ(x, 0) << "scatter taken for curvature";
   const auto one = [](double, double) { return 1.0; };
   const EffectiveMap two = make_map({0.1, 10}, {80, 90, 100, 450, 510}, one, one).interpolation_bounds();
   for (double x : two.C_eff_ci95) EXPECT_TRUE(std::isnan(x)) << "2 amplitudes, 2 frequencies in the upper band: no curvature to see";

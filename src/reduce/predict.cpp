@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <tuple>
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
@@ -55,8 +56,10 @@ namespace {
 // |f''| h^2 / 8 at every line of an axis for one cell row (values v at coordinates x), the largest
 // of the line's and its neighbours' (a point between two lines is read from both); the lines
 // parted into bands by gaps over 3 times the median spacing when `bands`; NaN in a band of fewer
-// than 3 lines or next to a NaN value.
-std::vector<double> curvature_bounds(const std::vector<double>& x, const std::vector<double>& v, bool bands) {
+// than 3 lines or next to a NaN value. The curvature the values' own scatter could make (their 95%
+// half-widths ci through the second difference, the cells independent) is not the map's shape and
+// is taken off: noise is the interval's business, not the interpolation's.
+std::vector<double> curvature_bounds(const std::vector<double>& x, const std::vector<double>& v, const std::vector<double>& ci, bool bands) {
   const std::size_t n = x.size();
   std::vector<double> out(n, NAN), gaps;
   for (std::size_t k = 1; k < n; ++k) gaps.push_back(x[k] - x[k - 1]);
@@ -74,8 +77,9 @@ std::vector<double> curvature_bounds(const std::vector<double>& x, const std::ve
         const std::size_t c = std::clamp(k, first + 1, last - 1);  // an end takes its inner neighbour's f''
         const double h0 = x[c] - x[c - 1], h1 = x[c + 1] - x[c];
         const double f2 = 2 * ((v[c + 1] - v[c]) / h1 - (v[c] - v[c - 1]) / h0) / (h0 + h1);
+        const double noise = 2 / (h0 + h1) * std::hypot(ci[c + 1] / h1, ci[c] * (1 / h0 + 1 / h1), ci[c - 1] / h0);
         const double h = std::max(k > first ? x[k] - x[k - 1] : 0.0, k < last ? x[k + 1] - x[k] : 0.0);
-        out[k] = std::abs(f2) * h * h / 8;
+        out[k] = std::max(0.0, std::abs(f2) - noise) * h * h / 8;  // NaN stays NaN
       }
     first = last + 1;
   }
@@ -95,17 +99,19 @@ EffectiveMap EffectiveMap::interpolation_bounds() const {
   const std::size_t na = gamma.size(), nf = frequency.size();
   std::vector<double> log_gamma;
   for (double G : gamma) log_gamma.push_back(std::log(G));
-  for (auto [value, bound] : {std::pair{&M_eff, &b.M_eff_ci95}, {&C_eff, &b.C_eff_ci95}}) {
+  for (auto [value, ci, bound] : {std::tuple{&M_eff, &M_eff_ci95, &b.M_eff_ci95}, {&C_eff, &C_eff_ci95, &b.C_eff_ci95}}) {
     bound->assign(na * nf, 0.0);
     for (std::size_t j = 0; j < nf; ++j) {  // along Gamma, a column at a time
-      std::vector<double> v;
-      for (std::size_t i = 0; i < na; ++i) v.push_back((*value)[i * nf + j]);
-      const std::vector<double> e = curvature_bounds(log_gamma, v, false);
+      std::vector<double> v, c;
+      for (std::size_t i = 0; i < na; ++i) v.push_back((*value)[i * nf + j]), c.push_back((*ci)[i * nf + j]);
+      const std::vector<double> e = curvature_bounds(log_gamma, v, c, false);
       for (std::size_t i = 0; i < na; ++i) (*bound)[i * nf + j] += e[i];
     }
     for (std::size_t i = 0; i < na; ++i) {  // along f, a row at a time
-      const std::vector<double> v(value->begin() + static_cast<long>(i * nf), value->begin() + static_cast<long>((i + 1) * nf));
-      const std::vector<double> e = curvature_bounds(frequency, v, true);
+      const auto row = [&](const std::vector<double>* a) {
+        return std::vector<double>(a->begin() + static_cast<long>(i * nf), a->begin() + static_cast<long>((i + 1) * nf));
+      };
+      const std::vector<double> e = curvature_bounds(frequency, row(value), row(ci), true);
       for (std::size_t j = 0; j < nf; ++j) (*bound)[i * nf + j] += e[j];
     }
   }

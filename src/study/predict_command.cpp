@@ -74,7 +74,7 @@ void report_resolution(const PredictedMode& m, double F) {
                  "more --amplitudes and --frequencies\n", where.c_str());
     return;
   }
-  std::printf("  interpolation error: up to %.2f dB (the map's curvature between its lines)\n", m.interpolation_db);
+  std::printf("  interpolation error: up to %.2f dB (the map's curvature between its lines, beyond its cells' scatter)\n", m.interpolation_db);
   if (m.interpolation_db > kInterpolationWarning)
     std::fprintf(stderr,
                  "warning: %sthe map is too coarse for this answer: interpolating between its lines may move the reduction by up to "

@@ -15,7 +15,7 @@
 // over the corners and the mean is its interval.
 // Resolution: linear interpolation between grid lines h apart errs by up to |f''| h^2 / 8 for a
 // smooth f; f'' is estimated at each node from its neighbours (second divided differences in
-// log Gamma, and in f within each band). M_eff and C_eff shifted by those bounds to the four corners
+// log Gamma, and in f within each band), less what the cells' scatter could make of it. M_eff and C_eff shifted by those bounds to the four corners
 // are predicted again like the interval's, and the largest change of the peak reduction is the
 // map's interpolation error at that answer. A map with 2 lines along an axis (2 frequencies a band)
 // has no curvature to estimate and cannot check its own interpolation: it is said so.

@@ -35,4 +35,12 @@ class RunError : public std::runtime_error {
 inline constexpr int kExitInputError = 2;
 inline constexpr int kExitRunError = 3;
 
+// The exit code of an error, the same for every command: bad input 2, a run that went unstable 3,
+// anything else (I/O, a full disk) 1.
+inline int exit_code_of(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e)) return kExitInputError;
+  if (dynamic_cast<const RunError*>(&e)) return kExitRunError;
+  return 1;
+}
+
 }  // namespace bagdem

@@ -2,7 +2,6 @@
 // reference; and the fidelity presets. See study/trade.hpp.
 #include "bagdem/study/trade.hpp"
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -269,28 +268,6 @@ std::vector<Rung> trade_ladder(const std::string& case_dir, const std::vector<st
     ladder.push_back({std::string("preset ") + preset, "", all});
   }
   return ladder;
-}
-
-CLI::App* add_trade_command(CLI::App& app, TradeArgs& a) {
-  std::string names;
-  for (const Knob& k : knobs()) {
-    std::string factors;
-    for (double x : k.factors) factors += (factors.empty() ? "" : ", ") + short_text(x);
-    names += "\n  " + k.name + ": " + k.what + " (reference " + short_text(k.factors.front()) + "; factors " + factors + ")";
-  }
-  CLI::App* t = app.add_subcommand(
-      "trade",
-      "The speed/accuracy trade of a case: runs it at its reference fidelity, then with one shortcut at a time "
-      "(knobs below) and at the presets balanced (the case as written) and fast, each a `bagdem run` in OUT/point-NNN "
-      "(in parallel within the cores; resumable), and prints per run its wall time, speed-up, time step, Hertz contact "
-      "duration and the error of the peak reduction (dB), C_b/(M_b w), M_eff/M_bag, e, energy per cycle and loss factor "
-      "against the reference; OUT/trade.csv (tools/plot draws trade.png). Knobs:" + names);
-  t->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();
-  t->add_option("--knobs", a.only, "Only these knobs; `none`: only the reference, its seed+1 twin and the presets (default: every knob the case uses)");
-  t->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
-  add_budget_options(t, a.jobs, a.threads, a.cores, "trade", "this machine's");
-  t->add_option("--out", a.out, "Output directory (default CASE_DIR/trade)");
-  return t;
 }
 
 int trade_command(const TradeArgs& args) {

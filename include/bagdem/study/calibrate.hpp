@@ -36,10 +36,6 @@
 #include <string>
 #include <vector>
 
-namespace CLI {
-class App;
-}
-
 namespace bagdem::study {
 
 // An ensemble figure at one value of the key: the mean over the done seeds, its 95% half-width
@@ -110,7 +106,6 @@ struct CalibrateArgs {
   std::string executable = "/proc/self/exe";
 };
 
-CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a);
 // Runs the calibration: each round a study in OUT/round-RR (point-NNN per value and seed,
 // resumable: the same command goes on where it stopped), then OUT/calibrate.csv (every value run,
 // per target), OUT/calibration.json (the solutions) and the summary on stdout. Exit codes: 0 a

@@ -29,10 +29,6 @@
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/scene.hpp"
 
-namespace CLI {
-class App;
-}
-
 namespace bagdem::study {
 
 struct CharacterizeArgs {
@@ -112,7 +108,6 @@ struct PredictArgs {
   std::vector<std::string> sets;
   std::string out;                       // default CASE_DIR/predict
 };
-CLI::App* add_predict_command(CLI::App& app, PredictArgs& args);
 // 0 done, 2 bad input or a response outside the map (nothing written), 1 a system error.
 int predict_command(const PredictArgs& args);
 
@@ -128,7 +123,6 @@ struct MapOutcome {
 };
 MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapGrid& grid);
 
-CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& args);
 // Returns the exit code: 0 every cell done, 2 bad input (nothing run), 3 a run failed (the map is
 // written with the cells that have starts).
 int characterize_command(const CharacterizeArgs& args);

@@ -28,10 +28,6 @@
 
 #include "bagdem/study/characterize.hpp"
 
-namespace CLI {
-class App;
-}
-
 namespace bagdem::study {
 
 struct DesignArgs {
@@ -92,7 +88,6 @@ std::vector<double> default_fills(double budget);
 std::string mode_label(int mode);
 std::vector<double> default_diameters(double diameter);
 
-CLI::App* add_design_command(CLI::App& app, DesignArgs& args);
 // 0 done, 2 bad input (nothing run), 3 a run failed (the design is written from what finished).
 int design_command(const DesignArgs& args);
 

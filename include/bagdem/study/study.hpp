@@ -28,10 +28,6 @@
 #include <utility>
 #include <vector>
 
-namespace CLI {
-class App;
-}
-
 namespace bagdem::study {
 
 // ---- plan.cpp: the study and its points ---------------------------------------------------------
@@ -263,11 +259,6 @@ bool launched_by_mpi();
 
 // ---- sweep.cpp: the command ----------------------------------------------------------------------
 
-// The options --jobs, --threads and --cores of a command that runs points as child processes
-// (sweep, trade, calibrate); `cores_default` says what --cores defaults to.
-void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, const std::string& what,
-                        const std::string& cores_default);
-
 // A command that runs a study (sweep, characterize), in the order above: `read` gives the spec
 // (an InputError from it is bad input, exit 2, on every rank); with `check` the plan is printed and
 // nothing runs; after the merge rank 0 calls `after` (if any) with the points that finished, and
@@ -276,12 +267,9 @@ void add_budget_options(CLI::App* command, int& jobs, int& threads, int& cores, 
 int study_command(const std::function<StudySpec()>& read, bool check, const std::string& executable, const std::string& command,
                   const std::function<int(const Plan&, const std::vector<bool>&)>& after);
 
-// Runs a command's body: its return value, or on an exception "error: <what>" on stderr and the
-// exit code, 2 (kExitInputError) for an InputError, 1 for any other.
+// Runs a command's body: its return value, or on an exception "error: <what>" on stderr and its
+// exit code (error.hpp, exit_code_of: 2 bad input, 3 a run that went unstable, 1 any other).
 int reporting_errors(const std::function<int()>& body);
-
-// Adds the `sweep` subcommand and its options (filled into `args`) to the command line.
-CLI::App* add_sweep_command(CLI::App& app, SweepArgs& args);
 
 // Runs `bagdem sweep`: read, plan, validate (every rank), run this rank's points
 // (index % ranks == rank), then rank 0 merges the tables and prints the summary. Returns the exit

@@ -32,10 +32,6 @@
 #include <string>
 #include <vector>
 
-namespace CLI {
-class App;
-}
-
 namespace bagdem::study {
 
 struct Knob {
@@ -73,7 +69,6 @@ struct TradeArgs {
   std::string executable = "/proc/self/exe";
 };
 
-CLI::App* add_trade_command(CLI::App& app, TradeArgs& a);
 // Plans the ladder, runs it (resumable), writes OUT/trade.csv and prints the table. Exit codes as
 // sweep: 0, 2 bad input (nothing run), 3 a rung failed (its row says so).
 int trade_command(const TradeArgs& args);

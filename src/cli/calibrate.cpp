@@ -1,0 +1,37 @@
+// `bagdem calibrate`: a case key fitted to measured peak reductions (command.hpp).
+#include "bagdem/study/calibrate.hpp"
+#include "command.hpp"
+
+namespace bagdem::cli {
+
+CLI::App* add_calibrate(CLI::App& app, Args& args) {
+  auto& a = args.calibrate;
+  CLI::App* c = app.add_subcommand(
+      "calibrate",
+      "Find the value of a case key (the force amplitude by default) at which the peak reduction of a coupled sweep "
+      "matches measured ones: each value run with N seeds, a scan of the bounds, then every root of one target (or the "
+      "least-squares value of several) refined until a value matches (|mean - target| within the seeds' 95% interval or "
+      "the tolerance). Each round is a study in OUT/round-RR (resumable: the same command goes on where it stopped; "
+      "runs side by side within the cores). Writes OUT/calibrate.csv and OUT/calibration.json; tools/plot draws "
+      "calibrate.png. Exit codes: 0 a value matches, 2 bad input (nothing run), 3 a run failed or no value matched. "
+      "See docs/calibrate.md.");
+  c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep)")->required();
+  c->add_option("--target", a.targets, "mode=M,reduction_db=R: the measured peak reduction of elastic mode M (repeatable: several fit one value by least squares)")
+      ->required()
+      ->allow_extra_args(false);
+  c->add_option("--key", a.key, "The case key to calibrate (default excitation.amplitude; e.g. primary.damping_ratio)");
+  c->add_option("--bounds", a.bounds, "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4)");
+  c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
+  c->add_option("--seeds", a.seeds, "Starts per value (simulation.seed = 1..N; default 3)")->check(CLI::Range(1, 1000));
+  c->add_option("--scan", a.scan, "Values of the first round, the bounds included (default 5)")->check(CLI::Range(3, 1000));
+  c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100));
+  c->add_option("--tolerance", a.tolerance, "dB: a value matches within max(the seeds' 95% half-width, this) (default 0.1)")
+      ->check(CLI::PositiveNumber);
+  add_budget_options(c, a.jobs, a.threads, a.cores, "calibration", "this machine's");
+  c->add_option("--out", a.out, "Output directory (default CASE_DIR/calibrate)");
+  return c;
+}
+
+int run_calibrate(Args& a) { return study::calibrate_command(a.calibrate); }
+
+}  // namespace bagdem::cli

@@ -53,7 +53,8 @@ TEST(DesignRank, TheWorstModeRanksAndTheParetoFrontIsMarked) {
   std::vector<DesignRow> rows = {row({5, 6}, 0.01), a, row({10, 11}, 0.03), row({4, 20}, 0.005), row({7, 7}, 0.05)};
   rows[1].given = {"b"}, rows[2].given = {"c"};
   rows.push_back(row({30, 30}, 0.001));
-  rows.back().status = "over budget";
+  rows.back().status = {bagdem::study::Standing::over_budget, ""};
+  EXPECT_EQ(rows.back().status.text(), "over budget");
   rank_rows(rows);
   // By objective: 10 (0.03), 9 (0.03), 7 (0.05), 5 (0.01), 4 (0.005); the refused row last, unranked.
   ASSERT_EQ(rows.size(), 6u);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bagdem/error.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
@@ -126,13 +127,11 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
 
 std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesystem::path& out) {
   const std::filesystem::path summary_path = out / "summary.json", peaks_path = out / "peaks.csv";
-  std::ifstream in(summary_path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string summary = text.str();
-  const std::size_t at = summary.find("\n  \"peaks\": ");
-  if (!in || summary.find("\"kind\": \"stepped-sine\"") == std::string::npos || at == std::string::npos)
-    throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json is missing or has no peaks)");
+  if (!std::filesystem::exists(summary_path))
+    throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json is missing)");
+  nlohmann::ordered_json summary = read_json(summary_path);
+  if (summary.value("kind", "") != "stepped-sine" || !summary.contains("peaks"))
+    throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json has no peaks of a stepped-sine sweep)");
   const std::vector<ModePeak> peaks = sweep_peaks(P, read_sweep_csv(out / "sweep.csv"));
   // The bare peaks depend on the structure alone: they must be those the run recorded.
   const std::vector<std::vector<double>> recorded = read_table_csv(peaks_path, {{"mode", "1"}, {"bare_peak", "m/N"}});
@@ -142,8 +141,8 @@ std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesys
   if (!same)
     throw InputError(peaks_path.string(), "bare_peak", "", "the case's bare structure differs from the run's: give the case and the --set the run was made with");
   write_peaks_csv(peaks_path, peaks);
-  summary.replace(at, std::string::npos, "\n  \"peaks\": " + peaks_json(peaks) + "\n}\n");
-  write_atomically(summary_path, summary);
+  summary["peaks"] = nlohmann::ordered_json::parse(peaks_json(peaks));
+  write_atomically(summary_path, summary.dump(2) + "\n");
   return peaks;
 }
 

@@ -13,6 +13,7 @@
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/predict.hpp"
@@ -24,6 +25,19 @@
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
+std::string Status::text() const {
+  switch (kind) {
+    case Standing::ranked: return "ranked";
+    case Standing::over_budget: return "over budget";
+    case Standing::does_not_load: return "does not load: " + why;
+    case Standing::no_map: return "no map (its runs failed)";
+    case Standing::other_damper: return "map of another damper (" + why + ")";
+    case Standing::outside_map: return "outside the map " + why;
+    case Standing::mode_not_in_sweep: return "mode " + why + " not in the sweep at this place";
+  }
+  return why;
+}
+
 void set_objective(DesignRow& r) {
   r.objective = r.objective_lo = r.objective_hi = NAN;
   for (std::size_t k = 0; k < r.db.size(); ++k)
@@ -32,7 +46,7 @@ void set_objective(DesignRow& r) {
 
 void rank_rows(std::vector<DesignRow>& rows) {
   std::stable_sort(rows.begin(), rows.end(), [](const DesignRow& a, const DesignRow& b) {
-    const bool ra = a.status == "ranked", rb = b.status == "ranked";
+    const bool ra = a.status.ranked(), rb = b.status.ranked();
     if (ra != rb) return ra;
     if (!ra) return false;
     if (a.objective != b.objective) return a.objective > b.objective;
@@ -40,12 +54,12 @@ void rank_rows(std::vector<DesignRow>& rows) {
   });
   int rank = 0;
   for (DesignRow& r : rows) {
-    r.rank = r.status == "ranked" ? ++rank : 0;
+    r.rank = r.status.ranked() ? ++rank : 0;
     r.pareto = false;
-    if (r.status != "ranked") continue;
+    if (!r.status.ranked()) continue;
     bool dominated = false;
     for (const DesignRow& o : rows)
-      if (&o != &r && o.status == "ranked" &&
+      if (&o != &r && o.status.ranked() &&
           ((o.objective >= r.objective && o.added_mass < r.added_mass) || (o.objective > r.objective && o.added_mass <= r.added_mass)))
         dominated = true;
     r.pareto = !dominated;
@@ -63,7 +77,7 @@ struct Candidate {
   std::vector<std::string> sets;   // the case's overrides: every run's, then the candidate's
   std::vector<std::string> given;  // its values as given, one per varied key
   double added_mass = NAN;
-  std::string status = "ranked";   // or "over budget", "does not load: ..."
+  Status status;                   // ranked, over budget, does not load
   std::string map;                 // OUT/maps/map-HASH
 };
 
@@ -106,13 +120,6 @@ StudySpec candidate_spec(const DesignArgs& a, const fs::path& out) {
   return spec;
 }
 
-// A number of a run's summary.json by its (unique) key; NaN when absent.
-double summary_number(const fs::path& summary, const std::string& key) {
-  std::ifstream in(summary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto at = text.find("\"" + key + "\":");
-  return at == std::string::npos ? NAN : std::strtod(text.c_str() + at + key.size() + 3, nullptr);
-}
 
 // A map for a candidate: bagdem characterize's runs, in OUT/maps/map-HASH (built once).
 void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n,
@@ -146,7 +153,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band
     const RandomPredictionRange p = predict_random_range(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
     if (!p.mean.outside.empty() || !p.mean.converged) {
-      r.status = "outside the map (" + (p.mean.outside.empty() ? std::string("no convergence") : p.mean.outside) + ")";
+      r.status = {Standing::outside_map, "(" + (p.mean.outside.empty() ? std::string("no convergence") : p.mean.outside) + ")"};
       return;
     }
     r.bare_rms = p.mean.bare_response_rms;
@@ -161,7 +168,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
     if (k == modes.end()) continue;
     const std::size_t i = static_cast<std::size_t>(k - modes.begin());
     if (!m.outside.empty()) {
-      r.status = "outside the map at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")";
+      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")"};
       return;
     }
     r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
@@ -170,7 +177,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   }
   for (std::size_t i = 0; i < modes.size(); ++i)
     if (!std::isfinite(r.db[i])) {
-      r.status = "mode " + std::to_string(modes[i]) + " not in the sweep at this place";
+      r.status = {Standing::mode_not_in_sweep, std::to_string(modes[i])};
       return;
     }
   set_objective(r);
@@ -182,7 +189,7 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
                  std::vector<DesignRow>& rows) {
   std::vector<DesignRow*> best;
   for (DesignRow& r : rows)
-    if (r.status == "ranked" && static_cast<int>(best.size()) < a.verify &&
+    if (r.status.ranked() && static_cast<int>(best.size()) < a.verify &&
         std::none_of(best.begin(), best.end(), [&](const DesignRow* b) { return b->candidate == r.candidate; }))
       best.push_back(&r);  // the rows are ranked: a candidate's first is its best position
   if (best.empty()) return false;
@@ -223,7 +230,7 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
     for (const Point& p : plan.points)
       if (finished[p.index]) {
-        const double rms = summary_number(fs::path(plan.point_dir(p)) / "summary.json", "band_response_rms_m");
+        const double rms = json_number(read_json(fs::path(plan.point_dir(p)) / "summary.json"), "/structure/band_response_rms_m");
         x[p.combination][p.index] = {20 * std::log10(best[p.combination]->bare_rms / rms)};
       }
   } else if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
@@ -269,12 +276,12 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
 // A ranked candidate's map, if its runs gave one; a map of another damper than the candidate's (a
 // map directory from elsewhere) takes the candidate out, saying why.
 std::optional<EffectiveMap> candidate_map(const StudySpec& cand, Candidate& c) {
-  if (c.status != "ranked" || !fs::exists(fs::path(c.map) / "map.csv")) return std::nullopt;
+  if (!c.status.ranked() || !fs::exists(fs::path(c.map) / "map.csv")) return std::nullopt;
   const std::optional<DamperRecord> made = read_damper_record(fs::path(c.map) / "damper.toml");
   const std::vector<std::string> diff =
       made ? damper_differences(*made, damper_record(load_case(cand.case_dir, c.sets))) : std::vector<std::string>{"no damper.toml"};
   if (!diff.empty()) {
-    c.status = "map of another damper (" + diff.front() + (diff.size() > 1 ? ", ..." : "") + ")";
+    c.status = {Standing::other_damper, diff.front() + (diff.size() > 1 ? ", ..." : "")};
     return std::nullopt;
   }
   return read_effective_map(fs::path(c.map) / "map.csv");
@@ -330,16 +337,16 @@ int design_command(const DesignArgs& a) {
       // It must load with the case's seed and every start's (the seed places the fill's lattice,
       // and with it the bag's length): the maps' and the check's runs use simulation.seed 1..N.
       const int starts = std::max(map.seeds, a.verify > 0 ? a.verify_seeds : 1);
-      for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status == "ranked"; ++seed) {  // 0: the case's own
+      for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status.ranked(); ++seed) {  // 0: the case's own
         std::vector<std::string> sets = c.sets;
         if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
         try {
           const Scene cs_scene = load_case(cand.case_dir, sets);
           if (seed > 0) continue;
           c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
-          if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = "over budget";
+          if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = {Standing::over_budget, ""};
         } catch (const InputError& e) {
-          c.status = std::string("does not load") + (seed > 0 ? " (simulation.seed " + std::to_string(seed) + ")" : "") + ": " + e.what();
+          c.status = {Standing::does_not_load, (seed > 0 ? "(simulation.seed " + std::to_string(seed) + ") " : "") + std::string(e.what())};
           if (first_load_error.empty()) first_load_error = e.what();
         }
       }
@@ -347,7 +354,7 @@ int design_command(const DesignArgs& a) {
       c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(map)).substr(0, 12))).string();
       cs.push_back(c);
     }
-    if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status == "ranked"; }))
+    if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status.ranked(); }))
       throw InputError(a.dir, "", "", first_load_error.empty() ? "no candidate is within the budget of " + short_text(a.budget) + " of the structure's mass (--budget)"
                                                                : "no candidate loads; the first: " + first_load_error);
     return 0;
@@ -362,8 +369,8 @@ int design_command(const DesignArgs& a) {
   for (const Candidate& c : cs) {
     std::string v;
     for (std::size_t k = 0; k < c.given.size(); ++k) v += (k ? ", " : "") + cand.vary[k].key + " = " + c.given[k];
-    std::printf("  %-60s %8.4g kg (%5.1f%%)  %s%s\n", v.c_str(), c.added_mass, 100 * c.added_mass / structure_mass, c.status.c_str(),
-                c.status == "ranked" ? (fs::exists(fs::path(c.map) / "map.csv") ? ", map built" : ", map to build") : "");
+    std::printf("  %-60s %8.4g kg (%5.1f%%)  %s%s\n", v.c_str(), c.added_mass, 100 * c.added_mass / structure_mass, c.status.text().c_str(),
+                c.status.ranked() ? (fs::exists(fs::path(c.map) / "map.csv") ? ", map built" : ", map to build") : "");
   }
   std::fflush(stdout);
   if (a.check) return 0;
@@ -374,13 +381,13 @@ int design_command(const DesignArgs& a) {
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;
-    for (const Candidate& c : cs) n += c.status == "ranked";
+    for (const Candidate& c : cs) n += c.status.ranked();
     for (Candidate& c : cs)
-      if (c.status == "ranked") try {
+      if (c.status.ranked()) try {
           build_map(a, map, cand, c, k++, n, failed);
         } catch (const InputError& e) {  // a run of its map does not load: the candidate is out, the search goes on
-          c.status = std::string("does not load: ") + e.what();
-          std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.c_str());
+          c.status = {Standing::does_not_load, e.what()};
+          std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.text().c_str());
         }
     // 2. The predictions.
     std::vector<DesignRow> rows;
@@ -394,14 +401,14 @@ int design_command(const DesignArgs& a) {
         r.attach = beam ? x * length : NAN;
         r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
         r.objective = r.objective_lo = r.objective_hi = NAN;
-        if (c.status == "ranked" && !effective) r.status = "no map (its runs failed)";
-        if (r.status == "ranked") {
+        if (c.status.ranked() && !effective) r.status = {Standing::no_map, ""};
+        if (r.status.ranked()) {
           std::vector<std::string> sets = c.sets;
           if (beam) sets.push_back("primary.attach=\"" + short_text(x * length) + " m\"");
           try {
             predict_row(cand.case_dir, sets, *effective, modes, r);
           } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
-            r.status = std::string("does not load: ") + e.what();
+            r.status = {Standing::does_not_load, e.what()};
           }
           if (!beam) r.attach = NAN;
         }

@@ -41,7 +41,7 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   for (std::size_t k = 0; k < head.size(); ++k) text += (k ? "," : "") + csv_cell(head[k]);
   text += "\n";
   for (const DesignRow& r : rows) {
-    std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status};
+    std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status.text()};
     c.insert(c.end(), r.given.begin(), r.given.end());
     for (double x : {r.position, r.attach, r.added_mass, r.mass_ratio}) c.push_back(cell(x));
     for (std::size_t k = 0; k < s.modes.size(); ++k)
@@ -65,7 +65,7 @@ void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
 const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {
   const DesignRow* best = nullptr;
   for (const DesignRow& r : rows)
-    if (r.status == "ranked" && std::isfinite(r.dem_objective) && (!best || r.dem_objective > best->dem_objective)) best = &r;
+    if (r.status.ranked() && std::isfinite(r.dem_objective) && (!best || r.dem_objective > best->dem_objective)) best = &r;
   if (best) return best;
   for (const DesignRow& r : rows)
     if (r.rank == 1) return &r;
@@ -103,7 +103,7 @@ void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   std::printf("rank  %-44s %9s %8s  %-26s %s\n", "candidate", "x/L", "mass", "worst mode, predicted [dB]", "coupled DEM [dB]");
   int shown = 0;
   for (const DesignRow& r : rows) {
-    if (r.status != "ranked" || (shown >= 10 && !r.pareto && !std::isfinite(r.dem_objective))) continue;
+    if (!r.status.ranked() || (shown >= 10 && !r.pareto && !std::isfinite(r.dem_objective))) continue;
     ++shown;
     std::string v;
     for (std::size_t k = 0; k < r.given.size(); ++k) v += (k ? ", " : "") + r.given[k];
@@ -115,13 +115,13 @@ void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   }
   std::printf("(P: on the Pareto front of reduction against added mass)\n");
   int edge = 0;
-  for (const DesignRow& r : rows) edge += r.status == "ranked" && r.at_band_edge > 0;
+  for (const DesignRow& r : rows) edge += r.status.ranked() && r.at_band_edge > 0;
   if (edge > 0)
     std::printf("<=: %d ranked row%s predict a peak at the band's edge (at_band_edge in design.csv): the peak may lie beyond the band, "
                 "so the reduction is only a bound; widen excitation.span\n", edge, edge > 1 ? "s" : "");
   int coarse = 0, unchecked = 0;
   for (const DesignRow& r : rows) {
-    if (r.status != "ranked") continue;
+    if (!r.status.ranked()) continue;
     if (std::isnan(r.interpolation_db)) ++unchecked;
     else if (r.interpolation_db > kInterpolationWarning) ++coarse;
   }

@@ -53,6 +53,17 @@ struct DesignArgs {
 };
 
 // One candidate at one position, predicted (and verified).
+// Where a candidate, or a candidate at a place, stands: ranked, or why not.
+enum class Standing { ranked, over_budget, does_not_load, no_map, other_damper, outside_map, mode_not_in_sweep };
+struct Status {
+  Standing kind = Standing::ranked;
+  std::string why;  // the detail design.csv adds to the kind's words (a loader's message, a mode, a map's reason)
+  bool ranked() const { return kind == Standing::ranked; }
+  // design.csv's status: "ranked", "over budget", "does not load: WHY", "no map (its runs failed)",
+  // "map of another damper (WHY)", "outside the map WHY", "mode WHY not in the sweep at this place".
+  std::string text() const;
+};
+
 struct DesignRow {
   std::size_t candidate = 0;             // index into the candidates' grid
   std::vector<std::string> given;        // the candidate's values, as given (one per varied key)
@@ -64,7 +75,7 @@ struct DesignRow {
   int at_band_edge = 0;                  // chosen modes whose predicted peak lies at the band's edge (their reduction is a bound)
   double interpolation_db = NAN;         // the largest estimated interpolation error of the chosen modes' predictions
                                          // (reduce/predict.hpp; NaN: the map is too coarse to check, or a random force) (unit: dB)
-  std::string status = "ranked";         // "ranked", "over budget", or why predict refused ("outside the map: below ...")
+  Status status;                         // ranked, over budget, or why predict refused
   bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
   int rank = 0;                          // 1 = best predicted objective (0: not ranked)
   std::string map;                       // its map's directory

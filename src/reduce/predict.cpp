@@ -29,7 +29,7 @@ std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, in
   if (gamma.size() < 2 || frequency.size() < 2 || !(X > 0)) return std::nullopt;
   if (!covers(f)) return std::nullopt;
   f = std::clamp(f, frequency.front(), frequency.back());
-  const double w = 2 * std::numbers::pi * f, G = X * w * w / g;
+  const double G = gamma_of(X, f);
   if (G < gamma.front() || G > gamma.back()) return std::nullopt;
   const std::size_t i = bracket(gamma, G), j = bracket(frequency, f), nf = frequency.size();
   const double s = std::log(G / gamma[i]) / std::log(gamma[i + 1] / gamma[i]);
@@ -119,8 +119,7 @@ EffectiveMap EffectiveMap::interpolation_bounds() const {
 }
 
 std::pair<double, double> EffectiveMap::amplitude_range(double f) const {
-  const double w = 2 * std::numbers::pi * f;
-  return {gamma.front() * g / (w * w), gamma.back() * g / (w * w)};
+  return {amplitude_of(gamma.front(), f), amplitude_of(gamma.back(), f)};
 }
 
 EffectiveMap read_effective_map(const fs::path& path) {

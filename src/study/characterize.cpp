@@ -15,11 +15,6 @@
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
-double MapGrid::amplitude(std::size_t i, std::size_t j) const {
-  const double w = 2 * std::numbers::pi * frequency[j];
-  return gamma[i] * g / (w * w);
-}
-
 std::vector<std::pair<double, double>> sweep_bands(std::vector<double> f) {
   std::sort(f.begin(), f.end());
   std::vector<std::pair<double, double>> bands;

@@ -22,6 +22,7 @@
 #pragma once
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -31,10 +32,24 @@
 
 namespace bagdem {
 
+// The grid of an effective-field map, as characterize plans it (study/characterize.hpp, MapGrid)
+// and predict reads it (EffectiveMap): acceleration ratios by frequencies, and the one conversion
+// between a cavity's amplitude and Gamma = X w^2 / g at a frequency.
+struct MapAxes {
+  std::vector<double> gamma, frequency;  // ascending (unit: 1, Hz)
+  double g = 9.81;                       // |gravity| of the scene, 9.81 without gravity (unit: m/s^2)
+  double amplitude_of(double G, double f) const {  // X = Gamma g / (2 pi f)^2 (unit: m)
+    const double w = 2 * std::numbers::pi * f;
+    return G * g / (w * w);
+  }
+  double gamma_of(double X, double f) const {  // Gamma = X (2 pi f)^2 / g
+    const double w = 2 * std::numbers::pi * f;
+    return X * w * w / g;
+  }
+};
+
 // The map's figures that the prediction needs, on its grid (cells Gamma-major: [i * nf + j]).
-struct EffectiveMap {
-  std::vector<double> gamma, frequency;           // ascending (unit: 1, Hz)
-  double g = 9.81;                                // (unit: m/s^2)
+struct EffectiveMap : MapAxes {
   std::vector<double> M_eff, M_eff_ci95;          // (unit: kg)
   std::vector<double> C_eff, C_eff_ci95;          // (unit: N s/m)
   std::string source;                             // the file read, for messages

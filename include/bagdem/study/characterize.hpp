@@ -22,12 +22,13 @@
 // run by the study machinery (study.hpp: OUT/point-NNN, resumable, J at once, MPI ranks sharing
 // the points). docs/characterize.md has the outputs' columns.
 #pragma once
-#include "bagdem/study/damper_record.hpp"
 #include <string>
 #include <vector>
 
+#include "bagdem/reduce/predict.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/scene.hpp"
+#include "bagdem/study/damper_record.hpp"
 
 namespace bagdem::study {
 
@@ -54,14 +55,11 @@ struct CharacterizeArgs {
 std::pair<int, int> run_cycles(const CharacterizeArgs& args, double f);
 
 // The grid of a map (SI units).
-struct MapGrid {
-  std::vector<double> gamma;      // acceleration ratios, ascending (unit: 1)
-  std::vector<double> frequency;  // ascending (unit: Hz)
+struct MapGrid : MapAxes {       // the axes (reduce/predict.hpp), as the map read back has them
   Vec3 direction = Vec3::UnitX(); // the prescribed motion's direction (unit vector)
-  double g = 9.81;                // |gravity| of the scene, 9.81 without gravity (unit: m/s^2)
   DamperRecord damper;            // the damper characterised (study/damper_record.hpp): OUT/damper.toml
-  // The displacement amplitude of cell (i, j): gamma[i] g / (2 pi frequency[j])^2 (unit: m).
-  double amplitude(std::size_t i, std::size_t j) const;
+  // The displacement amplitude of cell (i, j) (unit: m).
+  double amplitude(std::size_t i, std::size_t j) const { return amplitude_of(gamma[i], frequency[j]); }
 };
 
 // The grid of the command's options on a loaded scene. Throws InputError (naming the option or the

@@ -14,35 +14,13 @@
 
 namespace bagdem {
 
-std::string describe_scene(const Scene& s) {
-  std::ostringstream o;
-  o << std::setprecision(4);
-  o << "case        " << s.case_file << "\n";
-  for (const auto& m : s.materials)
-    o << "material    " << m.name << ": density " << m.density << " kg/m^3, E " << m.youngs_modulus
-      << " Pa, nu " << m.poisson_ratio << "\n";
-  for (int a = 0; a < s.laws.n; ++a)
-    for (int b = a; b < s.laws.n; ++b) {
-      const PairLaw& l = s.laws(a, b);
-      o << "pair        " << s.materials[static_cast<std::size_t>(a)].name << "-"
-        << s.materials[static_cast<std::size_t>(b)].name << ": e " << l.restitution << " (clamped-law |beta| "
-        << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r " << l.rolling
-        << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
-    }
-  double rmin = 1e300, rmax = 0, mass = 0;
-  for (const auto& p : s.particles) {
-    rmin = std::min(rmin, p.radius);
-    rmax = std::max(rmax, p.radius);
-    mass += sphere_mass(s.materials[static_cast<std::size_t>(p.material)].density, p.radius);
-  }
-  const std::size_t n = s.particles.size();
-  o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "
-    << mass << " kg\n";
-  o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
-    << "] .. [" << s.cavity_hi.transpose() << "] m\n";
-  auto on = [](bool b) { return b ? "on " : "off"; };
-  if (s.bag) {
-    const Bag& b = *s.bag;
+namespace {
+
+const char* on(bool b) { return b ? "on " : "off"; }
+
+// The bag: its shape, fill, film and strings (rmin: the smallest ball radius).
+void describe_bag(std::ostream& o, const Scene& s, double rmin) {
+  const Bag& b = *s.bag;
     const double V = enclosed_volume(b.rest, b.rest.vertices);
     const double film_mass = b.film_mass();
     o << "bag         " << b.shape << ", " << b.balls << " balls (" << b.source << "), outer " << 1e3 * b.size.x()
@@ -65,12 +43,11 @@ std::string describe_scene(const Scene& s) {
     for (const BagString& st : b.strings)
       o << "string      " << st.name << ": " << st.nodes.size() << " tie nodes, anchor [" << st.anchor.transpose()
         << "] m, k " << st.stiffness << " N/m, c " << st.damping << " N s/m, rest length " << st.rest_length << " m\n";
-  }
-  if (!s.mesh_walls.empty())
-    for (const MeshWall& w : s.mesh_walls)
-      o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
-  if (s.primary) {
-    const Primary& P = *s.primary;
+}
+
+// The primary structure, its excitation and, for a sweep, how a point is judged steady.
+void describe_primary(std::ostream& o, const Scene& s) {
+  const Primary& P = *s.primary;
     o << "primary     " << P.description << "\n"
       << "            moves along [" << P.direction.transpose() << "]";
     if (P.kind == "beam" || P.kind == "fe-beam")
@@ -113,10 +90,10 @@ std::string describe_scene(const Scene& s) {
         << " Hz (Gamma = X w^2 / g = " << (s.gravity.norm() > 0 ? X * w * w / s.gravity.norm() : 0.0)
         << ") over the swept range\n";
     }
-  } else {
-    o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
-  }
-  o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";
+}
+
+// What is modelled, the neighbour search, the step, the run's length, its outputs and guards.
+void describe_numerics(std::ostream& o, const Scene& s) {
   o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n"
     << "            tangential Mindlin spring, history, Coulomb cap:       " << on(s.models.tangential)
     << (s.models.tangential ? "" : " (no pair has friction)") << "\n"
@@ -138,6 +115,11 @@ std::string describe_scene(const Scene& s) {
     << "; on SIGINT/SIGTERM\n";
   o << "guards      overlap above " << 100 * s.max_overlap_fraction
     << "% of a radius, NaN, or a particle outside the cavity stops the run\n";
+}
+
+// The memory of the step and the size of results.h5, estimated.
+void describe_memory(std::ostream& o, const Scene& s) {
+  const std::size_t n = s.particles.size();
   // Memory: hot particle arrays + tallies + ~12 candidate pairs per particle with their buffers.
   const double per_particle = 5 * 24 + 4 * 8 + 4 + 4 * 24 + 4 * 8 + 24 +
                               s.walls.size() * ((s.models.tangential ? sizeof(TangentialHistory) : 0) +
@@ -159,6 +141,45 @@ std::string describe_scene(const Scene& s) {
     << (frames * static_cast<double>(n) * 72 + frames * static_cast<double>(s.bag ? s.bag->rest.vertices.size() : 0) * 24 +
         (s.settle + s.duration) / s.output.cavity_interval * 120) / 1048576
     << " MiB\n";
+}
+
+}  // namespace
+
+std::string describe_scene(const Scene& s) {
+  std::ostringstream o;
+  o << std::setprecision(4);
+  o << "case        " << s.case_file << "\n";
+  for (const auto& m : s.materials)
+    o << "material    " << m.name << ": density " << m.density << " kg/m^3, E " << m.youngs_modulus
+      << " Pa, nu " << m.poisson_ratio << "\n";
+  for (int a = 0; a < s.laws.n; ++a)
+    for (int b = a; b < s.laws.n; ++b) {
+      const PairLaw& l = s.laws(a, b);
+      o << "pair        " << s.materials[static_cast<std::size_t>(a)].name << "-"
+        << s.materials[static_cast<std::size_t>(b)].name << ": e " << l.restitution << " (clamped-law |beta| "
+        << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r " << l.rolling
+        << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
+    }
+  double rmin = 1e300, rmax = 0, mass = 0;
+  for (const auto& p : s.particles) {
+    rmin = std::min(rmin, p.radius);
+    rmax = std::max(rmax, p.radius);
+    mass += sphere_mass(s.materials[static_cast<std::size_t>(p.material)].density, p.radius);
+  }
+  const std::size_t n = s.particles.size();
+  o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "
+    << mass << " kg\n";
+  o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
+    << "] .. [" << s.cavity_hi.transpose() << "] m\n";
+  if (s.bag) describe_bag(o, s, rmin);
+  if (!s.mesh_walls.empty())
+    for (const MeshWall& w : s.mesh_walls)
+      o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
+  if (s.primary) describe_primary(o, s);
+  else o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
+  o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";
+  describe_numerics(o, s);
+  describe_memory(o, s);
   return o.str();
 }
 

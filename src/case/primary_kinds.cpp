@@ -256,6 +256,138 @@ std::vector<double> number_list(const CaseReader& in, const std::string& key, Di
 // Speed amplitude of the cavity in the bare structure's steady state at w under force amplitude F.
 double cavity_speed(const Primary& p, double F, double w) { return w * p.bare_cavity_amplitude(F, w); }
 
+// excitation.kind = "stepped-sine": its frequencies (into f) and how a point is judged steady.
+std::shared_ptr<Primary::Sweep> stepped_sine(const CaseReader& in, const Primary& p, std::vector<double>& f) {
+  auto sw = std::make_shared<Primary::Sweep>();
+  const bool has_list = in.has("excitation.frequencies"), has_band = in.has("excitation.band"),
+             has_modes = in.has("excitation.around_modes");
+  if (has_list + has_band + has_modes != 1)
+    in.fail("excitation", "a stepped-sine sweep needs exactly one of frequencies = [...], band = [lo, hi] (with points), or around_modes = [...] (with span and points)");
+  const long long pts = in.integer("excitation.points", has_band ? 41 : 9);
+  if (pts < 1 || pts > 100000) in.fail("excitation.points", "must be in [1, 100000]");
+  if (has_list) {
+    f = number_list(in, "excitation.frequencies", dim::frequency);
+  } else if (has_band) {
+    const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
+    if (band.size() != 2 || !(band[0] > 0 && band[1] >= band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo <= hi (Hz)");
+    for (long long k = 0; k < pts; ++k)
+      f.push_back(pts == 1 ? band[0] : band[0] + (band[1] - band[0]) * static_cast<double>(k) / static_cast<double>(pts - 1));
+  } else {
+    const double span = in.quantity("excitation.span", dim::none, 0.1);
+    if (!(span > 0 && span < 1)) in.fail("excitation.span", "must be in (0, 1): the band is f_mode (1 -/+ span)");
+    const std::vector<double> bare = p.bare_frequencies();
+    std::vector<std::size_t> elastic;
+    for (std::size_t k = 0; k < p.size(); ++k)
+      if (!p.rigid_body[k]) elastic.push_back(k);
+    for (std::size_t i = 0; i < in.array_size("excitation.around_modes"); ++i) {
+      const std::string key = "excitation.around_modes." + std::to_string(i);
+      const long long m = in.integer(key, 0);
+      if (m < 1 || static_cast<std::size_t>(m) > elastic.size())
+        in.fail(key, "must name an elastic mode of the primary, 1 to " + std::to_string(elastic.size()));
+      const std::size_t dof = elastic[static_cast<std::size_t>(m - 1)];
+      sw->modes.push_back(dof);
+      // Around the bare mode's frequency with the cavity mass (the DOFs are in frequency order,
+      // and a cavity mass keeps that order).
+      const double fm = bare[dof];
+      for (long long k = 0; k < pts; ++k)
+        f.push_back(fm * (1 - span + 2 * span * (pts == 1 ? 0.5 : static_cast<double>(k) / static_cast<double>(pts - 1))));
+    }
+  }
+  if (f.empty()) in.fail("excitation", "the sweep has no frequencies");
+  for (double x : f)
+    if (!(x > 0)) in.fail("excitation.frequencies", "must all be > 0 (Hz)");
+  sw->frequencies = f;
+  sw->tolerance = in.quantity("excitation.steady_tolerance", dim::none, 0.01);
+  if (!(sw->tolerance > 0)) in.fail("excitation.steady_tolerance", "must be > 0");
+  auto count = [&](const char* key, long long fallback) {
+    const long long v = in.integer(key, fallback);
+    if (v < 1 || v > 1000000) in.fail(key, "must be a whole number in [1, 1e6]");
+    return static_cast<std::size_t>(v);
+  };
+  sw->cycles = count("excitation.steady_cycles", 3);
+  sw->min_cycles = count("excitation.min_cycles", 5);
+  sw->max_cycles = count("excitation.max_cycles", 200);
+  const long long reduce_cycles = in.integer("excitation.reduce_cycles", 10);
+  if (reduce_cycles < 3 || reduce_cycles > 1000000)
+    in.fail("excitation.reduce_cycles", "must be a whole number in [3, 1e6] (the steady cycles each point is reduced over; the window is the even number of cycles at or above it, so an interval has at least 4)");
+  sw->reduce_cycles = static_cast<std::size_t>(reduce_cycles);
+  if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
+  if (sw->max_cycles < sw->reduce_cycles) in.fail("excitation.max_cycles", "must be >= reduce_cycles");
+  const long long refine = in.integer("excitation.refine", 4);
+  if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
+  sw->refine = static_cast<std::size_t>(refine);
+  // The chains: the points' split among simulations run side by side. The case sets it, never
+  // the thread count, so the results are the same for any --threads.
+  const long long chains = in.integer("excitation.chains", 2);
+  if (chains < 1 || chains > 1024)
+    in.fail("excitation.chains", "must be a whole number in [1, 1024] (simulations that share the frequencies, run side by side; 1 = one after another from a single start)");
+  sw->chains = static_cast<std::size_t>(chains);
+  sw->predict = in.boolean("excitation.predict", true);
+  return sw;
+}
+
+// excitation.kind = "decay": a mode's free decay from a displacement at response_at.
+void decay_excitation(const CaseReader& in, Primary& p) {
+  const double X = in.quantity("excitation.displacement", dim::length);
+  if (!(X != 0) || !std::isfinite(X)) in.fail("excitation.displacement", "must be a non-zero displacement at response_at (m)");
+  std::size_t dof = 0;
+  if (p.kind != "sdof") {
+    std::vector<std::size_t> elastic;
+    for (std::size_t k = 0; k < p.size(); ++k)
+      if (!p.rigid_body[k]) elastic.push_back(k);
+    const long long m = in.integer("excitation.mode", 1);
+    if (m < 1 || static_cast<std::size_t>(m) > elastic.size()) in.fail("excitation.mode", "must name an elastic mode, 1 to " + std::to_string(elastic.size()));
+    dof = elastic[static_cast<std::size_t>(m - 1)];
+  }
+  const double phi = p.at_response[static_cast<Eigen::Index>(dof)];
+  if (std::abs(phi) < 1e-9 * p.at_response.cwiseAbs().maxCoeff())
+    in.fail("excitation.mode", "has a node at primary.response_at: its displacement there cannot be set; move response_at");
+  p.q0[static_cast<Eigen::Index>(dof)] = X / phi;
+  const double w = std::sqrt(p.stiffness[static_cast<Eigen::Index>(dof)] / p.mass(static_cast<Eigen::Index>(dof), static_cast<Eigen::Index>(dof)));
+  p.expected_cavity_speed = w * std::abs(p.at_cavity.dot(p.q0));
+  p.response_frequency = w / (2 * kPi);
+  p.excitation = make_no_force();
+}
+
+// excitation.kind = "impulse": a hammer blow at force_at.
+void impulse_excitation(const CaseReader& in, Primary& p) {
+  const double J = in.quantity("excitation.impulse", dim::impulse);
+  const double tau = in.quantity("excitation.duration", dim::time, 2e-4);
+  const double t0 = in.quantity("excitation.start_time", dim::time, 0.0);
+  if (!(J != 0) || !std::isfinite(J)) in.fail("excitation.impulse", "must be a non-zero impulse (N s)");
+  if (!(tau > 0)) in.fail("excitation.duration", "must be > 0 (s)");
+  if (!(t0 >= 0)) in.fail("excitation.start_time", "must be >= 0 (s)");
+  p.excitation = make_impulse_force(J, tau, t0);
+  p.force_time_scale = tau;
+  // The blow's velocity at the cavity: J phi_f phi_b per mode (mass-normalised), summed in magnitude.
+  p.expected_cavity_speed = std::abs(J) * (p.mass_inverse * p.at_force).cwiseAbs().dot(p.at_cavity.cwiseAbs());
+}
+
+// excitation.kind = "random": a band-limited random force (a multisine) at force_at.
+void random_excitation(const CaseReader& in, const Scene& s, Primary& p) {
+  const double rms = in.quantity("excitation.rms", dim::force);
+  const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
+  if (!(rms > 0)) in.fail("excitation.rms", "must be > 0 (N)");
+  if (band.size() != 2 || !(band[0] > 0 && band[1] > band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo < hi (Hz)");
+  const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed), 0, kMaxSeed));
+  const double period = in.quantity("excitation.period", dim::time, 0.0);
+  if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
+  if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");
+  p.excitation = make_random_force(rms, band[0], band[1], seed, period);
+  p.random_lo = band[0], p.random_hi = band[1], p.random_rms = rms;
+  const double T = period > 0 ? period : 200.0 / (band[1] - band[0]);  // as make_random_force's
+  p.random_lines = static_cast<int>(std::floor(band[1] * T + 1e-9) - std::ceil(band[0] * T - 1e-9)) + 1;
+  p.random_skip = in.quantity("excitation.skip", dim::time, s.duration / 4);
+  if (!(p.random_skip >= 0 && p.random_skip < s.duration))
+    in.fail("excitation.skip", "must be >= 0 and below simulation.duration (s): the start-up left out of the response's in-band RMS");
+  p.force_time_scale = 1 / band[1];
+  // A bound: the RMS force at the worst frequency of the band, times 3 (peak factor).
+  for (int k = 0; k <= 200; ++k) {
+    const double w = 2 * kPi * (band[0] + (band[1] - band[0]) * k / 200.0);
+    p.expected_cavity_speed = std::max(p.expected_cavity_speed, cavity_speed(p, 3 * rms, w));
+  }
+}
+
 void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
   const std::string kind = in.choice("excitation.kind", {"harmonic", "stepped-sine", "decay", "impulse", "random", "none"}, "harmonic");
   if (kind == "harmonic" || kind == "stepped-sine") {
@@ -267,72 +399,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     if (kind == "harmonic") {
       f.push_back(positive(in, "excitation.frequency", dim::frequency, "Hz"));
     } else {
-      auto sw = std::make_shared<Primary::Sweep>();
-      const bool has_list = in.has("excitation.frequencies"), has_band = in.has("excitation.band"),
-                 has_modes = in.has("excitation.around_modes");
-      if (has_list + has_band + has_modes != 1)
-        in.fail("excitation", "a stepped-sine sweep needs exactly one of frequencies = [...], band = [lo, hi] (with points), or around_modes = [...] (with span and points)");
-      const long long pts = in.integer("excitation.points", has_band ? 41 : 9);
-      if (pts < 1 || pts > 100000) in.fail("excitation.points", "must be in [1, 100000]");
-      if (has_list) {
-        f = number_list(in, "excitation.frequencies", dim::frequency);
-      } else if (has_band) {
-        const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
-        if (band.size() != 2 || !(band[0] > 0 && band[1] >= band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo <= hi (Hz)");
-        for (long long k = 0; k < pts; ++k)
-          f.push_back(pts == 1 ? band[0] : band[0] + (band[1] - band[0]) * static_cast<double>(k) / static_cast<double>(pts - 1));
-      } else {
-        const double span = in.quantity("excitation.span", dim::none, 0.1);
-        if (!(span > 0 && span < 1)) in.fail("excitation.span", "must be in (0, 1): the band is f_mode (1 -/+ span)");
-        const std::vector<double> bare = p.bare_frequencies();
-        std::vector<std::size_t> elastic;
-        for (std::size_t k = 0; k < p.size(); ++k)
-          if (!p.rigid_body[k]) elastic.push_back(k);
-        for (std::size_t i = 0; i < in.array_size("excitation.around_modes"); ++i) {
-          const std::string key = "excitation.around_modes." + std::to_string(i);
-          const long long m = in.integer(key, 0);
-          if (m < 1 || static_cast<std::size_t>(m) > elastic.size())
-            in.fail(key, "must name an elastic mode of the primary, 1 to " + std::to_string(elastic.size()));
-          const std::size_t dof = elastic[static_cast<std::size_t>(m - 1)];
-          sw->modes.push_back(dof);
-          // Around the bare mode's frequency with the cavity mass (the DOFs are in frequency order,
-          // and a cavity mass keeps that order).
-          const double fm = bare[dof];
-          for (long long k = 0; k < pts; ++k)
-            f.push_back(fm * (1 - span + 2 * span * (pts == 1 ? 0.5 : static_cast<double>(k) / static_cast<double>(pts - 1))));
-        }
-      }
-      if (f.empty()) in.fail("excitation", "the sweep has no frequencies");
-      for (double x : f)
-        if (!(x > 0)) in.fail("excitation.frequencies", "must all be > 0 (Hz)");
-      sw->frequencies = f;
-      sw->tolerance = in.quantity("excitation.steady_tolerance", dim::none, 0.01);
-      if (!(sw->tolerance > 0)) in.fail("excitation.steady_tolerance", "must be > 0");
-      auto count = [&](const char* key, long long fallback) {
-        const long long v = in.integer(key, fallback);
-        if (v < 1 || v > 1000000) in.fail(key, "must be a whole number in [1, 1e6]");
-        return static_cast<std::size_t>(v);
-      };
-      sw->cycles = count("excitation.steady_cycles", 3);
-      sw->min_cycles = count("excitation.min_cycles", 5);
-      sw->max_cycles = count("excitation.max_cycles", 200);
-      const long long reduce_cycles = in.integer("excitation.reduce_cycles", 10);
-      if (reduce_cycles < 3 || reduce_cycles > 1000000)
-        in.fail("excitation.reduce_cycles", "must be a whole number in [3, 1e6] (the steady cycles each point is reduced over; the window is the even number of cycles at or above it, so an interval has at least 4)");
-      sw->reduce_cycles = static_cast<std::size_t>(reduce_cycles);
-      if (sw->max_cycles < sw->min_cycles) in.fail("excitation.max_cycles", "must be >= min_cycles");
-      if (sw->max_cycles < sw->reduce_cycles) in.fail("excitation.max_cycles", "must be >= reduce_cycles");
-      const long long refine = in.integer("excitation.refine", 4);
-      if (refine < 0 || refine > 50) in.fail("excitation.refine", "must be in [0, 50] (extra points per mode near its peak)");
-      sw->refine = static_cast<std::size_t>(refine);
-      // The chains: the points' split among simulations run side by side. The case sets it, never
-      // the thread count, so the results are the same for any --threads.
-      const long long chains = in.integer("excitation.chains", 2);
-      if (chains < 1 || chains > 1024)
-        in.fail("excitation.chains", "must be a whole number in [1, 1024] (simulations that share the frequencies, run side by side; 1 = one after another from a single start)");
-      sw->chains = static_cast<std::size_t>(chains);
-      sw->predict = in.boolean("excitation.predict", true);
-      p.sweep = sw;
+      p.sweep = stepped_sine(in, p, f);
     }
     p.drive_frequency = f.front();
     // The largest bare cavity speed over the swept range, resonances between the points included
@@ -341,58 +408,11 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     const double X = p.bare_cavity_amplitude_max(p.amplitude, f, w_at);
     p.expected_cavity_speed = X * w_at;
   } else if (kind == "decay") {
-    const double X = in.quantity("excitation.displacement", dim::length);
-    if (!(X != 0) || !std::isfinite(X)) in.fail("excitation.displacement", "must be a non-zero displacement at response_at (m)");
-    std::size_t dof = 0;
-    if (p.kind != "sdof") {
-      std::vector<std::size_t> elastic;
-      for (std::size_t k = 0; k < p.size(); ++k)
-        if (!p.rigid_body[k]) elastic.push_back(k);
-      const long long m = in.integer("excitation.mode", 1);
-      if (m < 1 || static_cast<std::size_t>(m) > elastic.size()) in.fail("excitation.mode", "must name an elastic mode, 1 to " + std::to_string(elastic.size()));
-      dof = elastic[static_cast<std::size_t>(m - 1)];
-    }
-    const double phi = p.at_response[static_cast<Eigen::Index>(dof)];
-    if (std::abs(phi) < 1e-9 * p.at_response.cwiseAbs().maxCoeff())
-      in.fail("excitation.mode", "has a node at primary.response_at: its displacement there cannot be set; move response_at");
-    p.q0[static_cast<Eigen::Index>(dof)] = X / phi;
-    const double w = std::sqrt(p.stiffness[static_cast<Eigen::Index>(dof)] / p.mass(static_cast<Eigen::Index>(dof), static_cast<Eigen::Index>(dof)));
-    p.expected_cavity_speed = w * std::abs(p.at_cavity.dot(p.q0));
-    p.response_frequency = w / (2 * kPi);
-    p.excitation = make_no_force();
+    decay_excitation(in, p);
   } else if (kind == "impulse") {
-    const double J = in.quantity("excitation.impulse", dim::impulse);
-    const double tau = in.quantity("excitation.duration", dim::time, 2e-4);
-    const double t0 = in.quantity("excitation.start_time", dim::time, 0.0);
-    if (!(J != 0) || !std::isfinite(J)) in.fail("excitation.impulse", "must be a non-zero impulse (N s)");
-    if (!(tau > 0)) in.fail("excitation.duration", "must be > 0 (s)");
-    if (!(t0 >= 0)) in.fail("excitation.start_time", "must be >= 0 (s)");
-    p.excitation = make_impulse_force(J, tau, t0);
-    p.force_time_scale = tau;
-    // The blow's velocity at the cavity: J phi_f phi_b per mode (mass-normalised), summed in magnitude.
-    p.expected_cavity_speed = std::abs(J) * (p.mass_inverse * p.at_force).cwiseAbs().dot(p.at_cavity.cwiseAbs());
+    impulse_excitation(in, p);
   } else if (kind == "random") {
-    const double rms = in.quantity("excitation.rms", dim::force);
-    const std::vector<double> band = number_list(in, "excitation.band", dim::frequency);
-    if (!(rms > 0)) in.fail("excitation.rms", "must be > 0 (N)");
-    if (band.size() != 2 || !(band[0] > 0 && band[1] > band[0])) in.fail("excitation.band", "must be [lo, hi] with 0 < lo < hi (Hz)");
-    const auto seed = static_cast<std::uint64_t>(in.integer("excitation.seed", static_cast<long long>(s.seed), 0, kMaxSeed));
-    const double period = in.quantity("excitation.period", dim::time, 0.0);
-    if (!(period >= 0)) in.fail("excitation.period", "must be >= 0 (s; 0 = automatic)");
-    if ((band[1] - band[0]) * period > 20000) in.fail("excitation.period", "gives more than 20000 lines in the band (lines = band width x period); shorten it");
-    p.excitation = make_random_force(rms, band[0], band[1], seed, period);
-    p.random_lo = band[0], p.random_hi = band[1], p.random_rms = rms;
-    const double T = period > 0 ? period : 200.0 / (band[1] - band[0]);  // as make_random_force's
-    p.random_lines = static_cast<int>(std::floor(band[1] * T + 1e-9) - std::ceil(band[0] * T - 1e-9)) + 1;
-    p.random_skip = in.quantity("excitation.skip", dim::time, s.duration / 4);
-    if (!(p.random_skip >= 0 && p.random_skip < s.duration))
-      in.fail("excitation.skip", "must be >= 0 and below simulation.duration (s): the start-up left out of the response's in-band RMS");
-    p.force_time_scale = 1 / band[1];
-    // A bound: the RMS force at the worst frequency of the band, times 3 (peak factor).
-    for (int k = 0; k <= 200; ++k) {
-      const double w = 2 * kPi * (band[0] + (band[1] - band[0]) * k / 200.0);
-      p.expected_cavity_speed = std::max(p.expected_cavity_speed, cavity_speed(p, 3 * rms, w));
-    }
+    random_excitation(in, s, p);
   } else {
     p.excitation = make_no_force();
   }

@@ -289,144 +289,183 @@ std::optional<EffectiveMap> candidate_map(const StudySpec& cand, Candidate& c) {
 
 }  // namespace
 
-int design_command(const DesignArgs& a) {
-  const auto t0 = std::chrono::steady_clock::now();
-  StudySpec cand;
+namespace {
+
+// What the search works on, once the case and the options are read.
+struct Search {
+  StudySpec cand;                  // the candidates' grid, as a study
   std::vector<Candidate> cs;
-  std::vector<int> modes;
-  CharacterizeArgs map = a.map;  // the maps' grid (a random force's band when the case has no sweep)
-  std::vector<double> positions = a.positions;
+  std::vector<int> modes;          // the chosen modes (0: a random force's band)
+  CharacterizeArgs map;            // the maps' grid (a random force's band when the case has no sweep)
+  std::vector<double> positions;   // x/L (NaN: not a beam)
   double structure_mass = 0, length = 0;
   bool beam = false;
-  std::string first_load_error;
-  if (const int code = reporting_errors([&] {
-    const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
-    cand = candidate_spec(a, fs::absolute(out).lexically_normal());
-    const Scene s = load_case(cand.case_dir, cand.sets);
-    if (!s.primary || (!s.primary->sweep && !(s.primary->random_hi > 0)))
-      throw InputError(s.case_file, "excitation.kind", "",
-                       "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "
-                       "(its response's RMS in the band is)");
-    const Primary& P = *s.primary;
-    structure_mass = P.structure_mass;
-    beam = P.kind == "beam" || P.kind == "fe-beam";
-    length = P.length;
-    if (P.sweep) {
-      const std::vector<int> have = case_modes(P);
-      if (have.empty())
-        throw InputError(s.case_file, "excitation", "", "the sweep's band holds no natural frequency of the structure: no peak to reduce (set excitation.around_modes)");
-      modes = a.modes.empty() ? have : a.modes;
-      for (int m : modes)
-        if (std::find(have.begin(), have.end(), m) == have.end())
-          throw InputError("--modes", "", std::to_string(m), "the case's sweep evaluates other modes: set excitation.around_modes to include it");
-    } else {
-      if (!a.modes.empty()) throw InputError("--modes", "", "", "a random force's case has no modes to choose: its band's RMS is the objective");
-      modes = {0};
-      if (map.band.empty()) map.band = {P.random_lo, P.random_hi};
-    }
-    if (positions.empty() && beam)
-      for (int k = 1; k <= 19; ++k) positions.push_back(0.05 * k);
-    if (!beam) positions = {NAN};
-    for (double x : positions)
-      if (beam && !(x > 0 && x < 1)) throw InputError("--positions", "", short_text(x), "x/L between 0 and 1 (ends excluded)");
-    const Plan grid = make_plan(cand);
-    for (const Point& p : grid.points) {
-      Candidate c;
-      c.sets = p.sets;
-      for (std::size_t k = 0; k < cand.vary.size(); ++k) c.given.push_back(cand.vary[k].values[p.choice[k]].given);
-      // It must load with the case's seed and every start's (the seed places the fill's lattice,
-      // and with it the bag's length): the maps' and the check's runs use simulation.seed 1..N.
-      const int starts = std::max(map.seeds, a.verify > 0 ? a.verify_seeds : 1);
-      for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status.ranked(); ++seed) {  // 0: the case's own
-        std::vector<std::string> sets = c.sets;
-        if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
-        try {
-          const Scene cs_scene = load_case(cand.case_dir, sets);
-          if (seed > 0) continue;
-          c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
-          if (c.added_mass > a.budget * structure_mass * (1 + 1e-9)) c.status = {Standing::over_budget, ""};
-        } catch (const InputError& e) {
-          c.status = {Standing::does_not_load, (seed > 0 ? "(simulation.seed " + std::to_string(seed) + ") " : "") + std::string(e.what())};
-          if (first_load_error.empty()) first_load_error = e.what();
-        }
-      }
-      const CaseReader text((fs::path(cand.case_dir) / "case.toml").string(), c.sets);
-      c.map = (fs::path(cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(map)).substr(0, 12))).string();
-      cs.push_back(c);
-    }
-    if (std::none_of(cs.begin(), cs.end(), [](const Candidate& c) { return c.status.ranked(); }))
-      throw InputError(a.dir, "", "", first_load_error.empty() ? "no candidate is within the budget of " + short_text(a.budget) + " of the structure's mass (--budget)"
-                                                               : "no candidate loads; the first: " + first_load_error);
-    return 0;
-  }))
-    return code;
+};
 
-  std::printf("bagdem design %s: %zu candidates x %zu position%s, %s", cand.case_dir.c_str(), cs.size(), positions.size(),
-              positions.size() > 1 ? "s" : "", modes == std::vector<int>{0} ? "the random force's RMS" : "modes");
+// The modes whose worst reduction is maximized: the case's, or --modes among them; {0} for a
+// random force (its band's RMS).
+std::vector<int> chosen_modes(const DesignArgs& a, const Scene& s, CharacterizeArgs& map) {
+  const Primary& P = *s.primary;
+  if (!P.sweep) {
+    if (!a.modes.empty()) throw InputError("--modes", "", "", "a random force's case has no modes to choose: its band's RMS is the objective");
+    if (map.band.empty()) map.band = {P.random_lo, P.random_hi};
+    return {0};
+  }
+  const std::vector<int> have = case_modes(P);
+  if (have.empty())
+    throw InputError(s.case_file, "excitation", "", "the sweep's band holds no natural frequency of the structure: no peak to reduce (set excitation.around_modes)");
+  const std::vector<int> modes = a.modes.empty() ? have : a.modes;
   for (int m : modes)
+    if (std::find(have.begin(), have.end(), m) == have.end())
+      throw InputError("--modes", "", std::to_string(m), "the case's sweep evaluates other modes: set excitation.around_modes to include it");
+  return modes;
+}
+
+// The candidates of the grid, each loaded with the case's seed and every start's (the seed places
+// the fill's lattice, and with it the bag's length: the maps' and the check's runs use
+// simulation.seed 1..N), its added mass against the budget, and its map's directory.
+void list_candidates(const DesignArgs& a, const Primary& P, Search& z) {
+  std::string first_load_error;
+  const Plan grid = make_plan(z.cand);
+  for (const Point& p : grid.points) {
+    Candidate c;
+    c.sets = p.sets;
+    for (std::size_t k = 0; k < z.cand.vary.size(); ++k) c.given.push_back(z.cand.vary[k].values[p.choice[k]].given);
+    const int starts = std::max(z.map.seeds, a.verify > 0 ? a.verify_seeds : 1);
+    for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status.ranked(); ++seed) {  // 0: the case's own
+      std::vector<std::string> sets = c.sets;
+      if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
+      try {
+        const Scene cs_scene = load_case(z.cand.case_dir, sets);
+        if (seed > 0) continue;
+        c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
+        if (c.added_mass > a.budget * z.structure_mass * (1 + 1e-9)) c.status = {Standing::over_budget, ""};
+      } catch (const InputError& e) {
+        c.status = {Standing::does_not_load, (seed > 0 ? "(simulation.seed " + std::to_string(seed) + ") " : "") + std::string(e.what())};
+        if (first_load_error.empty()) first_load_error = e.what();
+      }
+    }
+    const CaseReader text((fs::path(z.cand.case_dir) / "case.toml").string(), c.sets);
+    c.map = (fs::path(z.cand.out_dir) / "maps" / ("map-" + fingerprint(text.text() + map_options_text(z.map)).substr(0, 12))).string();
+    z.cs.push_back(c);
+  }
+  if (std::none_of(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.ranked(); }))
+    throw InputError(a.dir, "", "", first_load_error.empty() ? "no candidate is within the budget of " + short_text(a.budget) + " of the structure's mass (--budget)"
+                                                             : "no candidate loads; the first: " + first_load_error);
+}
+
+// The search read from the case and the options (InputError for what it cannot search).
+Search set_up_search(const DesignArgs& a) {
+  Search z;
+  z.map = a.map, z.positions = a.positions;
+  const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
+  z.cand = candidate_spec(a, fs::absolute(out).lexically_normal());
+  const Scene s = load_case(z.cand.case_dir, z.cand.sets);
+  if (!s.primary || (!s.primary->sweep && !(s.primary->random_hi > 0)))
+    throw InputError(s.case_file, "excitation.kind", "",
+                     "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "
+                     "(its response's RMS in the band is)");
+  const Primary& P = *s.primary;
+  z.structure_mass = P.structure_mass;
+  z.beam = P.kind == "beam" || P.kind == "fe-beam";
+  z.length = P.length;
+  z.modes = chosen_modes(a, s, z.map);
+  if (z.positions.empty() && z.beam)
+    for (int k = 1; k <= 19; ++k) z.positions.push_back(0.05 * k);
+  if (!z.beam) z.positions = {NAN};
+  for (double x : z.positions)
+    if (z.beam && !(x > 0 && x < 1)) throw InputError("--positions", "", short_text(x), "x/L between 0 and 1 (ends excluded)");
+  list_candidates(a, P, z);
+  return z;
+}
+
+// The plan on stdout: the candidates with their masses and whether their maps are built.
+void print_search(const DesignArgs& a, const Search& z) {
+  std::printf("bagdem design %s: %zu candidates x %zu position%s, %s", z.cand.case_dir.c_str(), z.cs.size(), z.positions.size(),
+              z.positions.size() > 1 ? "s" : "", z.modes == std::vector<int>{0} ? "the random force's RMS" : "modes");
+  for (int m : z.modes)
     if (m > 0) std::printf(" %d", m);
-  std::printf(", budget %s of %s kg -> %s\n", short_text(a.budget).c_str(), short_text(structure_mass).c_str(), cand.out_dir.c_str());
-  for (const Candidate& c : cs) {
+  std::printf(", budget %s of %s kg -> %s\n", short_text(a.budget).c_str(), short_text(z.structure_mass).c_str(), z.cand.out_dir.c_str());
+  for (const Candidate& c : z.cs) {
     std::string v;
-    for (std::size_t k = 0; k < c.given.size(); ++k) v += (k ? ", " : "") + cand.vary[k].key + " = " + c.given[k];
-    std::printf("  %-60s %8.4g kg (%5.1f%%)  %s%s\n", v.c_str(), c.added_mass, 100 * c.added_mass / structure_mass, c.status.text().c_str(),
+    for (std::size_t k = 0; k < c.given.size(); ++k) v += (k ? ", " : "") + z.cand.vary[k].key + " = " + c.given[k];
+    std::printf("  %-60s %8.4g kg (%5.1f%%)  %s%s\n", v.c_str(), c.added_mass, 100 * c.added_mass / z.structure_mass, c.status.text().c_str(),
                 c.status.ranked() ? (fs::exists(fs::path(c.map) / "map.csv") ? ", map built" : ", map to build") : "");
   }
   std::fflush(stdout);
+}
+
+// Every candidate at every place predicted from its map: a row each.
+std::vector<DesignRow> predict_rows(Search& z) {
+  std::vector<DesignRow> rows;
+  for (std::size_t i = 0; i < z.cs.size(); ++i) {
+    Candidate& c = z.cs[i];
+    const std::optional<EffectiveMap> effective = candidate_map(z.cand, c);
+    for (double x : z.positions) {
+      DesignRow r;
+      r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / z.structure_mass;
+      r.status = c.status, r.map = c.map;
+      r.attach = z.beam ? x * z.length : NAN;
+      r.db.assign(z.modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
+      r.objective = r.objective_lo = r.objective_hi = NAN;
+      if (c.status.ranked() && !effective) r.status = {Standing::no_map, ""};
+      if (r.status.ranked()) {
+        std::vector<std::string> sets = c.sets;
+        if (z.beam) sets.push_back("primary.attach=\"" + short_text(x * z.length) + " m\"");
+        try {
+          predict_row(z.cand.case_dir, sets, *effective, z.modes, r);
+        } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
+          r.status = {Standing::does_not_load, e.what()};
+        }
+        if (!z.beam) r.attach = NAN;
+      }
+      rows.push_back(r);
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+int design_command(const DesignArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Search z;
+  if (const int code = reporting_errors([&] {
+        z = set_up_search(a);
+        return 0;
+      }))
+    return code;
+  print_search(a, z);
   if (a.check) return 0;
 
   return reporting_errors([&] {
-    const OutputLock lock(cand.out_dir);  // one design writes a directory at a time; its runs write inside it
-    share_output_with_children(cand.out_dir);
+    const OutputLock lock(z.cand.out_dir);  // one design writes a directory at a time; its runs write inside it
+    share_output_with_children(z.cand.out_dir);
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;
-    for (const Candidate& c : cs) n += c.status.ranked();
-    for (Candidate& c : cs)
+    for (const Candidate& c : z.cs) n += c.status.ranked();
+    for (Candidate& c : z.cs)
       if (c.status.ranked()) try {
-          build_map(a, map, cand, c, k++, n, failed);
+          build_map(a, z.map, z.cand, c, k++, n, failed);
         } catch (const InputError& e) {  // a run of its map does not load: the candidate is out, the search goes on
           c.status = {Standing::does_not_load, e.what()};
           std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.text().c_str());
         }
     // 2. The predictions.
-    std::vector<DesignRow> rows;
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      Candidate& c = cs[i];
-      const std::optional<EffectiveMap> effective = candidate_map(cand, c);
-      for (double x : positions) {
-        DesignRow r;
-        r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / structure_mass;
-        r.status = c.status, r.map = c.map;
-        r.attach = beam ? x * length : NAN;
-        r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
-        r.objective = r.objective_lo = r.objective_hi = NAN;
-        if (c.status.ranked() && !effective) r.status = {Standing::no_map, ""};
-        if (r.status.ranked()) {
-          std::vector<std::string> sets = c.sets;
-          if (beam) sets.push_back("primary.attach=\"" + short_text(x * length) + " m\"");
-          try {
-            predict_row(cand.case_dir, sets, *effective, modes, r);
-          } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
-            r.status = {Standing::does_not_load, e.what()};
-          }
-          if (!beam) r.attach = NAN;
-        }
-        rows.push_back(r);
-      }
-    }
+    std::vector<DesignRow> rows = predict_rows(z);
     rank_rows(rows);
     // 3. The coupled check of the best.
-    if (a.verify > 0) failed = verify_rows(a, cand, beam, length, modes, rows) || failed;
+    if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, rows) || failed;
     // 4. The files.
     std::vector<std::vector<std::string>> sets;
-    for (const Candidate& c : cs) sets.push_back(c.sets);
-    const DesignSummary sum{cand, modes, structure_mass, a.budget, beam, length};
+    for (const Candidate& c : z.cs) sets.push_back(c.sets);
+    const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
     write_design(sum, rows);
     const std::string chosen = write_chosen_case(sum, rows, sets);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     print_design(sum, rows);
-    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, cand.out_dir.c_str(),
+    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
                 chosen.empty() ? "" : (", " + chosen).c_str());
     return failed ? kExitRunError : 0;
   });

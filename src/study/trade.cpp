@@ -270,6 +270,104 @@ std::vector<Rung> trade_ladder(const std::string& case_dir, const std::vector<st
   return ladder;
 }
 
+namespace {
+
+// The table of a finished trade: each rung against the reference, printed and written to
+// OUT/trade.csv. Returns whether a rung failed.
+bool write_trade_table(const Plan& plan, const std::vector<Rung>& ladder) {
+  // The table: each rung against the reference.
+  std::vector<RungResult> res;
+  for (std::size_t k = 0; k < ladder.size(); ++k) res.push_back(read_rung(plan, plan.points[k], ladder[k]));
+  std::vector<std::string> metrics;
+  for (const RungResult& r : res)
+    for (const auto& [name, v] : r.metric)
+      if (std::find(metrics.begin(), metrics.end(), name) == metrics.end()) metrics.push_back(name);
+  std::stable_sort(metrics.begin(), metrics.end(), [](const std::string& a, const std::string& b) {
+    return (a.rfind("reduction_dB", 0) == 0) > (b.rfind("reduction_dB", 0) == 0);
+  });
+  auto unit_of = [](const std::string& m) {
+    if (m.rfind("reduction_dB", 0) == 0) return std::string("dB");
+    if (m == "energy_per_cycle") return std::string("J");
+    if (m == "peak_impact_force") return std::string("N");
+    return std::string("1");
+  };
+  const RungResult& ref = res.front();
+  std::ostringstream csv;
+  csv << "rung,knob,status,wall_time [s],speedup [1],dt [s],contact_time [s]";
+  for (const std::string& m : metrics) {
+    const bool db = m.rfind("reduction_dB", 0) == 0;
+    csv << ',' << m << " [" << unit_of(m) << "]," << m << (db ? "_error [dB]" : "_error [1]");
+  }
+  csv << '\n';
+  std::printf("%-18s %8s %7s %10s %10s", "run", "wall [s]", "speedup", "dt [s]", "t_c [s]");
+  for (const std::string& m : metrics) std::printf("  %s", (m.rfind("reduction_dB", 0) == 0 ? "dB" + m.substr(12) : m).c_str());
+  std::printf("\n%-18s %8s %7s %10s %10s", "", "", "", "", "");
+  for (const std::string& m : metrics)
+    std::printf("  %*s", static_cast<int>((m.rfind("reduction_dB", 0) == 0 ? 2 + m.size() - 12 : m.size())),
+                m.rfind("reduction_dB", 0) == 0 ? "(diff)" : "(rel. err)");
+  std::printf("\n");
+  bool failed = false;
+  for (std::size_t k = 0; k < ladder.size(); ++k) {
+    const RungResult& r = res[k];
+    failed = failed || !r.done;
+    const double speedup = ref.wall / r.wall;
+    csv << '"' << ladder[k].name << "\"," << ladder[k].knob << ',' << (r.done ? "done" : "failed") << ',' << short_text(r.wall)
+        << ',' << short_text(speedup) << ',' << short_text(r.dt) << ',' << short_text(r.contact_time);
+    std::printf("%-18s %8.1f %7.2f %10.3g %10.3g", ladder[k].name.c_str(), r.wall, speedup, r.dt, r.contact_time);
+    for (const std::string& m : metrics) {
+      const bool db = m.rfind("reduction_dB", 0) == 0;
+      const double v = r.metric.count(m) ? r.metric.at(m) : NAN;
+      const double v0 = ref.metric.count(m) ? ref.metric.at(m) : NAN;
+      // C_b/(M_b w) and M_eff/M_bag are the parts of one complex effective mass: their errors are
+      // relative to its magnitude (either part may be near zero).
+      double scale = std::abs(v0);
+      if (m == "Cb_over_Mbw" || m == "M_eff_ratio") scale = std::hypot(ref.metric.count("Cb_over_Mbw") ? ref.metric.at("Cb_over_Mbw") : 0.0,
+                                                                     ref.metric.count("M_eff_ratio") ? ref.metric.at("M_eff_ratio") : 0.0);
+      const double err = db ? v - v0 : std::abs(v - v0) / scale;
+      csv << ',' << short_text(v) << ',' << short_text(err);
+      const int w = static_cast<int>(db ? 2 + m.size() - 12 : m.size());
+      char cell[64];
+      if (db) std::snprintf(cell, sizeof cell, "%.2f (%+.2f)", v, err);
+      else std::snprintf(cell, sizeof cell, "%.3g (%.1f%%)", v, 100 * err);
+      std::printf("  %*s", std::max(w, 14), cell);
+    }
+    std::printf("\n");
+    csv << '\n';
+  }
+  write_atomically(fs::path(plan.spec.out_dir) / "trade.csv", csv.str());
+  return failed;
+}
+
+// The trade's plan: a rung a point (its overrides), the study's spec from the command line.
+Plan trade_plan(const TradeArgs& args, std::vector<Rung>& ladder) {
+  Plan plan;
+  StudySpec& spec = plan.spec;
+  spec.case_dir = fs::absolute(args.dir).lexically_normal().string();
+  if (!fs::exists(fs::path(spec.case_dir) / "case.toml"))
+    throw InputError(args.dir, "", "", "holds no case.toml (bagdem trade takes a case directory)");
+  spec.out_dir = fs::absolute(args.out.empty() ? fs::path(spec.case_dir) / "trade" : fs::path(args.out)).lexically_normal().string();
+  spec.source = "bagdem trade";
+  spec.command = "trade";
+  spec.combine = Combine::zip;
+  spec.jobs = args.jobs, spec.threads = args.threads, spec.cores = args.cores;
+  spec.tables = {"reduced", "peaks"};
+  ladder = trade_ladder(spec.case_dir, args.sets, args.only);
+  Varied rung{"rung", {}};
+  for (const Rung& r : ladder) rung.values.push_back({"\"" + r.name + "\"", r.name});
+  spec.vary.push_back(rung);
+  for (std::size_t k = 0; k < ladder.size(); ++k) {
+    Point p;
+    p.index = p.combination = k;
+    p.choice = {k};
+    p.sets = ladder[k].sets;
+    p.name = point_name(k, ladder.size());
+    plan.points.push_back(p);
+  }
+  return plan;
+}
+
+}  // namespace
+
 int trade_command(const TradeArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   Plan plan;
@@ -278,29 +376,8 @@ int trade_command(const TradeArgs& args) {
   std::optional<OutputLock> lock;
   std::vector<bool> done;
   if (const int code = reporting_errors([&] {
-    StudySpec& spec = plan.spec;
-    spec.case_dir = fs::absolute(args.dir).lexically_normal().string();
-    if (!fs::exists(fs::path(spec.case_dir) / "case.toml"))
-      throw InputError(args.dir, "", "", "holds no case.toml (bagdem trade takes a case directory)");
-    spec.out_dir = fs::absolute(args.out.empty() ? fs::path(spec.case_dir) / "trade" : fs::path(args.out)).lexically_normal().string();
-    spec.source = "bagdem trade";
-    spec.command = "trade";
-    spec.combine = Combine::zip;
-    spec.jobs = args.jobs, spec.threads = args.threads, spec.cores = args.cores;
-    spec.tables = {"reduced", "peaks"};
-    ladder = trade_ladder(spec.case_dir, args.sets, args.only);
-    Varied rung{"rung", {}};
-    for (const Rung& r : ladder) rung.values.push_back({"\"" + r.name + "\"", r.name});
-    spec.vary.push_back(rung);
-    for (std::size_t k = 0; k < ladder.size(); ++k) {
-      Point p;
-      p.index = p.combination = k;
-      p.choice = {k};
-      p.sets = ladder[k].sets;
-      p.name = point_name(k, ladder.size());
-      plan.points.push_back(p);
-    }
-    budget = resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem trade");
+    plan = trade_plan(args, ladder);
+    budget = resolve_budget(plan.spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     lock.emplace(plan.spec.out_dir);  // one study writes a directory at a time; its runs write inside it
     share_output_with_children(plan.spec.out_dir);
@@ -321,66 +398,7 @@ int trade_command(const TradeArgs& args) {
     run_share(plan, done, budget, args.executable);
     merge_tables(plan, finished_points(plan));
 
-    // The table: each rung against the reference.
-    std::vector<RungResult> res;
-    for (std::size_t k = 0; k < ladder.size(); ++k) res.push_back(read_rung(plan, plan.points[k], ladder[k]));
-    std::vector<std::string> metrics;
-    for (const RungResult& r : res)
-      for (const auto& [name, v] : r.metric)
-        if (std::find(metrics.begin(), metrics.end(), name) == metrics.end()) metrics.push_back(name);
-    std::stable_sort(metrics.begin(), metrics.end(), [](const std::string& a, const std::string& b) {
-      return (a.rfind("reduction_dB", 0) == 0) > (b.rfind("reduction_dB", 0) == 0);
-    });
-    auto unit_of = [](const std::string& m) {
-      if (m.rfind("reduction_dB", 0) == 0) return std::string("dB");
-      if (m == "energy_per_cycle") return std::string("J");
-      if (m == "peak_impact_force") return std::string("N");
-      return std::string("1");
-    };
-    const RungResult& ref = res.front();
-    std::ostringstream csv;
-    csv << "rung,knob,status,wall_time [s],speedup [1],dt [s],contact_time [s]";
-    for (const std::string& m : metrics) {
-      const bool db = m.rfind("reduction_dB", 0) == 0;
-      csv << ',' << m << " [" << unit_of(m) << "]," << m << (db ? "_error [dB]" : "_error [1]");
-    }
-    csv << '\n';
-    std::printf("%-18s %8s %7s %10s %10s", "run", "wall [s]", "speedup", "dt [s]", "t_c [s]");
-    for (const std::string& m : metrics) std::printf("  %s", (m.rfind("reduction_dB", 0) == 0 ? "dB" + m.substr(12) : m).c_str());
-    std::printf("\n%-18s %8s %7s %10s %10s", "", "", "", "", "");
-    for (const std::string& m : metrics)
-      std::printf("  %*s", static_cast<int>((m.rfind("reduction_dB", 0) == 0 ? 2 + m.size() - 12 : m.size())),
-                  m.rfind("reduction_dB", 0) == 0 ? "(diff)" : "(rel. err)");
-    std::printf("\n");
-    bool failed = false;
-    for (std::size_t k = 0; k < ladder.size(); ++k) {
-      const RungResult& r = res[k];
-      failed = failed || !r.done;
-      const double speedup = ref.wall / r.wall;
-      csv << '"' << ladder[k].name << "\"," << ladder[k].knob << ',' << (r.done ? "done" : "failed") << ',' << short_text(r.wall)
-          << ',' << short_text(speedup) << ',' << short_text(r.dt) << ',' << short_text(r.contact_time);
-      std::printf("%-18s %8.1f %7.2f %10.3g %10.3g", ladder[k].name.c_str(), r.wall, speedup, r.dt, r.contact_time);
-      for (const std::string& m : metrics) {
-        const bool db = m.rfind("reduction_dB", 0) == 0;
-        const double v = r.metric.count(m) ? r.metric.at(m) : NAN;
-        const double v0 = ref.metric.count(m) ? ref.metric.at(m) : NAN;
-        // C_b/(M_b w) and M_eff/M_bag are the parts of one complex effective mass: their errors are
-        // relative to its magnitude (either part may be near zero).
-        double scale = std::abs(v0);
-        if (m == "Cb_over_Mbw" || m == "M_eff_ratio") scale = std::hypot(ref.metric.count("Cb_over_Mbw") ? ref.metric.at("Cb_over_Mbw") : 0.0,
-                                                                       ref.metric.count("M_eff_ratio") ? ref.metric.at("M_eff_ratio") : 0.0);
-        const double err = db ? v - v0 : std::abs(v - v0) / scale;
-        csv << ',' << short_text(v) << ',' << short_text(err);
-        const int w = static_cast<int>(db ? 2 + m.size() - 12 : m.size());
-        char cell[64];
-        if (db) std::snprintf(cell, sizeof cell, "%.2f (%+.2f)", v, err);
-        else std::snprintf(cell, sizeof cell, "%.3g (%.1f%%)", v, 100 * err);
-        std::printf("  %*s", std::max(w, 14), cell);
-      }
-      std::printf("\n");
-      csv << '\n';
-    }
-    write_atomically(fs::path(plan.spec.out_dir) / "trade.csv", csv.str());
+    const bool failed = write_trade_table(plan, ladder);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("trade %s: %zu runs, %.1f s wall -> %s/trade.csv\n", failed ? "finished with failed runs" : "complete",
                 ladder.size(), wall, plan.spec.out_dir.c_str());

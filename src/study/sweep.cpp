@@ -65,6 +65,67 @@ int sweep_command(const SweepArgs& args) {
   return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem sweep", nullptr);
 }
 
+namespace {
+
+// The lead's line of the plan: what is run, where, and on what.
+void print_plan(const std::string& command, const Plan& plan, const Budget& budget, const Ranks& ranks) {
+  std::string shape;
+  if (plan.spec.vary.empty()) shape = "the case as it is";
+  else if (plan.spec.combine == Combine::zip)
+    shape = "zip of " + std::to_string(plan.spec.vary.size()) + " lists of " + std::to_string(plan.spec.vary[0].values.size()) + " values";
+  else
+    for (const Varied& v : plan.spec.vary) shape += (shape.empty() ? "grid " : " x ") + std::to_string(v.values.size());
+  if (plan.spec.seeds > 1) shape += ", " + std::to_string(plan.spec.seeds) + " seeds each";
+  std::fprintf(stderr, "%s %s: %zu points (%s) -> %s; %d rank%s, each running %d at once with %d thread%s on %d cores (%s)\n",
+               command.c_str(), plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks.size(),
+               ranks.size() > 1 ? "s" : "", budget.jobs, budget.threads, budget.threads > 1 ? "s" : "", budget.cores,
+               budget.cores_from.c_str());
+}
+
+// --check: each point, whether it is done, and its values.
+void print_points(const Plan& plan, const std::vector<bool>& done) {
+  for (const Point& p : plan.points) {
+    std::string values;
+    for (std::size_t k = 0; k < plan.spec.vary.size(); ++k)
+      values += (k ? ", " : "") + plan.spec.vary[k].key + " = " + plan.spec.vary[k].values[p.choice[k]].given;
+    if (p.seed > 0) values += (values.empty() ? "" : ", ") + std::string("seed ") + std::to_string(p.seed);
+    std::printf("%s  %-5s %s\n", p.name.c_str(), done[p.index] ? "done" : "to do", values.c_str());
+  }
+}
+
+// The merged tables of the points that finished, and the summary; 3 when a point failed.
+int merge_points(const Plan& plan, const std::vector<bool>& finished, std::chrono::steady_clock::time_point t0) {
+  int code = 0;
+  std::vector<std::string> failed;
+  for (const Point& p : plan.points)
+    if (!finished[p.index]) failed.push_back(p.name);
+  const std::vector<std::string> written = merge_tables(plan, finished);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (failed.empty()) {
+    std::printf("sweep complete: %zu points done, %.1f s wall -> %s\n", plan.points.size(), wall, plan.spec.out_dir.c_str());
+  } else {
+    std::string list;
+    for (std::size_t k = 0; k < failed.size() && k < 10; ++k) list += (k ? ", " : "") + failed[k];
+    if (failed.size() > 10) list += ", ...";
+    std::printf("sweep finished with %zu failed point%s of %zu (%s: see %s log.txt), %.1f s wall -> %s\n", failed.size(),
+                failed.size() > 1 ? "s" : "", plan.points.size(), list.c_str(), failed.size() > 1 ? "their" : "its", wall,
+                plan.spec.out_dir.c_str());
+    code = kExitRunError;
+  }
+  if (written.empty()) {
+    std::string names;
+    for (const std::string& t : plan.spec.tables) names += (names.empty() ? "" : ", ") + t + ".csv";
+    std::printf("no point wrote any of %s: no merged tables\n", names.c_str());
+  } else {
+    std::string list;
+    for (const std::string& w : written) list += (list.empty() ? "" : ", ") + w;
+    std::printf("tables: %s\n", list.c_str());
+  }
+  return code;
+}
+
+}  // namespace
+
 int study_command(const std::function<StudySpec()>& read, bool check, const std::string& executable, const std::string& command,
                   const std::function<int(const Plan&, const std::vector<bool>&)>& after) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -108,25 +169,9 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
     // 2. This rank's points.
     if (lead) {
       for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-      std::string shape;
-      if (plan.spec.vary.empty()) shape = "the case as it is";
-      else if (plan.spec.combine == Combine::zip)
-        shape = "zip of " + std::to_string(plan.spec.vary.size()) + " lists of " + std::to_string(plan.spec.vary[0].values.size()) + " values";
-      else
-        for (const Varied& v : plan.spec.vary) shape += (shape.empty() ? "grid " : " x ") + std::to_string(v.values.size());
-      if (plan.spec.seeds > 1) shape += ", " + std::to_string(plan.spec.seeds) + " seeds each";
-      std::fprintf(stderr, "%s %s: %zu points (%s) -> %s; %d rank%s, each running %d at once with %d thread%s on %d cores (%s)\n",
-                   command.c_str(), plan.spec.case_dir.c_str(), plan.points.size(), shape.c_str(), plan.spec.out_dir.c_str(), ranks->size(),
-                   ranks->size() > 1 ? "s" : "", budget.jobs, budget.threads, budget.threads > 1 ? "s" : "", budget.cores,
-                   budget.cores_from.c_str());
+      print_plan(command, plan, budget, *ranks);
       if (check) {
-        for (const Point& p : plan.points) {
-          std::string values;
-          for (std::size_t k = 0; k < plan.spec.vary.size(); ++k)
-            values += (k ? ", " : "") + plan.spec.vary[k].key + " = " + plan.spec.vary[k].values[p.choice[k]].given;
-          if (p.seed > 0) values += (values.empty() ? "" : ", ") + std::string("seed ") + std::to_string(p.seed);
-          std::printf("%s  %-5s %s\n", p.name.c_str(), done[p.index] ? "done" : "to do", values.c_str());
-        }
+        print_points(plan, done);
       } else {
         fs::create_directories(plan.spec.out_dir);
         remove_merged_tables(plan);
@@ -140,31 +185,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
     int code = 0;
     if (lead) {
       const std::vector<bool> finished = finished_points(plan);
-      std::vector<std::string> failed;
-      for (const Point& p : plan.points)
-        if (!finished[p.index]) failed.push_back(p.name);
-      const std::vector<std::string> written = merge_tables(plan, finished);
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (failed.empty()) {
-        std::printf("sweep complete: %zu points done, %.1f s wall -> %s\n", plan.points.size(), wall, plan.spec.out_dir.c_str());
-      } else {
-        std::string list;
-        for (std::size_t k = 0; k < failed.size() && k < 10; ++k) list += (k ? ", " : "") + failed[k];
-        if (failed.size() > 10) list += ", ...";
-        std::printf("sweep finished with %zu failed point%s of %zu (%s: see %s log.txt), %.1f s wall -> %s\n", failed.size(),
-                    failed.size() > 1 ? "s" : "", plan.points.size(), list.c_str(), failed.size() > 1 ? "their" : "its", wall,
-                    plan.spec.out_dir.c_str());
-        code = kExitRunError;
-      }
-      if (written.empty()) {
-        std::string names;
-        for (const std::string& t : plan.spec.tables) names += (names.empty() ? "" : ", ") + t + ".csv";
-        std::printf("no point wrote any of %s: no merged tables\n", names.c_str());
-      } else {
-        std::string list;
-        for (const std::string& w : written) list += (list.empty() ? "" : ", ") + w;
-        std::printf("tables: %s\n", list.c_str());
-      }
+      code = merge_points(plan, finished, t0);
       if (after) code = std::max(code, after(plan, finished));
       std::fflush(stdout);
     }

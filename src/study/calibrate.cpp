@@ -227,6 +227,45 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const std:
 
 }  // namespace
 
+namespace {
+
+// The calibration's rounds share this spec (each its own OUT/round-RR and values).
+StudySpec calibration_spec(const CalibrateArgs& args) {
+  StudySpec base;
+  base.case_dir = fs::absolute(args.dir).lexically_normal().string();
+  if (!fs::exists(fs::path(base.case_dir) / "case.toml"))
+    throw InputError(args.dir, "", "", "holds no case.toml (bagdem calibrate takes a case directory)");
+  base.out_dir = fs::absolute(args.out.empty() ? fs::path(base.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal().string();
+  base.source = "bagdem calibrate";
+  base.command = "calibrate";
+  base.sets = args.sets;
+  base.seeds = args.seeds;
+  base.jobs = args.jobs, base.threads = args.threads, base.cores = args.cores;
+  base.tables = {"peaks", "reduced"};
+  return base;
+}
+
+// The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise).
+std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets) {
+  if (!s.primary || !s.primary->sweep)
+    throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
+  const std::vector<int> modes = evaluated_modes(*s.primary);
+  std::vector<double> db;
+  for (const Target& t : targets) {
+    if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
+      std::string have;
+      for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
+      throw InputError("--target", "", "mode=" + std::to_string(t.mode),
+                       "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
+                           ": set excitation.around_modes to include mode " + std::to_string(t.mode));
+    }
+    db.push_back(t.reduction_db);
+  }
+  return db;
+}
+
+}  // namespace
+
 int calibrate_command(const CalibrateArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<Target> targets;
@@ -237,31 +276,10 @@ int calibrate_command(const CalibrateArgs& args) {
   Budget budget;
   std::optional<OutputLock> lock;
   if (const int code = reporting_errors([&] {
-    base.case_dir = fs::absolute(args.dir).lexically_normal().string();
-    if (!fs::exists(fs::path(base.case_dir) / "case.toml"))
-      throw InputError(args.dir, "", "", "holds no case.toml (bagdem calibrate takes a case directory)");
-    base.out_dir = fs::absolute(args.out.empty() ? fs::path(base.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal().string();
-    base.source = "bagdem calibrate";
-    base.command = "calibrate";
-    base.sets = args.sets;
-    base.seeds = args.seeds;
-    base.jobs = args.jobs, base.threads = args.threads, base.cores = args.cores;
-    base.tables = {"peaks", "reduced"};
+    base = calibration_spec(args);
     for (const std::string& t : args.targets) targets.push_back(parse_target(t));
     const Scene s = load_case(base.case_dir, args.sets);
-    if (!s.primary || !s.primary->sweep)
-      throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
-    const std::vector<int> modes = evaluated_modes(*s.primary);
-    for (const Target& t : targets) {
-      if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
-        std::string have;
-        for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
-        throw InputError("--target", "", "mode=" + std::to_string(t.mode),
-                         "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
-                             ": set excitation.around_modes to include mode " + std::to_string(t.mode));
-      }
-      target_db.push_back(t.reduction_db);
-    }
+    target_db = target_reductions(s, targets);
     const auto [lo, hi] = read_bounds(args, s, scale);
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;

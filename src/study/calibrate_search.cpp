@@ -113,26 +113,18 @@ std::string text(double v) {
 }
 
 // One target: the roots bracketed by the scan, each refined by safeguarded regula falsi.
-void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptions& opt, SearchResult& out) {
-  struct Bracket {
-    std::size_t a, b;  // evaluated indices, value(a) < value(b), residuals of opposite signs
-    bool open = true;
-    std::size_t found = Evaluated::npos;
-  };
-  std::vector<Bracket> brackets;
-  std::vector<std::size_t> hits;  // scan values that match, each a solution
-  for (std::size_t j = 0; j < scan.size(); ++j) {
-    const std::size_t i = scan[j];
-    if (E.matched(i)) {
-      hits.push_back(j);
-      continue;
-    }
-    if (j + 1 < scan.size()) {
-      const std::size_t n = scan[j + 1];
-      const double r0 = E.residual(i, 0), r1 = E.residual(n, 0);
-      if (std::isfinite(r0) && std::isfinite(r1) && !E.matched(n) && (r0 < 0) != (r1 < 0)) brackets.push_back({i, n});
-    }
-  }
+namespace {
+
+// A change of sign of the residual between two evaluated values, narrowed round by round.
+struct Bracket {
+  std::size_t a, b;  // evaluated indices, value(a) < value(b), residuals of opposite signs
+  bool open = true;
+  std::size_t found = Evaluated::npos;
+};
+
+// Up to opt.rounds rounds: each open bracket asked at its secant point (kept within its middle
+// 60%), and narrowed to the side of the sign change, or closed when its value matches or fails.
+void refine_brackets(Evaluated& E, std::vector<Bracket>& brackets, const SearchOptions& opt) {
   for (int round = 1; round <= opt.rounds; ++round) {
     std::vector<double> ask;
     for (const Bracket& b : brackets) {
@@ -161,11 +153,13 @@ void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptio
       }
     }
   }
-  // Solutions: the matched scan values (neighbours of the scan for the slope), the brackets'
-  // matched values (their ends), and the unresolved brackets' nearer end, not matched. Neighbouring
-  // scan values that all match are one solution: the best of them (least residual for its
-  // allowance), its half-width widened to cover them all, since the data cannot tell them apart.
-  std::ostringstream note;
+}
+
+// The matched scan values, neighbours that all match taken as one solution: the best of them
+// (least residual for its allowance), its half-width widened to cover them all, since the data
+// cannot tell them apart.
+void matched_scan_values(Evaluated& E, const std::vector<std::size_t>& scan, const std::vector<std::size_t>& hits, SearchResult& out,
+                         std::ostringstream& note) {
   for (std::size_t first = 0; first < hits.size();) {
     std::size_t last = first;
     while (last + 1 < hits.size() && hits[last + 1] == hits[last] + 1) ++last;
@@ -187,6 +181,58 @@ void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptio
     out.solutions.push_back(s);
     first = last + 1;
   }
+}
+
+// No solution: the closest value of the scan, reported as not matched; where it lies says what to
+// change.
+void closest_unmatched(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptions& opt, SearchResult& out,
+                       std::ostringstream& note) {
+  // The closest value of the scan, reported as not matched; where it lies says what to change.
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  std::size_t best = scan.size();
+  for (std::size_t j = 0; j < scan.size(); ++j) {
+    const double m = E[scan[j]].at[0].mean;
+    if (!std::isfinite(m)) continue;
+    lo = std::min(lo, m), hi = std::max(hi, m);
+    if (best == scan.size() || std::abs(E.residual(scan[j], 0)) < std::abs(E.residual(scan[best], 0))) best = j;
+  }
+  note << "no value between " << text(opt.lo) << " and " << text(opt.hi) << " reaches the target: the reduction runs from "
+       << text(lo) << " to " << text(hi) << " dB over the scan";
+  if (best == scan.size()) {
+    note << ". ";
+  } else {
+    out.solutions.push_back(E.solution(scan[best], best > 0 ? scan[best - 1] : Evaluated::npos,
+                                       best + 1 < scan.size() ? scan[best + 1] : Evaluated::npos));
+    if (best == 0 || best + 1 == scan.size())
+      note << ", nearest at the bound " << text(E[scan[best]].value) << ": widen --bounds. ";
+    else
+      note << ", nearest at " << text(E[scan[best]].value) << " inside the bounds: a wider range will not reach it; another key sets it "
+           << "(the structure's damping, say). ";
+  }
+}
+
+}  // namespace
+
+void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptions& opt, SearchResult& out) {
+  std::vector<Bracket> brackets;
+  std::vector<std::size_t> hits;  // scan values that match, each a solution
+  for (std::size_t j = 0; j < scan.size(); ++j) {
+    const std::size_t i = scan[j];
+    if (E.matched(i)) {
+      hits.push_back(j);
+      continue;
+    }
+    if (j + 1 < scan.size()) {
+      const std::size_t n = scan[j + 1];
+      const double r0 = E.residual(i, 0), r1 = E.residual(n, 0);
+      if (std::isfinite(r0) && std::isfinite(r1) && !E.matched(n) && (r0 < 0) != (r1 < 0)) brackets.push_back({i, n});
+    }
+  }
+  refine_brackets(E, brackets, opt);
+  // Solutions: the matched scan values (neighbours of the scan for the slope), the brackets'
+  // matched values (their ends), and the unresolved brackets' nearer end, not matched.
+  std::ostringstream note;
+  matched_scan_values(E, scan, hits, out, note);
   for (const Bracket& b : brackets) {
     if (b.found != Evaluated::npos) {
       out.solutions.push_back(E.solution(b.found, b.a, b.b));
@@ -197,30 +243,7 @@ void roots(Evaluated& E, const std::vector<std::size_t>& scan, const SearchOptio
            << opt.rounds << " rounds (give --rounds, --seeds or --tolerance). ";
     }
   }
-  if (out.solutions.empty()) {
-    // The closest value of the scan, reported as not matched; where it lies says what to change.
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    std::size_t best = scan.size();
-    for (std::size_t j = 0; j < scan.size(); ++j) {
-      const double m = E[scan[j]].at[0].mean;
-      if (!std::isfinite(m)) continue;
-      lo = std::min(lo, m), hi = std::max(hi, m);
-      if (best == scan.size() || std::abs(E.residual(scan[j], 0)) < std::abs(E.residual(scan[best], 0))) best = j;
-    }
-    note << "no value between " << text(opt.lo) << " and " << text(opt.hi) << " reaches the target: the reduction runs from "
-         << text(lo) << " to " << text(hi) << " dB over the scan";
-    if (best == scan.size()) {
-      note << ". ";
-    } else {
-      out.solutions.push_back(E.solution(scan[best], best > 0 ? scan[best - 1] : Evaluated::npos,
-                                         best + 1 < scan.size() ? scan[best + 1] : Evaluated::npos));
-      if (best == 0 || best + 1 == scan.size())
-        note << ", nearest at the bound " << text(E[scan[best]].value) << ": widen --bounds. ";
-      else
-        note << ", nearest at " << text(E[scan[best]].value) << " inside the bounds: a wider range will not reach it; another key sets it "
-             << "(the structure's damping, say). ";
-    }
-  }
+  if (out.solutions.empty()) closest_unmatched(E, scan, opt, out, note);
   out.note = note.str();
 }
 

@@ -139,6 +139,59 @@ struct Reaper {
   }
 };
 
+// A point started: its directory made afresh (whatever an interrupted run left is not trusted),
+// point.toml, the log's head line, the child's process.
+Child start_point(const Plan& plan, std::size_t index, const PoolOptions& opt, const std::string& host, int null_fd) {
+  const Point& p = plan.points[index];
+  const fs::path dir = plan.point_dir(p);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_atomically(dir / "point.toml", point_toml(plan, p));
+  const std::vector<std::string> args = run_arguments(plan, p, opt);
+  const std::string log = (dir / "log.txt").string();
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
+  std::string head = "# bagdem sweep: " + p.name + " on rank " + std::to_string(opt.rank) + " of " + std::to_string(opt.ranks) + " (" +
+                     host + "):";
+  for (const std::string& a : args) head.append(" ").append(quoted(a));
+  head += "\n";
+  const ssize_t wrote = write(fd, head.data(), head.size());
+  Child c;
+  c.index = index;
+  c.start = Clock::now();
+  try {
+    if (wrote != static_cast<ssize_t>(head.size())) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
+    c.pid = spawn(opt.executable, args, fd, null_fd);
+  } catch (...) {
+    close(fd);
+    throw;
+  }
+  close(fd);
+  return c;
+}
+
+// A point's child ended with `status`: point.done when it exited 0, else the end of its log.
+PointOutcome finish_point(const Plan& plan, const Child& c, int status, const PoolOptions& opt, const std::string& host,
+                          const std::string& prefix) {
+  const Point& p = plan.points[c.index];
+  const fs::path dir = plan.point_dir(p);
+  PointOutcome o;
+  o.index = c.index;
+  o.wall_seconds = seconds_since(c.start);
+  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
+  o.done = o.exit_code == 0;
+  if (o.done) {
+    std::ostringstream d;
+    d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
+      << "\"\nwall_time = " << o.wall_seconds << "  # s\n";
+    write_atomically(dir / "point.done", d.str());
+  } else {
+    std::fprintf(stderr, "%s%s failed (%s) after %s; the end of %s:\n%s", prefix.c_str(), p.name.c_str(), exit_text(o.exit_code).c_str(),
+                 duration_text(o.wall_seconds).c_str(), (dir / "log.txt").c_str(), log_tail(dir / "log.txt", 6).c_str());
+  }
+  return o;
+}
+
 }  // namespace
 
 std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::size_t>& todo, const PoolOptions& opt) {
@@ -177,55 +230,11 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
                  running.size(), failed, queue.size(), opt.total, duration_text(el).c_str(), eta.c_str());
   };
 
-  auto start = [&](std::size_t index) {
-    const Point& p = plan.points[index];
-    const fs::path dir = plan.point_dir(p);
-    fs::remove_all(dir);  // whatever an interrupted run left is not trusted
-    fs::create_directories(dir);
-    write_atomically(dir / "point.toml", point_toml(plan, p));
-    const std::vector<std::string> args = run_arguments(plan, p, opt);
-    const std::string log = (dir / "log.txt").string();
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
-    std::string head = "# bagdem sweep: " + p.name + " on rank " + std::to_string(opt.rank) + " of " + std::to_string(opt.ranks) + " (" +
-                       host + "):";
-    for (const std::string& a : args) head.append(" ").append(quoted(a));
-    head += "\n";
-    const ssize_t wrote = write(fd, head.data(), head.size());
-    Child c;
-    c.index = index;
-    c.start = Clock::now();
-    try {
-      if (wrote != static_cast<ssize_t>(head.size())) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
-      c.pid = spawn(opt.executable, args, fd, null_fd);
-    } catch (...) {
-      close(fd);
-      throw;
-    }
-    close(fd);
-    running.push_back(c);
-  };
-
+  auto start = [&](std::size_t index) { running.push_back(start_point(plan, index, opt, host, null_fd)); };
   auto finish = [&](const Child& c, int status) {
-    const Point& p = plan.points[c.index];
-    const fs::path dir = plan.point_dir(p);
-    PointOutcome o;
-    o.index = c.index;
-    o.wall_seconds = seconds_since(c.start);
-    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
-    o.done = o.exit_code == 0;
-    if (o.done) {
-      std::ostringstream d;
-      d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
-        << "\"\nwall_time = " << o.wall_seconds << "  # s\n";
-      write_atomically(dir / "point.done", d.str());
-      ++done, ++done_now;
-      done_seconds += o.wall_seconds;
-    } else {
-      ++failed;
-      std::fprintf(stderr, "%s%s failed (%s) after %s; the end of %s:\n%s", prefix.c_str(), p.name.c_str(), exit_text(o.exit_code).c_str(),
-                   duration_text(o.wall_seconds).c_str(), (dir / "log.txt").c_str(), log_tail(dir / "log.txt", 6).c_str());
-    }
+    const PointOutcome o = finish_point(plan, c, status, opt, host, prefix);
+    if (o.done) ++done, ++done_now, done_seconds += o.wall_seconds;
+    else ++failed;
     outcomes.push_back(o);
   };
 

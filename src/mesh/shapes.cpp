@@ -209,58 +209,40 @@ TriangleMesh capsule_mesh(const Vec3& centre, const Vec3& axis, double radius, d
   return mesh;
 }
 
-TriangleMesh pillow_mesh(const Vec3& centre, const Vec3& axis, const Vec3& side, const Vec3& size, double exponent,
-                         std::size_t triangles) {
-  require(centre.allFinite(), "pillow_mesh: centre must be finite");
-  require(size.allFinite() && size.minCoeff() > 0, "pillow_mesh: size must be > 0 along every axis");
-  require(std::isfinite(exponent) && exponent >= 2, "pillow_mesh: exponent must be >= 2 (2 = ellipsoid)");
-  require(axis.allFinite() && axis.norm() > 0, "pillow_mesh: axis must be a nonzero vector");
-  const Vec3 ex = axis.normalized();
-  const Vec3 side_perp = side - side.dot(ex) * ex;
-  require(side.allFinite() && side_perp.norm() > 1e-9 * side.norm() && side.norm() > 0,
-          "pillow_mesh: side must be a nonzero vector not parallel to the axis");
-  const Vec3 ey = side_perp.normalized(), ez = ex.cross(ey);
-  const Vec3 semi = 0.5 * size;
-  const double p = exponent;
+namespace {
 
-  // Cells per axis proportional to the semi-axes, scaled so that 4 (nx ny + ny nz + nz nx) (two
-  // triangles per cell on six faces) comes nearest the target.
-  const double target = static_cast<double>(std::max<std::size_t>(triangles, 1));
+// Cells per axis of a pillow's grid, proportional to the semi-axes, scaled so that
+// 4 (nx ny + ny nz + nz nx) (two triangles per cell on six faces) comes nearest the target.
+std::array<std::size_t, 3> pillow_cells(const Vec3& semi, double target) {
   std::array<std::size_t, 3> cells{1, 1, 1};
-  {
-    const double s0 = std::sqrt(target / (4 * (semi.x() * semi.y() + semi.y() * semi.z() + semi.z() * semi.x())));
-    double best_miss = std::numeric_limits<double>::infinity();
-    for (int k = -200; k <= 200; ++k) {
-      const double s = s0 * std::exp(0.005 * k);
-      std::array<std::size_t, 3> c;
-      for (int a = 0; a < 3; ++a) c[a] = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(s * semi[a])));
-      const double count = 4.0 * static_cast<double>(c[0] * c[1] + c[1] * c[2] + c[2] * c[0]);
-      const double miss = log_miss(count, target);
-      if (miss < best_miss - 1e-12) best_miss = miss, cells = c;
-    }
+  const double s0 = std::sqrt(target / (4 * (semi.x() * semi.y() + semi.y() * semi.z() + semi.z() * semi.x())));
+  double best_miss = std::numeric_limits<double>::infinity();
+  for (int k = -200; k <= 200; ++k) {
+    const double s = s0 * std::exp(0.005 * k);
+    std::array<std::size_t, 3> c;
+    for (int a = 0; a < 3; ++a) c[a] = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(s * semi[a])));
+    const double count = 4.0 * static_cast<double>(c[0] * c[1] + c[1] * c[2] + c[2] * c[0]);
+    const double miss = log_miss(count, target);
+    if (miss < best_miss - 1e-12) best_miss = miss, cells = c;
   }
+  return cells;
+}
 
-  // Lattice coordinate -> box coordinate in [-1, 1]: tan(theta0 t) / tan(theta0), the equiangular
-  // spacing of cubed spheres (Ronchi, Iacono & Paolucci, J. Comput. Phys. 124, 1996) at p = 2,
-  // blending to uniform spacing as the shape becomes a box (p -> infinity). Radial projection of a
-  // uniform grid would shrink the cells near the cube's corners 5-fold on a sphere.
-  const double theta0 = 0.25 * std::numbers::pi * std::min(1.0, 2.0 / p);
-  auto spacing = [&](std::size_t i, std::size_t n) {
-    const double t = 2.0 * static_cast<double>(i) / static_cast<double>(n) - 1.0;
-    return std::tan(theta0 * t) / std::tan(theta0);
-  };
-  // Built in the shape's own frame (centre at 0, axes x y z), placed at the end.
+// The superellipsoid |x/a|^p + |y/b|^p + |z/c|^p = 1 in its own frame (centre at 0, axes x y z).
+struct Superellipsoid {
+  Vec3 semi;
+  double p;
   // f(q) = (|x/a|^p + |y/b|^p + |z/c|^p)^(1/p) is homogeneous of degree 1, so q / f(q) is q moved
   // along its ray from the centre onto the surface f = 1.
-  auto radial = [&](const Vec3& q) {
+  Vec3 radial(const Vec3& q) const {
     double F = 0;
     for (int a = 0; a < 3; ++a) F += std::pow(std::abs(q[a] / semi[a]), p);
     return Vec3(q * std::pow(F, -1.0 / p));
-  };
+  }
   // Nearest surface point of a point near the surface: Newton steps along the gradient of f
   // (df/dq_a = F^(1/p - 1) |t_a|^(p-1) sign(t_a) / semi_a, t = q / semi), then the radial step for
   // the last rounding.
-  auto nearest = [&](Vec3 q) {
+  Vec3 nearest(Vec3 q) const {
     for (int it = 0; it < 3; ++it) {
       double F = 0;
       Vec3 w;
@@ -271,8 +253,20 @@ TriangleMesh pillow_mesh(const Vec3& centre, const Vec3& axis, const Vec3& side,
       q -= (std::pow(F, 1.0 / p) - 1.0) / grad.squaredNorm() * grad;
     }
     return radial(q);
-  };
+  }
+};
 
+// The cube's grid of `cells` projected radially onto the surface. Lattice coordinate -> box
+// coordinate in [-1, 1]: tan(theta0 t) / tan(theta0), the equiangular spacing of cubed spheres
+// (Ronchi, Iacono & Paolucci, J. Comput. Phys. 124, 1996) at p = 2, blending to uniform spacing as
+// the shape becomes a box (p -> infinity). Radial projection of a uniform grid would shrink the
+// cells near the cube's corners 5-fold on a sphere.
+TriangleMesh pillow_grid(const Superellipsoid& shape, const std::array<std::size_t, 3>& cells) {
+  const double theta0 = 0.25 * std::numbers::pi * std::min(1.0, 2.0 / shape.p);
+  auto spacing = [&](std::size_t i, std::size_t n) {
+    const double t = 2.0 * static_cast<double>(i) / static_cast<double>(n) - 1.0;
+    return std::tan(theta0 * t) / std::tan(theta0);
+  };
   TriangleMesh mesh;
   std::unordered_map<std::uint64_t, std::uint32_t> index;  // lattice point (i, j, k) -> vertex
   auto node = [&](std::array<std::size_t, 3> l) {
@@ -280,8 +274,8 @@ TriangleMesh pillow_mesh(const Vec3& centre, const Vec3& axis, const Vec3& side,
     const auto it = index.find(key);
     if (it != index.end()) return it->second;
     Vec3 q;
-    for (int a = 0; a < 3; ++a) q[a] = semi[a] * spacing(l[a], cells[a]);
-    const std::uint32_t id = add_vertex(mesh, radial(q));
+    for (int a = 0; a < 3; ++a) q[a] = shape.semi[a] * spacing(l[a], cells[a]);
+    const std::uint32_t id = add_vertex(mesh, shape.radial(q));
     index.emplace(key, id);
     return id;
   };
@@ -310,13 +304,32 @@ TriangleMesh pillow_mesh(const Vec3& centre, const Vec3& axis, const Vec3& side,
       }
   }
   build_topology(mesh);
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh pillow_mesh(const Vec3& centre, const Vec3& axis, const Vec3& side, const Vec3& size, double exponent,
+                         std::size_t triangles) {
+  require(centre.allFinite(), "pillow_mesh: centre must be finite");
+  require(size.allFinite() && size.minCoeff() > 0, "pillow_mesh: size must be > 0 along every axis");
+  require(std::isfinite(exponent) && exponent >= 2, "pillow_mesh: exponent must be >= 2 (2 = ellipsoid)");
+  require(axis.allFinite() && axis.norm() > 0, "pillow_mesh: axis must be a nonzero vector");
+  const Vec3 ex = axis.normalized();
+  const Vec3 side_perp = side - side.dot(ex) * ex;
+  require(side.allFinite() && side_perp.norm() > 1e-9 * side.norm() && side.norm() > 0,
+          "pillow_mesh: side must be a nonzero vector not parallel to the axis");
+  const Vec3 ey = side_perp.normalized(), ez = ex.cross(ey);
+  const Superellipsoid shape{0.5 * size, exponent};
+  const double target = static_cast<double>(std::max<std::size_t>(triangles, 1));
+  TriangleMesh mesh = pillow_grid(shape, pillow_cells(shape.semi, target));
   // The grid's cells differ in size and shape where the shape is far from a sphere (on a flat
   // pillow's rim they are 3 to 10 times longer than wide), and smoothing with the grid's
   // connectivity kept trades that for a concentration of small cells at the cube's corners (the
   // area ratio grows with resolution). Remeshing with free connectivity gives both: edge length L
   // of equilateral triangles of the target count, corrected by the count it gave (up to 3 times).
   const double area = surface_area(mesh, mesh.vertices);
-  const std::function<Vec3(const Vec3&)> onto = nearest;
+  const std::function<Vec3(const Vec3&)> onto = [&shape](const Vec3& q) { return shape.nearest(q); };
   // Below a few tens of triangles the remesher's count is erratic (a flat pillow can collapse to a
   // tetrahedron): the grid itself is kept unless a remeshed surface comes within a factor 1.5.
   double L = std::sqrt(4 * area / (std::sqrt(3.0) * target));

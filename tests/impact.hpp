@@ -3,7 +3,7 @@
 #pragma once
 #include <cmath>
 
-#include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "scene_builder.hpp"
@@ -15,21 +15,21 @@ struct ImpactResult {
   double duration = 0;      // contact time, interpolated at both ends (unit: s)
   double max_overlap = 0;   // (unit: m)
   double min_normal_force = 0;  // smallest normal force during the contact (unit: N); < 0 = tensile
-  double hertz_duration = 0;    // Hertz theory for the same m*, R*, E*, v
+  double hertz_duration = 0;    // the law's theory for the same m*, R*, v (Hertz's by default)
   double hertz_overlap = 0;
 };
 
-// material: (rho, E, nu); e requested; v approach speed; wall = sphere on a plane.
-// steps_per_contact sets dt from the Hertz contact time as the auto time step does
-// (hertz::resolved_step).
-inline ImpactResult head_on_impact(double rho, double E, double nu, double e, double v, bool wall,
+// material: (rho, E, nu); `in` the pair's interaction (its law, e); v approach speed; wall = sphere
+// on a plane. steps_per_contact sets dt from the law's contact time as the auto time step does
+// (ContactLawRow::resolved_step).
+inline ImpactResult head_on_impact(const Interaction& in, double rho, double E, double nu, double v, bool wall,
                                    double steps_per_contact = 40, double radius = 2e-3) {
   SceneBuilder b;
-  b.material("m", rho, E, nu).interaction(e);
+  b.material("m", rho, E, nu).interaction(in);
   const double m = sphere_mass(rho, radius);
-  const double E_star = effective_youngs({"m", rho, E, nu}, {"m", rho, E, nu});
   const double R_eff = wall ? radius : radius / 2, m_eff = wall ? m : m / 2;
-  const double tc = hertz::contact_time(m_eff, R_eff, E_star, v);
+  const PairLaw law = make_pair_laws({{"m", rho, E, nu}}, {in}).laws[0];
+  const ContactLawRow& row = contact_law(law.kind);
   const double gap = 1e-3 * radius;
   if (wall) {
     b.plane(Vec3::Zero(), Vec3::UnitZ()).particle(Vec3(0, 0, radius + gap), Vec3(0, 0, -v), radius);
@@ -37,8 +37,7 @@ inline ImpactResult head_on_impact(double rho, double E, double nu, double e, do
     b.particle(Vec3(0, 0, -radius - gap / 2), Vec3(0, 0, v / 2), radius)
         .particle(Vec3(0, 0, radius + gap / 2), Vec3(0, 0, -v / 2), radius);
   }
-  const double a = hertz::damping_parameter(make_pair_laws({{"m", rho, E, nu}}, {{e, 0, 0}}).laws[0].damping);
-  b.bounds(Vec3::Constant(-1), Vec3::Constant(1)).dt(hertz::resolved_step(tc, a, steps_per_contact));
+  b.bounds(Vec3::Constant(-1), Vec3::Constant(1)).dt(row.resolved_step(law, m_eff, R_eff, v, steps_per_contact));
   const Scene scene = b.build();
   Simulation sim(scene);
   auto overlap = [&] {
@@ -47,8 +46,8 @@ inline ImpactResult head_on_impact(double rho, double E, double nu, double e, do
   };
   auto normal_force = [&] { return wall ? sim.particles().f[0].z() : -sim.particles().f[0].z(); };
   ImpactResult r;
-  r.hertz_duration = tc;
-  r.hertz_overlap = hertz::max_overlap(m_eff, R_eff, E_star, v);
+  r.hertz_duration = row.contact_time(law, m_eff, R_eff, v);
+  r.hertz_overlap = row.max_overlap(law, m_eff, R_eff, v);
   r.min_normal_force = 1e300;
   double prev = overlap(), t_open = -1, t_close = -1;
   const double dt = scene.dt;
@@ -69,6 +68,10 @@ inline ImpactResult head_on_impact(double rho, double E, double nu, double e, do
   const auto& vel = sim.particles().v;
   r.restitution = wall ? vel[0].z() / v : (vel[1].z() - vel[0].z()) / v;
   return r;
+}
+inline ImpactResult head_on_impact(double rho, double E, double nu, double e, double v, bool wall,
+                                   double steps_per_contact = 40, double radius = 2e-3) {
+  return head_on_impact(Interaction{e, 0, 0}, rho, E, nu, v, wall, steps_per_contact, radius);
 }
 
 }  // namespace bagdem::testing

@@ -30,6 +30,10 @@ class SceneBuilder {
     inter_ = {e, mu, mu_r};
     return *this;
   }
+  SceneBuilder& interaction(const Interaction& in) {  // any law (material.hpp)
+    inter_ = in;
+    return *this;
+  }
   SceneBuilder& plane(const Vec3& point, const Vec3& inward_normal, int material = 0) {
     s_.wall_names.push_back("plane " + std::to_string(s_.walls.size()));
     s_.walls.push_back({WallKind::Plane, point, inward_normal.normalized(), 0, material});

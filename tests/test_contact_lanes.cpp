@@ -3,8 +3,9 @@
 // the same bits (both round each operation as written). The draws cover new contacts (zero
 // history), sticking and sliding ones (history force 0.01 to 100 mu F_n), stiffness rising and
 // falling, normal forces clamped to zero (with a zero friction cap and trial force: 0/0 in the
-// cap's factor), lanes of different materials, and each configuration of the roles (tangential,
-// rolling, energy). Also the lane loads and stores (gather3, gather4, to_rows) against
+// cap's factor), lanes of different materials and of different laws (Hertz-Mindlin and Hooke side
+// by side: each law run on all lanes, each lane keeping its own), and each configuration of the
+// roles (tangential, rolling, energy). Also the lane loads and stores (gather3, gather4, to_rows) against
 // element-wise copies.
 #include <gtest/gtest.h>
 
@@ -25,8 +26,18 @@ using bagdem::testing::Rng;
 
 namespace {
 
+// Hertz-Mindlin, or (2 draws in 5) the linear spring-dashpot (hooke.hpp).
 PairLaw random_law(Rng& rng) {
   PairLaw law;
+  if (rng.uniform() < 0.4) {
+    law.kind = LawKind::Hooke;
+    law.stiffness = std::pow(10.0, rng.uniform(2, 8));
+    law.damping = 2 * rng.uniform(0.0, 0.95);
+    law.tangential_ratio = std::sqrt(rng.uniform(0.2, 1.0));
+    law.friction = rng.uniform(0.0, 0.8);
+    law.rolling = rng.uniform(0.0, 0.1);
+    return law;
+  }
   law.E_star = rng.uniform(1e6, 2e11);
   law.G_star = law.E_star * rng.uniform(0.3, 0.5);
   law.damping = 2 * std::sqrt(5.0 / 6.0) * rng.uniform(0.0, 1.5);
@@ -130,7 +141,7 @@ void check_lanes_match_scalar(std::uint64_t seed) {
     RollingHistory* rh[kLanes];
     for (int l = 0; l < kLanes; ++l) damping[l] = &c[l].damping_prev, th[l] = &c[l].th, rh[l] = &c[l].rh;
     const PairLaw* law_of[kLanes] = {&laws[0], &laws[1], &laws[2], &laws[3]};
-    const SurfaceLanes out = mixed ? surface_contact_lanes<Tangential, Rolling, Energy>(g, law_lanes(law_of), dt, damping, th, rh)
+    const SurfaceLanes out = mixed ? surface_contact_lanes<Tangential, Rolling, Energy>(g, law_of, dt, damping, th, rh)
                                    : surface_contact_lanes<Tangential, Rolling, Energy>(g, laws[0], dt, damping, th, rh);
 
     for (int l = 0; l < kLanes; ++l) {

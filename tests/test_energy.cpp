@@ -7,8 +7,9 @@
 //  * EnergyErrorIsSecondOrderInDt: the energy error seen between collisions must fall at least
 //    fourfold when dt halves (Verlet is second order; for the C^1 Hertz force the per-impact error of
 //    the shadow energy scales as (dt/t_c)^(5/2), i.e. ratio ~5.7).
-//  * BudgetClosesShakenFrictionalBox / BudgetClosesWithRollingResistance: damped, frictional balls in
-//    a harmonically shaken box under gravity: W_cavity + W_gravity = (K + U) - (K0 + U0) + D.
+//  * BudgetClosesShakenFrictionalBox / BudgetClosesWithRollingResistance / BudgetClosesWithTheHookeLaw:
+//    damped, frictional balls in a harmonically shaken box under gravity (Hertz-Mindlin, and the
+//    linear spring-dashpot): W_cavity + W_gravity = (K + U) - (K0 + U0) + D.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -217,9 +218,11 @@ struct BudgetResult {
 // X = 2 mm, f = 20 Hz (Gamma = X w^2 / g = 3.2), gravity -z, 0.5 s (10 cycles), dt = 1e-5 s (~100
 // steps per impact). The residue is O(dt^2) (measured: 7.2e-4, 1.7e-4, 4.1e-5 of D at dt = 2e-5,
 // 1e-5, 5e-6 s), so dt = 1e-5 s leaves a 6x margin under the tolerance.
-BudgetResult run_budget(double mu_r) {
+// `law` (default Hertz-Mindlin) with e = 0.5, mu = 0.3 and mu_r set here.
+BudgetResult run_budget(double mu_r, Interaction law = {}) {
   SceneBuilder b;
-  b.material("glass", 2500, 1e7, 0.3).interaction(0.5, 0.3, mu_r);
+  law.restitution = 0.5, law.friction = 0.3, law.rolling_friction = mu_r;
+  b.material("glass", 2500, 1e7, 0.3).interaction(law);
   const Vec3 lo(0, 0, 0), hi(0.04, 0.04, 0.08);
   b.box(lo, hi).gravity(Vec3(0, 0, -9.81)).dt(1e-5).duration(0.5);
   b.motion(make_harmonic_motion(0.002, 20.0, Vec3::UnitZ(), 0.0));
@@ -273,6 +276,23 @@ TEST(Energy, BudgetClosesShakenFrictionalBox) {
 // Same with EPSD rolling resistance (mu_r = 0.05): the rolling channel must be positive as well.
 TEST(Energy, BudgetClosesWithRollingResistance) {
   const BudgetResult r = run_budget(0.05);
+  EXPECT_GT(r.e.work_cavity, 0.0);
+  EXPECT_GT(r.e.dissipated_normal, 0.0);
+  EXPECT_GT(r.e.dissipated_tangential, 0.0);
+  EXPECT_GT(r.e.dissipated_rolling, 0.0);
+  EXPECT_GT(r.dissipated, 0.5 * r.work);
+  EXPECT_LT(r.closure, 1e-3);
+}
+
+// The same with the linear spring-dashpot law (contact/hooke.hpp) and rolling resistance: its
+// elastic energy k delta^2 / 2 (on pairs and walls) and its pulling damping force at the end of an
+// impact are in the budget. k_n = 2.2 kN/m gives these balls about the Hertz contact's duration
+// (1 ms, 100 steps).
+TEST(Energy, BudgetClosesWithTheHookeLaw) {
+  Interaction hooke;
+  hooke.law = LawKind::Hooke;
+  hooke.stiffness = 2.2e3;
+  const BudgetResult r = run_budget(0.05, hooke);
   EXPECT_GT(r.e.work_cavity, 0.0);
   EXPECT_GT(r.e.dissipated_normal, 0.0);
   EXPECT_GT(r.e.dissipated_tangential, 0.0);

@@ -53,8 +53,10 @@ Euler euler(const TriangleMesh& m, const std::vector<Vec3>& vx, const Vec3& x, d
   Euler e;
   e.node_force.assign(vx.size(), Vec3::Zero());
   e.terms = terms.size();
+  PairLaw unit;  // Hertz with a unit constant: (8/15) E* sqrt(R*) = 1 at R* = 1
+  unit.E_star = 15.0 / 8.0;
   for (const EulerTerm& t : terms) {
-    const auto [u, F] = euler_load(t, 1.0);  // per unit Hertz constant
+    const auto [u, F] = euler_load(t, unit, 1.0);
     e.energy += u;
     e.force += F;
     for (int a = 0; a < 3; ++a) e.node_force[t.node[a]] -= t.weights[a] * F;

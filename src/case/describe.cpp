@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/contact/mindlin.hpp"
 #include "bagdem/contact/rolling.hpp"
 #include "bagdem/particles.hpp"
@@ -94,8 +95,11 @@ void describe_primary(std::ostream& o, const Scene& s) {
 
 // What is modelled, the neighbour search, the step, the run's length, its outputs and guards.
 void describe_numerics(std::ostream& o, const Scene& s) {
-  o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n"
-    << "            tangential Mindlin spring, history, Coulomb cap:       " << on(s.models.tangential)
+  bool hertz = false, hooke = false;
+  for (const PairLaw& l : s.laws.laws) (l.kind == LawKind::Hooke ? hooke : hertz) = true;
+  if (hertz) o << "modelled    normal Hertz + restitution damping (force clamped at zero): on\n";
+  if (hooke) o << (hertz ? "            " : "modelled    ") << "normal linear spring-dashpot (hooke, not clamped):   on\n";
+  o << "            tangential spring, history, Coulomb cap:               " << on(s.models.tangential)
     << (s.models.tangential ? "" : " (no pair has friction)") << "\n"
     << "            rolling resistance (EPSD2):                             " << on(s.models.rolling)
     << (s.models.rolling ? "" : " (no pair has rolling friction)") << "\n"
@@ -156,9 +160,13 @@ std::string describe_scene(const Scene& s) {
     for (int b = a; b < s.laws.n; ++b) {
       const PairLaw& l = s.laws(a, b);
       o << "pair        " << s.materials[static_cast<std::size_t>(a)].name << "-"
-        << s.materials[static_cast<std::size_t>(b)].name << ": e " << l.restitution << " (clamped-law |beta| "
-        << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r " << l.rolling
-        << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
+        << s.materials[static_cast<std::size_t>(b)].name << ": " << contact_law(l.kind).name << ", e " << l.restitution;
+      if (l.kind == LawKind::Hooke)
+        o << " (damping ratio " << 0.5 * l.damping << "), mu_s " << l.friction << ", mu_r " << l.rolling << ", k_n "
+          << l.stiffness << " N/m, k_t/k_n " << l.tangential_ratio * l.tangential_ratio << "\n";
+      else
+        o << " (clamped-law |beta| " << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r "
+          << l.rolling << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
     }
   double rmin = 1e300, rmax = 0, mass = 0;
   for (const auto& p : s.particles) {

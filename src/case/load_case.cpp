@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "bagdem/case/case_reader.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
@@ -37,14 +38,41 @@ std::vector<std::string> resolve_materials(const CaseReader& in, Scene& s) {
   return names;
 }
 
+// interactions.NAME.law: a name from the table of contact laws (contact/law.hpp), `base`'s if absent.
+LawKind read_law(const CaseReader& in, const std::string& key, LawKind base) {
+  if (!in.has(key + ".law")) return base;
+  const std::string name = in.string(key + ".law");
+  const ContactLawRow* row = find_contact_law(name);
+  if (!row) in.fail(key + ".law", "must be one of " + contact_law_names());
+  return row->kind;
+}
+
 Interaction read_interaction(const CaseReader& in, const std::string& key, const Interaction& base) {
   Interaction it = base;
+  it.law = read_law(in, key, base.law);
   it.restitution = in.quantity(key + ".restitution", dim::none, base.restitution);
   it.friction = in.quantity(key + ".friction", dim::none, base.friction);
   it.rolling_friction = in.quantity(key + ".rolling_friction", dim::none, base.rolling_friction);
-  if (!(it.restitution > 0 && it.restitution <= 1)) in.fail(key + ".restitution", "must be in (0, 1]");
+  if (!restitution_in_range(it.restitution)) in.fail(key + ".restitution", std::string("must be in ") + kRestitutionRange);
   if (!(it.friction >= 0)) in.fail(key + ".friction", "must be >= 0");
   if (!(it.rolling_friction >= 0)) in.fail(key + ".rolling_friction", "must be >= 0");
+  // The linear spring's constants: a pair that changes law does not inherit them.
+  const bool inherits = it.law == base.law;
+  if (it.law == LawKind::Hooke) {
+    const bool given = in.has(key + ".stiffness");
+    if (!given && !(inherits && base.stiffness > 0))
+      in.fail(key + ".stiffness", "is required with law = \"hooke\": the normal spring k_n (N/m), > 0");
+    it.stiffness = given ? in.quantity(key + ".stiffness", dim::stiffness) : base.stiffness;
+    it.stiffness_ratio = in.quantity(key + ".stiffness_ratio", dim::none, inherits ? base.stiffness_ratio : Interaction{}.stiffness_ratio);
+    if (!(it.stiffness > 0)) in.fail(key + ".stiffness", "must be > 0 (N/m)");
+    if (!(it.stiffness_ratio > 0)) in.fail(key + ".stiffness_ratio", "must be > 0 (k_t / k_n; 2/7 by default)");
+  } else {
+    for (const char* k : {".stiffness", ".stiffness_ratio"})
+      if (in.has(key + k))
+        in.fail(key + k, "is read with law = \"hooke\" only; this pair's law is \"" +
+                             std::string(contact_law(it.law).name) + "\" (whose stiffness follows the materials' moduli)");
+    it.stiffness = 0, it.stiffness_ratio = Interaction{}.stiffness_ratio;
+  }
   return it;
 }
 

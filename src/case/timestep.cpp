@@ -1,7 +1,8 @@
 // The time step. `auto` takes the smallest of
-//   (a) timestep_safety x the Rayleigh time of the smallest particle of each material,
-//   (b) the Hertz contact time at the expected impact speed / steps_per_contact, and for heavily
-//       damped contacts (e below ~0.45) the damping time likewise (hertz::resolved_step),
+//   (a) timestep_safety x the Rayleigh time of the smallest particle of each material whose contacts
+//       follow its moduli (a Hooke pair's spring is the user's: no elastic wave limits it),
+//   (b) the contact time at the expected impact speed / steps_per_contact, and for heavily damped
+//       contacts (e below ~0.45) the damping time likewise (the law's resolved_step, contact/law.hpp),
 //   (c) half the critical step of the stiffest contact (normal, or tangential with the rolling
 //       sphere's effective mass 2/7 m*), at the overlap reached at the expected speed;
 // an explicit step is refused when above (c)'s critical step unless simulation.force_timestep.
@@ -13,6 +14,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/particles.hpp"
 
 namespace bagdem {
@@ -68,7 +70,7 @@ void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, d
     const double r = rmin[static_cast<std::size_t>(a)];
     if (r == 0) continue;
     const Material& ma = s.materials[static_cast<std::size_t>(a)];
-    dt_rayleigh = std::min(dt_rayleigh, hertz::rayleigh_time(r, ma.density, ma.youngs_modulus, ma.poisson_ratio));
+    const double rayleigh = hertz::rayleigh_time(r, ma.density, ma.youngs_modulus, ma.poisson_ratio);
     const double m = sphere_mass(ma.density, r);
     for (int b = 0; b < nm; ++b) {
       const bool wall_material =
@@ -76,17 +78,18 @@ void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, d
           std::any_of(s.mesh_walls.begin(), s.mesh_walls.end(), [&](const MeshWall& w) { return w.material == b; });
       const bool particle_material = rmin[static_cast<std::size_t>(b)] > 0;
       const PairLaw& law = s.laws(a, b);
+      const ContactLawRow& row = contact_law(law.kind);
+      if (row.from_moduli && (particle_material || wall_material)) dt_rayleigh = std::min(dt_rayleigh, rayleigh);
       auto consider = [&](double R_eff, double m_eff) {
-        dt_contact = std::min(dt_contact, hertz::resolved_step(hertz::contact_time(m_eff, R_eff, law.E_star, v),
-                                                               hertz::damping_parameter(law.damping), per_contact));
-        const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
-        const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
+        dt_contact = std::min(dt_contact, row.resolved_step(law, m_eff, R_eff, v, per_contact));
+        const double delta = row.max_overlap(law, m_eff, R_eff, v);
+        const double S_n = row.stiffness(law, R_eff, delta);
         const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping x sqrt(S m*)
         dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), zeta));
         if (s.models.tangential) {
           // The rolling sphere's tangential mass is 2/7 m*, so with gamma_t = gamma_n sqrt(S_t/S_n)
           // the tangential damping ratio is sqrt(3.5) times the normal one.
-          const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
+          const double S_t = row.tangential_stiffness(law, R_eff, delta);
           dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(3.5 * S_t / m_eff), std::sqrt(3.5) * zeta));
         }
       };
@@ -121,11 +124,12 @@ void film_limits(const Scene& s, const std::vector<double>& rmin, double v, Step
   // m_eff: the normal effective mass; m_t: the tangential one.
   auto consider_film = [&](int a, double R_eff, double m_eff, double m_t) {
     const PairLaw& law = s.laws(a, fm);
-    const double delta = hertz::max_overlap(m_eff, R_eff, law.E_star, v);
-    const double S_n = 2 * law.E_star * std::sqrt(R_eff * delta);
+    const ContactLawRow& row = contact_law(law.kind);
+    const double delta = row.max_overlap(law, m_eff, R_eff, v);
+    const double S_n = row.stiffness(law, R_eff, delta);
     dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_n / m_eff), 0.5 * law.damping));
     if (s.models.tangential) {
-      const double S_t = 8 * law.G_star * std::sqrt(R_eff * delta);
+      const double S_t = row.tangential_stiffness(law, R_eff, delta);
       dt_film = std::min(dt_film, hertz::critical_step(std::sqrt(S_t / m_t), std::sqrt(m_eff / m_t) * 0.5 * law.damping));
     }
   };
@@ -182,7 +186,7 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
     if (s.dt > dt_contact * 1.0000001) {
       std::ostringstream w;
       w << "simulation.timestep = " << s.dt << " s is coarser than the step that resolves the stiffest contact ("
-        << dt_contact << " s: Hertz contact time / " << per_contact
+        << dt_contact << " s: the contact time / " << per_contact
         << ", and the damping time when e is low); the restitution obtained may differ from the one requested "
            "(more so at low e). Use \"auto\" or a step of at most "
         << dt_contact << " s for exact restitution.";
@@ -192,7 +196,7 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
     const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film;
     s.dt = std::min({a, b, c, f, dt_structure});
     why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
-        << " s, Hertz contact time (or damping time when e is low) / " << per_contact << " = " << b
+        << " s, contact time (or damping time when e is low) / " << per_contact << " = " << b
         << " s, half the critical step = " << c << " s";
     if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
     if (s.primary) why << ", the structure (0.2 / its highest circular frequency, 1/20 of the force's time scale) " << dt_structure << " s";

@@ -1,10 +1,10 @@
 // The per-material-pair table of the contact law (contact/pair_laws.hpp).
 #include "bagdem/contact/pair_laws.hpp"
 
-#include <cmath>
 #include <map>
+#include <utility>
 
-#include "bagdem/contact/restitution.hpp"
+#include "bagdem/contact/law.hpp"
 
 namespace bagdem {
 
@@ -13,20 +13,14 @@ PairLawTable make_pair_laws(const std::vector<Material>& materials,
   PairLawTable t;
   t.n = static_cast<int>(materials.size());
   t.laws.resize(materials.size() * materials.size());
-  std::map<double, double> beta_of;  // clamped_beta(e) costs 25-75 ms: once per distinct e
+  std::map<std::pair<LawKind, double>, double> damping_of;  // Hertz-Mindlin's costs 25-75 ms: once per law and e
   for (int a = 0; a < t.n; ++a) {
     for (int b = 0; b < t.n; ++b) {
       const Interaction& in = interactions[static_cast<size_t>(a * t.n + b)];
-      PairLaw& law = t.laws[static_cast<size_t>(a * t.n + b)];
-      law.E_star = effective_youngs(materials[a], materials[b]);
-      law.G_star = effective_shear(materials[a], materials[b]);
-      auto it = beta_of.find(in.restitution);
-      if (it == beta_of.end()) it = beta_of.emplace(in.restitution, clamped_beta(in.restitution)).first;
-      law.damping = 2.0 * std::sqrt(5.0 / 6.0) * it->second;
-      law.tangential_ratio = std::sqrt(4.0 * law.G_star / law.E_star);
-      law.friction = in.friction;
-      law.rolling = in.rolling_friction;
-      law.restitution = in.restitution;
+      const ContactLawRow& law = contact_law(in.law);
+      auto it = damping_of.find({in.law, in.restitution});
+      if (it == damping_of.end()) it = damping_of.emplace(std::pair{in.law, in.restitution}, law.damping_of(in.restitution)).first;
+      t.laws[static_cast<size_t>(a * t.n + b)] = law.make(materials[a], materials[b], in, it->second);
     }
   }
   return t;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+
+#include "bagdem/material.hpp"
 
 namespace bagdem {
 
@@ -55,7 +58,7 @@ double restitution_of_damping(double a, bool clamped) {
 }
 
 double clamped_beta(double e) {
-  if (!(e > 0 && e <= 1)) throw std::invalid_argument("clamped_beta: e must be in (0, 1]");
+  if (!restitution_in_range(e)) throw std::invalid_argument(std::string("clamped_beta: e must be in ") + kRestitutionRange);
   if (e == 1.0) return 0.0;
   // e(a) falls monotonically from 1 (a = 0) to 0 (a -> infinity). The root of e(exp(s)) - e in
   // s = log a, by regula falsi with the Illinois modification (the end kept twice has its value

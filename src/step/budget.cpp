@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bagdem/contact/hertz.hpp"
+#include "bagdem/contact/law.hpp"
 
 namespace bagdem {
 
@@ -27,7 +27,7 @@ void Stepper::for_each_contact(Fn&& fn) const {
     const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
     ContactGeometry g;
     if (!sphere_sphere(p_.x[i], p_.x[j], p_.radius[i], p_.radius[j], g)) continue;
-    fn(g.overlap, hertz_energy(scene_.laws(p_.material[i], p_.material[j]), g.R_eff, g.overlap),
+    fn(g.overlap, law_energy(scene_.laws(p_.material[i], p_.material[j]), g.R_eff, g.overlap),
        scene_.models.tangential ? &ps_.hist.tangential[k] : nullptr, scene_.models.rolling ? &ps_.hist.rolling[k] : nullptr,
        std::min(p_.radius[i], p_.radius[j]));
   }
@@ -38,7 +38,7 @@ void Stepper::for_each_contact(Fn&& fn) const {
       Vec3 n;
       const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
-      fn(overlap, hertz_energy(scene_.laws(p_.material[p], wall.material), wall_effective_radius(wall, p_.radius[p]), overlap),
+      fn(overlap, law_energy(scene_.laws(p_.material[p], wall.material), wall_effective_radius(wall, p_.radius[p]), overlap),
          scene_.models.tangential ? &wall_hist_.tangential[wall_slot(p, w)] : nullptr,
          scene_.models.rolling ? &wall_hist_.rolling[wall_slot(p, w)] : nullptr, p_.radius[p]);
     }

@@ -4,7 +4,7 @@
 // the balls' loads in ball order), so results do not depend on the thread count.
 //
 // Film-wall contact: each node is the centre of a small patch of film of half thickness t/2; it
-// touches a wall when closer than t/2 to it, with the Hertz-Mindlin law of the film's and the
+// touches a wall when closer than t/2 to it, with the contact law of the film's and the
 // wall's materials, R* = bag.film.contact_radius and m* = the node's mass. (A penalty with the
 // right scales: the film is thin, the patch radius sets the stiffness; what the balls feel through
 // the film is the ball-film law.) Its force on the cavity enters the cavity's load and work.
@@ -13,7 +13,6 @@
 #include <bit>
 #include <cmath>
 
-#include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
 #include "stepper.hpp"
 #include "loops.hpp"
@@ -229,7 +228,7 @@ double Stepper::film_elastic_energy() const {
       Vec3 n;
       const double overlap = 0.5 * bag.film.thickness - wall_distance(scene_.walls[w], film_.x[k] - motion_at(film_.x[k]).pos, n);
       if (overlap <= 0) continue;
-      u += hertz_energy(scene_.laws(bag.material, scene_.walls[w].material), bag.contact_radius, overlap);
+      u += law_energy(scene_.laws(bag.material, scene_.walls[w].material), bag.contact_radius, overlap);
       if (scene_.models.tangential) u += mindlin_energy(film_wall_hist_.tangential[k * nw + w]);
     }
   return u;

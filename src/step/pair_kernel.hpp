@@ -127,7 +127,7 @@ struct PairKernel {
     } else {
       const PairLaw* e[kLanes];
       for (int l = 0; l < kLanes; ++l) e[l] = &(*laws)(material[I[l]], material[J[l]]);
-      with_law(law_lanes(e));
+      with_law(e);
     }
   }
 

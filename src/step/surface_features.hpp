@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bagdem/contact/law.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "history.hpp"
@@ -110,9 +111,10 @@ inline void keep_patches(std::vector<Found>& hits) {
 // The elastic energy of a point (a ball, a film node) against a triangulated surface counts no
 // contacts: it is the Euler characteristic's sum over the surface's features within reach,
 //   U = sum over faces U_H(delta_f) - sum over interior edges U_H(delta_e) + sum over interior vertices U_H(delta_v),
-// each delta the reach less the distance to the closed feature (its closest point), U_H Hertz's
-// energy. Why: with A_t the part of the surface where the overlap exceeds t, a closed feature meets
-// A_t exactly when its delta exceeds t, and those meetings are relatively open cells, so
+// each delta the reach less the distance to the closed feature (its closest point), U_H the
+// contact law's energy (Hertz's by default). Why: with A_t the part of the surface where the
+// overlap exceeds t, a closed feature meets A_t exactly when its delta exceeds t, and those
+// meetings are relatively open cells, so
 // chi(A_t) = #faces - #edges + #vertices met (a surface's boundary edges and vertices are left out:
 // they make chi of a half-disc 1); then U = integral of U_H'(t) chi(A_t) dt over t > 0. On a flat
 // triangulation A_t is a disc and U = U_H(overlap) exactly, as against the plane; two contact
@@ -120,7 +122,7 @@ inline void keep_patches(std::vector<Found>& hits) {
 // merge, where any count of contacts jumps (docs/bag.md, Guards). It does not see a ring contact
 // (an annulus has chi = 0; the ring's levels count nothing), which the film under a ball meets
 // only where a node is pushed away from the ball inside its contact. Its gradient is each term's
-// Hertz force along the term's normal, signed, on the point and (by the barycentric weights of
+// law's force along the term's normal, signed, on the point and (by the barycentric weights of
 // the closest point) on the feature's nodes.
 struct EulerTerm {
   Vec3 point, n;           // the feature's closest point; unit normal from it towards the point
@@ -131,15 +133,18 @@ struct EulerTerm {
   double sign;             // the signed number of terms carried (face +1, edge -1, vertex +1 each)
 };
 
-// A term's share of the energy and of the force on the point, with Hertz's constant c
-// (hertz.hpp, hertz_constant): U = sign c delta^(5/2) and F = -dU/dx = sign (5/2) c delta^(3/2) n.
+// A term's share of the energy and of the force on the point, by the law of its surface and the
+// point (R_eff: the point's radius; contact/law.hpp, euler_share): U = sign U_law(delta) and
+// F = -dU/dx = sign U_law'(delta) n (Hertz: U = sign c delta^(5/2), c = hertz_constant).
 struct EulerLoad {
   double energy;
   Vec3 force;
 };
-inline EulerLoad euler_load(const EulerTerm& e, double c) {
-  const double root = std::sqrt(e.overlap);
-  return {e.sign * c * e.overlap * e.overlap * root, (e.sign * 2.5 * c * e.overlap * root) * e.n};
+inline EulerLoad euler_load(const EulerTerm& e, const PairLaw& law, double R_eff) {
+  return visit_law(law.kind, [&](auto L) {
+    const EulerShare s = decltype(L)::euler_share(law, R_eff, e.overlap, e.sign);
+    return EulerLoad{s.energy, s.force * e.n};
+  });
 }
 
 // The terms of point x (reach, in surface s's frame with vertices vx) from its triangles within
@@ -244,13 +249,16 @@ inline void euler_terms(const TriangleMesh& mesh, const std::vector<Vec3>& vx, c
   }
 }
 
-// The overlap each contact's law sees (out[f] for found[f]): the one whose Hertz stiffness is the
-// Euler sum's along the contact's normal, sum over its terms of sign S(delta) (n_term . n)^2 with
-// S = 2 E* sqrt(R* delta), so that the law's damping gives the requested restitution and its
-// friction the matching normal force. A term goes to the contact of its surface whose normal is
-// closest to its own. On a flat triangulation it is the contact's own overlap; where the sum is not
-// positive (a ring contact), 1e-12 of it.
-inline void law_overlaps(const std::vector<EulerTerm>& terms, const Found* found, std::size_t nf, double* out) {
+// The overlap each contact's law sees (out[f] for found[f]): the one whose stiffness is the Euler
+// sum's along the contact's normal, sum over its terms of sign S(delta) (n_term . n)^2, so that the
+// law's damping gives the requested restitution and its friction the matching normal force (Hertz:
+// S = 2 E* sqrt(R* delta), the overlap the square of the sum of sign sqrt(delta) cos^2; a linear
+// spring: the sum of sign delta cos; the law's overlap_term and overlap_of). A term goes to the
+// contact of its surface whose normal is closest to its own. On a flat triangulation it is the
+// contact's own overlap; where the sum is not positive (a ring contact), 1e-12 of it.
+// law_of(s): the law of surface s and the point.
+template <class LawOf>
+void law_overlaps(const std::vector<EulerTerm>& terms, const Found* found, std::size_t nf, LawOf&& law_of, double* out) {
   for (std::size_t f = 0; f < nf; ++f) out[f] = 0;
   for (const EulerTerm& e : terms) {
     std::size_t best = nf;
@@ -260,9 +268,12 @@ inline void law_overlaps(const std::vector<EulerTerm>& terms, const Found* found
       const double c = e.n.dot(found[f].n);
       if (c > c_best) c_best = c, best = f;
     }
-    if (best < nf) out[best] += e.sign * std::sqrt(e.overlap) * c_best * c_best;  // S / (2 E* sqrt(R*))
+    if (best < nf)
+      out[best] += visit_law(law_of(e.surface).kind, [&](auto L) { return decltype(L)::overlap_term(e.sign, e.overlap, c_best); });
   }
-  for (std::size_t f = 0; f < nf; ++f) out[f] = out[f] > 0 ? out[f] * out[f] : 1e-12 * found[f].overlap;
+  for (std::size_t f = 0; f < nf; ++f)
+    out[f] = out[f] > 0 ? visit_law(law_of(found[f].surface).kind, [&](auto L) { return decltype(L)::overlap_of(out[f]); })
+                        : 1e-12 * found[f].overlap;
 }
 
 // The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:

@@ -3,19 +3,18 @@
 //
 // Elastic force: the Euler sum over the features within reach (surface_features.hpp, euler_terms),
 // a potential of the positions that counts no contacts: exact on a flat triangulation, continuous
-// where contacts are born, merge or split. Each term's Hertz force acts on the ball along its
+// where contacts are born, merge or split. Each term's force (the law's) acts on the ball along its
 // normal, and its reaction on the feature's nodes by the closest point's barycentric weights (the
 // exact derivative of the distance with respect to the node positions): the pair is conservative.
 // Damping and friction: the contact law, on the contacts of the one-contact-per-feature rule (a
 // ball on a flat triangulation has the one contact it would have with the plane), one per patch
 // (hits with normals within 30 degrees: PatchBlend) so that a shallow fold does not double them.
-// The law sees the overlap whose Hertz stiffness is the Euler sum's along the contact's normal
+// The law sees the overlap whose stiffness is the Euler sum's along the contact's normal
 // (law_overlaps), so its damping gives the requested restitution, and its elastic part is taken
 // off. A ball is on one side of a surface for the whole run (side_: inside the film for the bag's
 // balls, inside an STL cavity always); the normal points to that side, and a centre found beyond
 // the mid-surface stops the run (guards).
-// Law: the pair law of the ball's and the surface's materials (Hertz-Mindlin with restitution
-// damping), with the film's half thickness added to the reach, R* = the ball's radius (a flat
+// Law: the pair law of the ball's and the surface's materials (contact/law.hpp), with the film's half thickness added to the reach, R* = the ball's radius (a flat
 // triangle), and m* from the ball's mass and the contact point's effective mass on the film,
 // 1/m_s = sum_k w_k^2 / m_k over the triangle's nodes (w: barycentric weights; the exact inverse
 // mass of a point tied to three particles). A rigid wall has 1/m_s = 0, so as the film's nodes get
@@ -27,7 +26,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/contact/surface_law.hpp"
 #include "loops.hpp"
@@ -215,10 +213,11 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
 
   // 3. The contact law, as for a wall, with the surface point's velocity and effective mass: its
   // damping and friction (the elastic force is the Euler sum's, step 4), on the overlap whose
-  // Hertz stiffness is the Euler sum's along the contact's normal (law_overlaps).
+  // stiffness is the Euler sum's along the contact's normal (law_overlaps).
   const PairLawTable& laws = scene_.laws;
   double law_overlap[K];
-  law_overlaps(terms, found, nf, law_overlap);
+  law_overlaps(terms, found, nf, [&](std::uint32_t s) -> const PairLaw& { return laws(p_.material[p], surfaces_[s].material); },
+               law_overlap);
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const Surface& sf = surfaces_[fd.surface];
@@ -282,12 +281,12 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   }
   slot_count_[p] = static_cast<std::uint8_t>(nf);
 
-  // 4. The elastic force and energy: the Euler sum's terms (euler_terms), each a Hertz force along
+  // 4. The elastic force and energy: the Euler sum's terms (euler_terms), each the law's force along
   // its normal, its reaction on the feature's nodes by the closest point's weights.
   double U = 0;
   for (const EulerTerm& e : terms) {
     const Surface& sf = surfaces_[e.surface];
-    const auto [u, Fe] = euler_load(e, hertz_constant(laws(p_.material[p], sf.material), r));
+    const auto [u, Fe] = euler_load(e, laws(p_.material[p], sf.material), r);
     U += u;
     F += Fe;
     if (sf.film) {
@@ -332,7 +331,8 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   ContactHistory prev_hist[K];
   carry_slots(slot, node_slot_hist_, k * K, n_prev, found, nf, prev, prev_hist, taken);
   double law_overlap[K];
-  law_overlaps(terms, found, nf, law_overlap);
+  law_overlaps(terms, found, nf,
+               [&](std::uint32_t s) -> const PairLaw& { return scene_.laws(bag.material, surfaces_[s].material); }, law_overlap);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
@@ -364,7 +364,7 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   node_slot_count_[k] = static_cast<std::uint8_t>(nf);
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const auto [u, Fe] = euler_load(e, hertz_constant(scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius));
+    const auto [u, Fe] = euler_load(e, scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius);
     U += u;
     F_wall += Fe;
     L -= dt * (e.point - scene_.cavity_reference).cross(Fe);

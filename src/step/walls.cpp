@@ -145,7 +145,7 @@ struct WallKernel {
         with_law(*e[0]->law);
       } else {
         const PairLaw* four[kLanes] = {e[0]->law, e[1]->law, e[2]->law, e[3]->law};
-        with_law(law_lanes(four));
+        with_law(four);
       }
     }
     auto vec = [](const double* row) BAGDEM_INLINE_LAMBDA { return Vec3(row[0], row[1], row[2]); };

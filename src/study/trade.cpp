@@ -15,7 +15,7 @@
 
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/case/load_case.hpp"
-#include "bagdem/contact/hertz_theory.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
@@ -169,8 +169,8 @@ RungResult read_rung(const Plan& plan, const Point& p, const Rung& rung) {
     while (std::getline(in, line))
       if (line.rfind("wall_time = ", 0) == 0) r.wall = std::stod(line.substr(12));
   }
-  // The step and the Hertz contact duration of two of the smallest balls at the expected impact
-  // speed (Johnson 1985, 11.24), for the stiffness knob's effect.
+  // The step and the contact duration of two of the smallest balls at the expected impact speed
+  // (their law's: Hertz's is Johnson 1985, 11.24), for the stiffness knob's effect.
   const Scene s = load_case(plan.spec.case_dir, rung.sets);
   r.dt = s.dt;
   if (!s.particles.empty()) {
@@ -180,8 +180,8 @@ RungResult read_rung(const Plan& plan, const Point& p, const Rung& rung) {
     const auto& ball = s.particles[k];
     const Material& m = s.materials[static_cast<std::size_t>(ball.material)];
     const double mass = m.density * 4.0 / 3.0 * 3.141592653589793 * std::pow(ball.radius, 3);
-    const double E_star = s.laws(ball.material, ball.material).E_star;
-    r.contact_time = hertz::contact_time(0.5 * mass, 0.5 * ball.radius, E_star, s.expected_speed);
+    const PairLaw& law = s.laws(ball.material, ball.material);
+    r.contact_time = contact_law(law.kind).contact_time(law, 0.5 * mass, 0.5 * ball.radius, s.expected_speed);
   }
   if (!r.done) return r;
   double peak_frequency = NAN;

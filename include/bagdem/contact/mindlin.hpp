@@ -37,10 +37,14 @@ struct TangentialResultT {
 };
 using TangentialResult = TangentialResultT<double>;
 
-// `normal` is the normal role's result: S_t = S_n 4G*/E*, gamma_t = gamma_n sqrt(4G*/E*) (no sqrt here).
+// `normal` is the normal role's result: S_t = S_n ratio^2, gamma_t = gamma_n ratio (ratio: the law's
+// tangential_ratio, sqrt(4G*/E*) for Mindlin; no sqrt here). opened_mean: the mean of S_t over the
+// part of the step a new contact was closed, as a fraction of its end value: 2/3 for Mindlin's
+// S_t ~ sqrt(delta) (the default), 1 for a linear spring (hooke.hpp).
 template <class T, class Law>
 BAGDEM_INLINE TangentialResultT<T> mindlin_tangential(const ContactGeometryT<T>& g, const Law& law,
-                                                      const NormalResultT<T>& normal, double dt, TangentialHistoryT<T>& h) {
+                                                      const NormalResultT<T>& normal, double dt, TangentialHistoryT<T>& h,
+                                                      double opened_mean = 2.0 / 3.0) {
   const T F_n = normal.force;
   const V3<T> v_t = g.v_half - dot(g.v_half, g.n) * g.n;  // tangential displacement rate over the step
   const V3<T> v_t_end = g.v_rel - dot(g.v_rel, g.n) * g.n; // tangential velocity the dashpot sees
@@ -50,13 +54,14 @@ BAGDEM_INLINE TangentialResultT<T> mindlin_tangential(const ContactGeometryT<T>&
   const T energy_before = select(h.stiffness > 0, dot(h.force, h.force) / (2.0 * h.stiffness), splat<T>(0.0));
   V3<T> Fe = carry_spring<T>(h.force, g.n, h.stiffness, S_t);
   // Spring increment over the step with the step's mean stiffness (second order in dt): the mean of
-  // the two ends, or for a contact that opened during the step, 2/3 of the end value (S_t grows as
-  // sqrt(delta) from zero) over the part of the step since first touch, delta / (d delta/dt).
+  // the two ends, or for a contact that opened during the step, opened_mean of the end value (2/3
+  // where S_t grows as sqrt(delta) from zero) over the part of the step since first touch,
+  // delta / (d delta/dt).
   // One contact takes the branch; lanes compute both and select.
   auto opened_rate = [&] {
     const T approach = -dot(g.v_half, g.n) * dt;  // overlap gained over a full step (unit: m)
     const T part = select(approach > g.overlap, g.overlap / approach, splat<T>(1.0));
-    return (2.0 / 3.0) * S_t * part;
+    return opened_mean * S_t * part;
   };
   T rate;
   if constexpr (std::is_same_v<T, double>) rate = h.stiffness > 0 ? 0.5 * (h.stiffness + S_t) : opened_rate();

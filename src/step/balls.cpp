@@ -15,7 +15,7 @@ namespace bagdem {
 // Also predicts the end-of-step velocities the contact law uses, v(n+1/2) + dt/2 F(n)/m: with the
 // half-step velocity alone (as LAMMPS and LIGGGHTS do) the damping force lags by dt/2, a first-order
 // error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
-// second order. Also finds the largest step a ball took (travel_; end_drift).
+// second order. Also finds the largest step a ball took (nb_.travel; end_drift).
 template <bool Finish, bool Rotation, bool Gravity, bool Energy>
 void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, StageFold& fold) {
   const double dt = scene_.dt, h = 0.5 * dt;
@@ -24,11 +24,11 @@ void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, Stag
   // compiler then keeps them in registers (through the members, each store would make it reload
   // them, as a store may alias).
   Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
-  Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = tally_.step_dissipation.data();
+  Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = p_.tally.step_dissipation.data();
   const double *mass = p_.mass.data(), *inv_mass = p_.inv_mass.data(), *inv_inertia = p_.inv_inertia.data();
   bool finite = fold.finished_finite;
   double step2 = fold.step2;
-  // Balls all alike (uniform_): their mass and inertia are the first ball's (the same values, so
+  // Balls all alike (p_.uniform): their mass and inertia are the first ball's (the same values, so
   // the same results), and the loop reads three arrays fewer.
   auto balls = [&](auto mass_of, auto inv_mass_of, auto inv_inertia_of) BAGDEM_INLINE_LAMBDA {
     for (std::size_t i = b0; i < b1; ++i) {
@@ -59,7 +59,7 @@ void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, Stag
       if constexpr (Energy) diss[i].setZero();
     }
   };
-  if (uniform_) {
+  if (p_.uniform) {
     const double m = mass[0], im = inv_mass[0], ii = inv_inertia[0];
     balls([m](std::size_t) { return m; }, [im](std::size_t) { return im; }, [ii](std::size_t) { return ii; });
   } else {
@@ -82,7 +82,7 @@ void Stepper::over_balls(BallSpan span, StageFold& fold) {
                   [](StageFold& a, const StageFold& b) { a.merge(b); });
 }
 
-void Stepper::StageFold::merge(const StageFold& o) {
+void StageFold::merge(const StageFold& o) {
   excess = std::max(excess, o.excess);
   min_dist = std::min(min_dist, o.min_dist);
   kicked_finite = kicked_finite && o.kicked_finite;
@@ -91,28 +91,28 @@ void Stepper::StageFold::merge(const StageFold& o) {
 }
 
 void Stepper::end_drift(const StageFold& fold) {
-  finished_finite_ = fold.finished_finite;
-  largest_step_ = std::sqrt(fold.step2);
-  // Rounded up twice over (the square root and the sum): travel_ never falls short of the true
+  guard_.finished_finite = fold.finished_finite;
+  nb_.largest_step = std::sqrt(fold.step2);
+  // Rounded up twice over (the square root and the sum): nb_.travel never falls short of the true
   // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
-  travel_ = std::nextafter(travel_ + largest_step_ * (1.0 + 1e-14), HUGE_VAL);
+  nb_.travel = std::nextafter(nb_.travel + nb_.largest_step * (1.0 + 1e-14), HUGE_VAL);
   // The list is renewed a step ahead (kSkinStep): before the pairs at these positions when a ball
   // was near the skin's edge at the last ones.
-  needs_rebuild_ = near_edge_;
-  near_edge_ = travel_ > far_check_at_ && near_skin_edge();
+  nb_.needs_rebuild = nb_.near_edge;
+  nb_.near_edge = nb_.travel > nb_.far_check_at && near_skin_edge();
 }
 
 // Whether a ball is more than skin/2 - kSkinStep x skin from where it was at the last build.
-// Asked only when it could be (end_drift): a ball moved at most travel_ - t since travel_ was t,
+// Asked only when it could be (end_drift): a ball moved at most nb_.travel - t since nb_.travel was t,
 // so after a check found them all within d of their place at the build, none can pass the edge
-// before travel_ has grown by edge - d. The same steps rebuild as with the test at every step, and
-// the drift does not read x_at_build_. In the shaken PD-box bed the check runs a few times per
+// before nb_.travel has grown by edge - d. The same steps rebuild as with the test at every step, and
+// the drift does not read nb_.x_at_build. In the shaken PD-box bed the check runs a few times per
 // rebuild (the slack shrinks by a fraction each time).
 bool Stepper::near_skin_edge() {
-  const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
+  const Vec3 *x = p_.x.data(), *at_build = nb_.x_at_build.data();
   const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },
                                   [](double a, double b) { return std::max(a, b); });
-  return near_edge(d2, travel_, far_check_at_);
+  return near_edge(d2, nb_.travel, nb_.far_check_at);
 }
 
 bool Stepper::near_edge(double d2, double travel, double& far) const {
@@ -141,11 +141,11 @@ void Stepper::kick_drift() {
     film_.v_pred[k] = film_.v[k] + dv;
     return step.squaredNorm();
   }, [](double a, double b) { return std::max(a, b); });
-  if (!mesh_wake_.empty()) {
-    // Rounded up as travel_ is (end_drift): never short of the true distances.
-    mesh_travel_ = std::nextafter(mesh_travel_ + (largest_step_ + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
+  if (!mesh_.wake.empty()) {
+    // Rounded up as nb_.travel is (end_drift): never short of the true distances.
+    mesh_.travel = std::nextafter(mesh_.travel + (nb_.largest_step + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
   }
-  if (couple_) structure_drift();
+  if (structure_.couple) structure_drift();
 }
 
 
@@ -156,9 +156,9 @@ void Stepper::kick() {
   const std::size_t n = p_.size();
   bool finite = true;
   if (ctx_.defer_kick) {
-    finite = finished_finite_;  // the last step's kick, finished in kick_drift; this one's comes next step
+    finite = guard_.finished_finite;  // the last step's kick, finished in kick_drift; this one's comes next step
   } else if (kick_balls_here()) {
-    finite = balls_finite_ && finished_finite_;  // the balls were kicked in wall_contacts
+    finite = guard_.balls_finite && guard_.finished_finite;  // the balls were kicked in wall_contacts
   } else {
     with_flags(
         [&]<bool Rotation>() {
@@ -174,11 +174,11 @@ void Stepper::kick() {
     film_.v[k] += h * film_.inv_mass[k] * film_.f[k];
     return std::isfinite(film_.v[k].squaredNorm());
   }, [](bool a, bool b) { return a && b; });
-  if (couple_) {
+  if (structure_.couple) {
     structure_kick();
     for (double v : structure_.v) finite = finite && std::isfinite(v);
   }
-  all_finite_ = finite;
+  guard_.all_finite = finite;
   ctx_.kick_pending = ctx_.defer_kick;
 }
 

@@ -39,15 +39,15 @@ void Stepper::for_each_contact(Fn&& fn) const {
       const double overlap = p_.radius[p] - wall_distance(wall, p_.x[p] - motion_at(p_.x[p]).pos, n);
       if (overlap <= 0) continue;
       fn(overlap, law_energy(scene_.laws(p_.material[p], wall.material), wall_effective_radius(wall, p_.radius[p]), overlap),
-         scene_.models.tangential ? &wall_hist_.tangential[wall_slot(p, w)] : nullptr,
-         scene_.models.rolling ? &wall_hist_.rolling[wall_slot(p, w)] : nullptr, p_.radius[p]);
+         scene_.models.tangential ? &walls_.hist.tangential[wall_slot(p, w)] : nullptr,
+         scene_.models.rolling ? &walls_.hist.rolling[wall_slot(p, w)] : nullptr, p_.radius[p]);
     }
     // Triangulated surfaces (film, STL walls): the slots of the last step.
-    for (std::size_t s = 0; s < (slot_count_.empty() ? 0 : slot_count_[p]); ++s) {
+    for (std::size_t s = 0; s < (mesh_.slot_count.empty() ? 0 : mesh_.slot_count[p]); ++s) {
       const std::size_t at = p * kMaxMeshContacts + s;
-      const MeshSlot& m = slots_[at];
-      fn(m.overlap, 0.0, scene_.models.tangential ? &slot_hist_.tangential[at] : nullptr,
-         scene_.models.rolling ? &slot_hist_.rolling[at] : nullptr, p_.radius[p]);
+      const MeshSlot& m = mesh_.slots[at];
+      fn(m.overlap, 0.0, scene_.models.tangential ? &mesh_.slot_hist.tangential[at] : nullptr,
+         scene_.models.rolling ? &mesh_.slot_hist.rolling[at] : nullptr, p_.radius[p]);
     }
   }
 }
@@ -59,7 +59,7 @@ double Stepper::elastic_energy() const {
     if (t) u += mindlin_energy(*t);
     if (r) u += rolling_energy(*r);
   });
-  for (double e : mesh_elastic_) u += e;  // the triangulated surfaces' (surfaces.cpp)
+  for (double e : mesh_.elastic) u += e;  // the triangulated surfaces' (surfaces.cpp)
   return u;
 }
 
@@ -75,44 +75,44 @@ EnergySample Stepper::energy() const {
   for (std::size_t i = 0; i < p_.size(); ++i) {
     e.kinetic += 0.5 * p_.mass[i] * p_.v[i].squaredNorm();
     if (scene_.models.rotation) e.kinetic += 0.5 * p_.w[i].squaredNorm() / p_.inv_inertia[i];
-    e.work_cavity += tally_.work_cavity[i];
-    e.dissipated_normal += tally_.diss_normal[i];
-    e.dissipated_tangential += tally_.diss_tangential[i];
-    e.dissipated_rolling += tally_.diss_rolling[i];
+    e.work_cavity += p_.tally.work_cavity[i];
+    e.dissipated_normal += p_.tally.diss_normal[i];
+    e.dissipated_tangential += p_.tally.diss_tangential[i];
+    e.dissipated_rolling += p_.tally.diss_rolling[i];
   }
   for (std::size_t k = 0; k < film_.size(); ++k) e.kinetic += 0.5 * film_.mass[k] * film_.v[k].squaredNorm();
-  e.work_cavity += film_tally_.work_cavity;
-  e.dissipated_normal += film_tally_.diss_normal;
-  e.dissipated_tangential += film_tally_.diss_tangential;
-  e.dissipated_damping = film_tally_.diss_damping;
+  e.work_cavity += film_.tally.work_cavity;
+  e.dissipated_normal += film_.tally.diss_normal;
+  e.dissipated_tangential += film_.tally.diss_tangential;
+  e.dissipated_damping = film_.tally.diss_damping;
   e.elastic = elastic_energy() + film_elastic_energy();
-  e.work_gravity = potential0_ - potential_energy();
+  e.work_gravity = energy0_.potential - potential_energy();
   return e;
 }
 
 CavitySample Stepper::take_cavity_sample() {
   Vec3 J(0, 0, 0), L(0, 0, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
-    J += tally_.wall_impulse[i];
-    L += tally_.wall_ang_impulse[i];
-    tally_.wall_impulse[i].setZero();
-    tally_.wall_ang_impulse[i].setZero();
+    J += p_.tally.wall_impulse[i];
+    L += p_.tally.wall_ang_impulse[i];
+    p_.tally.wall_impulse[i].setZero();
+    p_.tally.wall_ang_impulse[i].setZero();
   }
-  J += film_tally_.impulse;
-  L += film_tally_.ang_impulse;
-  film_tally_.impulse.setZero();
-  film_tally_.ang_impulse.setZero();
+  J += film_.tally.impulse;
+  L += film_.tally.ang_impulse;
+  film_.tally.impulse.setZero();
+  film_.tally.ang_impulse.setZero();
   CavitySample c;
-  const double n = static_cast<double>(cavity_sums_.steps);
+  const double n = static_cast<double>(cavity_.sums.steps);
   if (n > 0) {
     const double span = n * scene_.dt;
-    c.time = cavity_sums_.time / n;
-    c.position = cavity_sums_.position / n;
-    c.velocity = cavity_sums_.velocity / n;
+    c.time = cavity_.sums.time / n;
+    c.position = cavity_.sums.position / n;
+    c.velocity = cavity_.sums.velocity / n;
     c.force = J / span;
     c.torque = L / span;
   }
-  cavity_sums_ = {};
+  cavity_.sums = {};
   c.contents_velocity = contents_relative_velocity();  // at the end of the interval
   return c;
 }
@@ -126,7 +126,7 @@ Vec3 Stepper::contents_relative_velocity() const {
   Vec3 momentum = Vec3::Zero();
   for (std::size_t i = 0; i < p_.size(); ++i) momentum += p_.mass[i] * p_.v[i];
   for (std::size_t k = 0; k < film_.size(); ++k) momentum += film_.mass[k] * film_.v[k];
-  return contents_mass_ > 0 ? Vec3(momentum / contents_mass_ - cavity_.velocity) : Vec3::Zero();
+  return energy0_.contents_mass > 0 ? Vec3(momentum / energy0_.contents_mass - cavity_.now.velocity) : Vec3::Zero();
 }
 
 std::size_t Stepper::contact_count() const {

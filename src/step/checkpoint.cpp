@@ -82,34 +82,34 @@ void fields(IO& io, StructureState& st) {
 // positions, which gives the same lists.
 template <class IO>
 void Stepper::state_fields(IO& io) {
-  io.pod(step_), io.pod(builds_), io.pod(cavity_sums_), io.pod(potential0_), io.pod(kinetic_elastic0_);
-  io.pod(cavity_), io.pod(cavity_prev_);
+  io.pod(step_), io.pod(nb_.builds), io.pod(cavity_.sums), io.pod(energy0_.potential), io.pod(energy0_.stored);
+  io.pod(cavity_.now), io.pod(cavity_.prev);
   fields(io, p_);
-  fields(io, tally_);
+  fields(io, p_.tally);
   fields(io, ps_);
-  io.vec(x_at_build_);
-  wall_hist_.fields(io);
-  io.vec(wall_touch_);
+  io.vec(nb_.x_at_build);
+  walls_.hist.fields(io);
+  io.vec(walls_.touch);
   io.vec(film_.x), io.vec(film_.v), io.vec(film_.v_pred), io.vec(film_.f), io.vec(film_.f_damp_prev);
   io.vec(film_.wall_force_prev);
-  film_wall_hist_.fields(io);
-  io.vec(film_wall_touch_);
-  io.vec(strings_), io.pod(film_tally_);
-  io.vec(slots_), io.vec(slot_count_), io.vec(mesh_elastic_);
-  slot_hist_.fields(io);
-  io.vec(side_), io.vec(film_at_build_), io.pod(cavity_at_build_);
-  io.vec(mesh_force_prev_), io.vec(node_slots_), io.vec(node_slot_count_), io.vec(node_mesh_elastic_);
-  node_slot_hist_.fields(io);
+  film_.wall_hist.fields(io);
+  io.vec(film_.wall_touch);
+  io.vec(film_.strings), io.pod(film_.tally);
+  io.vec(mesh_.slots), io.vec(mesh_.slot_count), io.vec(mesh_.elastic);
+  mesh_.slot_hist.fields(io);
+  io.vec(mesh_.side), io.vec(mesh_.film_at_build), io.pod(mesh_.cavity_at_build);
+  io.vec(mesh_.force_prev), io.vec(mesh_.node_slots), io.vec(mesh_.node_slot_count), io.vec(mesh_.node_elastic);
+  mesh_.node_slot_hist.fields(io);
   fields(io, structure_);
-  io.vec(cavity_load_), io.pod(film_load_moments_);
-  io.pod(cavity_pos_at_build_), io.pod(cavity_shear_at_build_);
+  io.vec(structure_.cavity_load), io.pod(structure_.film_load_moments);
+  io.pod(cavity_.pos_at_build), io.pod(cavity_.shear_at_build);
 }
 
 std::vector<char> Stepper::save_state() const {
   Writer w;
   w.pod(kMagic);
   w.pod(static_cast<std::uint64_t>(p_.size()));
-  w.vec(order_);
+  w.vec(p_.order);
   const_cast<Stepper&>(*this).state_fields(w);  // shared with load_state; the writer modifies nothing
   return std::move(w.out);
 }
@@ -127,14 +127,14 @@ void Stepper::load_state(const std::vector<char>& image) {
   // The per-ball arrays are in the stepper's order, which follows from the case's initial state.
   std::vector<std::uint32_t> order;
   r.vec(order);
-  if (order != order_) throw std::runtime_error("checkpoint holds the balls in another order than the case's initial state gives");
+  if (order != p_.order) throw std::runtime_error("checkpoint holds the balls in another order than the case's initial state gives");
   state_fields(r);
   // What is derived from the pair list (first, per-pair buffers, the walls near each
   // ball), without a new broad-phase search.
   derive_pair_buffers();
-  near_edge_ = near_skin_edge();  // as the run that saved the image found it at this step (end_drift)
+  nb_.near_edge = near_skin_edge();  // as the run that saved the image found it at this step (end_drift)
   find_near_walls();
-  if (!surfaces_.empty()) build_mesh_candidates(x_at_build_, film_at_build_, cavity_at_build_);
+  if (!mesh_.surfaces.empty()) build_mesh_candidates(nb_.x_at_build, mesh_.film_at_build, mesh_.cavity_at_build);
 }
 
 }  // namespace bagdem

@@ -16,14 +16,14 @@ namespace bagdem {
 // ---- 7. guards ----------------------------------------------------------------------------------
 void Stepper::guards() {
   const std::size_t n = p_.size();
-  const bool bad = !all_finite_;  // a NaN position makes the next velocity NaN too
-  const bool overlap = overlap_excess_ > 0.0;
-  const bool escaped = min_boundary_distance_ < 0.0;
+  const bool bad = !guard_.all_finite;  // a NaN position makes the next velocity NaN too
+  const bool overlap = guard_.overlap_excess > 0.0;
+  const bool escaped = guard_.min_boundary_distance < 0.0;
   constexpr std::size_t none = static_cast<std::size_t>(-1);
-  const bool crossed = crossed_ != none, crowded = mesh_overflow_ != none;
-  const bool film_out = scene_.bag && film_deepest_ < 0.5 * scene_.bag->film.thickness -
+  const bool crossed = guard_.crossed != none, crowded = guard_.mesh_overflow != none;
+  const bool film_out = scene_.bag && film_.deepest < 0.5 * scene_.bag->film.thickness -
                                                        scene_.max_overlap_fraction * scene_.bag->contact_radius;
-  const bool too_fast = largest_step_ > kSkinStep * scene_.skin;
+  const bool too_fast = nb_.largest_step > kSkinStep * scene_.skin;
   if (!bad && !overlap && !escaped && !crossed && !crowded && !film_out && !too_fast) return;
 
   std::ostringstream m;
@@ -33,16 +33,16 @@ void Stepper::guards() {
          "simulation.timestep (or its safety factor), or check the material parameters.";
     throw RunError(m.str());
   }
-  if (crossed && !surfaces_[crossed_surface_].film) {
-    const std::size_t i = crossed_;
-    m << "ball " << order_[i] << " left the cavity through the STL wall '" << scene_.mesh_walls[crossed_surface_ - (scene_.bag ? 1 : 0)].name
-      << "' (its centre is " << crossed_depth_ << " m beyond it). It went through within one step: reduce "
+  if (crossed && !mesh_.surfaces[guard_.crossed_surface].film) {
+    const std::size_t i = guard_.crossed;
+    m << "ball " << p_.order[i] << " left the cavity through the STL wall '" << scene_.mesh_walls[guard_.crossed_surface - (scene_.bag ? 1 : 0)].name
+      << "' (its centre is " << guard_.crossed_depth << " m beyond it). It went through within one step: reduce "
          "simulation.timestep, the cavity acceleration or the particle speeds, or raise the wall's Young's modulus.";
     throw RunError(m.str());
   }
   if (crossed) {
-    const std::size_t i = crossed_;
-    m << "ball " << order_[i] << " crossed the bag's film (its centre is " << crossed_depth_
+    const std::size_t i = guard_.crossed;
+    m << "ball " << p_.order[i] << " crossed the bag's film (its centre is " << guard_.crossed_depth
       << " m beyond the film's mid-surface, at (" << p_.x[i].x() << ", " << p_.x[i].y() << ", " << p_.x[i].z()
       << ") m), or the film folded through itself (film-film contact is not modelled) and the ball faces its "
          "outer side. The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
@@ -51,14 +51,14 @@ void Stepper::guards() {
     throw RunError(m.str());
   }
   if (crowded) {
-    m << "ball " << order_[mesh_overflow_] << " touches more than " << kMaxMeshContacts
+    m << "ball " << p_.order[guard_.mesh_overflow] << " touches more than " << kMaxMeshContacts
       << " separate patches of the film or an STL wall at once: the surface is wrapped round it (a ball much "
          "larger than the triangles, such as one ball in a bag hardly wider than it; docs/bag.md, Guards). Give "
          "a coarser film (bag.triangles) or STL mesh, or smaller balls.";
     throw RunError(m.str());
   }
   if (film_out) {
-    m << "a node of the bag's film is pressed " << 0.5 * scene_.bag->film.thickness - film_deepest_
+    m << "a node of the bag's film is pressed " << 0.5 * scene_.bag->film.thickness - film_.deepest
       << " m into a cavity wall (limit " << scene_.max_overlap_fraction << " x bag.film.contact_radius = "
       << scene_.max_overlap_fraction * scene_.bag->contact_radius
       << " m): the film-wall contact is too soft for the load or the step too coarse. Raise "
@@ -77,7 +77,7 @@ void Stepper::guards() {
       if (where.empty() && ((xl - scene_.cavity_lo).minCoeff() < 0 || (scene_.cavity_hi - xl).minCoeff() < 0))
         where = "beyond the cavity bounds (cavity.min/max)";
       if (where.empty()) continue;
-      m << "particle " << order_[i] << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
+      m << "particle " << p_.order[i] << " left the cavity " << where << " at (" << p_.x[i].x() << ", " << p_.x[i].y()
         << ", " << p_.x[i].z()
         << ") m. It went through the boundary within one step or flew out of an open cavity: reduce "
            "simulation.timestep, the cavity acceleration or the particle speeds, raise the wall's "
@@ -94,7 +94,7 @@ void Stepper::guards() {
     throw RunError(m.str());
   }
   // Last: a ball that fast has usually done one of the above already, which names what it did.
-  m << "a ball moved " << largest_step_ << " m in one step, more than " << kSkinStep << " of the neighbour skin ("
+  m << "a ball moved " << nb_.largest_step << " m in one step, more than " << kSkinStep << " of the neighbour skin ("
     << kSkinStep * scene_.skin << " m of simulation.skin = " << scene_.skin
     << " m). The pair list is renewed a step ahead, for that much motion a step; a faster ball could miss "
        "contacts. Reduce simulation.timestep or raise simulation.skin.";

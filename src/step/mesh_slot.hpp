@@ -10,7 +10,7 @@
 namespace bagdem {
 
 // One ball's (or film node's) contact with a feature of a triangulated surface (film or STL wall);
-// its histories are in the slot's place of the stepper's ContactHistories (slot_hist_, node_slot_hist_).
+// its histories are in the slot's place of the stepper's ContactHistories (mesh_.slot_hist, mesh_.node_slot_hist).
 struct MeshSlot {
   std::uint32_t surface = 0;          // 0 = the film when there is a bag, then the STL walls
   std::uint32_t key = 0;              // feature_key of the feature touched

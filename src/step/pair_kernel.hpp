@@ -55,7 +55,7 @@ struct PairKernel {
         law0(st.ps_.pairs.size() > 0 ? &st.scene_.laws(st.p_.material[0], st.p_.material[0]) : nullptr),
         x(st.p_.x.data()), v(st.p_.v.data()), w(st.p_.w.data()), v_pred(st.p_.v_pred.data()), w_pred(st.p_.w_pred.data()),
         radii(st.p_.radius.data()), inv_mass(st.p_.inv_mass.data()), material(st.p_.material.data()), f(st.p_.f.data()),
-        t(st.p_.t.data()), diss(st.tally_.step_dissipation.data()), first(st.ps_.first.data()),
+        t(st.p_.t.data()), diss(st.p_.tally.step_dissipation.data()), first(st.ps_.first.data()),
         partner(st.ps_.pairs.partner.data()), touching(st.ps_.touching.data()), damping_prev(st.ps_.hist.damping_prev.data()),
         tangential(st.ps_.hist.tangential.data()), rolling(st.ps_.hist.rolling.data()), cross(st.ps_.cross.data()),
         rec(st.ps_.rec.data()), rec_diss(st.ps_.rec_diss.data()), wake(st.ps_.wake.data()), is_cross(st.ps_.is_cross.data()),

@@ -11,16 +11,16 @@ namespace bagdem {
 // ---- neighbours --------------------------------------------------------------------------------
 void Stepper::update_neighbours(bool force_rebuild) {
   const std::size_t n = p_.size();
-  if (!force_rebuild && !needs_rebuild_ && !meshes_need_rebuild()) return;
-  ++builds_;
-  x_at_build_ = p_.x;
+  if (!force_rebuild && !nb_.needs_rebuild && !meshes_need_rebuild()) return;
+  ++nb_.builds;
+  nb_.x_at_build = p_.x;
   // The new list and its histories go into spare buffers (kept between rebuilds, so a rebuild
   // reuses their memory), then swap places with the current ones.
-  CandidatePairs& fresh = spare_.pairs;
-  broad_->find(p_.x, p_.radius, scene_.skin, fresh);
+  CandidatePairs& fresh = nb_.spare.pairs;
+  nb_.broad->find(p_.x, p_.radius, scene_.skin, fresh);
 
   // Carry contact histories over: merge the old and new partner lists of each i (both sorted).
-  ContactHistories& carried = spare_.hist;
+  ContactHistories& carried = nb_.spare.hist;
   carried.assign(fresh.size(), scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
   if (carried.any_role() && !ps_.pairs.partner.empty()) {
     parallel_for(n, [&](std::size_t i) {
@@ -34,45 +34,45 @@ void Stepper::update_neighbours(bool force_rebuild) {
       }
     });
   }
-  std::swap(ps_.pairs, spare_.pairs);
-  ps_.hist.swap(spare_.hist);
+  std::swap(ps_.pairs, nb_.spare.pairs);
+  ps_.hist.swap(nb_.spare.hist);
   derive_pair_buffers();
-  cavity_pos_at_build_ = cavity_.position;
-  cavity_shear_at_build_ = cavity_.shear;
+  cavity_.pos_at_build = cavity_.now.position;
+  cavity_.shear_at_build = cavity_.now.shear;
   find_near_walls();
-  if (!surfaces_.empty()) build_mesh_candidates(p_.x, film_.x, cavity_.position);
+  if (!mesh_.surfaces.empty()) build_mesh_candidates(p_.x, film_.x, cavity_.now.position);
 }
 
-// The walls within skin of each ball's surface at the build (x_at_build_, the cavity where it was
+// The walls within skin of each ball's surface at the build (nb_.x_at_build, the cavity where it was
 // then). Until the next build neither moves more than skin/2, so no other wall can be touched.
 // A ball with no wall near touched none at the last step either (that wall would be near): it has
 // no wall history to close (wall_contacts).
 void Stepper::find_near_walls() {
   const std::size_t n = p_.size(), nw = scene_.walls.size();
-  CavityState at_build = cavity_;
-  at_build.position = cavity_pos_at_build_;
-  at_build.shear = cavity_shear_at_build_;
+  CavityState at_build = cavity_.now;
+  at_build.position = cavity_.pos_at_build;
+  at_build.shear = cavity_.shear_at_build;
   // Near the bounds: the centre within skin of them (it moves less than skin relative to the cavity
   // before the next build, so the others stay inside).
-  std::vector<std::uint8_t>& in_reach = near_scratch_;
+  std::vector<std::uint8_t>& in_reach = walls_.near_scratch;
   in_reach.resize(n);
   parallel_for(n, [&](std::size_t p) {
-    const Vec3 x = x_at_build_[p];
-    const double s = tilt_ ? (x - at_build.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
+    const Vec3 x = nb_.x_at_build[p];
+    const double s = structure_.tilt ? (x - at_build.position - scene_.cavity_reference).dot(structure_.load_axis) : 0.0;
     const Vec3 x_local = x - at_build.position - s * at_build.shear;
     std::uint32_t near = 0;
     for (std::size_t w = 0; w < nw; ++w) {
       Vec3 normal;
       if (wall_distance(scene_.walls[w], x_local, normal) - p_.radius[p] < scene_.skin) near |= 1u << w;
     }
-    wall_near_[p] = near;
+    walls_.near[p] = near;
     const double d_bounds = std::min((x_local - scene_.cavity_lo).minCoeff(), (scene_.cavity_hi - x_local).minCoeff());
     in_reach[p] = near != 0 || d_bounds < scene_.skin;
   });
-  near_balls_.clear();
+  walls_.near_balls.clear();
   for (std::size_t p = 0; p < n; ++p) {
-    if (in_reach[p]) near_balls_.push_back(static_cast<std::uint32_t>(p));
-    else if (couple_ && surfaces_.empty()) cavity_load_[p].setZero();  // as the wall stage leaves a ball without a wall near
+    if (in_reach[p]) walls_.near_balls.push_back(static_cast<std::uint32_t>(p));
+    else if (structure_.couple && mesh_.surfaces.empty()) structure_.cavity_load[p].setZero();  // as the wall stage leaves a ball without a wall near
   }
 }
 
@@ -82,10 +82,10 @@ void Stepper::derive_pair_buffers() {
   const std::size_t np = ps_.pairs.size();
   // A pair whose history was carried over may be touching; a fresh pair is not (all-zero history).
   ps_.touching.assign(np, 0);
-  ps_.wake.assign(np, 0.0f);  // every pair looked at in the next pair stage (travel_ >= 0)
-  travel_ = 0.0;
-  far_check_at_ = -1.0;       // the next drift checks the distances from x_at_build_ (near_skin_edge)
-  near_edge_ = false;         // every ball is where it was at the build
+  ps_.wake.assign(np, 0.0f);  // every pair looked at in the next pair stage (nb_.travel >= 0)
+  nb_.travel = 0.0;
+  nb_.far_check_at = -1.0;       // the next drift checks the distances from nb_.x_at_build (near_skin_edge)
+  nb_.near_edge = false;         // every ball is where it was at the build
   for (std::size_t k = 0; k < np; ++k) ps_.touching[k] = ps_.hist.holds(k);
   ps_.first.resize(np);
   ps_.reach = 0;
@@ -156,8 +156,8 @@ void Stepper::derive_ranges(std::uint32_t ranges) {
   std::vector<std::uint32_t> fill(ps_.cross_into_range.begin(), ps_.cross_into_range.end() - 1);
   for (std::size_t c = 0; c < ps_.cross.size(); ++c)
     ps_.cross_into[fill[range_of(pairs.partner[ps_.cross[c]])]++] = static_cast<std::uint32_t>(c);
-  cross_done_ = std::vector<CrossStamp>(ranges);
-  progress_ = std::vector<RangeProgress>(ranges);
+  ps_.cross_done = std::vector<PairContacts::CrossStamp>(ranges);
+  pipe_.progress = std::vector<RangeProgress>(ranges);
   ps_.rec.assign(2 * ps_.cross.size(), {Vec3::Zero(), Vec3::Zero()});
   ps_.rec_diss.assign(scene_.models.energy ? ps_.cross.size() : 0, Vec3::Zero());
 }

@@ -22,13 +22,13 @@ namespace bagdem {
 // through records first (PairState): the same sums in the same order.
 std::uint64_t Stepper::pair_contacts(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
   const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
-  const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
+  const bool several = p_.size() >= opt_.parallel_balls && ps_.pairs.size() > kParallelMin;
   const auto ranges = static_cast<std::uint32_t>(several ? threads : 1);
   if (ps_.ranges != ranges) derive_ranges(ranges);
   // The contact-law configuration is chosen once here, never inside the loop.
   std::uint64_t done = 0;
   with_flags([&]<bool T, bool R, bool E, bool U>() { done = pair_contacts_impl<T, R, E, U>(walls, drift, pipelined); },
-             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, uniform_);
+             scene_.models.tangential, scene_.models.rolling, scene_.models.energy, p_.uniform);
   return done;
 }
 
@@ -45,7 +45,7 @@ std::uint64_t Stepper::pair_contacts(BallSpan walls, BallSpan drift, std::uint64
 void Stepper::fused_contacts() {
   pair_contacts(wall_stage(), drift_stage(true));  // the kick of this step is pending (advance)
   ctx_.drifted = true;
-  ++fused_steps_;
+  ++pipe_.fused_steps;
 }
 
 // A pair contact opened this step: clears its history and returns what it still held
@@ -61,7 +61,7 @@ template <bool Tangential, bool Rolling, bool Energy>
 }
 
 void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
-  overlap_excess_ = fold.excess;
+  guard_.overlap_excess = fold.excess;
   if (fused) {
     end_walls(fold);
     end_drift(fold);
@@ -90,7 +90,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
   const std::size_t ranges = ps_.ranges;
   if (ranges == 1) {
     StageFold fold;
-    const double travel = travel_;
+    const double travel = nb_.travel;
     const WallMotion cavity = rigid_motion();
     auto one_range = [&](std::size_t r, StageFold& f) BAGDEM_INLINE_LAMBDA {
       range_head(r, travel, f);
@@ -112,7 +112,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
       for (; cs < end; cs += kBlock) kernel.cross_block(cs, std::min<std::size_t>(kBlock, static_cast<std::size_t>(end - cs)), travel, excess);
     };
     run_items(cross_into, r, r + 1, f.excess);
-    cross_done_[r].region.store(stamp, std::memory_order_release);
+    ps_.cross_done[r].region.store(stamp, std::memory_order_release);
     balance_.add(r, omp_get_wtime() - start);
   };
   // false: given up waiting (give_up(); the range is left half done).
@@ -123,7 +123,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
     run_items(head, r, r + 1, f);
     const double paused = omp_get_wtime();
     for (std::size_t c = r + 1; c <= ps_.records_upto[r]; ++c)
-      if (!spin_until([&] { return cross_done_[c].region.load(std::memory_order_acquire) >= stamp; }, give_up)) return false;
+      if (!spin_until([&] { return ps_.cross_done[c].region.load(std::memory_order_acquire) >= stamp; }, give_up)) return false;
     const double resumed = omp_get_wtime();
     auto tail = [&](std::size_t q, StageFold& g) BAGDEM_INLINE_LAMBDA { range_tail(q, travel, cavity, g); };
     run_items(tail, r, r + 1, f);
@@ -132,8 +132,8 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
   };
   if (pipelined == 0) {
     StageFold fold;
-    const std::uint64_t region = ++pair_regions_;
-    const double travel = travel_;
+    const std::uint64_t region = ++ps_.regions;
+    const double travel = nb_.travel;
     const WallMotion cavity = rigid_motion();
 #pragma omp parallel
     {
@@ -151,10 +151,10 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
   // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
   // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
   // positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:
-  // each goes on only up to that step (stop_before_), so the first failing step is found.
-  const std::uint64_t base = pair_regions_;
+  // each goes on only up to that step (pipe_.stop_before), so the first failing step is found.
+  const std::uint64_t base = ps_.regions;
   const std::size_t nr = ranges;
-  RangeProgress* progress = progress_.data();
+  RangeProgress* progress = pipe_.progress.data();
   auto at_least = [progress](std::size_t q0, std::size_t q1, std::uint64_t steps) {
     for (std::size_t q = q0; q < q1; ++q)
       if (progress[q].done.load(std::memory_order_acquire) < steps) return false;
@@ -164,7 +164,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
   {
     const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
     for (std::uint64_t s = 0;; ++s) {
-      auto give_up = [this, s] { return stop_before_.load(std::memory_order_acquire) <= s; };
+      auto give_up = [this, s] { return pipe_.stop_before.load(std::memory_order_acquire) <= s; };
       if (s >= 2 && !spin_until([&] { return at_least(0, nr, s - 1); }, give_up)) break;
       if (give_up()) break;
       bool going = true;
@@ -177,7 +177,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
         }
       }
       for (std::size_t r = me; going && r < nr; r += team) {
-        going = range_part(r, progress[r].travel[s % 4], wall_path_[s], base + s + 1, progress[r].fold, give_up);
+        going = range_part(r, progress[r].travel[s % 4], pipe_.wall_path[s], base + s + 1, progress[r].fold, give_up);
         if (going) end_range_step(r, s);
       }
       if (!going) break;

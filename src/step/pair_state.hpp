@@ -29,7 +29,7 @@ struct PairState {
   std::vector<std::uint32_t> first;          // i of each pair
   ContactHistories hist;                     // per pair
   std::vector<std::uint8_t> touching;        // per pair: 1 in contact at the last step (its history may be set), 0 apart
-  // Per pair: the value of Stepper's `travel` from which on the pair may touch (unit: m). A pair
+  // Per pair: the value of the neighbours' `travel` (Neighbours) from which on the pair may touch (unit: m). A pair
   // found apart by a gap g when travel was t0 cannot close while travel < t0 + g/2 (each of its
   // balls moved at most travel - t0 since), so the pair stage does not look at it until then. In a
   // shaken bed most candidate pairs sleep for hundreds of steps; they cost one comparison a step.

@@ -32,66 +32,66 @@ namespace bagdem {
 
 std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
   const auto threads = static_cast<std::uint32_t>(std::max(1, omp_get_max_threads()));
-  const bool several = p_.size() >= parallel_balls_ && ps_.pairs.size() > kParallelMin;
+  const bool several = p_.size() >= opt_.parallel_balls && ps_.pairs.size() > kParallelMin;
   // Fused steps (the next drift done: ctx_.drifted) with nothing that needs all balls at every step:
   // no triangulated surface (the film, STL walls), no structure, no slope of the cavity; and no
   // rebuild due before the first.
-  if (!pipelining_ || !fuse_ || profile_ || !surfaces_.empty() || couple_ || tilt_ || !ctx_.drifted || needs_rebuild_ ||
+  if (!opt_.pipelining || !opt_.fuse || opt_.profile || !mesh_.surfaces.empty() || structure_.couple || structure_.tilt || !ctx_.drifted || nb_.needs_rebuild ||
       threads < 2 || !several)
     return 0;
   if (ps_.ranges != threads) derive_ranges(threads);
   // Up to the balance's next look at the clocks, and before the step at which the cavity has moved
   // too far for the walls near each ball (move_cavity; that step rebuilds).
   const std::uint64_t most_steps = std::min<std::uint64_t>(most, balance_.steps_to_window());
-  cavity_path_.resize(most_steps + 1);
-  wall_path_.resize(most_steps);
-  cavity_path_[0] = cavity_;
+  pipe_.cavity_path.resize(most_steps + 1);
+  pipe_.wall_path.resize(most_steps);
+  pipe_.cavity_path[0] = cavity_.now;
   std::uint64_t steps = 0;
   for (; steps < most_steps; ++steps) {
     const CavityState c = cavity_at(static_cast<double>(step_ + steps + 1) * scene_.dt);
-    if ((c.position - cavity_pos_at_build_).norm() > 0.5 * scene_.skin) break;
-    cavity_path_[steps + 1] = c;
-    wall_path_[steps] = rigid_motion(cavity_path_[steps], c);
+    if ((c.position - cavity_.pos_at_build).norm() > 0.5 * scene_.skin) break;
+    pipe_.cavity_path[steps + 1] = c;
+    pipe_.wall_path[steps] = rigid_motion(pipe_.cavity_path[steps], c);
   }
   if (steps == 0) return 0;
-  region_travel_ = travel_;
-  for (RangeProgress& g : progress_) {
+  pipe_.region_travel = nb_.travel;
+  for (RangeProgress& g : pipe_.progress) {
     g.done.store(0, std::memory_order_relaxed);
-    g.travel[0] = g.cross = travel_;
-    g.near[0] = near_edge_;
-    g.far = far_check_at_;
+    g.travel[0] = g.cross = nb_.travel;
+    g.near[0] = nb_.near_edge;
+    g.far = nb_.far_check_at;
     g.step = 0;
     g.failed = kNever;
   }
-  stop_before_.store(near_edge_ ? 1 : steps);  // near the edge now: the step after the first rebuilds
+  pipe_.stop_before.store(nb_.near_edge ? 1 : steps);  // near the edge now: the step after the first rebuilds
   pair_contacts(wall_stage(), drift_stage(true), steps);
 
   std::uint64_t failed = kNever;
-  for (const RangeProgress& g : progress_) failed = std::min(failed, g.failed);
+  for (const RangeProgress& g : pipe_.progress) failed = std::min(failed, g.failed);
   if (failed != kNever) {
     // The state the guards report from, as after that step of fused steps.
     StageFold f;
     double step = 0;
-    for (const RangeProgress& g : progress_)
+    for (const RangeProgress& g : pipe_.progress)
       if (g.failed == failed) f.merge(g.fold), step = std::max(step, g.step);
     step_ += failed + 1;
-    pipelined_steps_ += failed + 1;
-    cavity_prev_ = cavity_path_[failed];
-    cavity_ = cavity_path_[failed + 1];
-    overlap_excess_ = f.excess;
-    min_boundary_distance_ = f.min_dist;
-    all_finite_ = f.finished_finite;
-    largest_step_ = step;
+    pipe_.pipelined_steps += failed + 1;
+    cavity_.prev = pipe_.cavity_path[failed];
+    cavity_.now = pipe_.cavity_path[failed + 1];
+    guard_.overlap_excess = f.excess;
+    guard_.min_boundary_distance = f.min_dist;
+    guard_.all_finite = f.finished_finite;
+    nb_.largest_step = step;
     guards();  // throws: a guard failed
     throw std::logic_error("pipelined steps: a guard failed that guards() does not report");
   }
   // Every range did the same steps. The state as after that many fused steps (step_once).
-  const std::uint64_t done = progress_[0].done.load(std::memory_order_relaxed);
+  const std::uint64_t done = pipe_.progress[0].done.load(std::memory_order_relaxed);
   StageFold last;
-  double travel = travel_, slack = HUGE_VAL, step = 0;
+  double travel = nb_.travel, slack = HUGE_VAL, step = 0;
   bool near_before = false, near_now = false;
-  for (std::size_t r = 0; r < progress_.size(); ++r) {
-    const RangeProgress& g = progress_[r];
+  for (std::size_t r = 0; r < pipe_.progress.size(); ++r) {
+    const RangeProgress& g = pipe_.progress[r];
     last.merge(g.fold);
     step = std::max(step, g.step);
     near_before = near_before || g.near[(done - 1) % 4];
@@ -99,29 +99,29 @@ std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
     // The largest of the scales at the positions the steps end with, the ranges' and the cross
     // pairs' (cross_travel at step `done`): every pair's wake stays a bound (PairState::wake).
     // The cross scale can outgrow every range's travel (half the sum of three or more ranges'
-    // growths); had travel_ fallen short of it, a cross pair would sleep too long in the steps
+    // growths); had nb_.travel fallen short of it, a cross pair would sleep too long in the steps
     // after (with three ranges, one thin enough for cross pairs to reach across it, that missed
     // contacts: Determinism.PipelinedStepsEqualFused under load). Each range's balls can come near
-    // the edge only once its travel has grown by its slack, so once travel_ has.
+    // the edge only once its travel has grown by its slack, so once nb_.travel has.
     travel = std::max({travel, g.travel[done % 4], cross_travel(r, done)});
     slack = std::min(slack, g.far - g.travel[done % 4]);
   }
-  travel_ = travel;
-  far_check_at_ = travel + slack;
-  needs_rebuild_ = near_before;
-  near_edge_ = near_now;
-  largest_step_ = step;
-  overlap_excess_ = last.excess;
-  min_boundary_distance_ = last.min_dist;
-  finished_finite_ = all_finite_ = balls_finite_ = true;
+  nb_.travel = travel;
+  nb_.far_check_at = travel + slack;
+  nb_.needs_rebuild = near_before;
+  nb_.near_edge = near_now;
+  nb_.largest_step = step;
+  guard_.overlap_excess = last.excess;
+  guard_.min_boundary_distance = last.min_dist;
+  guard_.finished_finite = guard_.all_finite = guard_.balls_finite = true;
   for (std::uint64_t s = 0; s < done; ++s) {
-    cavity_to(static_cast<double>(step_ + 1) * scene_.dt, cavity_path_[s + 1]);
+    cavity_to(static_cast<double>(step_ + 1) * scene_.dt, pipe_.cavity_path[s + 1]);
     ++step_;
     end_balance();
   }
-  fused_steps_ += done;
-  pipelined_steps_ += done;
-  pair_regions_ += done;  // the cross stamps used
+  pipe_.fused_steps += done;
+  pipe_.pipelined_steps += done;
+  ps_.regions += done;  // the cross stamps used
   return done;
 }
 
@@ -129,24 +129,24 @@ std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
 // travel at the region's start (all ranges' then) plus half the sum of what r's travel and the
 // travels of all the ranges whose balls the cross pairs into r reach have grown since. Each ball
 // moved at most as much as that sum grew, so the pair's balls closed in by at most twice as much
-// as the scale grew: the bound the wake needs (PairState::wake), as travel_ is for the pairs of one
+// as the scale grew: the bound the wake needs (PairState::wake), as nb_.travel is for the pairs of one
 // range. It starts where the ranges' travels start, so no scale jumps ahead of the others (it
 // would compound from region to region). Rounded up (the sum's few roundings are far below 1e-14).
 double Stepper::cross_travel(std::size_t r, std::uint64_t s) const {
-  double grown = progress_[r].travel[s % 4] - region_travel_;
-  for (std::size_t q = ps_.cross_from[r]; q < r; ++q) grown += progress_[q].travel[s % 4] - region_travel_;
-  return std::nextafter(region_travel_ + 0.5 * grown * (1.0 + 1e-14), HUGE_VAL);
+  double grown = pipe_.progress[r].travel[s % 4] - pipe_.region_travel;
+  for (std::size_t q = ps_.cross_from[r]; q < r; ++q) grown += pipe_.progress[q].travel[s % 4] - pipe_.region_travel;
+  return std::nextafter(pipe_.region_travel + 0.5 * grown * (1.0 + 1e-14), HUGE_VAL);
 }
 
 void Stepper::end_range_step(std::size_t r, std::uint64_t s) {
-  RangeProgress& g = progress_[r];
+  RangeProgress& g = pipe_.progress[r];
   const StageFold& f = g.fold;
   g.step = std::sqrt(f.step2);
   // As end_drift, on the range's balls.
   const double travel = std::nextafter(g.travel[s % 4] + g.step * (1.0 + 1e-14), HUGE_VAL);
   bool near = false;
   if (travel > g.far) {
-    const Vec3 *x = p_.x.data(), *at_build = x_at_build_.data();
+    const Vec3 *x = p_.x.data(), *at_build = nb_.x_at_build.data();
     double d2 = 0;
     for (std::size_t i = ps_.range_first[r]; i < ps_.range_first[r + 1]; ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
     near = near_edge(d2, travel, g.far);
@@ -154,8 +154,8 @@ void Stepper::end_range_step(std::size_t r, std::uint64_t s) {
   g.travel[(s + 1) % 4] = travel;
   g.near[(s + 1) % 4] = near;
   auto stop_before = [this](std::uint64_t step) {
-    std::uint64_t now = stop_before_.load(std::memory_order_relaxed);
-    while (step < now && !stop_before_.compare_exchange_weak(now, step, std::memory_order_acq_rel)) {
+    std::uint64_t now = pipe_.stop_before.load(std::memory_order_relaxed);
+    while (step < now && !pipe_.stop_before.compare_exchange_weak(now, step, std::memory_order_acq_rel)) {
     }
   };
   // The guards' tests (guards) on the range's folds.

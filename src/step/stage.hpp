@@ -36,6 +36,8 @@
 #pragma once
 #include <cstdint>
 
+#include "bagdem/vec3.hpp"
+
 namespace bagdem {
 
 enum class Stage : std::uint8_t { kick_drift, move_cavity, neighbours, pairs, walls, triangles, film, structure, kick, guards };
@@ -52,6 +54,23 @@ struct StepContext {
   bool defer_kick = false;
   bool kick_pending = false;  // the last step's kick of the balls is still to be done
   bool drifted = false;       // the balls' kick_drift of this step is done (fused: pair_kernel.cpp)
+};
+
+// The cavity's motion at a lab point: its displacement, the velocity at the end of the step, the
+// mean velocity over the step and the step's displacement (Stepper::motion_at).
+struct WallMotion {
+  Vec3 pos, vel, half, step;
+};
+
+// What the ball stages fold over the balls (max, min, and, or: the same for any order and team):
+// the guards' values and the largest step.
+struct StageFold {
+  double excess = -1e300;         // pairs and walls: max of overlap - max_overlap x smaller radius (unit: m)
+  double min_dist = 1e300;        // walls: min of the centres' distances inside the cavity (unit: m)
+  bool kicked_finite = true;      // walls: every velocity finite after the kick done there
+  double step2 = 0;               // drift: the largest |x(n+1) - x(n)|^2 of a ball (unit: m^2)
+  bool finished_finite = true;    // drift: every velocity finite after the pending kick (Finish)
+  void merge(const StageFold& o);
 };
 
 }  // namespace bagdem

@@ -14,12 +14,13 @@
 
 namespace bagdem {
 
-Stepper::Stepper(const Scene& scene) : scene_(scene), broad_(make_broad_phase(scene.broad_phase)) {
+Stepper::Stepper(const Scene& scene) : scene_(scene) {
+  nb_.broad = make_broad_phase(scene.broad_phase);
   const std::size_t n = scene.particles.size();
-  order_ = spatial_order(scene);
+  p_.order = spatial_order(scene);
   p_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const ParticleInit& q = scene.particles[order_[i]];
+    const ParticleInit& q = scene.particles[p_.order[i]];
     const double rho = scene.materials[static_cast<std::size_t>(q.material)].density;
     const double m = sphere_mass(rho, q.radius);
     p_.x[i] = q.x;
@@ -34,21 +35,21 @@ Stepper::Stepper(const Scene& scene) : scene_(scene), broad_(make_broad_phase(sc
   p_.v_pred = p_.v;
   p_.w_pred = p_.w;
   // Balls all alike (one radius, one material): the pair kernel takes R*, m* and the law as constants.
-  uniform_ = n > 0 && std::all_of(scene.particles.begin(), scene.particles.end(), [&](const ParticleInit& q) {
+  p_.uniform = n > 0 && std::all_of(scene.particles.begin(), scene.particles.end(), [&](const ParticleInit& q) {
                return q.radius == scene.particles[0].radius && q.material == scene.particles[0].material;
              });
-  tally_.resize(n);
+  p_.tally.resize(n);
   const std::size_t nw = scene.walls.size();
-  wall_hist_.assign(n * nw, scene.models.tangential, scene.models.rolling, scene.models.energy);
-  wall_touch_.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
-  wall_near_.assign(n, 0);
-  cavity_ = cavity_prev_ = cavity_at(0.0);
+  walls_.hist.assign(n * nw, scene.models.tangential, scene.models.rolling, scene.models.energy);
+  walls_.touch.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
+  walls_.near.assign(n, 0);
+  cavity_.now = cavity_.prev = cavity_at(0.0);
   set_up_structure();
   set_up_film();
   set_up_meshes();
   // The contents' mass, balls then film nodes (the order contents_relative_velocity sums them in).
-  for (std::size_t i = 0; i < n; ++i) contents_mass_ += p_.mass[i];
-  for (std::size_t k = 0; k < film_.size(); ++k) contents_mass_ += film_.mass[k];
+  for (std::size_t i = 0; i < n; ++i) energy0_.contents_mass += p_.mass[i];
+  for (std::size_t k = 0; k < film_.size(); ++k) energy0_.contents_mass += film_.mass[k];
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
   ctx_.dt = 0.0;  // set-up force evaluation: no history increment, no dissipation
@@ -56,18 +57,18 @@ Stepper::Stepper(const Scene& scene) : scene_(scene), broad_(make_broad_phase(sc
   wall_contacts();
   triangle_contacts();
   film_stage();
-  if (couple_) {
+  if (structure_.couple) {
     structure_forces();  // the contents' load at rest
-    release_step_ = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
-    if (release_step_ == 0) release_structure();
+    structure_.release_step = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
+    if (structure_.release_step == 0) release_structure();
   }
-  potential0_ = potential_energy();
+  energy0_.potential = potential_energy();
   const EnergySample e0 = energy();
-  kinetic_elastic0_ = e0.kinetic + e0.elastic;
+  energy0_.stored = e0.kinetic + e0.elastic;
 }
 
 CavityState Stepper::cavity_at(double t) const {
-  if (couple_) return structure_cavity();
+  if (structure_.couple) return structure_cavity();
   if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
   return scene_.motion->at(t - scene_.settle);
 }
@@ -102,8 +103,8 @@ std::span<const Stepper::StageEntry> Stepper::stages() {
 
 void Stepper::begin_step(bool last) {
   ctx_.dt = scene_.dt;
-  ctx_.defer_kick = !last && surfaces_.empty();
-  if (couple_ && step_ == release_step_ && !structure_.scalars.released) release_structure();
+  ctx_.defer_kick = !last && mesh_.surfaces.empty();
+  if (structure_.couple && step_ == structure_.release_step && !structure_.scalars.released) release_structure();
 }
 
 // The stages one after the other; fused (fusable), the pair stage also does the walls and the next
@@ -111,23 +112,23 @@ void Stepper::begin_step(bool last) {
 void Stepper::step_once(bool last) {
   begin_step(last);
   const bool fused = fusable();
-  double t = profile_ ? omp_get_wtime() : 0.0;
+  double t = opt_.profile ? omp_get_wtime() : 0.0;
   for (const StageEntry& s : stages()) {
     if (fused && s.stage == Stage::walls) continue;
     (this->*(fused && s.stage == Stage::pairs ? &Stepper::fused_contacts : s.run))();
-    if (profile_) {
+    if (opt_.profile) {
       const double now = omp_get_wtime();
       times_.*s.clock += now - t;
       t = now;
     }
   }
-  if (profile_) ++times_.steps;
+  if (opt_.profile) ++times_.steps;
 }
 
 void Stepper::renew_neighbours() { update_neighbours(false); }
 void Stepper::pair_stage() { pair_contacts(); }
 void Stepper::structure_stage() {
-  if (couple_) structure_forces();
+  if (structure_.couple) structure_forces();
 }
 void Stepper::end_step() {
   ++step_;
@@ -145,20 +146,20 @@ void Stepper::end_balance() {
 void Stepper::move_cavity() {
   const double t = static_cast<double>(step_ + 1) * scene_.dt;
   cavity_to(t, cavity_at(t));
-  // The walls' candidates (wall_near_) hold while the cavity moved at most skin/2 since the last
+  // The walls' candidates (walls_.near) hold while the cavity moved at most skin/2 since the last
   // build; a slope moves a point at most |d shear| l further (l: half the cavity's axial extent).
-  const double moved = (cavity_.position - cavity_pos_at_build_).norm() +
-                       (tilt_ ? (cavity_.shear - cavity_shear_at_build_).norm() * tilt_extent_ : 0.0);
-  if (moved > 0.5 * scene_.skin) needs_rebuild_ = true;
+  const double moved = (cavity_.now.position - cavity_.pos_at_build).norm() +
+                       (structure_.tilt ? (cavity_.now.shear - cavity_.shear_at_build).norm() * structure_.tilt_extent : 0.0);
+  if (moved > 0.5 * scene_.skin) nb_.needs_rebuild = true;
 }
 
 void Stepper::cavity_to(double t, const CavityState& c) {
-  cavity_prev_ = cavity_;
-  cavity_ = c;
-  ++cavity_sums_.steps;
-  cavity_sums_.time += t;
-  cavity_sums_.position += cavity_.position;
-  cavity_sums_.velocity += cavity_.velocity;
+  cavity_.prev = cavity_.now;
+  cavity_.now = c;
+  ++cavity_.sums.steps;
+  cavity_.sums.time += t;
+  cavity_.sums.position += cavity_.now.position;
+  cavity_.sums.velocity += cavity_.now.velocity;
 }
 
 }  // namespace bagdem

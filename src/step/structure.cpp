@@ -24,12 +24,12 @@ void Stepper::set_up_structure() {
   if (!scene_.primary) return;
   const Primary& P = *scene_.primary;
   const std::size_t n = P.size();
-  couple_ = true;
-  tilt_ = P.follow_slope;
-  tilt_extent_ = P.half_extent;
-  load_axis_ = P.axis;
-  load_dir_ = P.direction;
-  cavity_load_.assign(p_.size(), Vec3::Zero());
+  structure_.couple = true;
+  structure_.tilt = P.follow_slope;
+  structure_.tilt_extent = P.half_extent;
+  structure_.load_axis = P.axis;
+  structure_.load_dir = P.direction;
+  structure_.cavity_load.assign(p_.size(), Vec3::Zero());
   StructureState& S = structure_;
   S.q.assign(n, 0.0), S.v.assign(n, 0.0), S.v_pred.assign(n, 0.0), S.a.assign(n, 0.0);
   S.damping_prev.assign(n, 0.0), S.load_prev.assign(n, 0.0);
@@ -39,8 +39,8 @@ void Stepper::set_up_structure() {
   // initial displacement, a steady start's state); the cavity's displacement is counted from
   // there, so the settled contents see no jump of the walls at release.
   Eigen::VectorXd v;
-  release_state(q_hold_, v, S.scalars.phase);
-  VecMap(S.q.data(), S.q.size()) = q_hold_;
+  release_state(structure_.q_hold, v, S.scalars.phase);
+  VecMap(S.q.data(), S.q.size()) = structure_.q_hold;
 }
 
 // The state the structure is released in (see release_structure) and the drive's phase then.
@@ -96,22 +96,22 @@ void Stepper::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::
   const auto n = static_cast<Eigen::Index>(S.q.size());
   VecMap(S.q.data(), n) += ((B - A) * e).real();
   VecMap(S.v.data(), n) += ((i * w_b * B - i * w_a * A) * e).real();
-  const CavityState was = cavity_;
+  const CavityState was = cavity_.now;
   restart_acceleration();  // v_pred = v, and a
   const CavityState now = structure_cavity();
   auto moved = [&](const Vec3& x) {
-    const double s = tilt_ ? (x - was.position - scene_.cavity_reference).dot(load_axis_) : 0.0;
+    const double s = structure_.tilt ? (x - was.position - scene_.cavity_reference).dot(structure_.load_axis) : 0.0;
     return Vec3(now.position - was.position + s * (now.shear - was.shear));
   };
   const Vec3 rigid = now.position - was.position;
-  for (std::size_t k = 0; k < p_.size(); ++k) p_.x[k] += moved(p_.x[k]), x_at_build_[k] += rigid;
+  for (std::size_t k = 0; k < p_.size(); ++k) p_.x[k] += moved(p_.x[k]), nb_.x_at_build[k] += rigid;
   for (std::size_t k = 0; k < film_.size(); ++k) film_.x[k] += moved(film_.x[k]);
-  for (Vec3& x : film_at_build_) x += rigid;
-  cavity_at_build_ += rigid, cavity_pos_at_build_ += rigid;
-  const double sheared = tilt_ ? 2 * tilt_extent_ * (now.shear - was.shear).norm() : 0.0;
-  travel_ += sheared, mesh_travel_ += 2 * sheared;
-  cavity_prev_.position += rigid, cavity_prev_.shear += now.shear - was.shear;
-  cavity_ = now;
+  for (Vec3& x : mesh_.film_at_build) x += rigid;
+  mesh_.cavity_at_build += rigid, cavity_.pos_at_build += rigid;
+  const double sheared = structure_.tilt ? 2 * structure_.tilt_extent * (now.shear - was.shear).norm() : 0.0;
+  nb_.travel += sheared, mesh_.travel += 2 * sheared;
+  cavity_.prev.position += rigid, cavity_.prev.shear += now.shear - was.shear;
+  cavity_.now = now;
 }
 
 // a from the present state, the contents' load of the last step and the force now (as at set-up:
@@ -181,7 +181,7 @@ CavityState Stepper::structure_cavity() const {
   const StructureState& S = structure_;
   // Displacement from where the structure was held while the contents settled (an expression:
   // no temporary vector, this runs every step).
-  const auto dq = ConstVecMap(S.q.data(), S.q.size()) - q_hold_;
+  const auto dq = ConstVecMap(S.q.data(), S.q.size()) - structure_.q_hold;
   ConstVecMap v(S.v_pred.data(), S.v_pred.size());
   CavityState c{P.at_cavity.dot(dq) * P.direction, P.at_cavity.dot(v) * P.direction};
   if (P.follow_slope) {
@@ -201,8 +201,8 @@ void Stepper::structure_forces() {
   const Primary& P = *scene_.primary;
   StructureState& S = structure_;
   // The contents' load moments, ball by ball, then the film's (fixed order).
-  Vec3 m = film_load_moments_;
-  for (std::size_t p = 0; p < p_.size(); ++p) m += cavity_load_[p];
+  Vec3 m = structure_.film_load_moments;
+  for (std::size_t p = 0; p < p_.size(); ++p) m += structure_.cavity_load[p];
   if (!S.scalars.released) {
     S.load_now = m;
     return;
@@ -210,11 +210,11 @@ void Stepper::structure_forces() {
   const std::size_t n = S.q.size();
   ConstVecMap q(S.q.data(), n), v(S.v_pred.data(), n), v_half(S.v.data(), n);
   // Scratch sized once (no allocation in the step); fd and Qc become this step's "previous".
-  Eigen::VectorXd &Qc = structure_scratch_.load, &fd = structure_scratch_.damping, &Q = structure_scratch_.total;
+  Eigen::VectorXd &Qc = structure_.scratch.load, &fd = structure_.scratch.damping, &Q = structure_.scratch.total;
   Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
   Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
   // Time since release at the end of this step (at release itself: 0).
-  const double t = static_cast<double>(step_ + (ctx_.stepping() ? 1 : 0) - release_step_) * scene_.dt;
+  const double t = static_cast<double>(step_ + (ctx_.stepping() ? 1 : 0) - structure_.release_step) * scene_.dt;
   const double f = external_force(t);
   fd = P.damping.cwiseProduct(v);
   Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q) - fd;

@@ -11,7 +11,7 @@
 // (hits with normals within 30 degrees: PatchBlend) so that a shallow fold does not double them.
 // The law sees the overlap whose stiffness is the Euler sum's along the contact's normal
 // (law_overlaps), so its damping gives the requested restitution, and its elastic part is taken
-// off. A ball is on one side of a surface for the whole run (side_: inside the film for the bag's
+// off. A ball is on one side of a surface for the whole run (mesh_.side: inside the film for the bag's
 // balls, inside an STL cavity always); the normal points to that side, and a centre found beyond
 // the mid-surface stops the run (guards).
 // Law: the pair law of the ball's and the surface's materials (contact/law.hpp), with the film's half thickness added to the reach, R* = the ball's radius (a flat
@@ -36,52 +36,52 @@ namespace bagdem {
 using namespace surface_contacts;
 
 void Stepper::set_up_meshes() {
-  surfaces_.clear();
-  if (scene_.bag) surfaces_.push_back({&scene_.bag->rest, true, scene_.bag->material, 0.5 * scene_.bag->film.thickness});
-  for (const MeshWall& w : scene_.mesh_walls) surfaces_.push_back({&w.mesh, false, w.material, 0.0});
-  if (surfaces_.empty()) return;
+  mesh_.surfaces.clear();
+  if (scene_.bag) mesh_.surfaces.push_back({&scene_.bag->rest, true, scene_.bag->material, 0.5 * scene_.bag->film.thickness});
+  for (const MeshWall& w : scene_.mesh_walls) mesh_.surfaces.push_back({&w.mesh, false, w.material, 0.0});
+  if (mesh_.surfaces.empty()) return;
   const std::size_t n = p_.size();
-  slots_.assign(n * kMaxMeshContacts, MeshSlot{});
-  slot_hist_.assign(n * kMaxMeshContacts, scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
-  slot_count_.assign(n, 0);
-  film_load_.assign(n * kMaxMeshContacts, FilmLoad{});
-  mesh_elastic_.assign(n, 0.0);
-  film_push_.assign(n, {});
-  side_.assign(n, -1);
+  mesh_.slots.assign(n * kMaxMeshContacts, MeshSlot{});
+  mesh_.slot_hist.assign(n * kMaxMeshContacts, scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
+  mesh_.slot_count.assign(n, 0);
+  mesh_.film_load.assign(n * kMaxMeshContacts, FilmLoad{});
+  mesh_.elastic.assign(n, 0.0);
+  mesh_.film_push.assign(n, {});
+  mesh_.side.assign(n, -1);
   if (scene_.bag) {
     // The bag's balls are inside its film; any other ball is on the side where it starts.
     const Bag& bag = *scene_.bag;
     for (std::size_t i = 0; i < n; ++i) {
       const bool in_bag = i >= bag.ball_first && i < bag.ball_first + bag.balls;
-      side_[i] = in_bag || winding_number(bag.rest, film_.x, p_.x[i]) > 0.5 ? -1 : 1;
+      mesh_.side[i] = in_bag || winding_number(bag.rest, film_.x, p_.x[i]) > 0.5 ? -1 : 1;
     }
   }
-  mesh_cand_.assign(surfaces_.size(), {});
-  mesh_force_prev_.assign(n, Vec3::Zero());
-  node_cand_.assign(surfaces_.size(), {});
+  mesh_.cand.assign(mesh_.surfaces.size(), {});
+  mesh_.force_prev.assign(n, Vec3::Zero());
+  mesh_.node_cand.assign(mesh_.surfaces.size(), {});
   if (scene_.bag && !scene_.mesh_walls.empty()) {
-    node_reach_.assign(film_.size(), 0.5 * scene_.bag->film.thickness);
-    node_slots_.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
-    node_slot_hist_.assign(film_.size() * kMaxMeshContacts, scene_.models.tangential, false, scene_.models.energy);
-    node_slot_count_.assign(film_.size(), 0);
-    node_mesh_elastic_.assign(film_.size(), 0.0);
+    mesh_.node_reach.assign(film_.size(), 0.5 * scene_.bag->film.thickness);
+    mesh_.node_slots.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
+    mesh_.node_slot_hist.assign(film_.size() * kMaxMeshContacts, scene_.models.tangential, false, scene_.models.energy);
+    mesh_.node_slot_count.assign(film_.size(), 0);
+    mesh_.node_elastic.assign(film_.size(), 0.0);
   }
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
 void Stepper::triangle_contacts() {
-  if (surfaces_.empty()) return;
+  if (mesh_.surfaces.empty()) return;
   with_flags([this]<bool T, bool R, bool E>() { triangle_contacts_impl<T, R, E>(); }, scene_.models.tangential,
              scene_.models.rolling, scene_.models.energy);
 }
 
 // Each ball's contacts add to its force after its walls' (the same order for any thread count); the
 // STL walls' share enters the cavity's load and work as the analytic walls' does.
-// Asleep (Stepper::asleep): with the film the only surface, mesh_travel_ bounds from above how far
+// Asleep (Stepper::asleep): with the film the only surface, mesh_.travel bounds from above how far
 // the balls and the film's nodes moved in all (the largest ball step plus the largest node step,
 // summed over the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates
-// all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before mesh_travel_
-// has grown by gap: it is not looked at before mesh_travel_ reaches mesh_wake_[p] (0 after a
+// all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before mesh_.travel
+// has grown by gap: it is not looked at before mesh_.travel reaches mesh_.wake[p] (0 after a
 // build, when every ball is).
 template <bool Tangential, bool Rolling, bool Energy>
 void Stepper::triangle_contacts_impl() {
@@ -91,63 +91,63 @@ void Stepper::triangle_contacts_impl() {
   auto one = [&](std::size_t p) {
     double excess = -HUGE_VAL;
     if (asleep(p)) return excess;  // nothing touched now or at the last step: nothing to add
-    const Vec3 c_step = tilt_ ? motion_at(p_.x[p]).step : rigid.step;
+    const Vec3 c_step = structure_.tilt ? motion_at(p_.x[p]).step : rigid.step;
     Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
     mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
-    if (couple_) cavity_load_[p] += load;
+    if (structure_.couple) structure_.cavity_load[p] += load;
     p_.f[p] = F;
     p_.t[p] = T;
-    tally_.wall_impulse[p] -= dt * F_cavity;
-    tally_.wall_ang_impulse[p] += dt * T_cavity;
+    p_.tally.wall_impulse[p] -= dt * F_cavity;
+    p_.tally.wall_ang_impulse[p] += dt * T_cavity;
     if constexpr (Energy) {
-      tally_.work_cavity[p] += 0.5 * (F_cavity + mesh_force_prev_[p]).dot(c_step);
-      mesh_force_prev_[p] = F_cavity;
-      tally_.diss_normal[p] += diss.x();
-      tally_.diss_tangential[p] += diss.y();
-      tally_.diss_rolling[p] += diss.z();
+      p_.tally.work_cavity[p] += 0.5 * (F_cavity + mesh_.force_prev[p]).dot(c_step);
+      mesh_.force_prev[p] = F_cavity;
+      p_.tally.diss_normal[p] += diss.x();
+      p_.tally.diss_tangential[p] += diss.y();
+      p_.tally.diss_rolling[p] += diss.z();
     }
     return excess;
   };
-  overlap_excess_ = parallel_fold(n, overlap_excess_, one, [](double a, double b) { return std::max(a, b); });
+  guard_.overlap_excess = parallel_fold(n, guard_.overlap_excess, one, [](double a, double b) { return std::max(a, b); });
 }
 
 // From the positions of a build (the current ones, or those stored in a checkpoint).
 void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
-  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
-    const Surface& sf = surfaces_[s];
+  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
+    const Surface& sf = mesh_.surfaces[s];
     if (sf.film) {
-      find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_cand_[s]);
+      find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_.cand[s]);
     } else {
-      find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_cand_[s]);
-      if (!node_reach_.empty())
-        find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, node_reach_, cavity, 0.0, scene_.skin, node_cand_[s]);
+      find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_.cand[s]);
+      if (!mesh_.node_reach.empty())
+        find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, mesh_.node_reach, cavity, 0.0, scene_.skin, mesh_.node_cand[s]);
     }
   }
-  // Balls sleep when the film is the only surface (mesh_wake_); after a build each is looked at.
-  if (surfaces_.size() == 1 && surfaces_[0].film) mesh_wake_.assign(p_.size(), 0.0);
-  cavity_at_build_ = cavity;
-  if (&film != &film_at_build_) film_at_build_ = film;
+  // Balls sleep when the film is the only surface (mesh_.wake); after a build each is looked at.
+  if (mesh_.surfaces.size() == 1 && mesh_.surfaces[0].film) mesh_.wake.assign(p_.size(), 0.0);
+  mesh_.cavity_at_build = cavity;
+  if (&film != &mesh_.film_at_build) mesh_.film_at_build = film;
   if (scene_.bag) find_film_walls_near(film, cavity);
 }
 
 // The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the
 // cavity; those of the film while no ball and no film node moved more than skin/2.
 bool Stepper::meshes_need_rebuild() const {
-  if (surfaces_.empty()) return false;
+  if (mesh_.surfaces.empty()) return false;
   const double limit2 = 0.25 * scene_.skin * scene_.skin;
   // The candidates of STL walls are found for the cavity's translation; a slope moves a point at
   // most |shear| l (l: half the cavity's axial extent) further, which is taken off the allowance.
-  const double tilt = tilt_ ? cavity_.shear.norm() * tilt_extent_ : 0.0;
+  const double tilt = structure_.tilt ? cavity_.now.shear.norm() * structure_.tilt_extent : 0.0;
   const double limit_walls2 = std::pow(std::max(0.0, 0.5 * scene_.skin - tilt), 2);
   if (!scene_.mesh_walls.empty()) {
-    const Vec3 dc = cavity_.position - cavity_at_build_;
+    const Vec3 dc = cavity_.now.position - mesh_.cavity_at_build;
     for (std::size_t i = 0; i < p_.size(); ++i)
-      if ((p_.x[i] - x_at_build_[i] - dc).squaredNorm() > limit_walls2) return true;
+      if ((p_.x[i] - nb_.x_at_build[i] - dc).squaredNorm() > limit_walls2) return true;
   }
-  const Vec3 dc = cavity_.position - cavity_at_build_;
+  const Vec3 dc = cavity_.now.position - mesh_.cavity_at_build;
   for (std::size_t k = 0; k < film_.size(); ++k) {
-    if ((film_.x[k] - film_at_build_[k]).squaredNorm() > limit2) return true;
-    if (!node_reach_.empty() && (film_.x[k] - film_at_build_[k] - dc).squaredNorm() > limit_walls2) return true;
+    if ((film_.x[k] - mesh_.film_at_build[k]).squaredNorm() > limit2) return true;
+    if (!mesh_.node_reach.empty() && (film_.x[k] - mesh_.film_at_build[k] - dc).squaredNorm() > limit_walls2) return true;
   }
   return false;
 }
@@ -164,42 +164,42 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
   Found found[K];
   auto view = [&](std::uint32_t s) {
-    const Surface& sf = surfaces_[s];
+    const Surface& sf = mesh_.surfaces[s];
     return PointView{sf.film ? p_.x[p] : Vec3(p_.x[p] - c_pos), sf.film ? &film_.x : &sf.mesh->vertices, r + sf.reach,
-                     sf.film ? static_cast<double>(side_[p]) : -1.0};
+                     sf.film ? static_cast<double>(mesh_.side[p]) : -1.0};
   };
   auto crossed = [&](std::uint32_t s, double overlap, double reach, bool own_side) {
     if (own_side) return;
 #pragma omp critical(bagdem_crossed)
-    if (crossed_ == static_cast<std::size_t>(-1) || overlap - reach > crossed_depth_) {
-      crossed_ = p;
-      crossed_depth_ = overlap - reach;
-      crossed_surface_ = s;
+    if (guard_.crossed == static_cast<std::size_t>(-1) || overlap - reach > guard_.crossed_depth) {
+      guard_.crossed = p;
+      guard_.crossed_depth = overlap - reach;
+      guard_.crossed_surface = s;
     }
   };
   auto overflow = [&] {
 #pragma omp critical(bagdem_crossed)
-    mesh_overflow_ = p;
+    guard_.mesh_overflow = p;
   };
   double gap = 0;
   thread_local std::vector<EulerTerm> terms;
-  const std::size_t nf = find_features<K>(surfaces_, mesh_cand_, p, view, crossed, overflow, found, terms,
-                                          mesh_wake_.empty() ? nullptr : &gap);
-  mesh_elastic_[p] = 0;
-  if (scene_.bag) film_push_[p].clear();
+  const std::size_t nf = find_features<K>(mesh_.surfaces, mesh_.cand, p, view, crossed, overflow, found, terms,
+                                          mesh_.wake.empty() ? nullptr : &gap);
+  mesh_.elastic[p] = 0;
+  if (scene_.bag) mesh_.film_push[p].clear();
 
   // 2. Histories (match_slots). A ball that touches no surface now and touched none at the last
   // step has nothing more to do (most of a bag's balls, at any step); it sleeps while it cannot.
-  MeshSlot* slot = &slots_[p * K];
-  const std::size_t n_prev = slot_count_[p];
+  MeshSlot* slot = &mesh_.slots[p * K];
+  const std::size_t n_prev = mesh_.slot_count[p];
   if (nf == 0 && n_prev == 0) {
-    if (!mesh_wake_.empty()) mesh_wake_[p] = mesh_travel_ + gap;
+    if (!mesh_.wake.empty()) mesh_.wake[p] = mesh_.travel + gap;
     return;
   }
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
-  carry_slots(slot, slot_hist_, p * K, n_prev, found, nf, prev, prev_hist, taken);
+  carry_slots(slot, mesh_.slot_hist, p * K, n_prev, found, nf, prev, prev_hist, taken);
   // Slots closed for good: tally what they still held.
   if constexpr (Energy) {
     for (std::size_t k = 0; k < n_prev; ++k) {
@@ -216,13 +216,13 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   // stiffness is the Euler sum's along the contact's normal (law_overlaps).
   const PairLawTable& laws = scene_.laws;
   double law_overlap[K];
-  law_overlaps(terms, found, nf, [&](std::uint32_t s) -> const PairLaw& { return laws(p_.material[p], surfaces_[s].material); },
+  law_overlaps(terms, found, nf, [&](std::uint32_t s) -> const PairLaw& { return laws(p_.material[p], mesh_.surfaces[s].material); },
                law_overlap);
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
-    const Surface& sf = surfaces_[fd.surface];
+    const Surface& sf = mesh_.surfaces[fd.surface];
     const std::size_t at = p * K + f;
-    MeshSlot& s = renew_slot(slot, slot_hist_, at, f, fd, prev, prev_hist);
+    MeshSlot& s = renew_slot(slot, mesh_.slot_hist, at, f, fd, prev, prev_hist);
     ContactGeometry g;
     g.n = fd.n;
     g.overlap = law_overlap[f];
@@ -255,15 +255,15 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     [[maybe_unused]] double no_tally = 0;
     double elastic = 0;
     Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
-        g, laws(p_.material[p], sf.material), dt, Energy ? slot_hist_.damping_prev[at] : no_tally,
-        Tangential ? &slot_hist_.tangential[at] : nullptr, Rolling ? &slot_hist_.rolling[at] : nullptr, T, diss, &elastic);
+        g, laws(p_.material[p], sf.material), dt, Energy ? mesh_.slot_hist.damping_prev[at] : no_tally,
+        Tangential ? &mesh_.slot_hist.tangential[at] : nullptr, Rolling ? &mesh_.slot_hist.rolling[at] : nullptr, T, diss, &elastic);
     Fc -= elastic * g.n;
     Vec3 parts[kPatchMembers] = {Fc};
     for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
     if (sf.film) {
-      FilmLoad& fl = film_load_[p * K + f];
+      FilmLoad& fl = mesh_.film_load[p * K + f];
       fl.count = fd.members;
       for (std::size_t i = 0; i < fd.members; ++i) {
         fl.force[i] = -parts[i];
@@ -275,30 +275,30 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
       for (std::size_t i = 0; i < fd.members; ++i) {
         const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
         T_cavity -= (point - scene_.cavity_reference).cross(parts[i]);
-        if (couple_) load += load_moments(point, -parts[i]);
+        if (structure_.couple) load += load_moments(point, -parts[i]);
       }
     }
   }
-  slot_count_[p] = static_cast<std::uint8_t>(nf);
+  mesh_.slot_count[p] = static_cast<std::uint8_t>(nf);
 
   // 4. The elastic force and energy: the Euler sum's terms (euler_terms), each the law's force along
   // its normal, its reaction on the feature's nodes by the closest point's weights.
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const Surface& sf = surfaces_[e.surface];
+    const Surface& sf = mesh_.surfaces[e.surface];
     const auto [u, Fe] = euler_load(e, laws(p_.material[p], sf.material), r);
     U += u;
     F += Fe;
     if (sf.film) {
       for (int a = 0; a < 3; ++a)
-        if (e.weights[a] != 0) film_push_[p].push_back({e.node[a], -e.weights[a] * Fe});
+        if (e.weights[a] != 0) mesh_.film_push[p].push_back({e.node[a], -e.weights[a] * Fe});
     } else {
       F_cavity += Fe;
       T_cavity -= (e.point - scene_.cavity_reference).cross(Fe);
-      if (couple_) load += load_moments(e.point, -Fe);
+      if (structure_.couple) load += load_moments(e.point, -Fe);
     }
   }
-  mesh_elastic_[p] = U;
+  mesh_.elastic[p] = U;
 }
 
 
@@ -312,27 +312,27 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   const double dt = ctx_.dt;
   const WallMotion wm = motion_at(film_.x[k]);
   const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
-  const double reach = node_reach_[k];
+  const double reach = mesh_.node_reach[k];
   const Vec3 x = film_.x[k] - c_pos;
   Found found[K];
   auto view = [&](std::uint32_t s) {
-    const Surface& sf = surfaces_[s];
+    const Surface& sf = mesh_.surfaces[s];
     return PointView{x, &sf.mesh->vertices, reach, -1.0};  // STL walls only: the film has no candidate list
   };
   auto deepest_of = [&](std::uint32_t, double overlap, double, bool) { deepest = std::min(deepest, reach - overlap); };
   thread_local std::vector<EulerTerm> terms;
-  const std::size_t nf = find_features<K>(surfaces_, node_cand_, k, view, deepest_of, [] {}, found, terms);
-  node_mesh_elastic_[k] = 0;
-  MeshSlot* slot = &node_slots_[k * K];
-  const std::size_t n_prev = node_slot_count_[k];
+  const std::size_t nf = find_features<K>(mesh_.surfaces, mesh_.node_cand, k, view, deepest_of, [] {}, found, terms);
+  mesh_.node_elastic[k] = 0;
+  MeshSlot* slot = &mesh_.node_slots[k * K];
+  const std::size_t n_prev = mesh_.node_slot_count[k];
   if (nf == 0 && n_prev == 0) return;  // no STL wall touched, now or at the last step
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
-  carry_slots(slot, node_slot_hist_, k * K, n_prev, found, nf, prev, prev_hist, taken);
+  carry_slots(slot, mesh_.node_slot_hist, k * K, n_prev, found, nf, prev, prev_hist, taken);
   double law_overlap[K];
   law_overlaps(terms, found, nf,
-               [&](std::uint32_t s) -> const PairLaw& { return scene_.laws(bag.material, surfaces_[s].material); }, law_overlap);
+               [&](std::uint32_t s) -> const PairLaw& { return scene_.laws(bag.material, mesh_.surfaces[s].material); }, law_overlap);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
@@ -345,12 +345,12 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const std::size_t at = k * K + f;
-    MeshSlot& s = renew_slot(slot, node_slot_hist_, at, f, fd, prev, prev_hist);
+    MeshSlot& s = renew_slot(slot, mesh_.node_slot_hist, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
     // The law gives damping and friction; the elastic force is the Euler sum's (below).
     double elastic = 0;
-    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, law_overlap[f], scene_.laws(bag.material, surfaces_[fd.surface].material),
-                                               c_vel, c_half, node_slot_hist_, at, dn, dtg, &elastic);
+    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, law_overlap[f], scene_.laws(bag.material, mesh_.surfaces[fd.surface].material),
+                                               c_vel, c_half, mesh_.node_slot_hist, at, dn, dtg, &elastic);
     Fc -= elastic * fd.n;
     Vec3 parts[kPatchMembers] = {Fc};
     for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
@@ -358,19 +358,19 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
     for (std::size_t i = 0; i < fd.members; ++i) {
       const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
       L -= dt * (point - scene_.cavity_reference).cross(parts[i]);
-      if (couple_) load += load_moments(point, -parts[i]);
+      if (structure_.couple) load += load_moments(point, -parts[i]);
     }
   }
-  node_slot_count_[k] = static_cast<std::uint8_t>(nf);
+  mesh_.node_slot_count[k] = static_cast<std::uint8_t>(nf);
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const auto [u, Fe] = euler_load(e, scene_.laws(bag.material, surfaces_[e.surface].material), bag.contact_radius);
+    const auto [u, Fe] = euler_load(e, scene_.laws(bag.material, mesh_.surfaces[e.surface].material), bag.contact_radius);
     U += u;
     F_wall += Fe;
     L -= dt * (e.point - scene_.cavity_reference).cross(Fe);
-    if (couple_) load += load_moments(e.point, -Fe);
+    if (structure_.couple) load += load_moments(e.point, -Fe);
   }
-  node_mesh_elastic_[k] = U;
+  mesh_.node_elastic[k] = U;
 }
 
 template void Stepper::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
@@ -380,7 +380,7 @@ template void Stepper::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&,
 
 std::size_t Stepper::mesh_contact_count() const {
   std::size_t c = 0;
-  for (std::uint8_t k : slot_count_) c += k;
+  for (std::uint8_t k : mesh_.slot_count) c += k;
   return c;
 }
 
@@ -389,7 +389,7 @@ std::vector<std::size_t> Stepper::balls_outside_bag() const {
   if (!scene_.bag) return out;
   const Bag& bag = *scene_.bag;
   for (std::size_t i = bag.ball_first; i < bag.ball_first + bag.balls; ++i)
-    if (winding_number(bag.rest, film_.x, p_.x[i]) < 0.5) out.push_back(order_[i]);
+    if (winding_number(bag.rest, film_.x, p_.x[i]) < 0.5) out.push_back(p_.order[i]);
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -17,7 +17,7 @@ namespace bagdem {
 // ---- wall_contacts ---------------------------------------------------------------------------
 void Stepper::wall_contacts() {
   StageFold fold;
-  fold.excess = overlap_excess_;  // the pair stage's
+  fold.excess = guard_.overlap_excess;  // the pair stage's
   over_balls(wall_stage(), fold);
   end_walls(fold);
 }
@@ -30,9 +30,9 @@ Stepper::BallSpan Stepper::wall_stage() const {
 }
 
 void Stepper::end_walls(const StageFold& fold) {
-  overlap_excess_ = fold.excess;
-  min_boundary_distance_ = fold.min_dist;
-  balls_finite_ = fold.kicked_finite;
+  guard_.overlap_excess = fold.excess;
+  guard_.min_boundary_distance = fold.min_dist;
+  guard_.balls_finite = fold.kicked_finite;
 }
 
 // The walls stage's work on a span of balls. A ball whose wall contacts are closed waits in `held`
@@ -59,8 +59,8 @@ struct WallKernel {
   };
 
   Stepper& s;
-  const Stepper::WallMotion& rigid;  // the walls' motion over the step (per ball with a slope: motion_at)
-  Stepper::StageFold& ext;
+  const WallMotion& rigid;  // the walls' motion over the step (per ball with a slope: motion_at)
+  StageFold& ext;
   const double dt, frac, h;
   const Vec3 lo, hi;  // the cavity's bounds
   const PairLawTable& laws;
@@ -72,7 +72,7 @@ struct WallKernel {
   Out out[kBatch + kLanes];
   std::size_t nh = 0, nc = 0;
 
-  WallKernel(Stepper& st, const Stepper::WallMotion& motion, Stepper::StageFold& fold)
+  WallKernel(Stepper& st, const WallMotion& motion, StageFold& fold)
       : s(st), rigid(motion), ext(fold), dt(st.ctx_.dt), frac(st.scene_.max_overlap_fraction), h(0.5 * st.ctx_.dt),
         lo(st.scene_.cavity_lo), hi(st.scene_.cavity_hi), laws(st.scene_.laws),
         kick(st.kick_balls_here() && !st.ctx_.defer_kick), rotation(st.scene_.models.rotation) {}
@@ -82,10 +82,10 @@ struct WallKernel {
   BAGDEM_INLINE void complete(const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load) {
     const std::size_t p = b.p;
     const Vec3 &F = b.F, &T = b.T;
-    if (s.couple_) s.cavity_load_[p] = load;
+    if (s.structure_.couple) s.structure_.cavity_load[p] = load;
     s.p_.f[p] = F;
     s.p_.t[p] = T;
-    s.wall_touch_[p] = b.touched;
+    s.walls_.touch[p] = b.touched;
     ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
     ext.excess = std::max(ext.excess, s.p_.radius[p] - b.d_min - frac * s.p_.radius[p]);  // the deepest wall contact
     if (kick) ext.kicked_finite = s.kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
@@ -93,16 +93,16 @@ struct WallKernel {
     // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
     // changes no bit): skipped, as for the balls far from the walls.
     if (b.touched != 0) {
-      s.tally_.wall_impulse[p] -= dt * F_wall;
-      s.tally_.wall_ang_impulse[p] += dt * T_cavity;
+      s.p_.tally.wall_impulse[p] -= dt * F_wall;
+      s.p_.tally.wall_ang_impulse[p] += dt * T_cavity;
     }
     if constexpr (Energy) {
       // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
-      s.tally_.work_cavity[p] += 0.5 * (F_wall + s.tally_.wall_force_prev[p]).dot(b.c_step);
-      s.tally_.wall_force_prev[p] = F_wall;
-      s.tally_.diss_normal[p] += b.diss.x();
-      s.tally_.diss_tangential[p] += b.diss.y();
-      s.tally_.diss_rolling[p] += b.diss.z();
+      s.p_.tally.work_cavity[p] += 0.5 * (F_wall + s.p_.tally.wall_force_prev[p]).dot(b.c_step);
+      s.p_.tally.wall_force_prev[p] = F_wall;
+      s.p_.tally.diss_normal[p] += b.diss.x();
+      s.p_.tally.diss_tangential[p] += b.diss.y();
+      s.p_.tally.diss_rolling[p] += b.diss.z();
     }
   }
 
@@ -126,9 +126,9 @@ struct WallKernel {
       TangentialHistory* th[kLanes];
       RollingHistory* rh[kLanes];
       for (std::size_t l = 0; l < kLanes; ++l) {
-        damping[l] = Energy ? &s.wall_hist_.damping_prev[e[l]->slot] : nullptr;
-        th[l] = Tangential ? &s.wall_hist_.tangential[e[l]->slot] : nullptr;
-        rh[l] = Rolling ? &s.wall_hist_.rolling[e[l]->slot] : nullptr;
+        damping[l] = Energy ? &s.walls_.hist.damping_prev[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &s.walls_.hist.tangential[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &s.walls_.hist.rolling[e[l]->slot] : nullptr;
       }
       auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
         const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
@@ -164,7 +164,7 @@ struct WallKernel {
         // Torque on the cavity about its reference point, from the contact point on the wall.
         const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
         T_cavity -= cross(Vec3(at - s.scene_.cavity_reference), Fc);
-        if (s.couple_) load += s.load_moments(at, -Fc);
+        if (s.structure_.couple) load += s.load_moments(at, -Fc);
       }
       complete(b, F_wall, T_cavity, load);
     }
@@ -173,7 +173,7 @@ struct WallKernel {
 
   BAGDEM_INLINE void fetch_ball(std::size_t p) const {
     for (const Vec3* a : {&s.p_.x[p], &s.p_.v[p], &s.p_.w[p], &s.p_.f[p], &s.p_.t[p]}) prefetch_object(a);
-    prefetch_object(&s.wall_near_[p]);
+    prefetch_object(&s.walls_.near[p]);
   }
 
   BAGDEM_INLINE void ball(std::size_t p) {
@@ -181,25 +181,25 @@ struct WallKernel {
     Vec3 F = s.p_.f[p];
     Vec3 T = s.p_.t[p];
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss = s.tally_.step_dissipation[p];
+    if constexpr (Energy) diss = s.p_.tally.step_dissipation[p];
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
-    const Stepper::WallMotion wm = s.tilt_ ? s.motion_at(s.p_.x[p]) : rigid;
+    const WallMotion wm = s.structure_.tilt ? s.motion_at(s.p_.x[p]) : rigid;
     const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
     const Vec3 x_local = s.p_.x[p] - wm.pos;
     const double r = s.p_.radius[p];
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
-    const std::uint32_t near = s.wall_near_[p];
+    const std::uint32_t near = s.walls_.near[p];
     if (near == 0) {
       // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
       // to its tallies this step is zero and is skipped (its last wall force was zero too).
-      if (s.couple_) s.cavity_load_[p].setZero();
+      if (s.structure_.couple) s.structure_.cavity_load[p].setZero();
       if constexpr (Energy) {
-        s.tally_.diss_normal[p] += diss.x();
-        s.tally_.diss_tangential[p] += diss.y();
-        s.tally_.diss_rolling[p] += diss.z();
+        s.p_.tally.diss_normal[p] += diss.x();
+        s.p_.tally.diss_tangential[p] += diss.y();
+        s.p_.tally.diss_rolling[p] += diss.z();
       }
       ext.min_dist = std::min(ext.min_dist, d_bounds);
       if (kick) ext.kicked_finite = s.kick_ball(p, F, T, h, rotation) && ext.kicked_finite;
@@ -207,7 +207,7 @@ struct WallKernel {
     }
     if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
     double d_min = 1e300;  // nearest wall
-    const std::uint32_t touched_before = s.wall_touch_[p];
+    const std::uint32_t touched_before = s.walls_.touch[p];
     std::uint32_t touched = 0;
     const std::size_t first = nc;
     for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
@@ -221,7 +221,7 @@ struct WallKernel {
         // A contact that just opened: tally what it still held, clear its history (walls not
         // touched cost no memory access).
         if (touched_before & (1u << w)) {
-          const Vec3 d = s.wall_hist_.open<Tangential, Rolling, Energy>(s.wall_slot(p, w), dt, [&] {
+          const Vec3 d = s.walls_.hist.open<Tangential, Rolling, Energy>(s.wall_slot(p, w), dt, [&] {
             return OpeningMotion{g.n, s.p_.v[p] - c_half - r * s.p_.w[p].cross(g.n), s.p_.w[p]};
           });
           if constexpr (Energy) diss += d;
@@ -247,8 +247,8 @@ struct WallKernel {
       ct.d = d;
       ct.slot = s.wall_slot(p, w);
       // Its histories fetched now, to be in cache when the batch's law reads them (flush).
-      if constexpr (Tangential) prefetch_object(&s.wall_hist_.tangential[ct.slot], kTangentialBytes<Energy>);
-      if constexpr (Rolling) prefetch_object(&s.wall_hist_.rolling[ct.slot]);
+      if constexpr (Tangential) prefetch_object(&s.walls_.hist.tangential[ct.slot], kTangentialBytes<Energy>);
+      if constexpr (Rolling) prefetch_object(&s.walls_.hist.rolling[ct.slot]);
       ct.law = &laws(s.p_.material[p], wall.material);
     }
     const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
@@ -268,11 +268,11 @@ void Stepper::wall_span(std::size_t b0, std::size_t b1, const WallMotion& rigid,
   // In advance, a ball with no wall or bound near has nothing to do here: its kick is deferred, its
   // sums stay in p_.f and p_.t, and its tallies are zero (Energy tallies its pair dissipation here).
   if (ctx_.defer_kick && !Energy) {
-    const auto* it = std::lower_bound(near_balls_.data(), near_balls_.data() + near_balls_.size(), b0);
+    const auto* it = std::lower_bound(walls_.near_balls.data(), walls_.near_balls.data() + walls_.near_balls.size(), b0);
     // The near balls are a sparse subset, whose state the hardware prefetchers do not follow:
     // the state of the ball kAhead places on is fetched while this one is done.
     constexpr std::ptrdiff_t kAhead = 8;
-    const auto* end = near_balls_.data() + near_balls_.size();
+    const auto* end = walls_.near_balls.data() + walls_.near_balls.size();
     for (; it != end && *it < b1; ++it) {
       if (end - it > kAhead) kernel.fetch_ball(it[kAhead]);
       kernel.ball(*it);

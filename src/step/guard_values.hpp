@@ -1,0 +1,20 @@
+// The guards' values of the last step (guards.cpp reads them, the stages write them): kept free of
+// divisions (the ratios go into messages only).
+#pragma once
+#include <cstddef>
+
+namespace bagdem {
+
+struct GuardValues {
+  bool all_finite = true;        // every velocity finite (kick)
+  bool balls_finite = true;      // every ball's velocity finite after the kick of the wall stage
+  bool finished_finite = true;   // every ball's velocity finite after kick_drift finished a pending kick
+  double overlap_excess = 0;     // max over contacts of overlap - max_overlap x smaller radius (unit: m)
+  double min_boundary_distance = 0;  // min over balls of the centre's distance inside the cavity (unit: m)
+  std::size_t crossed = static_cast<std::size_t>(-1);  // a ball found across the film this step
+  double crossed_depth = 0;      // how far beyond the film's mid-surface (unit: m)
+  std::size_t crossed_surface = 0;  // which surface it crossed
+  std::size_t mesh_overflow = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
+};
+
+}  // namespace bagdem

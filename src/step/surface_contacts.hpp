@@ -1,0 +1,49 @@
+// The surface contacts component: the balls' (and the film nodes') contacts with triangulated
+// surfaces, the bag's film (surface 0 with a bag) and STL walls: the surfaces, their candidate
+// lists, the contact slots with their histories, the elastic energies and loads of this step.
+// Its stage: triangles (surfaces.cpp); the film nodes' STL-wall contacts run in the film stage.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "bagdem/mesh/triangle_mesh.hpp"
+#include "bagdem/neighbour/mesh_candidates.hpp"
+#include "bagdem/vec3.hpp"
+#include "history.hpp"
+#include "mesh_slot.hpp"
+
+namespace bagdem {
+
+struct SurfaceContacts {
+  struct Surface {
+    const TriangleMesh* mesh;   // topology (and, for STL walls, the vertices in the cavity frame)
+    bool film;                  // vertices are the film's nodes (lab frame); otherwise mesh->vertices + cavity position
+    int material;
+    double reach;               // the film's half thickness, 0 for a wall (unit: m)
+  };
+  std::vector<Surface> surfaces;
+  std::vector<MeshCandidates> cand;         // per surface
+  std::vector<MeshSlot> slots;              // per ball: kMaxMeshContacts slots
+  ContactHistories slot_hist;               // their histories
+  std::vector<std::uint8_t> slot_count;     // per ball
+  std::vector<FilmLoad> film_load;          // per ball slot, this step
+  std::vector<double> elastic;              // per ball: its surface contacts' elastic energy (euler_terms; unit: J)
+  std::vector<std::vector<NodePush>> film_push;  // per ball: their elastic forces on the film's nodes
+  std::vector<Vec3> force_prev;             // per ball: force of the STL walls at the last step (unit: N)
+  // A ball that cannot touch the film before travel reaches wake[p] (surfaces.cpp).
+  bool asleep(std::size_t p) const { return !wake.empty() && travel < wake[p] && slot_count[p] == 0; }
+  std::vector<double> wake;                 // per ball (unit: m)
+  double travel = 0;                        // (unit: m)
+  std::vector<std::int8_t> side;            // per ball: -1 inside the film (or an STL wall), +1 outside
+  Vec3 cavity_at_build = Vec3::Zero();
+  std::vector<Vec3> film_at_build;
+  std::vector<MeshCandidates> node_cand;    // per surface: film nodes' candidate triangles (STL walls)
+  std::vector<double> node_reach;           // per film node: half the film thickness (unit: m)
+  std::vector<MeshSlot> node_slots;         // per film node: kMaxMeshContacts slots on STL walls
+  ContactHistories node_slot_hist;          // their histories (no rolling: a node does not turn)
+  std::vector<std::uint8_t> node_slot_count;
+  std::vector<double> node_elastic;         // per film node: the elastic energy of its STL-wall contacts (unit: J)
+};
+
+}  // namespace bagdem

@@ -195,8 +195,10 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
   } else {
     const double a = safety * dt_rayleigh, b = dt_contact, c = 0.5 * dt_crit, f = safety * dt_film;
     s.dt = std::min({a, b, c, f, dt_structure});
-    why << "auto: min of " << safety << " x Rayleigh " << dt_rayleigh << " s = " << a
-        << " s, contact time (or damping time when e is low) / " << per_contact << " = " << b
+    why << "auto: min of ";
+    if (dt_rayleigh < 1e300) why << safety << " x Rayleigh " << dt_rayleigh << " s = " << a << " s";
+    else why << "no Rayleigh limit (no Hertz-Mindlin pair)";
+    why << ", contact time (or damping time when e is low) / " << per_contact << " = " << b
         << " s, half the critical step = " << c << " s";
     if (s.bag) why << ", " << safety << " x the film's critical step " << dt_film << " s = " << f << " s";
     if (s.primary) why << ", the structure (0.2 / its highest circular frequency, 1/20 of the force's time scale) " << dt_structure << " s";

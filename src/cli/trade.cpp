@@ -16,7 +16,7 @@ CLI::App* add_trade(CLI::App& app, Args& args) {
       "trade",
       "The speed/accuracy trade of a case: runs it at its reference fidelity, then with one shortcut at a time "
       "(knobs below) and at the presets balanced (the case as written) and fast, each a `bagdem run` in OUT/point-NNN "
-      "(in parallel within the cores; resumable), and prints per run its wall time, speed-up, time step, Hertz contact "
+      "(in parallel within the cores; resumable), and prints per run its wall time, speed-up, time step, contact "
       "duration and the error of the peak reduction (dB), C_b/(M_b w), M_eff/M_bag, e, energy per cycle and loss factor "
       "against the reference; OUT/trade.csv (tools/plot draws trade.png). Knobs:" + names);
   t->add_option("dir", a.dir, "CASE_DIR (holds case.toml)")->required();

@@ -8,17 +8,17 @@ namespace bagdem {
 namespace {
 
 template <class L>
-constexpr ContactLawRow row(std::string_view name, std::string_view summary, std::string_view keys, bool from_moduli) {
-  return {name, L::kind, summary, keys, from_moduli, &L::damping_of, &L::make, &L::stiffness, &L::tangential_stiffness,
+constexpr ContactLawRow row(std::string_view name, std::string_view summary, std::string_view keys, bool from_moduli, bool pulls) {
+  return {name, L::kind, summary, keys, from_moduli, pulls, &L::damping_of, &L::make, &L::stiffness, &L::tangential_stiffness,
           &L::energy, &L::max_overlap, &L::contact_time, &L::resolved_step};
 }
 
 const ContactLawRow kLaws[] = {
     row<HertzMindlin>("hertz-mindlin",
                       "Hertz normal force with restitution damping, clamped at zero; Mindlin tangential spring, Coulomb cap",
-                      "", true),
+                      "", true, false),
     row<Hooke>("hooke", "linear spring-dashpot (k_n, gamma_n from e, not clamped); tangential spring k_t, Coulomb cap",
-               "stiffness, stiffness_ratio", false),
+               "stiffness, stiffness_ratio", false, true),
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <variant>
 
+#include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/motion/motion.hpp"
@@ -25,6 +26,11 @@ struct DropFailure {
   std::string why;
   bool faster_helps = false;
 };
+
+// Whether a contact law of the scene pulls at the end of an impact (contact/law.hpp).
+bool contact_pulls(const Scene& s) {
+  return std::any_of(s.laws.laws.begin(), s.laws.laws.end(), [](const PairLaw& l) { return contact_law(l.kind).pulls; });
+}
 
 // The settled contents launched at `speed` along u across `gap` (scene `s`, state `settled`).
 // Returns the figures, or a DropFailure; RunError when the run goes unstable.
@@ -86,7 +92,18 @@ std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vecto
   r.v_before = v[index(hit->t_foot_start)];
   if (!(r.v_before > 0)) return DropFailure{at.str() + "no clean impact (the contents did not approach the wall when it began)", true};
   r.v_after = -v[index(hit->t_foot_end)];
-  for (std::size_t k = index(hit->t_centroid); k < v.size(); ++k) r.v_after = std::max(r.v_after, -v[k]);
+  std::size_t from = index(hit->t_centroid);
+  if (contact_pulls(s)) {
+    // A law whose force pulls at the end of an impact (Hooke): the contents are fastest where the
+    // force crosses zero and leave the wall, slower, when the pull is over. The rebound is taken
+    // from there (a pull: the force against u beyond what the sliding friction gives).
+    const double pull = std::max(friction, 1e-6 * hit->peak_force);
+    std::size_t k = from;
+    while (k < F.size() && F[k] >= -pull) ++k;
+    while (k < F.size() && F[k] < -pull) ++k;
+    if (k < F.size()) from = k, r.v_after = -v[k];
+  }
+  for (std::size_t k = from; k < v.size(); ++k) r.v_after = std::max(r.v_after, -v[k]);
   r.restitution = r.v_after / r.v_before;
   r.peak_force = hit->peak_force;
   r.duration = hit->t_foot_end - hit->t_foot_start;

@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
@@ -32,6 +33,7 @@ struct CaseFacts {
   double dt = 0, safety = 0.2, steps_per_contact = 40;
   long long seed = 0;
   std::vector<std::pair<std::string, double>> ball_materials;  // name, Young's modulus
+  std::vector<std::pair<std::string, double>> springs;         // [interactions.NAME] with a stiffness (Hooke): NAME, k_n
   std::size_t triangles = 0;                                  // 0: no bag
   std::vector<std::string> interactions;                      // [interactions.NAME]
   bool friction = false, rolling = false;
@@ -49,6 +51,11 @@ CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>
   std::set<int> used;
   for (const auto& p : s.particles) used.insert(p.material);
   for (int m : used) f.ball_materials.emplace_back(s.materials[static_cast<std::size_t>(m)].name, s.materials[static_cast<std::size_t>(m)].youngs_modulus);
+  // The Hooke law's springs are the users' stiffness, not the moduli's: the knob scales them too.
+  const CaseReader in(s.case_file, sets);
+  for (const std::string& name : in.keys("interactions"))
+    if (in.has("interactions." + name + ".stiffness"))
+      f.springs.emplace_back(name, in.quantity("interactions." + name + ".stiffness", dim::stiffness));
   if (s.bag) f.triangles = s.bag->rest.triangles.size();
   f.friction = s.models.tangential;
   f.rolling = s.models.rolling;
@@ -80,6 +87,7 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
     }
   } else if (knob == "stiffness") {
     for (const auto& [name, E] : f.ball_materials) o.push_back("materials." + name + ".youngs_modulus=" + short_text(E * factor));
+    for (const auto& [name, k] : f.springs) o.push_back("interactions." + name + ".stiffness=" + short_text(k * factor));
   } else if (knob == "film") {
     if (f.triangles > 0) o.push_back("bag.triangles=" + std::to_string(std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor))));
   } else if (knob == "tangential") {
@@ -211,7 +219,8 @@ RungResult read_rung(const Plan& plan, const Point& p, const Rung& rung) {
 const std::vector<Knob>& knobs() {
   static const std::vector<Knob> table = {
       {"timestep", "simulation.timestep_safety x factor and steps_per_contact / factor (or an explicit simulation.timestep x factor)", {0.5, 1, 2}},
-      {"stiffness", "Young's modulus of every ball material x factor (softening)", {1, 0.1, 0.01}},
+      {"stiffness", "Young's modulus of every ball material, and the spring of every Hooke interaction, x factor (softening)",
+       {1, 0.1, 0.01}},
       {"film", "bag.triangles x factor (film resolution)", {2, 1, 0.5}},
       {"tangential", "tangential model (friction) on / off", {1, 0}},
       {"rolling", "rolling resistance on / off", {1, 0}},

@@ -55,6 +55,7 @@ struct ContactLawRow {
   std::string_view summary;  // one line, for docs and `bagdem check`
   std::string_view keys;     // the interaction keys it reads besides restitution and the frictions
   bool from_moduli;          // its stiffness follows the materials' moduli (the Rayleigh time limits the step)
+  bool pulls;                // its normal force may pull at the end of an impact (not clamped at zero)
   double (*damping_of)(double e);  // PairLaw::damping for restitution e
   PairLaw (*make)(const Material& a, const Material& b, const Interaction& in, double damping);
   double (*stiffness)(const PairLaw& law, double R_eff, double delta);             // S_n (unit: N/m)

@@ -4,8 +4,9 @@
 //   timestep     simulation.timestep_safety x factor and simulation.steps_per_contact / factor (at
 //                least 10), the two limits of the automatic step a user sets (an explicit
 //                simulation.timestep x factor)
-//   stiffness    the Young's modulus of every ball material x factor (the standard DEM softening;
-//                its effect on the Hertz contact duration is reported, t_c ~ E*^(-2/5))
+//   stiffness    the Young's modulus of every ball material, and the spring k_n of every Hooke
+//                interaction, x factor (the standard DEM softening; its effect on the contact
+//                duration is reported: Hertz t_c ~ E*^(-2/5), Hooke t_c ~ k_n^(-1/2))
 //   film         bag.triangles x factor (the film's resolution)
 //   tangential   friction = 0 in every [interactions.*] (the tangential model off)
 //   rolling      rolling_friction = 0 in every [interactions.*] (rolling resistance off)

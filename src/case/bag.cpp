@@ -194,7 +194,7 @@ void read_film(const CaseReader& in, const Scene& s, const std::vector<std::stri
   if (!(b.mass_scaling >= 1)) in.fail("bag.film.mass_scaling", "must be >= 1 (film node masses x this)");
 }
 
-// Where and what the balls of a saved bag are.
+// Where and what the balls of a bag are (saved, or filled from its contents).
 struct SavedBagPlacement {
   Vec3 centre;        // bag.centre (or the cavity's centre), in the world at rest (m)
   Vec3 rest_cavity;   // the cavity's position at rest (m)
@@ -279,6 +279,104 @@ void set_film_scales(const CaseReader& in, Bag& b) {
 
 }  // namespace
 
+// The bag's film at a given volume, as bag.shape asks: a capsule keeps its radius and gets
+// longer, a pillow keeps its proportions. Explicit dimensions are used as given; `sized`: whether
+// the size follows the volume (none was given).
+std::function<void(double)> shape_at_volume(const CaseReader& in, const Scene& s, Bag& b, const SavedBagPlacement& at,
+                                            std::size_t n, long long triangles, bool& sized) {
+  const double r = at.r, d = at.d, t = b.film.thickness;
+  const Vec3 centre = at.centre;
+  const Vec3 height_dir = b.axis.cross(b.side);
+  std::function<void(double)> make;
+  if (b.shape == "capsule") {
+    // Radius: given, or 40% of the cavity's smallest extent across the axis.
+    const Vec3 ext = s.cavity_hi - s.cavity_lo;
+    const double across = std::min(ext.dot(b.side.cwiseAbs()), ext.dot(height_dir.cwiseAbs()));
+    const double radius = in.quantity("bag.radius", dim::length, 0.4 * across);
+    // A lattice needs a radius above one ball diameter; a single ball sits on the axis.
+    const double least = n == 1 ? 1.02 * r + 0.5 * t : 2 * r;
+    if (!(radius > least))
+      in.fail("bag.radius", n == 1 ? "must exceed the ball's radius plus half the film's thickness (one ball)"
+                                   : "must be larger than a ball's diameter");
+    double fixed_length = 0;
+    if (in.has("bag.length")) {
+      fixed_length = in.quantity("bag.length", dim::length);
+      if (!(fixed_length >= 2 * radius)) in.fail("bag.length", "must be at least 2 x bag.radius (tip to tip)");
+    }
+    sized = fixed_length == 0;
+    make = [&b, centre, triangles, radius, fixed_length](double volume) {
+      const double length = fixed_length > 0 ? fixed_length
+                                             : std::max(2 * radius, (volume - 4.0 / 3.0 * kPi * radius * radius * radius) /
+                                                                            (kPi * radius * radius) + 2 * radius);
+      b.rest = capsule_mesh(centre, b.axis, radius, length, static_cast<std::size_t>(triangles));
+      b.size = Vec3(length, 2 * radius, 2 * radius);
+    };
+  } else {
+    const double exponent = in.quantity("bag.exponent", dim::none, 4.0);
+    if (!(exponent >= 2 && exponent <= 20)) in.fail("bag.exponent", "must be in [2, 20] (2 = ellipsoid, larger = boxier)");
+    Vec3 fixed_size = Vec3::Zero(), aspect(2.0, 1.0, 0.6);
+    if (in.has("bag.size")) {
+      fixed_size = in.vector("bag.size", dim::length);
+      if (!(fixed_size.minCoeff() > 2 * d)) in.fail("bag.size", "every extent must exceed two ball diameters");
+    } else {
+      aspect = in.vector("bag.aspect", dim::none, aspect);
+      if (!(aspect.minCoeff() > 0)) in.fail("bag.aspect", "must be three positive numbers (length, width, height)");
+    }
+    sized = fixed_size.norm() == 0;
+    make = [&b, centre, triangles, sized, exponent, fixed_size, aspect](double volume) {
+      const Vec3 size = sized ? Vec3(std::cbrt(volume / superellipsoid_volume(0.5 * aspect, exponent)) * aspect) : fixed_size;
+      b.rest = pillow_mesh(centre, b.axis, b.side, size, exponent, static_cast<std::size_t>(triangles));
+      b.size = size;
+    };
+  }
+  return make;
+}
+
+// The balls of a bag sized from its contents: the count of bag.balls, the film at fill_fraction
+// (shape_at_volume), the lattice filled lowest sites first.
+void fill_from_contents(const CaseReader& in, Scene& s, const SavedBagPlacement& at, std::uint64_t seed, long long triangles,
+                        double ball_mass, Bag& b) {
+  const double r = at.r, t = b.film.thickness;
+  const Vec3 centre = at.centre;
+  const int ball_material = at.ball_material;
+  const std::size_t n = ball_count(in, ball_mass, s.primary ? s.primary->structure_mass : 0.0);
+  const double ball_volume = static_cast<double>(n) * 4.0 / 3.0 * kPi * r * r * r;
+  b.fill_fraction = in.quantity("bag.fill_fraction", dim::none, 0.5);
+  if (!(b.fill_fraction > 0 && b.fill_fraction < 0.7))
+    in.fail("bag.fill_fraction", "must be in (0, 0.7): ball volume / bag volume when the bag is sized from its contents");
+  bool sized = false;
+  const std::function<void(double)> make = shape_at_volume(in, s, b, at, n, triangles, sized);
+  // Sized from the contents: the volume at fill_fraction, grown by 5% steps until the lattice
+  // holds every ball (a small bag loses much of its volume to the layer along the film).
+  double volume = ball_volume / b.fill_fraction;
+  std::vector<Vec3> sites;
+  for (int attempt = 0;; ++attempt) {
+    make(volume);
+    sites = n == 1 ? single_site(b.rest, centre, r, 0.5 * t, seed) : lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
+    if (sites.size() >= n || !sized || attempt == 40) break;
+    volume *= 1.05;
+  }
+  b.x0 = b.rest.vertices;
+  b.fill_fraction = ball_volume / enclosed_volume(b.rest, b.rest.vertices);
+  if (sites.size() < n) {
+    std::ostringstream m;
+    m << "asks for " << n << " balls, but the bag holds at most " << sites.size()
+      << " on a lattice (bag volume " << enclosed_volume(b.rest, b.rest.vertices) * 1e6
+      << " cm^3); give a larger bag (bag.radius, bag.length or bag.size), or leave its length or size out so "
+         "that it is sized from its contents";
+    in.fail(in.has("bag.balls.count") ? "bag.balls.count" : in.has("bag.balls.mass") ? "bag.balls.mass" : "bag.balls.mass_ratio", m.str());
+  }
+  b.ball_first = s.particles.size();
+  b.balls = n;
+  for (std::size_t k = 0; k < n; ++k) s.particles.push_back({sites[k], Vec3::Zero(), Vec3::Zero(), r, ball_material});
+  std::ostringstream src;
+  if (n == 1)
+    src << "one ball near the bag's centre, within half its radius (seed " << seed << ")";
+  else
+    src << "filled on an FCC lattice, lowest sites first (seed " << seed << ")";
+  b.source = src.str();
+}
+
 void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>& names) {
   if (!in.has("bag")) return;
   auto bag = std::make_shared<Bag>();
@@ -312,86 +410,7 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   if (in.has("bag.from")) {
     place_saved_bag(in, s, {centre, rest_cavity, r, d, ball_material}, b);
   } else {
-    const std::size_t n = ball_count(in, ball_mass, s.primary ? s.primary->structure_mass : 0.0);
-    const double ball_volume = static_cast<double>(n) * 4.0 / 3.0 * kPi * r * r * r;
-    b.fill_fraction = in.quantity("bag.fill_fraction", dim::none, 0.5);
-    if (!(b.fill_fraction > 0 && b.fill_fraction < 0.7))
-      in.fail("bag.fill_fraction", "must be in (0, 0.7): ball volume / bag volume when the bag is sized from its contents");
-    const Vec3 height_dir = b.axis.cross(b.side);
-    // The shape at a given volume: a capsule keeps its radius and gets longer, a pillow keeps its
-    // proportions. Explicit dimensions are used as given.
-    std::function<void(double)> make;
-    bool sized = false;
-    if (b.shape == "capsule") {
-      // Radius: given, or 40% of the cavity's smallest extent across the axis.
-      const Vec3 ext = s.cavity_hi - s.cavity_lo;
-      const double across = std::min(ext.dot(b.side.cwiseAbs()), ext.dot(height_dir.cwiseAbs()));
-      const double radius = in.quantity("bag.radius", dim::length, 0.4 * across);
-      // A lattice needs a radius above one ball diameter; a single ball sits on the axis.
-      const double least = n == 1 ? 1.02 * r + 0.5 * t : 2 * r;
-      if (!(radius > least))
-        in.fail("bag.radius", n == 1 ? "must exceed the ball's radius plus half the film's thickness (one ball)"
-                                     : "must be larger than a ball's diameter");
-      double fixed_length = 0;
-      if (in.has("bag.length")) {
-        fixed_length = in.quantity("bag.length", dim::length);
-        if (!(fixed_length >= 2 * radius)) in.fail("bag.length", "must be at least 2 x bag.radius (tip to tip)");
-      }
-      sized = fixed_length == 0;
-      make = [&, radius, fixed_length](double volume) {
-        const double length = fixed_length > 0 ? fixed_length
-                                               : std::max(2 * radius, (volume - 4.0 / 3.0 * kPi * radius * radius * radius) /
-                                                                              (kPi * radius * radius) + 2 * radius);
-        b.rest = capsule_mesh(centre, b.axis, radius, length, static_cast<std::size_t>(triangles));
-        b.size = Vec3(length, 2 * radius, 2 * radius);
-      };
-    } else {
-      const double exponent = in.quantity("bag.exponent", dim::none, 4.0);
-      if (!(exponent >= 2 && exponent <= 20)) in.fail("bag.exponent", "must be in [2, 20] (2 = ellipsoid, larger = boxier)");
-      Vec3 fixed_size = Vec3::Zero(), aspect(2.0, 1.0, 0.6);
-      if (in.has("bag.size")) {
-        fixed_size = in.vector("bag.size", dim::length);
-        if (!(fixed_size.minCoeff() > 2 * d)) in.fail("bag.size", "every extent must exceed two ball diameters");
-      } else {
-        aspect = in.vector("bag.aspect", dim::none, aspect);
-        if (!(aspect.minCoeff() > 0)) in.fail("bag.aspect", "must be three positive numbers (length, width, height)");
-      }
-      sized = fixed_size.norm() == 0;
-      make = [&, exponent, fixed_size, aspect](double volume) {
-        const Vec3 size = sized ? Vec3(std::cbrt(volume / superellipsoid_volume(0.5 * aspect, exponent)) * aspect) : fixed_size;
-        b.rest = pillow_mesh(centre, b.axis, b.side, size, exponent, static_cast<std::size_t>(triangles));
-        b.size = size;
-      };
-    }
-    // Sized from the contents: the volume at fill_fraction, grown by 5% steps until the lattice
-    // holds every ball (a small bag loses much of its volume to the layer along the film).
-    double volume = ball_volume / b.fill_fraction;
-    std::vector<Vec3> sites;
-    for (int attempt = 0;; ++attempt) {
-      make(volume);
-      sites = n == 1 ? single_site(b.rest, centre, r, 0.5 * t, seed) : lattice_sites(b.rest, centre, r, 0.5 * t, s.gravity, seed);
-      if (sites.size() >= n || !sized || attempt == 40) break;
-      volume *= 1.05;
-    }
-    b.x0 = b.rest.vertices;
-    b.fill_fraction = ball_volume / enclosed_volume(b.rest, b.rest.vertices);
-    if (sites.size() < n) {
-      std::ostringstream m;
-      m << "asks for " << n << " balls, but the bag holds at most " << sites.size()
-        << " on a lattice (bag volume " << enclosed_volume(b.rest, b.rest.vertices) * 1e6
-        << " cm^3); give a larger bag (bag.radius, bag.length or bag.size), or leave its length or size out so "
-           "that it is sized from its contents";
-      in.fail(in.has("bag.balls.count") ? "bag.balls.count" : in.has("bag.balls.mass") ? "bag.balls.mass" : "bag.balls.mass_ratio", m.str());
-    }
-    b.ball_first = s.particles.size();
-    b.balls = n;
-    for (std::size_t k = 0; k < n; ++k) s.particles.push_back({sites[k], Vec3::Zero(), Vec3::Zero(), r, ball_material});
-    std::ostringstream src;
-    if (n == 1)
-      src << "one ball near the bag's centre, within half its radius (seed " << seed << ")";
-    else
-      src << "filled on an FCC lattice, lowest sites first (seed " << seed << ")";
-    b.source = src.str();
+    fill_from_contents(in, s, {centre, rest_cavity, r, d, ball_material}, seed, triangles, ball_mass, b);
   }
   for (std::size_t k = b.ball_first; k < s.particles.size(); ++k)
     for (std::size_t j = 0; j < b.ball_first; ++j)

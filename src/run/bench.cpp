@@ -14,6 +14,7 @@
 
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/neighbour/broad_phase.hpp"
@@ -94,15 +95,11 @@ std::vector<std::string> pdbox_overrides(int N, const std::string& data_file) {
   const double d = 0.004;
   const int n = std::max(2, static_cast<int>(std::lround(std::sqrt(N / 4.5))));
   const double L = n * 1.05 * d, H = 12 * d;
-  std::ostringstream mx;
-  mx << "cavity.max=[" << L << ", " << L << ", " << H << "]";
-  std::vector<std::string> o{mx.str()};
-  if (!data_file.empty()) {
-    o.push_back("particles.bed.file=" + toml_string(data_file));  // any path: a quote or a backslash in it is escaped
-  } else {
-    o.push_back("particles.bed.count=" + std::to_string(N));
-  }
-  return o;
+  Overrides o;
+  o.set(keys::cavity_max, Vec3(L, L, H));
+  if (!data_file.empty()) o.set(keys::bed_file, data_file);  // any path: a quote or a backslash in it is escaped
+  else o.set(keys::bed_count, N);
+  return std::move(o).sets();
 }
 
 // What the step loop works on at the end of a run, per particle: candidate pairs (and the share of
@@ -226,6 +223,29 @@ double log_log_slope(const std::vector<double>& x, const std::vector<double>& y)
 // from minute to minute) then weighs on every size alike instead of on one size's repeats, which would
 // tilt the fitted exponent. The peak memory is read in the first round, after each size's runs:
 // sizes ascend and each run frees its simulation, so it is that size's.
+// Points (N, y) of the growth benchmark per (method, threads).
+using GrowthSeries = std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>>;
+
+// The fitted exponents a of y ~ N^a of the growth benchmark: wall time per step, one neighbour
+// build and the peak memory (memory: (N, bytes above the start)).
+void print_growth_fits(const BenchTable& table, const GrowthSeries& fits, const GrowthSeries& builds,
+                       const std::vector<std::pair<double, double>>& memory) {
+  std::fprintf(table.prose(), "\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
+  auto slopes = [&](const GrowthSeries& series, const char* what) {
+    for (const auto& [key, pts] : series) {
+      std::vector<double> x, y;
+      for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
+      std::fprintf(table.prose(), "  %s, %s, %d thread%s: a = %.3f\n", what, key.first.c_str(), key.second, key.second > 1 ? "s" : "",
+                   log_log_slope(x, y));
+    }
+  };
+  slopes(fits, "wall time per step");
+  slopes(builds, "one neighbour build");
+  std::vector<double> x, y;
+  for (const auto& [n, m] : memory) x.push_back(n), y.push_back(m);
+  std::fprintf(table.prose(), "  peak memory above the process's start: a = %.3f\n", log_log_slope(x, y));
+}
+
 int run_growth_bench(const BenchOptions& opt) {
   const std::string src = BAGDEM_SOURCE_DIR;
   const std::string peers = opt.peers_dir.empty() ? src + "/../shared/peers" : opt.peers_dir;
@@ -249,10 +269,8 @@ int run_growth_bench(const BenchOptions& opt) {
   const Vec3 L = one.cavity_hi - one.cavity_lo;
   // The box widened k times in x and y (its walls are planes through cavity_lo and cavity_hi).
   auto tiled = [&](int k) {
-    std::ostringstream mx;
-    mx << "cavity.max=[" << k * L.x() << ", " << k * L.y() << ", " << L.z() << "]";
     std::vector<std::string> o = pdbox_overrides(1000, data);
-    o[0] = mx.str();
+    o[0] = Overrides().set(keys::cavity_max, Vec3(k * L.x(), k * L.y(), L.z())).sets().front();  // the first is cavity.max
     Scene scene = load_case(src + "/cases/pdbox-peers", o);
     const std::vector<ParticleInit> bed = scene.particles;
     scene.particles.clear();
@@ -297,8 +315,8 @@ int run_growth_bench(const BenchOptions& opt) {
     std::fprintf(stderr, "growth: round %d of %d done\n", round + 1, opt.repeats);
   }
   table.header();
-  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> fits;  // (method, threads) -> (N, s/step)
-  std::map<std::pair<std::string, int>, std::vector<std::pair<double, double>>> builds;  // (method, threads) -> (N, ms/build)
+  GrowthSeries fits;    // (method, threads) -> (N, s/step)
+  GrowthSeries builds;  // (method, threads) -> (N, ms/build)
   std::map<double, double> size_peak;  // N -> the peak memory of its runs
   for (const Point& p : points) size_peak[p.N] = std::max(size_peak[p.N], p.peak);
   for (Point& p : points) {
@@ -311,24 +329,7 @@ int run_growth_bench(const BenchOptions& opt) {
   }
   std::vector<std::pair<double, double>> memory;
   for (const auto& [n, peak] : size_peak) memory.emplace_back(n, peak - base_memory);
-  if (tiles.size() >= 2) {
-    std::fprintf(table.prose(), "\nFitted exponents a of y ~ N^a (least squares over the sizes; flat cost per particle-step is a = 1):\n");
-    for (const auto& [key, pts] : fits) {
-      std::vector<double> x, y;
-      for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
-      std::fprintf(table.prose(), "  wall time per step, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second,
-                   key.second > 1 ? "s" : "", log_log_slope(x, y));
-    }
-    for (const auto& [key, pts] : builds) {
-      std::vector<double> x, y;
-      for (const auto& [n, t] : pts) x.push_back(n), y.push_back(t);
-      std::fprintf(table.prose(), "  one neighbour build, %s, %d thread%s: a = %.3f\n", key.first.c_str(), key.second,
-                   key.second > 1 ? "s" : "", log_log_slope(x, y));
-    }
-    std::vector<double> x, y;
-    for (const auto& [n, m] : memory) x.push_back(n), y.push_back(m);
-    std::fprintf(table.prose(), "  peak memory above the process's start: a = %.3f\n", log_log_slope(x, y));
-  }
+  if (tiles.size() >= 2) print_growth_fits(table, fits, builds, memory);
   return 0;
 }
 
@@ -403,7 +404,7 @@ int run_bag_bench(const BenchOptions& opt) {
   table.header();
   std::map<int, std::vector<std::pair<double, double>>> fits;  // threads -> (film nodes, film us/step)
   for (int tri : opt.film_triangles) {
-    const Scene scene = load_case(case_dir, {"bag.triangles=" + std::to_string(tri)});
+    const Scene scene = load_case(case_dir, Overrides().set(keys::triangles, tri).sets());
     const long long steps = std::max(100LL, static_cast<long long>(20000 * opt.step_scale));
     Scene sc = scene;
     sc.models.energy = opt.energy;

@@ -125,13 +125,12 @@ bool Stepper::near_edge(double d2, double travel, double& far) const {
 
 void Stepper::kick_drift() {
   const double dt = scene_.dt, h = 0.5 * dt;
-  if (!ctx_.drifted) {
+  if (ctx_.balls != BallKick::drifted) {
     StageFold fold;
-    over_balls(drift_stage(ctx_.kick_pending), fold);
+    over_balls(drift_stage(ctx_.balls == BallKick::pending), fold);
     end_drift(fold);
   }
-  ctx_.drifted = false;
-  ctx_.kick_pending = false;
+  ctx_.balls = BallKick::due;
   const std::size_t nn = film_.size();
   const double node_step2 = parallel_fold(nn, 0.0, [&](std::size_t k) {
     const Vec3 dv = h * film_.inv_mass[k] * film_.f[k];
@@ -179,7 +178,7 @@ void Stepper::kick() {
     for (double v : structure_.v) finite = finite && std::isfinite(v);
   }
   guard_.all_finite = finite;
-  ctx_.kick_pending = ctx_.defer_kick;
+  if (ctx_.balls != BallKick::drifted) ctx_.balls = ctx_.defer_kick ? BallKick::pending : BallKick::due;
 }
 
 }  // namespace bagdem

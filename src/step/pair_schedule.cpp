@@ -44,7 +44,7 @@ std::uint64_t Stepper::pair_contacts(BallSpan walls, BallSpan drift, std::uint64
 // same order as the staged step: the same bits (Determinism.FusedStepEqualsStaged).
 void Stepper::fused_contacts() {
   pair_contacts(wall_stage(), drift_stage(true));  // the kick of this step is pending (advance)
-  ctx_.drifted = true;
+  ctx_.balls = BallKick::drifted;
   ++pipe_.fused_steps;
 }
 
@@ -66,6 +66,48 @@ void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
     end_walls(fold);
     end_drift(fold);
   }
+}
+
+// Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
+// and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
+// are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
+// positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:
+// each goes on only up to that step (pipe_.stop_before), so the first failing step is found.
+// cross_part and range_part: pair_contacts_impl's parts of a range's step. Returns the steps done.
+template <class CrossPart, class RangePart>
+std::uint64_t Stepper::pipelined_pair_steps(const CrossPart& cross_part, const RangePart& range_part) {
+  const std::uint64_t base = ps_.regions;
+  const std::size_t nr = ps_.ranges;
+  RangeProgress* progress = pipe_.progress.data();
+  auto at_least = [progress](std::size_t q0, std::size_t q1, std::uint64_t steps) {
+    for (std::size_t q = q0; q < q1; ++q)
+      if (progress[q].done.load(std::memory_order_acquire) < steps) return false;
+    return true;
+  };
+#pragma omp parallel
+  {
+    const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
+    for (std::uint64_t s = 0;; ++s) {
+      auto give_up = [this, s] { return pipe_.stop_before.load(std::memory_order_acquire) <= s; };
+      if (s >= 2 && !spin_until([&] { return at_least(0, nr, s - 1); }, give_up)) break;
+      if (give_up()) break;
+      bool going = true;
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = spin_until([&] { return at_least(ps_.cross_from[r], r, s); }, give_up);
+        if (going) {
+          progress[r].fold = StageFold{};
+          progress[r].cross = cross_travel(r, s);
+          cross_part(r, progress[r].cross, base + s + 1, progress[r].fold);
+        }
+      }
+      for (std::size_t r = me; going && r < nr; r += team) {
+        going = range_part(r, progress[r].travel[s % 4], pipe_.wall_path[s], base + s + 1, progress[r].fold, give_up);
+        if (going) end_range_step(r, s);
+      }
+      if (!going) break;
+    }
+  }
+  return progress[0].done.load(std::memory_order_relaxed);
 }
 
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
@@ -147,43 +189,7 @@ std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::u
     end_pair_stage(fold, drift != nullptr);
     return 0;
   }
-  // Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
-  // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
-  // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
-  // positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:
-  // each goes on only up to that step (pipe_.stop_before), so the first failing step is found.
-  const std::uint64_t base = ps_.regions;
-  const std::size_t nr = ranges;
-  RangeProgress* progress = pipe_.progress.data();
-  auto at_least = [progress](std::size_t q0, std::size_t q1, std::uint64_t steps) {
-    for (std::size_t q = q0; q < q1; ++q)
-      if (progress[q].done.load(std::memory_order_acquire) < steps) return false;
-    return true;
-  };
-#pragma omp parallel
-  {
-    const auto me = static_cast<std::size_t>(omp_get_thread_num()), team = static_cast<std::size_t>(omp_get_num_threads());
-    for (std::uint64_t s = 0;; ++s) {
-      auto give_up = [this, s] { return pipe_.stop_before.load(std::memory_order_acquire) <= s; };
-      if (s >= 2 && !spin_until([&] { return at_least(0, nr, s - 1); }, give_up)) break;
-      if (give_up()) break;
-      bool going = true;
-      for (std::size_t r = me; going && r < nr; r += team) {
-        going = spin_until([&] { return at_least(ps_.cross_from[r], r, s); }, give_up);
-        if (going) {
-          progress[r].fold = StageFold{};
-          progress[r].cross = cross_travel(r, s);
-          cross_part(r, progress[r].cross, base + s + 1, progress[r].fold);
-        }
-      }
-      for (std::size_t r = me; going && r < nr; r += team) {
-        going = range_part(r, progress[r].travel[s % 4], pipe_.wall_path[s], base + s + 1, progress[r].fold, give_up);
-        if (going) end_range_step(r, s);
-      }
-      if (!going) break;
-    }
-  }
-  return progress[0].done.load(std::memory_order_relaxed);
+  return pipelined_pair_steps(cross_part, range_part);
 }
 
 }  // namespace bagdem

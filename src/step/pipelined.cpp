@@ -33,10 +33,10 @@ namespace bagdem {
 std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
   const auto threads = static_cast<std::uint32_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= opt_.parallel_balls && ps_.pairs.size() > kParallelMin;
-  // Fused steps (the next drift done: ctx_.drifted) with nothing that needs all balls at every step:
+  // Fused steps (the next drift done: ctx_.balls drifted) with nothing that needs all balls at every step:
   // no triangulated surface (the film, STL walls), no structure, no slope of the cavity; and no
   // rebuild due before the first.
-  if (!opt_.pipelining || !opt_.fuse || opt_.profile || !mesh_.surfaces.empty() || structure_.couple || structure_.tilt || !ctx_.drifted || nb_.needs_rebuild ||
+  if (!opt_.pipelining || !opt_.fuse || opt_.profile || !mesh_.surfaces.empty() || structure_.couple || structure_.tilt || ctx_.balls != BallKick::drifted || nb_.needs_rebuild ||
       threads < 2 || !several)
     return 0;
   if (ps_.ranges != threads) derive_ranges(threads);

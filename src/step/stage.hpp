@@ -42,18 +42,33 @@ namespace bagdem {
 
 enum class Stage : std::uint8_t { kick_drift, move_cavity, neighbours, pairs, walls, triangles, film, structure, kick, guards };
 
+// The mode of a force evaluation: at rest (set-up, and the structure's release, when the forces are
+// evaluated without time passing: dt = 0, so contacts add no history and nothing is tallied), or
+// a time step.
+enum class StepMode : std::uint8_t { set_up, step };
+
+// Where the balls' velocity Verlet stands between the stages (advance() defers a step's second
+// half-kick of the balls to the next step's kick_drift, which applies the same force twice in the
+// same order; fused, the pair stage does the next kick_drift itself):
+//   due       this step's kick_drift is to be done, the last step's kick is complete
+//   pending   this step's kick_drift is to be done and finishes the last step's kick first
+//   drifted   this step's kick_drift is done (fused_contacts, pair_schedule.cpp)
+enum class BallKick : std::uint8_t { due, pending, drifted };
+
 // What the stages of the step in progress share; Stepper::begin_step sets it.
 struct StepContext {
-  // The step's dt; 0 while the forces are evaluated at rest (set-up, the structure's release):
-  // then contacts add no history and nothing is tallied (unit: s).
-  double dt = 0;
-  bool stepping() const { return dt > 0; }
-  // This step's kick of the balls is left to the next step's kick_drift, which applies the same
-  // force twice in the same order (advance, between two of its steps; only when the wall stage
-  // would do it: no triangulated surface).
+  StepMode mode = StepMode::set_up;
+  double dt = 0;  // the step (unit: s); 0 in set-up: no time passes
+  bool stepping() const { return mode == StepMode::step; }
+  // Enters mode m: a step of `step` seconds, or set-up (dt = 0).
+  void enter(StepMode m, double step) {
+    mode = m;
+    dt = m == StepMode::step ? step : 0.0;
+  }
+  // This step's kick of the balls is left to the next step's kick_drift (advance, between two of
+  // its steps; only when the wall stage would do it: no triangulated surface). Set per step.
   bool defer_kick = false;
-  bool kick_pending = false;  // the last step's kick of the balls is still to be done
-  bool drifted = false;       // the balls' kick_drift of this step is done (fused: pair_kernel.cpp)
+  BallKick balls = BallKick::due;
 };
 
 // The cavity's motion at a lab point: its displacement, the velocity at the end of the step, the

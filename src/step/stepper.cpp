@@ -52,7 +52,7 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   for (std::size_t k = 0; k < film_.size(); ++k) energy0_.contents_mass += film_.mass[k];
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
-  ctx_.dt = 0.0;  // set-up force evaluation: no history increment, no dissipation
+  ctx_.enter(StepMode::set_up, scene_.dt);  // forces at rest: no history increment, no dissipation
   pair_contacts();
   wall_contacts();
   triangle_contacts();
@@ -102,7 +102,7 @@ std::span<const Stepper::StageEntry> Stepper::stages() {
 }
 
 void Stepper::begin_step(bool last) {
-  ctx_.dt = scene_.dt;
+  ctx_.enter(StepMode::step, scene_.dt);
   ctx_.defer_kick = !last && mesh_.surfaces.empty();
   if (structure_.couple && step_ == structure_.release_step && !structure_.scalars.released) release_structure();
 }

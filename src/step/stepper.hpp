@@ -37,6 +37,11 @@
 
 namespace bagdem {
 
+namespace surface_contacts {
+struct Found;
+struct EulerTerm;
+}  // namespace surface_contacts
+
 class Stepper {
  public:
   explicit Stepper(const Scene& scene);
@@ -137,6 +142,10 @@ class Stepper {
   void load_state(const std::vector<char>& image);
 
  private:
+  using Surface = SurfaceContacts::Surface;
+  using RangeProgress = Pipeline::RangeProgress;
+  static constexpr std::uint64_t kNever = Pipeline::kNever;
+
   template <bool, bool, bool, bool>
   friend struct PairKernel;  // pair_kernel.hpp: the pairs stage's work, on the stepper's arrays
   template <bool, bool, bool>
@@ -224,6 +233,8 @@ class Stepper {
   std::uint64_t pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr, std::uint64_t pipelined = 0);
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
   std::uint64_t pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined);
+  template <class CrossPart, class RangePart>
+  std::uint64_t pipelined_pair_steps(const CrossPart& cross_part, const RangePart& range_part);
   // The pair stage's folds into the guards' values (and, fused, the walls' and the drift's).
   void end_pair_stage(const StageFold& fold, bool fused);
   // Up to `most` steps of advance() as pipelined steps; how many it did (0: the scene or the state
@@ -250,6 +261,13 @@ class Stepper {
   template <bool Tangential, bool Rolling, bool Energy>
   void mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, Vec3& load,
                      double& excess);
+  // Parts of mesh_contacts (surfaces.cpp).
+  double euler_forces(std::size_t p, const std::vector<surface_contacts::EulerTerm>& terms, Vec3& F, Vec3& F_cavity,
+                      Vec3& T_cavity, Vec3& load);
+  void surface_reaction(const surface_contacts::Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity,
+                        Vec3& T_cavity, Vec3& load) const;
+  double surface_point(const surface_contacts::Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m, Vec3& v_end,
+                       Vec3& v_half) const;
   void set_up_film();
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
@@ -322,10 +340,6 @@ class Stepper {
   void for_each_contact(Fn&& fn) const;
   double elastic_energy() const;
 
-  using Surface = SurfaceContacts::Surface;
-  using RangeProgress = Pipeline::RangeProgress;
-  static constexpr std::uint64_t kNever = Pipeline::kNever;
-
   const Scene& scene_;
   // The components: each owns its arrays (one header each, named after it).
   Balls p_;                    // balls.hpp
@@ -365,7 +379,7 @@ class Stepper {
     double contents_mass = 0;  // balls and film nodes (unit: kg)
   } energy0_;
   // The kick stage is done for the balls inside the walls stage when no later stage adds to their
-  // forces (no triangulated surface): one pass over them fewer. Not during set-up (ctx_.dt = 0).
+  // forces (no triangulated surface): one pass over them fewer. Not in set-up mode.
   bool kick_balls_here() const { return mesh_.surfaces.empty() && ctx_.stepping(); }
 };
 

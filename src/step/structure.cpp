@@ -114,14 +114,14 @@ void Stepper::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::
   cavity_.now = now;
 }
 
-// a from the present state, the contents' load of the last step and the force now (as at set-up:
-// ctx_.dt = 0, so nothing is tallied and the previous-step values restart from here).
+// a from the present state, the contents' load of the last step and the force now (in set-up
+// mode, so nothing is tallied and the previous-step values restart from here).
 void Stepper::restart_acceleration() {
   for (std::size_t k = 0; k < structure_.v.size(); ++k) structure_.v_pred[k] = structure_.v[k];
-  const double keep = ctx_.dt;
-  ctx_.dt = 0;
+  const StepContext keep = ctx_;
+  ctx_.enter(StepMode::set_up, scene_.dt);
   structure_forces();
-  ctx_.dt = keep;
+  ctx_ = keep;
 }
 
 // The bare steady state under F sin(theta + w t) at t = 0, from the responses to F sin(w t) and

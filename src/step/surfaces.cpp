@@ -229,26 +229,8 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     g.R_eff = r;
     g.arm_i = r - 0.5 * fd.overlap;
     g.arm_j = 0;
-    // The film point's velocities and inverse mass (a rigid surface: the cavity's, at infinity).
-    Vec3 v_end[kPatchMembers], v_half[kPatchMembers];
-    double inv_m_s[kPatchMembers] = {};
-    for (std::size_t i = 0; i < fd.members; ++i) {
-      v_end[i] = c_vel, v_half[i] = c_half;
-      if (!sf.film) continue;
-      const auto& tri = sf.mesh->triangles[fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle];
-      const Vec3& w = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
-      v_end[i] = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
-      v_half[i] = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
-      inv_m_s[i] = w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
-                   w[2] * w[2] * film_.inv_mass[tri[2]];
-    }
-    // A patch's: the point of its hits' mean by their shares.
-    Vec3 vs_end = Vec3::Zero(), vs_half = Vec3::Zero();
-    double inv_m = p_.inv_mass[p];
-    for (std::size_t i = 0; i < fd.members; ++i) {
-      const double a = fd.members > 1 ? fd.member[i].share : 1.0;
-      vs_end += a * v_end[i], vs_half += a * v_half[i], inv_m += a * inv_m_s[i];
-    }
+    Vec3 vs_end, vs_half;
+    const double inv_m = surface_point(fd, sf, c_vel, c_half, p_.inv_mass[p], vs_end, vs_half);
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
     motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
@@ -258,35 +240,50 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
         g, laws(p_.material[p], sf.material), dt, Energy ? mesh_.slot_hist.damping_prev[at] : no_tally,
         Tangential ? &mesh_.slot_hist.tangential[at] : nullptr, Rolling ? &mesh_.slot_hist.rolling[at] : nullptr, T, diss, &elastic);
     Fc -= elastic * g.n;
-    Vec3 parts[kPatchMembers] = {Fc};
-    for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
     F += Fc;
     excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
-    if (sf.film) {
-      FilmLoad& fl = mesh_.film_load[p * K + f];
-      fl.count = fd.members;
-      for (std::size_t i = 0; i < fd.members; ++i) {
-        fl.force[i] = -parts[i];
-        fl.weights[i] = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
-        fl.triangle[i] = fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle;
-      }
-    } else {
-      F_cavity += Fc;
-      for (std::size_t i = 0; i < fd.members; ++i) {
-        const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
-        T_cavity -= (point - scene_.cavity_reference).cross(parts[i]);
-        if (structure_.couple) load += load_moments(point, -parts[i]);
-      }
-    }
+    surface_reaction(fd, sf, Fc, mesh_.film_load[p * K + f], F_cavity, T_cavity, load);
   }
   mesh_.slot_count[p] = static_cast<std::uint8_t>(nf);
 
-  // 4. The elastic force and energy: the Euler sum's terms (euler_terms), each the law's force along
-  // its normal, its reaction on the feature's nodes by the closest point's weights.
+  // 4. The elastic force and energy: the Euler sum's terms.
+  mesh_.elastic[p] = euler_forces(p, terms, F, F_cavity, T_cavity, load);
+}
+
+// The reaction of contact fd's force Fc on the ball (its damping and friction) on the surface:
+// on the film, the loads of its hits' points on their triangles' nodes (film_load, by their shares
+// of a patch); on an STL wall, the cavity's force, torque and load.
+void Stepper::surface_reaction(const Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity, Vec3& T_cavity,
+                               Vec3& load) const {
+  Vec3 parts[kPatchMembers] = {Fc};
+  for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
+  if (sf.film) {
+    fl.count = fd.members;
+    for (std::size_t i = 0; i < fd.members; ++i) {
+      fl.force[i] = -parts[i];
+      fl.weights[i] = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
+      fl.triangle[i] = fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle;
+    }
+  } else {
+    F_cavity += Fc;
+    for (std::size_t i = 0; i < fd.members; ++i) {
+      const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
+      T_cavity -= (point - scene_.cavity_reference).cross(parts[i]);
+      if (structure_.couple) load += load_moments(point, -parts[i]);
+    }
+  }
+}
+
+// The elastic force and energy of ball p on the triangulated surfaces: the Euler sum's terms
+// (euler_terms), each the law's force along its normal, its reaction on the feature's nodes by the
+// closest point's weights (on the film: film_push; on an STL wall: the cavity's force, torque and
+// load). Returns the energy (unit: J).
+double Stepper::euler_forces(std::size_t p, const std::vector<EulerTerm>& terms, Vec3& F, Vec3& F_cavity, Vec3& T_cavity,
+                             Vec3& load) {
   double U = 0;
   for (const EulerTerm& e : terms) {
     const Surface& sf = mesh_.surfaces[e.surface];
-    const auto [u, Fe] = euler_load(e, laws(p_.material[p], sf.material), r);
+    const auto [u, Fe] = euler_load(e, scene_.laws(p_.material[p], sf.material), p_.radius[p]);
     U += u;
     F += Fe;
     if (sf.film) {
@@ -298,7 +295,37 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
       if (structure_.couple) load += load_moments(e.point, -Fe);
     }
   }
-  mesh_.elastic[p] = U;
+  return U;
+}
+
+// The surface point of contact fd (one hit, or a patch of hits): its velocities at the end of the
+// step and over it (into v_end_out, v_half_out), and inv_m (the ball's inverse mass) plus its
+// inverse effective mass, returned: on the film the barycentric mean of the triangle's nodes,
+// 1/m_s = sum w_k^2 / m_k (a patch: its hits' mean by their shares); on a rigid surface the
+// cavity's motion at infinite mass.
+double Stepper::surface_point(const Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m,
+                              Vec3& v_end_out, Vec3& v_half_out) const {
+  // The film point's velocities and inverse mass (a rigid surface: the cavity's, at infinity).
+  Vec3 v_end[kPatchMembers], v_half[kPatchMembers];
+  double inv_m_s[kPatchMembers] = {};
+  for (std::size_t i = 0; i < fd.members; ++i) {
+    v_end[i] = c_vel, v_half[i] = c_half;
+    if (!sf.film) continue;
+    const auto& tri = sf.mesh->triangles[fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle];
+    const Vec3& w = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
+    v_end[i] = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
+    v_half[i] = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
+    inv_m_s[i] = w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
+                 w[2] * w[2] * film_.inv_mass[tri[2]];
+  }
+  // A patch's: the point of its hits' mean by their shares.
+  Vec3 vs_end = Vec3::Zero(), vs_half = Vec3::Zero();
+  for (std::size_t i = 0; i < fd.members; ++i) {
+    const double a = fd.members > 1 ? fd.member[i].share : 1.0;
+    vs_end += a * v_end[i], vs_half += a * v_half[i], inv_m += a * inv_m_s[i];
+  }
+  v_end_out = vs_end, v_half_out = vs_half;
+  return inv_m;
 }
 
 

@@ -9,6 +9,7 @@
 
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
 
@@ -131,28 +132,30 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
   // The keys a map's run sets itself (its length, its motion) are its own: an override of them,
   // made for the coupled case (bagdem design passes the coupled runs' length), is left out.
   for (const std::string& x : a.sets)
-    if (x.rfind("simulation.duration", 0) != 0 && x.rfind("output.skip_cycles", 0) != 0 && x.rfind("cavity.motion", 0) != 0)
+    if (!sets_key(x, keys::duration.path) && !sets_key(x, keys::skip_cycles.path) && !sets_key(x, keys::cavity_motion.path))
       s.sets.push_back(x);
+  Overrides o(std::move(s.sets));
   if (scene.primary) {
     // A bag filled to a mass ratio keeps its balls: the ratio is then of the dropped structure's mass.
     const CaseReader in((fs::path(s.case_dir) / "case.toml").string(), a.sets);
-    if (in.has("bag.balls.mass_ratio") && !in.has("bag.balls.primary_mass"))
-      s.sets.push_back("bag.balls.primary_mass=\"" + short_text(scene.primary->structure_mass) + " kg\"");
-    s.sets.insert(s.sets.end(), {"primary={kind=\"prescribed\"}", "excitation={kind=\"none\"}"});
+    if (in.has(keys::mass_ratio.path) && !in.has(keys::primary_mass.path)) o.set(keys::primary_mass, scene.primary->structure_mass);
+    o.set(keys::primary, "{kind=\"prescribed\"}").set(keys::excitation, "{kind=\"none\"}");
   }
   const Vec3& d = m.direction;
-  s.sets.push_back("cavity.motion={kind=\"harmonic\", direction=[" + short_text(d.x()) + ", " + short_text(d.y()) + ", " + short_text(d.z()) + "]}");
-  Varied X{"cavity.motion.amplitude", {}}, f{"cavity.motion.frequency", {}}, R{"cavity.motion.ramp", {}}, T{"simulation.duration", {}},
-      K{"output.skip_cycles", {}};
+  o.set(keys::cavity_motion,
+        "{kind=\"harmonic\", direction=[" + short_text(d.x()) + ", " + short_text(d.y()) + ", " + short_text(d.z()) + "]}");
+  s.sets = std::move(o).sets();
+  Varied X{keys::motion_amplitude.path, {}}, f{keys::motion_frequency.path, {}}, R{keys::motion_ramp.path, {}},
+      T{keys::duration.path, {}}, K{keys::skip_cycles.path, {}};
   auto add = [](Varied& v, const std::string& given) { v.values.push_back({"\"" + given + "\"", given}); };
   for (std::size_t i = 0; i < m.gamma.size(); ++i)
     for (std::size_t j = 0; j < m.frequency.size(); ++j) {
       const double period = 1 / m.frequency[j];
       const auto [skip, cycles] = run_cycles(a, m.frequency[j]);
-      add(X, short_text(m.amplitude(i, j)) + " m");
-      add(f, short_text(m.frequency[j]) + " Hz");
-      add(R, short_text(kRampCycles * period) + " s");
-      add(T, short_text((kRampCycles + skip + cycles) * period) + " s");
+      add(X, short_text(m.amplitude(i, j)) + " " + keys::motion_amplitude.unit);
+      add(f, short_text(m.frequency[j]) + " " + keys::motion_frequency.unit);
+      add(R, short_text(kRampCycles * period) + " " + keys::motion_ramp.unit);
+      add(T, short_text((kRampCycles + skip + cycles) * period) + " " + keys::duration.unit);
       K.values.push_back({std::to_string(skip), std::to_string(skip)});
     }
   s.vary = {X, f, R, T, K};

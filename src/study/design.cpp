@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
@@ -333,10 +334,10 @@ void list_candidates(const DesignArgs& a, const Primary& P, Search& z) {
     for (std::size_t k = 0; k < z.cand.vary.size(); ++k) c.given.push_back(z.cand.vary[k].values[p.choice[k]].given);
     const int starts = std::max(z.map.seeds, a.verify > 0 ? a.verify_seeds : 1);
     for (int seed = 0; seed <= (starts > 1 ? starts : 0) && c.status.ranked(); ++seed) {  // 0: the case's own
-      std::vector<std::string> sets = c.sets;
-      if (seed > 0) sets.push_back("simulation.seed=" + std::to_string(seed));
+      Overrides sets(c.sets);
+      if (seed > 0) sets.set(keys::seed, seed);
       try {
-        const Scene cs_scene = load_case(z.cand.case_dir, sets);
+        const Scene cs_scene = load_case(z.cand.case_dir, sets.sets());
         if (seed > 0) continue;
         c.added_mass = reduction_context(cs_scene, P.direction).bag_mass;
         if (c.added_mass > a.budget * z.structure_mass * (1 + 1e-9)) c.status = {Standing::over_budget, ""};
@@ -410,10 +411,10 @@ std::vector<DesignRow> predict_rows(Search& z) {
       r.objective = r.objective_lo = r.objective_hi = NAN;
       if (c.status.ranked() && !effective) r.status = {Standing::no_map, ""};
       if (r.status.ranked()) {
-        std::vector<std::string> sets = c.sets;
-        if (z.beam) sets.push_back("primary.attach=\"" + short_text(x * z.length) + " m\"");
+        Overrides sets(c.sets);
+        if (z.beam) sets.set(keys::attach, x * z.length);
         try {
-          predict_row(z.cand.case_dir, sets, *effective, z.modes, r);
+          predict_row(z.cand.case_dir, sets.sets(), *effective, z.modes, r);
         } catch (const InputError& e) {  // a place the case refuses (the cavity beyond the beam's end)
           r.status = {Standing::does_not_load, e.what()};
         }

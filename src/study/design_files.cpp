@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/io/atomic_file.hpp"
@@ -19,9 +20,9 @@ std::string cell(double x) { return std::isfinite(x) ? short_text(x) : ""; }
 
 // The overrides that make a row's case: its candidate's, then its place on a beam.
 std::vector<std::string> row_sets(const DesignSummary& s, const DesignRow& r, const std::vector<std::vector<std::string>>& sets) {
-  std::vector<std::string> o = sets.at(r.candidate);
-  if (s.beam) o.push_back("primary.attach=\"" + short_text(r.position * s.length) + " m\"");
-  return o;
+  Overrides o(sets.at(r.candidate));
+  if (s.beam) o.set(keys::attach, r.position * s.length);
+  return std::move(o).sets();
 }
 }  // namespace
 

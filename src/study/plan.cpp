@@ -15,6 +15,7 @@
 
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/study/trade.hpp"
@@ -344,12 +345,13 @@ Plan make_plan(const StudySpec& spec) {
       p.index = plan.points.size();
       p.combination = c;
       p.choice = choice;
-      p.sets = spec.sets;
-      for (std::size_t k = 0; k < spec.vary.size(); ++k) p.sets.push_back(spec.vary[k].key + "=" + spec.vary[k].values[choice[k]].toml);
+      Overrides o(spec.sets);
+      for (std::size_t k = 0; k < spec.vary.size(); ++k) o.set(TomlKey{spec.vary[k].key}, spec.vary[k].values[choice[k]].toml);
       if (seeds > 1) {
         p.seed = static_cast<int>(s);
-        p.sets.push_back("simulation.seed=" + std::to_string(s));
+        o.set(keys::seed, static_cast<long long>(s));
       }
+      p.sets = std::move(o).sets();
       p.name = point_name(p.index, n);
       plan.points.push_back(p);
     }

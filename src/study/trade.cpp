@@ -16,6 +16,7 @@
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/output_lock.hpp"
@@ -77,35 +78,35 @@ CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>
 }
 
 std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& knob, double factor) {
-  std::vector<std::string> o;
+  Overrides o;
   if (knob == "timestep") {
-    if (f.explicit_step) o.push_back("simulation.timestep=" + short_text(f.dt * factor));
+    if (f.explicit_step) o.set(keys::timestep, f.dt * factor);
     else {
       // The automatic step is the least of several limits (timestep.cpp): scale the two a user sets.
-      o.push_back("simulation.timestep_safety=" + short_text(std::min(1.0, f.safety * factor)));
-      o.push_back("simulation.steps_per_contact=" + short_text(std::max(10.0, f.steps_per_contact / factor)));
+      o.set(keys::timestep_safety, std::min(1.0, f.safety * factor));
+      o.set(keys::steps_per_contact, std::max(10.0, f.steps_per_contact / factor));
     }
   } else if (knob == "stiffness") {
-    for (const auto& [name, E] : f.ball_materials) o.push_back("materials." + name + ".youngs_modulus=" + short_text(E * factor));
-    for (const auto& [name, k] : f.springs) o.push_back("interactions." + name + ".stiffness=" + short_text(k * factor));
+    for (const auto& [name, E] : f.ball_materials) o.set(keys::youngs_modulus(name), E * factor);
+    for (const auto& [name, k] : f.springs) o.set(keys::stiffness(name), k * factor);
   } else if (knob == "film") {
-    if (f.triangles > 0) o.push_back("bag.triangles=" + std::to_string(std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor))));
+    if (f.triangles > 0) o.set(keys::triangles, std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor)));
   } else if (knob == "tangential") {
     if (f.friction && factor == 0)
-      for (const std::string& i : f.interactions) o.push_back("interactions." + i + ".friction=0");
+      for (const std::string& i : f.interactions) o.set(keys::friction(i), 0);
   } else if (knob == "rolling") {
     if (f.rolling && factor == 0)
-      for (const std::string& i : f.interactions) o.push_back("interactions." + i + ".rolling_friction=0");
+      for (const std::string& i : f.interactions) o.set(keys::rolling_friction(i), 0);
   } else if (knob == "output") {
-    o.push_back("output.cavity_interval=" + short_text(f.cavity_interval * factor));
+    o.set(keys::cavity_interval, f.cavity_interval * factor);
   } else if (knob == "steady") {
-    if (f.steady_tolerance > 0) o.push_back("excitation.steady_tolerance=" + short_text(f.steady_tolerance * factor));
+    if (f.steady_tolerance > 0) o.set(keys::steady_tolerance, f.steady_tolerance * factor);
   } else {
     std::string names;
     for (const Knob& k : knobs()) names += (names.empty() ? "" : ", ") + k.name;
     throw InputError("bagdem trade", "--knobs", knob, "is not a knob (allowed: " + names + ", none)");
   }
-  return o;
+  return std::move(o).sets();
 }
 
 bool applies(const CaseFacts& f, const std::string& knob) {
@@ -262,9 +263,9 @@ std::vector<Rung> trade_ladder(const std::string& case_dir, const std::vector<st
   ladder.push_back({"reference", "", with("", {})});
   // The noise floor: the reference with another packing seed (a chaotic bed's results move by this
   // much without any shortcut).
-  std::vector<std::string> reseeded = with("", {});
-  reseeded.push_back("simulation.seed=" + std::to_string(f.seed + 1));
-  ladder.push_back({"reference, seed+1", "seed", reseeded});
+  Overrides reseeded(with("", {}));
+  reseeded.set(keys::seed, f.seed + 1);
+  ladder.push_back({"reference, seed+1", "seed", std::move(reseeded).sets()});
   for (const Knob& k : knobs()) {
     if (!applies(f, k.name) || !chosen(k.name)) continue;
     for (std::size_t i = 1; i < k.factors.size(); ++i)

@@ -21,6 +21,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/law.hpp"
 #include "bagdem/contact/pair_laws.hpp"
+#include "case_texts.hpp"
 #include "impact.hpp"
 #include "support.hpp"
 
@@ -98,34 +99,14 @@ TEST(HookeLaw, HeadOnImpactsFollowTheDampedOscillator) {
 // no Rayleigh limit (the spring is the user's, not the moduli's).
 TEST(HookeLaw, TheAutoStepIsTheLawsContactTime) {
   bagdem::testing::TempDir tmp;
-  tmp.write("case.toml", R"([simulation]
-duration = "0.01 s"
-gravity = [0, 0, 0]
-expected_speed = "0.5 m/s"
-steps_per_contact = 40
-
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "200 GPa"
-poisson_ratio = 0.3
-
-[interactions.default]
-law = "hooke"
-stiffness = "5e5 N/m"
-restitution = 0.5
-
-[cavity]
-kind = "box"
-material = "steel"
-min = [0, 0, 0]
-max = ["20 mm", "20 mm", "20 mm"]
-
-[particles.balls]
-material = "steel"
-diameter = "4 mm"
-count = 5
-seed = 1
-)");
+  using bagdem::testing::CaseText;
+  CaseText c;
+  c.simulation("0.01 s", bagdem::testing::kNoGravity).steel().interactions(0.5);
+  c.box("steel", "[0, 0, 0]", "[\"20 mm\", \"20 mm\", \"20 mm\"]");
+  c.set("simulation", {{"expected_speed", "0.5 m/s"}, {"steps_per_contact", 40}})
+      .set("interactions.default", {{"law", "\"hooke\""}, {"stiffness", "5e5 N/m"}})
+      .balls("balls", "steel", "4 mm", 5);
+  tmp.write("case.toml", c.str());
   const Scene s = load_case(tmp.path, {});
   const double m = 4.0 / 3.0 * std::numbers::pi * kRadius * kRadius * kRadius * 7800;
   const double zeta = hooke::damping_ratio(0.5);

@@ -383,7 +383,6 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   Bag& b = *bag;
 
   read_film(in, s, names, b);
-  const double t = b.film.thickness;
 
   // The balls.
   const int ball_material = material_index(in, "bag.balls.material", names);

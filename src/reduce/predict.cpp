@@ -1,6 +1,8 @@
 // Prediction from an effective-field map (reduce/predict.hpp).
 #include "bagdem/reduce/predict.hpp"
 
+#include "bagdem/reduce/map_table.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -123,28 +125,15 @@ std::pair<double, double> EffectiveMap::amplitude_range(double f) const {
 }
 
 EffectiveMap read_effective_map(const fs::path& path) {
-  const TextTable t = read_text_table(path);
+  const std::vector<MapCell> cells = read_map_csv(path, {&MapCell::M_eff, &MapCell::C_eff});
   EffectiveMap m;
   m.source = path.string();
-  // A column in its unit (the rule of every table bagdem reads back); its values numbers, NaN (an
-  // empty cell or "nan") allowed only for a figure.
-  auto column = [&](const char* name, const char* unit, bool figure) {
-    const std::size_t c = t.column({name, unit}, "the map (is it a map.csv of bagdem characterize?)");
-    std::vector<double> v;
-    for (std::size_t r = 0; r < t.rows.size(); ++r) {
-      const std::string& cell = t.rows[r][c];
-      char* end = nullptr;
-      const double x = cell.empty() || cell == "nan" ? std::nan("") : std::strtod(cell.c_str(), &end);
-      if ((end && *end != '\0') || std::isinf(x) || (!figure && !(std::isfinite(x) && x > 0)))
-        throw InputError(path.string(), name, "'" + cell + "'", std::string(figure ? "must be a finite number or nan" : "must be a number > 0") +
-                                                                   " (row " + std::to_string(r + 1) + ")");
-      v.push_back(x);
-    }
-    return v;
-  };
-  const std::vector<double> G = column("gamma", "1", false), f = column("frequency", "Hz", false);
-  m.M_eff = column("M_eff", "kg", true), m.M_eff_ci95 = column("M_eff_ci95", "kg", true);
-  m.C_eff = column("C_eff", "N s/m", true), m.C_eff_ci95 = column("C_eff_ci95", "N s/m", true);
+  std::vector<double> G, f;
+  for (const MapCell& c : cells) {
+    G.push_back(c.gamma), f.push_back(c.frequency);
+    m.M_eff.push_back(c.M_eff.mean), m.M_eff_ci95.push_back(c.M_eff.ci95);
+    m.C_eff.push_back(c.C_eff.mean), m.C_eff_ci95.push_back(c.C_eff.ci95);
+  }
   for (double x : f)
     if (std::find(m.frequency.begin(), m.frequency.end(), x) == m.frequency.end()) m.frequency.push_back(x);
   for (double x : G)

@@ -1,4 +1,5 @@
-// The effective-field map's files (study/characterize.hpp, write_map): map.csv, map.json, map.h5.
+// The effective-field map's files (study/characterize.hpp, write_map): map.csv (through
+// reduce/map_table.hpp, which predict and design read it back with), map.json, map.h5.
 // Each figure is given by its mean over the starts and the half-width of its 95% interval; the
 // columns are documented in docs/characterize.md.
 #include <hdf5.h>
@@ -18,23 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The map's figures: name, unit, and where a cell keeps it.
-struct Figure {
-  const char* name;
-  const char* ci95;  // the name of its interval's column
-  const char* unit;
-  Interval MapCell::*field;
-};
-const Figure kFigures[] = {
-    {"gamma_measured", "gamma_measured_ci95", "1", &MapCell::gamma_measured},
-    {"M_eff", "M_eff_ci95", "kg", &MapCell::M_eff},
-    {"C_eff", "C_eff_ci95", "N s/m", &MapCell::C_eff},
-    {"Cb_over_Mbw", "Cb_over_Mbw_ci95", "1", &MapCell::Cb_over_Mbw},
-    {"loss_factor", "loss_factor_ci95", "1", &MapCell::loss_factor},
-    {"M_eff_ratio", "M_eff_ratio_ci95", "1", &MapCell::M_eff_ratio},
-    {"energy_per_cycle", "energy_per_cycle_ci95", "J", &MapCell::energy_per_cycle},
-    {"e", "e_ci95", "1", &MapCell::e},
-};
 
 std::string json_number(double x) {
   if (!std::isfinite(x)) return "null";
@@ -56,24 +40,6 @@ std::string json_rows(const MapGrid& g, const std::vector<MapCell>& cells, F val
   return s + "]";
 }
 
-void write_csv(const fs::path& path, const std::vector<MapCell>& cells) {
-  std::vector<TableColumn> columns = {{"gamma", "1"}, {"frequency", "Hz"}, {"amplitude", "m"}, {"starts", "1"}, {"steady_starts", "1"}};
-  for (const Figure& f : kFigures) {
-    columns.push_back({f.name, f.unit});
-    columns.push_back({f.ci95, f.unit});
-  }
-  columns.push_back({"e_starts", "1"});
-  std::vector<std::vector<double>> rows;
-  std::vector<std::vector<std::string>> methods;
-  for (const MapCell& c : cells) {
-    std::vector<double> r = {c.gamma, c.frequency, c.amplitude, double(c.starts), double(c.steady)};
-    for (const Figure& f : kFigures) r.insert(r.end(), {(c.*f.field).mean, (c.*f.field).ci95});
-    r.push_back(double(c.e_starts));
-    rows.push_back(r);
-    methods.push_back({c.e_method});
-  }
-  write_table_csv(path, columns, rows, {{"e_method", "text"}}, methods);
-}
 
 void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
   std::ostringstream s;
@@ -101,7 +67,7 @@ void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCel
   s << "],\n";
   s << "  \"figures\": {";
   bool first = true;
-  for (const Figure& f : kFigures) {
+  for (const MapFigure& f : map_figures()) {
     s << (first ? "\n" : ",\n") << "    \"" << f.name << "\": {\"unit\": \"" << json_escape(f.unit) << "\", \"mean\": "
       << json_rows(g, cells, [&](const MapCell& c) { return (c.*f.field).mean; })
       << ", \"ci95\": " << json_rows(g, cells, [&](const MapCell& c) { return (c.*f.field).ci95; }) << "}";
@@ -137,7 +103,7 @@ void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>
     std::vector<std::string> methods;  // Gamma-major, as the grids' rows
     for (const MapCell& c : cells) methods.push_back(c.e_method);
     h5::write_strings(file, "e_method", methods, ok);
-    for (const Figure& f : kFigures) {
+    for (const MapFigure& f : map_figures()) {
       h5::H5 group = h5::create_group(file, f.name, ok, true);
       put(group, "mean", grid_of([&](const MapCell& c) { return (c.*f.field).mean; }), f.unit);
       put(group, "ci95", grid_of([&](const MapCell& c) { return (c.*f.field).ci95; }), f.unit);
@@ -150,7 +116,7 @@ void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>
 
 void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir) {
   const fs::path out(out_dir);
-  write_csv(out / "map.csv", cells);
+  write_map_csv(out / "map.csv", cells);
   write_json(out / "map.json", grid, cells, case_dir);
   write_h5(out / "map.h5", grid, cells, case_dir);
   write_damper_record(out / "damper.toml", grid.damper);

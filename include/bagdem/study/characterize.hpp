@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/reduce/map_table.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/scene.hpp"
@@ -72,16 +73,7 @@ MapGrid map_grid(const Scene& scene, const CharacterizeArgs& args);
 // the median gap (one band per evaluated mode), each as [lowest, highest].
 std::vector<std::pair<double, double>> sweep_bands(std::vector<double> frequencies);
 
-// One cell of the map: the starts' reductions combined.
-struct MapCell {
-  double gamma = 0, frequency = 0, amplitude = 0;  // as asked (unit: 1, Hz, m)
-  std::size_t starts = 0;          // starts reduced
-  std::size_t steady = 0;          // of those, steady windows (reduce.hpp, ReducedRow::steady)
-  Interval gamma_measured;         // the cavity's own, over the starts (unit: 1)
-  Interval M_eff, C_eff, Cb_over_Mbw, loss_factor, M_eff_ratio, energy_per_cycle, e;
-  std::size_t e_starts = 0;        // starts that gave an e (the others' is undefined: no impacts)
-  std::string e_method = "none";   // where e came from (reduced.csv's e_method) when the starts agree, else "mixed"
-};
+// One cell of the map (MapCell): reduce/map_table.hpp, with map.csv's columns.
 
 // A cell from its starts' reduced rows: every figure's mean and 95% interval over the steady
 // starts that have it (NaN where none, and an interval NaN with fewer than 2); an unsteady window

@@ -27,7 +27,7 @@
 #include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/study.hpp"
 #include "support.hpp"
-#include "sweep_support.hpp"
+#include "stepped_sine_support.hpp"
 
 using namespace bagdem;
 using namespace bagdem::study;

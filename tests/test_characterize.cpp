@@ -31,11 +31,11 @@ namespace fs = std::filesystem;
 
 
 TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
-  const auto bands = sweep_bands({80, 77, 83, 86, 470, 440, 455, 485, 89});
+  const auto bands = stepped_sine_bands({80, 77, 83, 86, 470, 440, 455, 485, 89});
   ASSERT_EQ(bands.size(), 2u);
   EXPECT_EQ(bands[0], std::make_pair(77.0, 89.0));
   EXPECT_EQ(bands[1], std::make_pair(440.0, 485.0));
-  EXPECT_EQ(sweep_bands({10, 20, 30, 40}).size(), 1u);
+  EXPECT_EQ(stepped_sine_bands({10, 20, 30, 40}).size(), 1u);
 
   bagdem::testing::TempDir t;
   std::ofstream(t.path / "case.toml") << bagdem::testing::ball_on_sdof_floor();

@@ -25,7 +25,7 @@
 #include "results_compare.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
-#include "sweep_support.hpp"
+#include "stepped_sine_support.hpp"
 
 namespace fs = std::filesystem;
 using bagdem::testing::CmdResult;

@@ -70,7 +70,7 @@ std::string num(double v) {
 }
 
 // The sweep frequencies of the pipe case: 7 planned points over 77-94 Hz, then 2 refinement points
-// appended out of order, as run/frequency_sweep.cpp writes them.
+// appended out of order, as run/stepped_sine.cpp writes them.
 std::vector<double> sweep_frequencies() {
   std::vector<double> f;
   for (int k = 0; k < 7; ++k) f.push_back(77.0 + 17.0 * k / 6);

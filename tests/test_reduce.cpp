@@ -23,7 +23,7 @@
 #include "bagdem/reduce/export.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "case_texts.hpp"
 #include "h5_read.hpp"
 #include "support.hpp"
@@ -98,7 +98,7 @@ TEST(Reduce, SweepReducesAGluedMassAndTheModelReproducesTheResponse) {
   d.write("case.toml", squeezed_ball(steady_sdof_sweep(M, K, zeta, {{"frequencies", "[25, 30, 35]"}}), "0.1 s"));
   const Scene s = load_case(d.str());
   const RunOptions o = quiet_in(d);
-  const SweepReport r = run_sweep(s, o);
+  const SteppedSineReport r = run_stepped_sine(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   ASSERT_EQ(r.reduced.size(), 3u);
   ASSERT_EQ(r.compare.size(), 3u);

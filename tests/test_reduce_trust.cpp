@@ -18,7 +18,7 @@
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/run/drop_test.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
 

@@ -21,7 +21,7 @@
 #include "bagdem/run/runner.hpp"
 #include "bag_support.hpp"
 #include "case_texts.hpp"
-#include "sweep_support.hpp"
+#include "stepped_sine_support.hpp"
 #include "support.hpp"
 
 namespace fs = std::filesystem;

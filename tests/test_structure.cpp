@@ -1,5 +1,5 @@
 // The primary structure carrying the cavity (structure/primary.hpp, src/step/structure.cpp,
-// run/frequency_sweep.hpp), through case files:
+// run/stepped_sine.hpp), through case files:
 //  - case keys and refusals;
 //  - an SDOF without contents (one ball that never touches a wall): the swept receptance against
 //    the analytic one, 1/(K - w^2 M + i w C), within 0.5% across the band, and its peak (also
@@ -23,7 +23,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/run/runner.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/modes.hpp"
 #include "bagdem/structure/response.hpp"
@@ -122,10 +122,10 @@ TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
     << "steady_tolerance = 1e-4\nmax_cycles = 400\n" << kLoneBall;
   const Scene s = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]"});
   const RunOptions o = quiet_in(d);
-  const SweepReport r = run_sweep(s, o);
+  const SteppedSineReport r = run_stepped_sine(s, o);
   ASSERT_TRUE(r.complete) << r.message;
   double worst = 0;
-  for (const SweepPoint& pt : r.points) {
+  for (const SteppedSinePoint& pt : r.points) {
     const double w = 2 * kPi * pt.frequency;
     const std::complex<double> H = 1.0 / std::complex<double>(K - w * w * M, w * C);
     const double err = std::abs(pt.receptance - H) / std::abs(H);
@@ -144,18 +144,18 @@ TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
   // The case text gives K and C to 6 digits (the stream's default), so the case's own peak is the
   // analytic one to a few 1e-7 of it.
   EXPECT_NEAR(r.peaks[0].bare_peak, h_peak, 1e-5 * h_peak);
-  const std::vector<ModePeak> again = recompute_sweep_peaks(*s.primary, d.path / "out");
+  const std::vector<ModePeak> again = recompute_stepped_sine_peaks(*s.primary, d.path / "out");
   ASSERT_EQ(again.size(), 1u);
   EXPECT_NEAR(again[0].peak, r.peaks[0].peak, 1e-9 * h_peak);
   EXPECT_NEAR(again[0].frequency, r.peaks[0].frequency, 1e-9 * fn);
   EXPECT_EQ(again[0].at_band_edge, r.peaks[0].at_band_edge);
   const Scene other = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]", "primary.damping=" + std::to_string(2 * C)});
-  EXPECT_THROW(recompute_sweep_peaks(*other.primary, d.path / "out"), InputError);
+  EXPECT_THROW(recompute_stepped_sine_peaks(*other.primary, d.path / "out"), InputError);
   // Each point after a chain's first starts from the steady state predicted with the contents
   // measured at the point before (excitation.predict; no contact here, so the prediction is exact):
   // it settles in the least cycles a point runs. Without the prediction it runs on while the
   // structure's free vibration from the last frequency decays.
-  const std::size_t least = s.primary->sweep->least_cycles();
+  const std::size_t least = s.primary->stepped_sine->least_cycles();
   std::size_t predicted = 0, carried = 0;
   for (std::size_t i = 0; i < r.points.size(); ++i) {
     const bool first = i == 0 || i == 5;  // the chains' first points: 12 Hz, and 22 Hz (the second's block starts there)
@@ -163,9 +163,9 @@ TEST(StructureSdof, SweptReceptanceMatchesTheAnalyticOneWithoutContents) {
     predicted += r.points[i].cycles;
   }
   const Scene off = load(d, case_text(p.str(), "duration = \"1 s\""), {"simulation.gravity=[0,0,0]", "excitation.predict=false"});
-  const SweepReport q = run_sweep(off, o);
+  const SteppedSineReport q = run_stepped_sine(off, o);
   ASSERT_TRUE(q.complete) << q.message;
-  for (const SweepPoint& pt : q.points) carried += pt.cycles;
+  for (const SteppedSinePoint& pt : q.points) carried += pt.cycles;
   std::printf("  cycles in all: %zu predicted, %zu carried\n", predicted, carried);
   EXPECT_GT(carried, predicted + 5 * (r.points.size() - 2));
 }
@@ -188,9 +188,9 @@ TEST(StructureBeam, SweptReceptanceIsTheBareOneUnderASlowSwing) {
   for (std::size_t k = 0; k < P->size(); ++k)
     if (P->dof_names[k] == "rigid translation") P->v0[static_cast<Eigen::Index>(k)] = v / P->at_response[static_cast<Eigen::Index>(k)];
   s.primary = P;
-  const SweepReport r = run_sweep(s, quiet_in(d));
+  const SteppedSineReport r = run_stepped_sine(s, quiet_in(d));
   ASSERT_TRUE(r.complete) << r.message;
-  for (const SweepPoint& pt : r.points) {
+  for (const SteppedSinePoint& pt : r.points) {
     const double err = std::abs(pt.receptance - pt.bare) / std::abs(pt.bare);
     const double swing = v / (kPi * pt.frequency) / std::abs(pt.bare);  // the swing's reading, per newton
     std::printf("  %.3f Hz: |H| %.5e m/N, bare %.5e, complex error %.2e (the swing alone would read %.2f of it), %zu cycles\n",
@@ -303,9 +303,9 @@ TEST(StructureCoupled, EnergyBalanceOverSteadyCycles) {
     << "steady_tolerance = 0.003\nsteady_cycles = 8\nmin_cycles = 16\nmax_cycles = 200\n" << kBalls;
   const Scene s = load(d, case_text(p.str(), "duration = \"1 s\"\nsettle = \"0.2 s\""));
   const RunOptions o = quiet_in(d);
-  const SweepReport r = run_sweep(s, o);
+  const SteppedSineReport r = run_stepped_sine(s, o);
   ASSERT_TRUE(r.complete) << r.message;
-  for (const SweepPoint& pt : r.points) {
+  for (const SteppedSinePoint& pt : r.points) {
     std::printf("  %.3f Hz: W_ext %.4e J/cycle = D_structure %.4e + D_contents %.4e; closure %.2e; |Y| %.3g m\n",
                 pt.frequency, pt.work_external, pt.dissipated_structure, pt.dissipated_contents, pt.balance,
                 std::abs(pt.response));
@@ -333,10 +333,10 @@ TEST(StructureBeam, ContentsAtANodeBarelyChangeThatModeAntinodeReducesIt) {
                           "max_cycles = 120\nstart = \"steady\"\n" + std::string(balls);
     const Scene s = load(d, case_text(p, "duration = \"1 s\"\nsettle = \"0.2 s\""));
     const RunOptions o = quiet_in(d);
-    const SweepReport r = run_sweep(s, o);
+    const SteppedSineReport r = run_stepped_sine(s, o);
     EXPECT_TRUE(r.complete) << r.message;
     EXPECT_EQ(r.peaks.size(), 1u);
-    for (const SweepPoint& pt : r.points) EXPECT_TRUE(pt.steady) << pt.frequency << " Hz";
+    for (const SteppedSinePoint& pt : r.points) EXPECT_TRUE(pt.steady) << pt.frequency << " Hz";
     if (r.peaks.empty()) return 0.0;
     std::printf("  contents at x = %.3f m: mode 2 peak %.4g m/N at %.4f Hz (bare %.4g at %.4f Hz): %.2f dB (%.1f%%), %zu points\n",
                 attach, r.peaks[0].peak, r.peaks[0].frequency, r.peaks[0].bare_peak, r.peaks[0].bare_frequency,

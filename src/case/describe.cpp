@@ -62,12 +62,12 @@ void describe_primary(std::ostream& o, const Scene& s) {
       for (std::size_t k = 0; k < P.size(); ++k) o << (k ? ", " : " ") << P.dof_names[k] << " " << P.damping_ratio[k];
       o << "\n";
     }
-    o << "excitation  " << (P.sweep ? "stepped-sine sweep, " + std::to_string(P.sweep->frequencies.size()) + " frequencies from " +
-                                          std::to_string(P.sweep->frequencies.front()) + " Hz; " : std::string())
+    o << "excitation  " << (P.stepped_sine ? "stepped-sine sweep, " + std::to_string(P.stepped_sine->frequencies.size()) + " frequencies from " +
+                                          std::to_string(P.stepped_sine->frequencies.front()) + " Hz; " : std::string())
       << (P.excitation ? P.excitation->describe() : std::string("none"))
       << (P.harmonic ? (P.start_steady ? " (starts in the bare steady state)" : " (starts from rest)") : "")
       << "; expected cavity speed " << P.expected_cavity_speed << " m/s\n";
-    if (const auto& sw = P.sweep) {
+    if (const auto& sw = P.stepped_sine) {
       const std::size_t K = sw->half_window();
       o << "            each point: steady when the mean response of its last " << K << " cycles is within "
         << 100 * sw->tolerance << "% of the " << K << " before or within their scatter (a 5% two-sample test), and its "
@@ -84,7 +84,7 @@ void describe_primary(std::ostream& o, const Scene& s) {
     }
     if (P.harmonic) {
       // The bare structure's largest cavity amplitude over the drive frequencies, and Gamma.
-      const std::vector<double> f = P.sweep ? P.sweep->frequencies : std::vector<double>{P.drive_frequency};
+      const std::vector<double> f = P.stepped_sine ? P.stepped_sine->frequencies : std::vector<double>{P.drive_frequency};
       double w = 0;
       const double X = P.bare_cavity_amplitude_max(P.amplitude, f, w);
       o << "            bare structure: cavity amplitude up to " << X << " m at " << w / (2 * std::numbers::pi)
@@ -113,7 +113,7 @@ void describe_numerics(std::ostream& o, const Scene& s) {
     << " steps\n";
   o << "output      frames every " << s.output.frame_interval << " s, cavity samples every "
     << s.output.cavity_interval << " s, energy every " << s.output.energy_interval << " s, checkpoints "
-    << (s.primary && s.primary->sweep ? std::string("after settling and each point (a sweep)")
+    << (s.primary && s.primary->stepped_sine ? std::string("after settling and each point (a sweep)")
         : s.output.checkpoint_interval > 0 ? "every " + std::to_string(s.output.checkpoint_interval) + " s"
                                            : std::string("off"))
     << "; on SIGINT/SIGTERM\n";

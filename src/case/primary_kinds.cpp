@@ -257,8 +257,8 @@ std::vector<double> number_list(const CaseReader& in, const std::string& key, Di
 double cavity_speed(const Primary& p, double F, double w) { return w * p.bare_cavity_amplitude(F, w); }
 
 // excitation.kind = "stepped-sine": its frequencies (into f) and how a point is judged steady.
-std::shared_ptr<Primary::Sweep> stepped_sine(const CaseReader& in, const Primary& p, std::vector<double>& f) {
-  auto sw = std::make_shared<Primary::Sweep>();
+std::shared_ptr<Primary::SteppedSine> stepped_sine(const CaseReader& in, const Primary& p, std::vector<double>& f) {
+  auto sw = std::make_shared<Primary::SteppedSine>();
   const bool has_list = in.has("excitation.frequencies"), has_band = in.has("excitation.band"),
              has_modes = in.has("excitation.around_modes");
   if (has_list + has_band + has_modes != 1)
@@ -399,7 +399,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
     if (kind == "harmonic") {
       f.push_back(positive(in, "excitation.frequency", dim::frequency, "Hz"));
     } else {
-      p.sweep = stepped_sine(in, p, f);
+      p.stepped_sine = stepped_sine(in, p, f);
     }
     p.drive_frequency = f.front();
     // The largest bare cavity speed over the swept range, resonances between the points included
@@ -419,7 +419,7 @@ void resolve_excitation(const CaseReader& in, const Scene& s, Primary& p) {
   if (p.harmonic) {
     p.excitation = make_harmonic_force(p.amplitude, p.drive_frequency);
     p.response_frequency = p.drive_frequency;
-    if (p.sweep) p.response_frequency = *std::max_element(p.sweep->frequencies.begin(), p.sweep->frequencies.end());
+    if (p.stepped_sine) p.response_frequency = *std::max_element(p.stepped_sine->frequencies.begin(), p.stepped_sine->frequencies.end());
   }
   if (p.response_frequency == 0)  // a blow, random force or none: the first elastic mode rings longest
     for (std::size_t k = 0; k < p.size() && p.response_frequency == 0; ++k)

@@ -213,8 +213,8 @@ void check_drive(const CaseReader& in, Scene& s) {
     // The drive and the force must be resolved by the chosen step.
     if (s.primary->harmonic) {
       double f_max = s.primary->drive_frequency;
-      if (s.primary->sweep)
-        for (double f : s.primary->sweep->frequencies) f_max = std::max(f_max, f);
+      if (s.primary->stepped_sine)
+        for (double f : s.primary->stepped_sine->frequencies) f_max = std::max(f_max, f);
       if (f_max * s.dt > 1.0 / 8) {
         // response.cpp drives at 1 / (N dt) with N >= 8: a faster drive would silently be another one.
         std::string key = "excitation.frequency";

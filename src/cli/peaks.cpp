@@ -2,7 +2,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/output_lock.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "command.hpp"
 
 namespace bagdem::cli {
@@ -18,10 +18,10 @@ CLI::App* add_peaks(CLI::App& app, Args& a) {
 int run_peaks(Args& a) {
   apply_fidelity(a);
   const Scene s = load_case(a.case_dir, a.sets);
-  if (!s.primary || !s.primary->sweep)
+  if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "peaks needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
   const OutputLock lock(a.out());
-  for (const ModePeak& m : recompute_sweep_peaks(*s.primary, a.out())) std::printf("%s\n", describe_peak(m).c_str());
+  for (const ModePeak& m : recompute_stepped_sine_peaks(*s.primary, a.out())) std::printf("%s\n", describe_peak(m).c_str());
   return 0;
 }
 

@@ -2,7 +2,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/compare.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/run/runner.hpp"
 #include "command.hpp"
 
@@ -46,10 +46,10 @@ int unfinished(bool complete, int signal, const std::string& message) {
 }
 
 // `bagdem run` of a case with a stepped-sine excitation: the frequency sweep.
-int sweep_case(const Args& a, const Scene& s, const RunOptions& o) {
-  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": stepped-sine sweep, " << s.primary->sweep->frequencies.size()
+int stepped_sine_case(const Args& a, const Scene& s, const RunOptions& o) {
+  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": stepped-sine sweep, " << s.primary->stepped_sine->frequencies.size()
                         << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
-  const SweepReport r = run_sweep(s, o);
+  const SteppedSineReport r = run_stepped_sine(s, o);
   if (const int code = unfinished(r.complete, r.signal, r.message)) return code;
   std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
   for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
@@ -104,7 +104,7 @@ int run_run(Args& a) {
   o.threads = a.threads;
   o.quiet = a.quiet;
   o.resume = a.resume;
-  return s.primary && s.primary->sweep ? sweep_case(a, s, o) : run_case(a, s, o);
+  return s.primary && s.primary->stepped_sine ? stepped_sine_case(a, s, o) : run_case(a, s, o);
 }
 
 }  // namespace bagdem::cli

@@ -246,7 +246,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
       }
     }
     m.peak = corner_peak[0];
-    m.at_band_edge = points > 1 && (peak_k == 0 || peak_k == points - 1);  // as a sweep marks its peak (run/frequency_sweep.hpp)
+    m.at_band_edge = points > 1 && (peak_k == 0 || peak_k == points - 1);  // as a sweep marks its peak (run/stepped_sine.hpp)
     auto db = [&](double peak) { return peak > 0 ? reduction_db(m.bare_peak, peak) : std::nan(""); };
     m.reduction_db = db(m.peak);
     m.reduction_db_lo = m.reduction_db_hi = m.reduction_db;

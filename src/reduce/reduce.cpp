@@ -324,7 +324,7 @@ void require_case_of_run(const fs::path& h5, const Scene& scene, const char* mis
 
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir) {
   const fs::path out = out_dir;
-  if (scene.primary && scene.primary->sweep) {
+  if (scene.primary && scene.primary->stepped_sine) {
     require_case_of_run(out / "results.h5", scene, "is missing: run the sweep first (bagdem run)");
     const fs::path csv = out / "reduced.csv";
     if (!fs::exists(csv)) throw InputError(csv.string(), "", "", "is missing: run the sweep first (bagdem run)");

@@ -88,16 +88,17 @@ void Stepper::advance(std::uint64_t steps) {
 // The step's stages (stage.hpp), in order: what each runs, and the clock that times it.
 std::span<const Stepper::StageEntry> Stepper::stages() {
   static constexpr StageEntry table[] = {
-      {Stage::kick_drift, &Stepper::kick_drift, &StageTimes::integrate},
-      {Stage::move_cavity, &Stepper::move_cavity, &StageTimes::integrate},
-      {Stage::neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours},
-      {Stage::pairs, &Stepper::pair_stage, &StageTimes::pairs},
-      {Stage::walls, &Stepper::wall_contacts, &StageTimes::walls},
-      {Stage::triangles, &Stepper::triangle_contacts, &StageTimes::triangles},
-      {Stage::film, &Stepper::film_stage, &StageTimes::film},
-      {Stage::structure, &Stepper::structure_stage, &StageTimes::integrate},
-      {Stage::kick, &Stepper::kick, &StageTimes::integrate},
-      {Stage::guards, &Stepper::end_step, &StageTimes::guards}};
+      // stage               staged                         fused (fusable)
+      {Stage::kick_drift, &Stepper::kick_drift, &Stepper::kick_drift, &StageTimes::integrate},
+      {Stage::move_cavity, &Stepper::move_cavity, &Stepper::move_cavity, &StageTimes::integrate},
+      {Stage::neighbours, &Stepper::renew_neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours},
+      {Stage::pairs, &Stepper::pair_stage, &Stepper::fused_contacts, &StageTimes::pairs},  // + walls, next drift
+      {Stage::walls, &Stepper::wall_contacts, nullptr, &StageTimes::walls},
+      {Stage::triangles, &Stepper::triangle_contacts, &Stepper::triangle_contacts, &StageTimes::triangles},
+      {Stage::film, &Stepper::film_stage, &Stepper::film_stage, &StageTimes::film},
+      {Stage::structure, &Stepper::structure_stage, &Stepper::structure_stage, &StageTimes::integrate},
+      {Stage::kick, &Stepper::kick, &Stepper::kick, &StageTimes::integrate},
+      {Stage::guards, &Stepper::end_step, &Stepper::end_step, &StageTimes::guards}};
   return table;
 }
 
@@ -107,15 +108,17 @@ void Stepper::begin_step(bool last) {
   if (structure_.couple && step_ == structure_.release_step && !structure_.scalars.released) release_structure();
 }
 
-// The stages one after the other; fused (fusable), the pair stage also does the walls and the next
-// step's drift, each thread on its range of balls (fused_contacts).
+// The stages one after the other, each its row's staged or (fusable) fused function: fused, the
+// pair stage also does the walls and the next step's drift, each thread on its range of balls
+// (fused_contacts).
 void Stepper::step_once(bool last) {
   begin_step(last);
   const bool fused = fusable();
   double t = opt_.profile ? omp_get_wtime() : 0.0;
   for (const StageEntry& s : stages()) {
-    if (fused && s.stage == Stage::walls) continue;
-    (this->*(fused && s.stage == Stage::pairs ? &Stepper::fused_contacts : s.run))();
+    const auto run = fused ? s.fused : s.run;
+    if (run == nullptr) continue;
+    (this->*run)();
     if (opt_.profile) {
       const double now = omp_get_wtime();
       times_.*s.clock += now - t;

@@ -151,9 +151,13 @@ class Stepper {
   template <bool, bool, bool>
   friend struct WallKernel;  // walls.cpp: the walls stage's work
   // One row of the step's table of stages (stages()): what it runs, the clock that times it.
+  // One row of the step's table of stages (stages()): what it runs staged, what it runs in a fused
+  // step (fusable(): the pairs, the walls and the next step's drift in one parallel region; null:
+  // done by another stage of its group), the clock that times it.
   struct StageEntry {
     Stage stage;
     void (Stepper::*run)();
+    void (Stepper::*fused)();
     double StageTimes::*clock;
   };
   static std::span<const StageEntry> stages();

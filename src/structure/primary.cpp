@@ -116,7 +116,7 @@ std::size_t Primary::elastic_mode_number(std::size_t k) const {
 }
 
 std::vector<std::size_t> Primary::evaluated_modes(double lo, double hi) const {
-  if (sweep && !sweep->modes.empty()) return sweep->modes;
+  if (stepped_sine && !stepped_sine->modes.empty()) return stepped_sine->modes;
   std::vector<std::size_t> modes;
   for (std::size_t k = 0; k < size(); ++k)
     if (!rigid_body[k] && natural_frequency[k] >= lo && natural_frequency[k] <= hi) modes.push_back(k);

@@ -120,7 +120,7 @@ std::pair<double, double> read_bounds(const CalibrateArgs& a, const Scene& s, Sc
 
 // The elastic mode numbers whose peaks the case's sweep evaluates, over its planned frequencies.
 std::vector<int> evaluated_modes(const Primary& P) {
-  const std::vector<double>& f = P.sweep->frequencies;
+  const std::vector<double>& f = P.stepped_sine->frequencies;
   if (f.empty()) return {};
   const auto [lo, hi] = std::minmax_element(f.begin(), f.end());
   std::vector<int> modes;
@@ -247,7 +247,7 @@ StudySpec calibration_spec(const CalibrateArgs& args) {
 
 // The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise).
 std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets) {
-  if (!s.primary || !s.primary->sweep)
+  if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
   const std::vector<int> modes = evaluated_modes(*s.primary);
   std::vector<double> db;

@@ -16,7 +16,7 @@
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
-std::vector<std::pair<double, double>> sweep_bands(std::vector<double> f) {
+std::vector<std::pair<double, double>> stepped_sine_bands(std::vector<double> f) {
   std::sort(f.begin(), f.end());
   std::vector<std::pair<double, double>> bands;
   if (f.empty()) return bands;
@@ -51,8 +51,8 @@ MapGrid map_grid(const Scene& scene, const CharacterizeArgs& a) {
   if (!a.band.empty()) {
     range(a.band, "--band", "frequencies in Hz");
     bands.push_back({a.band[0], a.band[1]});
-  } else if (scene.primary && scene.primary->sweep) {
-    bands = sweep_bands(scene.primary->sweep->frequencies);
+  } else if (scene.primary && scene.primary->stepped_sine) {
+    bands = stepped_sine_bands(scene.primary->stepped_sine->frequencies);
   } else {
     throw InputError(scene.case_file, "excitation", "", "has no stepped-sine sweep to take the band from: give --band lo,hi (Hz)");
   }

@@ -34,7 +34,7 @@ std::string Status::text() const {
     case Standing::no_map: return "no map (its runs failed)";
     case Standing::other_damper: return "map of another damper (" + why + ")";
     case Standing::outside_map: return "outside the map " + why;
-    case Standing::mode_not_in_sweep: return "mode " + why + " not in the sweep at this place";
+    case Standing::mode_not_in_stepped_sine: return "mode " + why + " not in the sweep at this place";
   }
   return why;
 }
@@ -92,7 +92,7 @@ std::string map_options_text(const CharacterizeArgs& m) {
 }
 
 std::vector<int> case_modes(const Primary& P) {
-  const auto [lo, hi] = std::minmax_element(P.sweep->frequencies.begin(), P.sweep->frequencies.end());
+  const auto [lo, hi] = std::minmax_element(P.stepped_sine->frequencies.begin(), P.stepped_sine->frequencies.end());
   std::vector<int> m;
   for (std::size_t d : P.evaluated_modes(*lo, *hi)) m.push_back(static_cast<int>(P.elastic_mode_number(d)));
   return m;
@@ -164,7 +164,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
     return;
   }
   r.interpolation_db = 0;
-  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.sweep->frequencies)) {
+  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.stepped_sine->frequencies)) {
     const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
     if (k == modes.end()) continue;
     const std::size_t i = static_cast<std::size_t>(k - modes.begin());
@@ -178,7 +178,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
   }
   for (std::size_t i = 0; i < modes.size(); ++i)
     if (!std::isfinite(r.db[i])) {
-      r.status = {Standing::mode_not_in_sweep, std::to_string(modes[i])};
+      r.status = {Standing::mode_not_in_stepped_sine, std::to_string(modes[i])};
       return;
     }
   set_objective(r);
@@ -307,7 +307,7 @@ struct Search {
 // random force (its band's RMS).
 std::vector<int> chosen_modes(const DesignArgs& a, const Scene& s, CharacterizeArgs& map) {
   const Primary& P = *s.primary;
-  if (!P.sweep) {
+  if (!P.stepped_sine) {
     if (!a.modes.empty()) throw InputError("--modes", "", "", "a random force's case has no modes to choose: its band's RMS is the objective");
     if (map.band.empty()) map.band = {P.random_lo, P.random_hi};
     return {0};
@@ -362,7 +362,7 @@ Search set_up_search(const DesignArgs& a) {
   const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
   z.cand = candidate_spec(a, fs::absolute(out).lexically_normal());
   const Scene s = load_case(z.cand.case_dir, z.cand.sets);
-  if (!s.primary || (!s.primary->sweep && !(s.primary->random_hi > 0)))
+  if (!s.primary || (!s.primary->stepped_sine && !(s.primary->random_hi > 0)))
     throw InputError(s.case_file, "excitation.kind", "",
                      "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "
                      "(its response's RMS in the band is)");

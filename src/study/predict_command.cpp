@@ -124,7 +124,7 @@ int predict_command(const PredictArgs& a) {
   return reporting_errors([&] {
     const Scene scene = load_case(a.dir, a.sets);
     if (!a.random.empty()) return predict_random_command(a, scene);
-    if (!scene.primary || !scene.primary->sweep)
+    if (!scene.primary || !scene.primary->stepped_sine)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");
     const Primary& P = *scene.primary;
     const fs::path map_csv = map_file(a);
@@ -136,7 +136,7 @@ int predict_command(const PredictArgs& a) {
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
     std::vector<std::vector<double>> rows, peaks;
     for (double F : forces) {
-      const std::vector<PredictedMode> modes = predict_modes(P, map, F, P.sweep->frequencies, a.points);
+      const std::vector<PredictedMode> modes = predict_modes(P, map, F, P.stepped_sine->frequencies, a.points);
       if (modes.empty())
         throw InputError(scene.case_file, "excitation", "",
                          "the sweep's band holds no natural frequency of the structure (bagdem check lists them): no peak to predict; set "

@@ -61,7 +61,7 @@ CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>
   f.friction = s.models.tangential;
   f.rolling = s.models.rolling;
   f.cavity_interval = s.output.cavity_interval;
-  if (s.primary && s.primary->sweep) f.steady_tolerance = s.primary->sweep->tolerance;
+  if (s.primary && s.primary->stepped_sine) f.steady_tolerance = s.primary->stepped_sine->tolerance;
   // The safety factor, the steps per contact and the interaction tables as resolved (the case file
   // with the user's --set applied: a knob scales the user's value, not the file's).
   try {

@@ -28,7 +28,7 @@
 //   /structure/<column>    [S]                a run with a primary structure, at the cavity samples'
 //                                             times (run/runner.cpp lists the columns and units)
 //   /sweep/<column>        [P]                a stepped-sine sweep, one row per frequency
-//                                             (run/frequency_sweep.hpp lists the columns and units)
+//                                             (run/stepped_sine.hpp lists the columns and units)
 // Datasets are chunked and extendible; the file is flushed after each frame so that a killed run
 // leaves a readable file. Resume truncates every time series to the lengths the checkpoint recorded
 // and verifies what is left against the checkpoint's digest (a CRC-32 per dataset).

@@ -123,7 +123,7 @@ std::vector<ReducedRow> read_reduced_csv(const std::filesystem::path& path);
 // (complete), reduces the cycles after settling, the ramp and output.skip_cycles, writes
 // out_dir/reduced.csv and returns the row. InputError when the run is not reducible (no harmonic
 // motion, incomplete, fewer than 2 measured cycles). A coupled sweep reduces itself point by point
-// (run/frequency_sweep.cpp); reduce then rereads its reduced.csv.
+// (run/stepped_sine.cpp); reduce then rereads its reduced.csv.
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir);
 
 // A terminal table of the rows.

@@ -96,9 +96,9 @@ struct Primary {
   double expected_cavity_speed = 0;  // largest cavity speed the excitation should cause (bare
                                      // structure), for the time step and impact checks (unit: m/s)
 
-  // Stepped-sine sweep (excitation.kind = "stepped-sine"): the drive frequencies in order, each
-  // held until the response is steady (run/frequency_sweep.hpp).
-  struct Sweep {
+  // Stepped sine (excitation.kind = "stepped-sine"): the drive frequencies in order, each
+  // held until the response is steady (run/stepped_sine.hpp).
+  struct SteppedSine {
     std::vector<double> frequencies;   // requested (unit: Hz); the run rounds each to a whole number of steps per cycle
     std::vector<std::size_t> modes;    // DOF indices whose peaks are evaluated (around_modes), may be empty
     double tolerance = 0.01;           // steady: amplitude change below this over `cycles` cycles
@@ -107,7 +107,7 @@ struct Primary {
     std::size_t reduce_cycles = 10;    // the last cycles of a point that its response and reduction are measured over
     std::size_t max_cycles = 200;      // cap (with a warning)
     std::size_t refine = 0;            // extra points per evaluated mode that close in on its peak
-    std::size_t chains = 1;            // simulations that share the points, side by side (run/sweep_chains.hpp)
+    std::size_t chains = 1;            // simulations that share the points, side by side (run/stepped_sine_chains.hpp)
     bool predict = false;              // a point starts from the steady state predicted with the contents measured before
     // The steady test compares the mean response of the last K cycles with the K before, and the
     // point is reduced over those 2K cycles: K = max(cycles, reduce_cycles / 2 rounded up).
@@ -116,12 +116,12 @@ struct Primary {
     // right after the drive changed frequency, is never in the window).
     std::size_t least_cycles() const { return std::max(min_cycles, 2 * half_window() + 1); }
   };
-  std::shared_ptr<const Sweep> sweep;  // null unless stepped-sine
+  std::shared_ptr<const SteppedSine> stepped_sine;  // null unless stepped-sine
 
   std::size_t size() const { return static_cast<std::size_t>(stiffness.size()); }
   double omega_max() const;          // largest natural circular frequency of K, M (unit: rad/s)
   // Receptance phi_a^T (K - w^2 M + i w C)^-1 phi_f of the structure without contents (with the
-  // cavity mass) (unit: m/N): the bare reference of a sweep.
+  // cavity mass) (unit: m/N): the bare reference of a stepped sine.
   std::complex<double> bare_receptance(double w) const;
   // Steady state of the structure without contents under f = F sin(w t) at t = 0: q and v.
   void bare_steady_state(double F, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
@@ -140,7 +140,7 @@ struct Primary {
   std::size_t nearest_elastic_mode(double f, std::size_t* number = nullptr) const;
   // The elastic mode number of DOF k (1 = the first elastic mode; 0 for a rigid-body DOF).
   std::size_t elastic_mode_number(std::size_t k) const;
-  // The DOFs whose peaks a sweep over [lo, hi] (Hz) evaluates: the sweep's own modes
+  // The DOFs whose peaks a stepped sine over [lo, hi] (Hz) evaluates: the stepped sine's own modes
   // (excitation.around_modes), else every elastic mode inside the band.
   std::vector<std::size_t> evaluated_modes(double lo, double hi) const;
   // Natural frequencies of the structure without contents, cavity mass included (unit: Hz), sorted.

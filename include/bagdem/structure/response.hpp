@@ -3,7 +3,7 @@
 // Conventions: a harmonic signal is y(t) = Re(Y e^{i w t}); a force F0 sin(w t) is Re(-i F0 e^{i w t});
 // the receptance H = Y / F (complex, m/N) and the accelerance -w^2 H (m/s^2/N).
 //
-// Stepped sine (run/frequency_sweep.hpp): each drive frequency is rounded to a whole number N of time steps
+// Stepped sine (run/stepped_sine.hpp): each drive frequency is rounded to a whole number N of time steps
 // per cycle, and the first harmonic of one cycle's samples is Y = (2/N) sum_n y_n e^{-i theta_n},
 // exact for any periodic response with harmonics below N/2 (discrete orthogonality). A frequency
 // point is steady when the last K cycles' Y lie within a relative tolerance of the latest.

@@ -71,7 +71,7 @@ MapGrid map_grid(const Scene& scene, const CharacterizeArgs& args);
 
 // The bands of a stepped-sine sweep: its frequencies sorted and split where a gap exceeds 3 times
 // the median gap (one band per evaluated mode), each as [lowest, highest].
-std::vector<std::pair<double, double>> sweep_bands(std::vector<double> frequencies);
+std::vector<std::pair<double, double>> stepped_sine_bands(std::vector<double> frequencies);
 
 // One cell of the map (MapCell): reduce/map_table.hpp, with map.csv's columns.
 

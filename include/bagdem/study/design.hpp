@@ -54,7 +54,7 @@ struct DesignArgs {
 
 // One candidate at one position, predicted (and verified).
 // Where a candidate, or a candidate at a place, stands: ranked, or why not.
-enum class Standing { ranked, over_budget, does_not_load, no_map, other_damper, outside_map, mode_not_in_sweep };
+enum class Standing { ranked, over_budget, does_not_load, no_map, other_damper, outside_map, mode_not_in_stepped_sine };
 struct Status {
   Standing kind = Standing::ranked;
   std::string why;  // the detail design.csv adds to the kind's words (a loader's message, a mode, a map's reason)

@@ -1,11 +1,11 @@
-// Internal to src/run: the energy and the first harmonics of a sweep point's window, its last 2K
-// cycles (run/frequency_sweep.hpp).
+// Internal to src/run: the energy and the first harmonics of a stepped sine point's window, its last 2K
+// cycles (run/stepped_sine.hpp).
 #pragma once
 #include <complex>
 #include <deque>
 
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 
@@ -37,9 +37,9 @@ bool balances(const WindowBalance& b);
 
 // The point's response, first harmonics and energy over its window (sweep.csv's columns).
 void measure_window(const Simulation& sim, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
-                    SweepPoint& pt);
+                    SteppedSinePoint& pt);
 
 // The damper's effective parameters over the same cycles (one step = one sample); sets pt.steady.
-ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SweepPoint& pt);
+ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SteppedSinePoint& pt);
 
 }  // namespace bagdem

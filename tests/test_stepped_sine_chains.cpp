@@ -1,6 +1,6 @@
-// How a sweep shares its points among its chains (src/run/sweep_chains.hpp), where its peak
-// refinement places points, and a mode's peaks when points are left out (src/run/sweep_peaks.hpp).
-// The sweeps themselves, on one thread and on two, killed and resumed, are in test_sweep_restart.cpp.
+// How a sweep shares its points among its chains (src/run/stepped_sine_chains.hpp), where its peak
+// refinement places points, and a mode's peaks when points are left out (src/run/stepped_sine_peaks.hpp).
+// The sweeps themselves, on one thread and on two, killed and resumed, are in test_stepped_sine_restart.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,10 +12,10 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "support.hpp"
-#include "sweep_support.hpp"
+#include "stepped_sine_support.hpp"
 
-#include "run/sweep_chains.hpp"
-#include "run/sweep_peaks.hpp"
+#include "run/stepped_sine_chains.hpp"
+#include "run/stepped_sine_peaks.hpp"
 
 namespace {
 
@@ -65,12 +65,12 @@ TEST(SweepChains, RefinementRoundsPlaceUpToOnePointPerChainAndMode) {
 
 // |H| peaks at 84 Hz with its larger neighbour at 86 Hz.
 struct Peak {
-  std::vector<bagdem::SweepPoint> p;
+  std::vector<bagdem::SteppedSinePoint> p;
   bagdem::ModePoints m{0, {}};
   Peak() {
     const double f[] = {80, 82, 84, 86, 88}, h[] = {1, 2, 5, 4, 1};
     for (int k = 0; k < 5; ++k) {
-      bagdem::SweepPoint s;
+      bagdem::SteppedSinePoint s;
       s.frequency = f[k], s.receptance = std::complex<double>(0, h[k]);
       p.push_back(s);
     }
@@ -119,9 +119,9 @@ TEST(SweepChains, BarePeakIsSearchedOverTheModesWholeBandWhenPointsAreLeftOut) {
   const bagdem::Scene s = bagdem::load_case(t.path.string());
   ASSERT_TRUE(s.primary);
   const bagdem::Primary& P = *s.primary;
-  std::vector<bagdem::SweepPoint> pts;
+  std::vector<bagdem::SteppedSinePoint> pts;
   for (double f : {26.0, 27.0, 28.0, 29.0, 30.0, 31.0, 34.0}) {
-    bagdem::SweepPoint p;
+    bagdem::SteppedSinePoint p;
     p.frequency = f;
     p.receptance = 0.3 * P.bare_receptance(2 * std::numbers::pi * f);  // a damper taking 10.5 dB off everywhere
     p.steady = f < 28.5;

@@ -1,23 +1,23 @@
-// Internal to src/run: the peaks of a stepped-sine sweep (run/frequency_sweep.hpp): the points grouped by
+// Internal to src/run: the peaks of a stepped sine (run/stepped_sine.hpp): the points grouped by
 // the mode they are nearest to, the peak refinement's next frequency, and peaks.csv / summary.json.
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
 
-// The modes whose peaks a sweep evaluates (the plan's, or every elastic mode inside the swept
+// The modes whose peaks a stepped sine evaluates (the plan's, or every elastic mode inside the swept
 // band), and for each the points nearest to it in log-frequency among the elastic modes, sorted
 // by frequency.
 struct ModePoints {
   std::size_t dof;
-  std::vector<const SweepPoint*> points;
+  std::vector<const SteppedSinePoint*> points;
 };
-std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points);
+std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SteppedSinePoint>& points);
 
 // The next frequencies of a mode's peak refinement: n points dividing the gap between the largest
 // |H| and its larger neighbour (the side the peak lies on) into n + 1 equal parts (n = 1: halfway).

@@ -1,5 +1,5 @@
-// A sweep's checkpoint (sweep_state.hpp).
-#include "sweep_state.hpp"
+// A stepped sine's checkpoint (stepped_sine_state.hpp).
+#include "stepped_sine_state.hpp"
 
 #include <cstring>
 #include <sstream>
@@ -16,9 +16,9 @@ namespace bagdem {
 namespace {
 
 // The points are stored as their bytes: every field, exactly.
-static_assert(std::is_trivially_copyable_v<SweepPoint>,
+static_assert(std::is_trivially_copyable_v<SteppedSinePoint>,
               "a sweep's checkpoint stores its points as bytes: give a field that is not trivially copyable "
-              "its own block in sweep_state.cpp");
+              "its own block in stepped_sine_state.cpp");
 static_assert(std::is_trivially_copyable_v<SeriesLengths>);
 
 template <class T>
@@ -76,7 +76,7 @@ static_assert(sizeof(Head) == 2 * sizeof(double) + sizeof(SeriesLengths));
 
 // Blocks: the head, the points, the reduced rows (numbers, methods), the frame times, then one
 // image per chain.
-void save_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, const SweepState& s) {
+void save_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, const SteppedSineState& s) {
   const Head h{s.settled ? 1.0 : 0.0, s.clearance, s.lengths};
   CheckpointData d{"sweep", scene.resolved,
                    {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
@@ -85,7 +85,7 @@ void save_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene
   save_checkpoint_file(path, d);
 }
 
-void load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& s) {
+void load_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, SteppedSineState& s) {
   const CheckpointData d = load_checkpoint_file(path, "sweep");
   require_checkpoint_case(d, scene.case_file, scene.resolved);
   Head h;
@@ -108,10 +108,10 @@ std::string interrupted_message(int signal, double t, std::size_t points, const 
   return m.str();
 }
 
-void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state) {
+void start_stepped_sine_state(const std::filesystem::path& out, bool resume, Simulation& sim, SteppedSineState& state) {
   const std::filesystem::path ckpt = out / "checkpoint.bin", part = out / "results.h5.part";
   if (resume) {
-    load_sweep_checkpoint(ckpt, sim.scene(), state);
+    load_stepped_sine_checkpoint(ckpt, sim.scene(), state);
     if (!std::filesystem::exists(part))
       throw InputError(part.string(), "", "", "the partial results file of the interrupted sweep is missing; run again without --resume");
     try {
@@ -122,7 +122,7 @@ void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation
   } else {
     std::filesystem::remove(ckpt);
   }
-  // The tables of an earlier run go; its results.h5 stays until this sweep's replaces it.
+  // The tables of an earlier run go; its results.h5 stays until this stepped sine's replaces it.
   remove_derived_tables(out);
 }
 

@@ -1,9 +1,9 @@
-// Checkpoint and resume of a stepped-sine sweep (src/run/sweep_state.hpp): a sweep killed in the
+// Checkpoint and resume of a stepped-sine sweep (src/run/stepped_sine_state.hpp): a sweep killed in the
 // middle of a point (RunOptions::stop_after_steps, which leaves results.h5.part and the checkpoint
 // of the last point done as a kill would), resumed, killed again in the refinement and resumed to
 // the end, writes the same results.h5 (every dataset, bit for bit, but the points' wall times),
 // sweep.csv and reduced.csv as the sweep uninterrupted. So does a sweep of two chains
-// (run/sweep_chains.hpp), killed while both run, and it writes the same on one thread as on two.
+// (run/stepped_sine_chains.hpp), killed while both run, and it writes the same on one thread as on two.
 // The CLI's SIGTERM during a sweep is in test_faults.cpp.
 #include <gtest/gtest.h>
 
@@ -15,10 +15,10 @@
 #include <string>
 
 #include "bagdem/case/load_case.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "results_compare.hpp"
 #include "support.hpp"
-#include "sweep_support.hpp"
+#include "stepped_sine_support.hpp"
 
 namespace fs = std::filesystem;
 using bagdem::testing::TempDir;
@@ -33,23 +33,23 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   std::ofstream(dir / "case.toml") << bagdem::testing::rattling_ball_sweep(1);
   const bagdem::Scene scene = bagdem::load_case(dir.string());
   auto sweep = [&](const fs::path& out, long long stop, bool resume) {
-    return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, 1, stop, resume));
+    return bagdem::run_stepped_sine(scene, bagdem::testing::quiet_run(out, 1, stop, resume));
   };
   const fs::path a = tmp.path / "A", b = tmp.path / "B";
-  const bagdem::SweepReport ra = sweep(a, -1, false);
+  const bagdem::SteppedSineReport ra = sweep(a, -1, false);
   ASSERT_TRUE(ra.complete) << ra.message;
   ASSERT_EQ(ra.points.size(), 4u) << "three planned points and one refinement";
   // The steps of the whole sweep: settling, then each point's cycles.
   double steps = std::round(scene.settle / scene.dt);
-  for (const bagdem::SweepPoint& p : ra.points) steps += static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
+  for (const bagdem::SteppedSinePoint& p : ra.points) steps += static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
   // Killed during the second point, then during the refinement (the fourth point).
-  const bagdem::SweepReport rb1 = sweep(b, std::llround(0.35 * steps), false);
+  const bagdem::SteppedSineReport rb1 = sweep(b, std::llround(0.35 * steps), false);
   EXPECT_FALSE(rb1.complete);
   EXPECT_TRUE(fs::exists(b / "checkpoint.bin"));
   EXPECT_TRUE(fs::exists(b / "results.h5.part"));
   EXPECT_FALSE(fs::exists(b / "results.h5"));
   EXPECT_FALSE(sweep(b, std::llround(0.55 * steps), true).complete);
-  const bagdem::SweepReport rb = sweep(b, -1, true);
+  const bagdem::SteppedSineReport rb = sweep(b, -1, true);
   ASSERT_TRUE(rb.complete) << rb.message;
   ASSERT_EQ(rb.points.size(), ra.points.size());
   bagdem::testing::expect_same_sweep(a, b);
@@ -67,10 +67,10 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   std::ofstream(dir / "case.toml") << text;
   const bagdem::Scene scene = bagdem::load_case(dir.string());
   auto sweep = [&](const fs::path& out, int threads, long long stop, bool resume) {
-    return bagdem::run_sweep(scene, bagdem::testing::quiet_run(out, threads, stop, resume));
+    return bagdem::run_stepped_sine(scene, bagdem::testing::quiet_run(out, threads, stop, resume));
   };
   const fs::path a = tmp.path / "A", b = tmp.path / "B", c = tmp.path / "C", s = tmp.path / "serial";
-  const bagdem::SweepReport ra = sweep(a, 1, -1, false);
+  const bagdem::SteppedSineReport ra = sweep(a, 1, -1, false);
   ASSERT_TRUE(ra.complete) << ra.message;
   ASSERT_EQ(ra.points.size(), 6u);
   EXPECT_NE(bagdem::testing::slurp(a / "summary.json").find("\"chains\": 2"), std::string::npos);
@@ -78,25 +78,25 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   // sweep's first point does at 26 Hz, and reaches 34 Hz from there, where a serial sweep
   // continues from 30 Hz instead.
   bagdem::Scene serial = scene;
-  auto plan = std::make_shared<bagdem::Primary::Sweep>(*scene.primary->sweep);
+  auto plan = std::make_shared<bagdem::Primary::SteppedSine>(*scene.primary->stepped_sine);
   plan->chains = 1;
   auto primary = std::make_shared<bagdem::Primary>(*scene.primary);
-  primary->sweep = plan;
+  primary->stepped_sine = plan;
   serial.primary = primary;
-  const bagdem::SweepReport rs = bagdem::run_sweep(serial, bagdem::testing::quiet_run(s));
+  const bagdem::SteppedSineReport rs = bagdem::run_stepped_sine(serial, bagdem::testing::quiet_run(s));
   ASSERT_TRUE(rs.complete) << rs.message;
   EXPECT_EQ(rs.points[0].receptance, ra.points[0].receptance);
   EXPECT_EQ(rs.points[1].receptance, ra.points[1].receptance);
   EXPECT_NE(rs.points[2].receptance, ra.points[2].receptance);
   // Two threads: the chains side by side, the same bits.
-  const bagdem::SweepReport rc = sweep(c, 2, -1, false);
+  const bagdem::SteppedSineReport rc = sweep(c, 2, -1, false);
   ASSERT_TRUE(rc.complete) << rc.message;
   bagdem::testing::expect_same_sweep(a, c);
   // Killed on two threads, each chain at its own step count (settling is the first's): in B with
   // both in the refinement (points 0-3 written, the second chain's state after 34 Hz, the last it
   // ran), resumed on one thread; in D while both run their blocks, resumed on two.
   auto steps = [&](std::size_t i) {
-    const bagdem::SweepPoint& p = ra.points[i];
+    const bagdem::SteppedSinePoint& p = ra.points[i];
     return static_cast<double>(p.cycles) * std::round(1 / (p.frequency * scene.dt));
   };
   const double kill = std::round(scene.settle / scene.dt) + steps(0) + steps(1) + 0.1 * steps(4);
@@ -108,10 +108,10 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   const fs::path d = tmp.path / "D";
   EXPECT_FALSE(sweep(d, 2, std::llround(0.5 * steps(3)), false).complete);
   EXPECT_TRUE(fs::exists(d / "checkpoint.bin"));
-  const bagdem::SweepReport rd = sweep(d, 2, -1, true);
+  const bagdem::SteppedSineReport rd = sweep(d, 2, -1, true);
   ASSERT_TRUE(rd.complete) << rd.message;
   bagdem::testing::expect_same_sweep(a, d);
-  const bagdem::SweepReport rb = sweep(b, 1, -1, true);
+  const bagdem::SteppedSineReport rb = sweep(b, 1, -1, true);
   ASSERT_TRUE(rb.complete) << rb.message;
   bagdem::testing::expect_same_sweep(a, b);
 }

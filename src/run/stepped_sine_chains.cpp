@@ -1,5 +1,5 @@
-// The points of a sweep shared among its chains (sweep_chains.hpp).
-#include "sweep_chains.hpp"
+// The points of a stepped sine shared among its chains (stepped_sine_chains.hpp).
+#include "stepped_sine_chains.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,16 +35,16 @@ std::size_t round_points(std::size_t refine, std::size_t chains, std::size_t rou
 }
 
 // The contents' dynamic stiffness at the cavity, Z = -L / U (their force's and the cavity's first
-// harmonics) measured at a point, as a mass and a dashpot (Z = -w^2 M_e + i w C_e) at w: how a sweep
+// harmonics) measured at a point, as a mass and a dashpot (Z = -w^2 M_e + i w C_e) at w: how a stepped sine
 // point's start predicts the contents (Primary::steady_amplitudes). NaN without a cavity motion.
-std::complex<double> contents_stiffness(const SweepPoint& p, double w) {
+std::complex<double> contents_stiffness(const SteppedSinePoint& p, double w) {
   const double w0 = 2 * std::numbers::pi * p.frequency;
   if (!(std::abs(p.cavity) > 0)) return {std::nan(""), std::nan("")};
   const std::complex<double> Z0 = -p.contents_force / p.cavity;
   return {Z0.real() * (w * w) / (w0 * w0), Z0.imag() * w / w0};
 }
 
-std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SweepPoint>& done, std::size_t per_mode,
+std::vector<ChainTask> refinement_tasks(const Primary& P, const std::vector<SteppedSinePoint>& done, std::size_t per_mode,
                                         std::size_t chains, double dt, std::size_t first_index) {
   std::vector<ChainTask> tasks;
   const std::size_t K = std::max<std::size_t>(1, chains);

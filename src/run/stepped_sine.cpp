@@ -1,5 +1,5 @@
-// Stepped-sine frequency sweep (run/frequency_sweep.hpp).
-#include "bagdem/run/frequency_sweep.hpp"
+// The stepped sine: the structure driven at one frequency after another (run/stepped_sine.hpp).
+#include "bagdem/run/stepped_sine.hpp"
 
 #include <omp.h>
 #include <unistd.h>
@@ -31,11 +31,11 @@
 #include "bagdem/structure/response.hpp"
 #include "interrupt.hpp"
 #include "output_files.hpp"
-#include "sweep_chains.hpp"
-#include "sweep_files.hpp"
-#include "sweep_peaks.hpp"
-#include "sweep_state.hpp"
-#include "sweep_window.hpp"
+#include "stepped_sine_chains.hpp"
+#include "stepped_sine_files.hpp"
+#include "stepped_sine_peaks.hpp"
+#include "stepped_sine_state.hpp"
+#include "stepped_sine_window.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -49,7 +49,7 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// A chain of the sweep (sweep_chains.hpp): its simulation, and where its steps are counted from
+// A chain of the stepped sine (stepped_sine_chains.hpp): its simulation, and where its steps are counted from
 // (the testing aid RunOptions::stop_after_steps).
 struct Chain {
   explicit Chain(const Scene& scene) : sim(scene) {}
@@ -60,7 +60,7 @@ struct Chain {
 // A point run, waiting for the points before it to be written: the points are written in their
 // order whatever the chains' pace, so the files are the same for any thread count.
 struct DonePoint {
-  SweepPoint pt;
+  SteppedSinePoint pt;
   ReducedRow reduced;
   Frame frame;
   std::vector<char> image;  // its chain's state after it (the checkpoint's)
@@ -68,23 +68,23 @@ struct DonePoint {
   std::size_t chain = 0;
 };
 
-// One sweep of a scene: its chains, its results file, the points done.
-class FrequencySweep {
+// One stepped sine of a scene: its chains, its results file, the points done.
+class SteppedSineRun {
  public:
-  FrequencySweep(const Scene& scene, const RunOptions& opt)
-      : scene_(scene), opt_(opt), P_(*scene.primary), plan_(*P_.sweep), out_(opt.out_dir) {
+  SteppedSineRun(const Scene& scene, const RunOptions& opt)
+      : scene_(scene), opt_(opt), P_(*scene.primary), plan_(*P_.stepped_sine), out_(opt.out_dir) {
     chains_.push_back(std::make_unique<Chain>(scene));
-    // The state of an interrupted sweep (sweep_state.hpp), or a fresh start.
-    start_sweep_state(out_, opt_.resume, sim0(), state_);
+    // The state of an interrupted stepped sine (stepped_sine_state.hpp), or a fresh start.
+    start_stepped_sine_state(out_, opt_.resume, sim0(), state_);
     t_start_ = std::chrono::steady_clock::now();
   }
   // results.h5.part open, and the points done before an interruption written again.
   void open();
-  // Settling, then the points; throws SweepHalt or RunError when stopped.
+  // Settling, then the points; throws SteppedSineHalt or RunError when stopped.
   void run();
-  SweepReport halted(const SweepHalt& h);
-  SweepReport failed(const RunError& e);
-  SweepReport finish();
+  SteppedSineReport halted(const SteppedSineHalt& h);
+  SteppedSineReport failed(const RunError& e);
+  SteppedSineReport finish();
 
  private:
   // The first chain's simulation: it settles the contents, and the other chains start from it.
@@ -95,17 +95,17 @@ class FrequencySweep {
   }
   // A signal, the testing aid, or another chain's failure stops the next step.
   void halt_if_asked(const Chain& c) const {
-    if (const int sig = pending_interrupt()) throw SweepHalt{sig};
-    if (stop_.load(std::memory_order_relaxed)) throw SweepHalt{0};
+    if (const int sig = pending_interrupt()) throw SteppedSineHalt{sig};
+    if (stop_.load(std::memory_order_relaxed)) throw SteppedSineHalt{0};
     if (opt_.stop_after_steps >= 0 && c.sim.steps_done() - c.first_step >= static_cast<std::uint64_t>(opt_.stop_after_steps))
-      throw SweepHalt{0};
+      throw SteppedSineHalt{0};
   }
-  // A checkpoint of the sweep as it stands: the points written and each chain's state after its
+  // A checkpoint of the stepped sine as it stands: the points written and each chain's state after its
   // last one written.
   void checkpoint() {
     file_->flush();
     state_.lengths = file_->lengths(), state_.points = rep_.points, state_.reduced = rep_.reduced;
-    save_sweep_checkpoint(out_ / "checkpoint.bin", scene_, state_);
+    save_stepped_sine_checkpoint(out_ / "checkpoint.bin", scene_, state_);
   }
   fs::path close_results(const std::string& status, bool complete) {
     return close_results_file(*file_, out_, status, complete, state_.frame_times,
@@ -115,25 +115,25 @@ class FrequencySweep {
   void start_chains();
   void run_tasks(const std::vector<ChainTask>& tasks);
   void run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks);
-  DonePoint run_point(Chain& c, const ChainTask& task, const SweepPoint* from, const SweepPoint* to);
-  void drive_cycles(Chain& c, SweepPoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
+  DonePoint run_point(Chain& c, const ChainTask& task, const SteppedSinePoint* from, const SteppedSinePoint* to);
+  void drive_cycles(Chain& c, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
                     std::size_t i) const;
   void finished(std::size_t index, DonePoint&& d);
   void write_point(DonePoint& d);
-  void report_point(const SweepPoint& pt, std::size_t i, std::size_t window_cycles, std::size_t done) const;
+  void report_point(const SteppedSinePoint& pt, std::size_t i, std::size_t window_cycles, std::size_t done) const;
 
   const Scene& scene_;
   const RunOptions& opt_;
   const Primary& P_;
-  const Primary::Sweep& plan_;
+  const Primary::SteppedSine& plan_;
   const fs::path out_;
-  SweepState state_;
+  SteppedSineState state_;
   std::vector<std::unique_ptr<Chain>> chains_;
   std::chrono::steady_clock::time_point t_start_;
   std::optional<ResultsFile> file_;
-  SweepReport rep_;
+  SteppedSineReport rep_;
   // The points done before an interruption.
-  std::vector<SweepPoint> done_points_;
+  std::vector<SteppedSinePoint> done_points_;
   std::vector<ReducedRow> done_reduced_;
   ReductionContext context_;
   std::size_t npts_ = 0;        // the points planned (for the progress lines)
@@ -143,15 +143,15 @@ class FrequencySweep {
   // and a chain's failure that stops the others.
   std::mutex mutex_;
   std::map<std::size_t, DonePoint> waiting_;
-  std::map<std::size_t, SweepPoint> models_;  // per task of run_tasks, a model written before it
-  std::vector<std::optional<SweepPoint>> last_;  // per chain, its last point (each chain its own)
+  std::map<std::size_t, SteppedSinePoint> models_;  // per task of run_tasks, a model written before it
+  std::vector<std::optional<SteppedSinePoint>> last_;  // per chain, its last point (each chain its own)
   std::vector<std::size_t> last_index_;
   std::vector<std::uint64_t> image_step_;  // per chain, the steps of its state in state_.images
   std::size_t completed_ = 0;
   std::atomic<bool> stop_{false};
 };
 
-void FrequencySweep::open() {
+void SteppedSineRun::open() {
   const fs::path part = out_ / "results.h5.part", csv = out_ / "sweep.csv";
   std::vector<std::string> mats;
   for (const auto& m : scene_.materials) mats.push_back(m.name);
@@ -164,15 +164,15 @@ void FrequencySweep::open() {
   // The points done before an interruption: their rows again (the reopened file has no /sweep).
   done_points_ = std::move(state_.points);
   done_reduced_ = std::move(state_.reduced);
-  for (const SweepPoint& p : done_points_) file_->append_table_row("sweep", kSweepColumns, sweep_row(p));
-  if (!done_points_.empty()) write_sweep_csv(csv, done_points_), write_reduced_csv(out_ / "reduced.csv", done_reduced_);
+  for (const SteppedSinePoint& p : done_points_) file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(p));
+  if (!done_points_.empty()) write_stepped_sine_csv(csv, done_points_), write_reduced_csv(out_ / "reduced.csv", done_reduced_);
   rep_.points = done_points_, rep_.reduced = done_reduced_;
   chains_.front()->first_step = sim0().steps_done();
   context_ = reduction_context(scene_, P_.direction);
 }
 
 // Settling, the structure held.
-void FrequencySweep::settle() {
+void SteppedSineRun::settle() {
   const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
   if (!state_.settled) {
     while (sim0().steps_done() < settle_steps) halt_if_asked(*chains_.front()), sim0().step();
@@ -187,7 +187,7 @@ void FrequencySweep::settle() {
 
 // The other chains, from the settled contents (or, resumed, from their own state at the
 // interruption; before any point was written every chain's is the settled state).
-void FrequencySweep::start_chains() {
+void SteppedSineRun::start_chains() {
   const std::size_t n = chain_count(plan_.chains, plan_.frequencies.size());
   if (state_.images.size() != n) state_.images.assign(n, state_.images.front());
   for (std::size_t k = 1; k < n; ++k) {
@@ -199,7 +199,7 @@ void FrequencySweep::start_chains() {
   last_.assign(n, std::nullopt), last_index_.assign(n, ChainTask::none);
 }
 
-void FrequencySweep::run() {
+void SteppedSineRun::run() {
   settle();
   start_chains();
   const std::size_t K = chains_.size();
@@ -213,11 +213,11 @@ void FrequencySweep::run() {
   // released into its start state within it).
   K_ = plan_.half_window(), window_ = 2 * K_, least_ = plan_.least_cycles();
   run_tasks(planned_tasks(plan_.frequencies, K));
-  // Peak refinement: per mode, `refine` more points in rounds of up to K (sweep_chains.hpp).
+  // Peak refinement: per mode, `refine` more points in rounds of up to K (stepped_sine_chains.hpp).
   // Each round is chosen from the points before it (a resumed round: as it was first chosen).
   std::size_t first = plan_.frequencies.size();
   for (std::size_t r = 0; r < refinement_rounds(plan_.refine, K); ++r) {
-    const std::vector<SweepPoint> before(rep_.points.begin(), rep_.points.begin() + static_cast<std::ptrdiff_t>(first));
+    const std::vector<SteppedSinePoint> before(rep_.points.begin(), rep_.points.begin() + static_cast<std::ptrdiff_t>(first));
     const std::vector<ChainTask> tasks = refinement_tasks(P_, before, round_points(plan_.refine, K, r), K, scene_.dt, first);
     run_tasks(tasks);
     first += tasks.size();
@@ -226,7 +226,7 @@ void FrequencySweep::run() {
 
 // The tasks not yet written, each chain's in order; the chains side by side on the threads given
 // (each with its share of them), or one after another on one.
-void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
+void SteppedSineRun::run_tasks(const std::vector<ChainTask>& tasks) {
   std::vector<std::vector<ChainTask>> per(chains_.size());
   models_.clear();
   for (const ChainTask& t : tasks) {
@@ -258,7 +258,7 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
     omp_set_num_threads(inner);
     try {
       run_chain(*chains_[busy[b]], busy[b], per[busy[b]]);
-    } catch (const SweepHalt& h) {
+    } catch (const SteppedSineHalt& h) {
       errors[b] = std::current_exception();
       if (h.signal != 0) stop_.store(true);  // the testing aid stops each chain at its own step
     } catch (...) {
@@ -272,7 +272,7 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
     if (!e) continue;
     try {
       std::rethrow_exception(e);
-    } catch (const SweepHalt& h) {
+    } catch (const SteppedSineHalt& h) {
       if (!halt) halt = e;
       if (h.signal != 0 && !signal) signal = e;
     } catch (...) {
@@ -285,11 +285,11 @@ void FrequencySweep::run_tasks(const std::vector<ChainTask>& tasks) {
 
 // Each point after the chain's first starts from the one before it (excitation.predict), its
 // contents modelled on that point or, in the refinement, on the written point nearest in frequency.
-void FrequencySweep::run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks) {
+void SteppedSineRun::run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks) {
   for (const ChainTask& t : tasks) {
     const auto m = models_.find(t.index);
-    const SweepPoint* from = last_[k] ? &*last_[k] : nullptr;
-    const SweepPoint* to = m != models_.end() ? &m->second : t.model == last_index_[k] ? from : nullptr;
+    const SteppedSinePoint* from = last_[k] ? &*last_[k] : nullptr;
+    const SteppedSinePoint* to = m != models_.end() ? &m->second : t.model == last_index_[k] ? from : nullptr;
     DonePoint d = run_point(c, t, from, to);
     last_[k] = d.pt, last_index_[k] = t.index;
     finished(t.index, std::move(d));
@@ -297,11 +297,11 @@ void FrequencySweep::run_chain(Chain& c, std::size_t k, const std::vector<ChainT
 }
 
 // One frequency point, from the state the chain's last one left.
-DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const SweepPoint* from, const SweepPoint* to) {
+DonePoint SteppedSineRun::run_point(Chain& c, const ChainTask& task, const SteppedSinePoint* from, const SteppedSinePoint* to) {
   const auto t_point = std::chrono::steady_clock::now();
   DonePoint d;
   d.chain = task.chain;
-  SweepPoint& pt = d.pt;
+  SteppedSinePoint& pt = d.pt;
   pt.requested = task.frequency;
   const std::size_t N = steps_per_cycle(pt.requested, scene_.dt);
   pt.frequency = 1.0 / (static_cast<double>(N) * scene_.dt);
@@ -310,7 +310,7 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const Sweep
   // The predicted start (excitation.predict): the structure's state moves from the steady state of
   // the chain's last point (`from`, with its contents as measured there) to the one at this
   // frequency with the model's contents (`to`), the rest of the state (the decaying part, the static
-  // one) kept (sweep_chains.hpp).
+  // one) kept (stepped_sine_chains.hpp).
   if (plan_.predict && from && to) {
     const double w_a = kTwoPi * from->frequency;
     const Complex Za = contents_stiffness(*from, w_a), Zb = contents_stiffness(*to, w);
@@ -333,9 +333,9 @@ DonePoint FrequencySweep::run_point(Chain& c, const ChainTask& task, const Sweep
 
 // A point is done: its progress line, then it and any points after it that were waiting for it
 // are written, in order, and the checkpoint follows. A chain runs its block in the points' order
-// (sweep_chains.hpp): so the points written of each chain are always the first it ran, and its
+// (stepped_sine_chains.hpp): so the points written of each chain are always the first it ran, and its
 // state after the last of them is the one to resume from.
-void FrequencySweep::finished(std::size_t index, DonePoint&& d) {
+void SteppedSineRun::finished(std::size_t index, DonePoint&& d) {
   const std::lock_guard<std::mutex> lock(mutex_);
   report_point(d.pt, index, std::min<std::size_t>(d.pt.cycles, window_), ++completed_ + done_points_.size());
   waiting_.emplace(index, std::move(d));
@@ -349,19 +349,19 @@ void FrequencySweep::finished(std::size_t index, DonePoint&& d) {
 }
 
 // A point's row, frame and tables.
-void FrequencySweep::write_point(DonePoint& d) {
+void SteppedSineRun::write_point(DonePoint& d) {
   rep_.points.push_back(d.pt);
   rep_.reduced.push_back(d.reduced);
-  file_->append_table_row("sweep", kSweepColumns, sweep_row(d.pt));
+  file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(d.pt));
   frame(d.frame);
-  write_sweep_csv(out_ / "sweep.csv", rep_.points);
+  write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
   write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
   // The chain's latest state among its points written (steps_done grows along a chain).
   if (d.step > image_step_[d.chain]) state_.images[d.chain] = std::move(d.image), image_step_[d.chain] = d.step;
 }
 
 // The drive's cycles at the point's N steps each, until the window is steady or max_cycles.
-void FrequencySweep::drive_cycles(Chain& ch, SweepPoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
+void SteppedSineRun::drive_cycles(Chain& ch, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
                                   std::size_t i) const {
   Simulation& sim = ch.sim;
   // The response and the cavity with their slow drift taken out (CycleHarmonic), the cavity's
@@ -405,7 +405,7 @@ void FrequencySweep::drive_cycles(Chain& ch, SweepPoint& pt, std::size_t N, Stea
 }
 
 // The point's progress line, and why it is flagged unsteady if it is.
-void FrequencySweep::report_point(const SweepPoint& pt, std::size_t i, std::size_t window_cycles, std::size_t done) const {
+void SteppedSineRun::report_point(const SteppedSinePoint& pt, std::size_t i, std::size_t window_cycles, std::size_t done) const {
   if (!opt_.quiet) {
     const double el = since(t_start_), run = static_cast<double>(done - done_points_.size());
     std::fprintf(stderr, "%s  [%zu/%zu] %.5g Hz: |H| = %.4g +- %.2g m/N (bare %.4g), %s after %zu cycles, %.1f s; ETA %.0f s\n",
@@ -428,7 +428,7 @@ void FrequencySweep::report_point(const SweepPoint& pt, std::size_t i, std::size
   }
 }
 
-SweepReport FrequencySweep::halted(const SweepHalt& h) {
+SteppedSineReport SteppedSineRun::halted(const SteppedSineHalt& h) {
   file_->flush();
   if (h.signal == 0) return rep_;  // the testing aid: as if killed
   if (!state_.settled) state_.images = {sim0().save_state()}, checkpoint();  // during settling; else the last point's stands
@@ -439,8 +439,8 @@ SweepReport FrequencySweep::halted(const SweepHalt& h) {
   return rep_;
 }
 
-SweepReport FrequencySweep::failed(const RunError& e) {
-  // The points done are this failed sweep's: their tables carry its name too, beside its record.
+SteppedSineReport SteppedSineRun::failed(const RunError& e) {
+  // The points done are this failed stepped sine's: their tables carry its name too, beside its record.
   for (const char* t : {"sweep", "reduced"})
     if (fs::exists(out_ / (std::string(t) + ".csv"))) fs::rename(out_ / (std::string(t) + ".csv"), out_ / (std::string(t) + ".failed.csv"));
   rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
@@ -448,14 +448,14 @@ SweepReport FrequencySweep::failed(const RunError& e) {
   return rep_;
 }
 
-SweepReport FrequencySweep::finish() {
+SteppedSineReport SteppedSineRun::finish() {
   rep_.complete = true;
   rep_.wall_seconds = since(t_start_);
   rep_.peaks = sweep_peaks(P_, rep_.points);
   close_results("complete", true);
   fs::remove(out_ / "checkpoint.bin");
 
-  const std::string summary = sweep_summary_json(scene_, rep_, sim0().particles().size(), chains_.size());
+  const std::string summary = stepped_sine_summary_json(scene_, rep_, sim0().particles().size(), chains_.size());
   write_peaks_csv(out_ / "peaks.csv", rep_.peaks);
   if (const std::string why = drop_where_no_restitution(scene_, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
@@ -469,17 +469,17 @@ SweepReport FrequencySweep::finish() {
 
 }  // namespace
 
-SweepReport run_sweep(const Scene& scene, const RunOptions& opt) {
-  if (!scene.primary || !scene.primary->sweep)
+SteppedSineReport run_stepped_sine(const Scene& scene, const RunOptions& opt) {
+  if (!scene.primary || !scene.primary->stepped_sine)
     throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const OutputLock lock(opt.out_dir);  // creates the directory
-  FrequencySweep sweep(scene, opt);
+  SteppedSineRun sweep(scene, opt);
   sweep.open();
   try {
     sweep.run();
-  } catch (const SweepHalt& h) {
+  } catch (const SteppedSineHalt& h) {
     return sweep.halted(h);
   } catch (const RunError& e) {
     return sweep.failed(e);

@@ -3,7 +3,7 @@
 // the next (the force's phase stays continuous; with excitation.predict the structure's state then
 // moves to the new frequency's predicted steady state), in `excitation.chains` chains side by side, each
 // a simulation from the settled contents through its block of the frequencies (src/run/
-// sweep_chains.hpp); the points are written in their order, so the files do not depend on the
+// stepped_sine_chains.hpp); the points are written in their order, so the files do not depend on the
 // threads. Each frequency is rounded to a whole number N of
 // time steps per cycle, so that the first harmonic of a cycle's N samples,
 //     Y = (2/N) sum_n y_n e^{-i theta_n}    (theta_n the force's phase, f = F sin theta),
@@ -30,7 +30,7 @@
 // Per mode (excitation.around_modes, or every elastic mode inside the band): the bare and the
 // damped peak of |H| and the reduction in dB and percent (docs/reference-study.md, section 3). A lightly
 // damped peak is narrower than any affordable grid (half-power width 2 zeta f), so after the
-// planned frequencies the sweep adds `excitation.refine` points per mode between the largest |H|
+// planned frequencies the stepped sine adds `excitation.refine` points per mode between the largest |H|
 // and its larger neighbour (halfway, or with several chains in rounds of equal parts); the damped peak is then the parabola in
 // (f^2, 1/|H|^2) through the largest and its neighbours (find_peak), the bare peak that of the analytic receptance. The
 // largest simulated |H| is reported beside the fitted peak; when it is the mode's first or last
@@ -43,8 +43,8 @@
 // reduced.csv (the damper's effective parameters per point, reduce/reduce.hpp), peaks.csv (one
 // row per mode), bare_curve.csv (the bare structure's analytic response over the band), and
 // summary.json with the peaks (written last). checkpoint.bin: written when settling ends and after
-// each point written (with every chain's state); SIGINT/SIGTERM stop the sweep (status "interrupted") and --resume continues it from
-// the last point done to the same results as a sweep uninterrupted.
+// each point written (with every chain's state); SIGINT/SIGTERM stop the stepped sine (status "interrupted") and --resume continues it from
+// the last point done to the same results as a stepped sine uninterrupted.
 #pragma once
 #include <complex>
 #include <string>
@@ -57,7 +57,7 @@
 
 namespace bagdem {
 
-struct SweepPoint {
+struct SteppedSinePoint {
   double requested = 0;                   // requested frequency (unit: Hz)
   double frequency = 0;                   // driven: 1 / (N dt) (unit: Hz)
   std::complex<double> response;         // first harmonic of the displacement at x_a, mean over the last K cycles (unit: m)
@@ -91,34 +91,34 @@ struct ModePeak {
   std::size_t unsteady_points = 0;        // the mode's points left out as unsteady
 };
 
-struct SweepReport {
+struct SteppedSineReport {
   bool complete = false;
   std::string message;                    // failure, if any
   int signal = 0;                         // SIGINT or SIGTERM stopped the sweep (a checkpoint was left)
-  std::vector<SweepPoint> points;
+  std::vector<SteppedSinePoint> points;
   std::vector<ModePeak> peaks;
   std::vector<ReducedRow> reduced;        // per point: the damper's effective parameters (reduced.csv)
   std::vector<CompareRow> compare;        // per point: DEM against the continuum model (compare.csv)
   double wall_seconds = 0;
 };
 
-// Runs the sweep of a scene whose primary has a stepped-sine excitation (InputError otherwise).
-SweepReport run_sweep(const Scene& scene, const RunOptions& options);
+// Runs the stepped sine of a scene whose primary has a stepped-sine excitation (InputError otherwise).
+SteppedSineReport run_stepped_sine(const Scene& scene, const RunOptions& options);
 
-// The peaks of a finished sweep (points in any order): per mode of the plan, or per elastic mode
+// The peaks of a finished stepped sine (points in any order): per mode of the plan, or per elastic mode
 // inside the swept band.
-std::vector<ModePeak> sweep_peaks(const Primary& primary, const std::vector<SweepPoint>& points);
-// The peaks of a finished sweep in OUT recomputed from its recorded points (OUT/sweep.csv), the
+std::vector<ModePeak> sweep_peaks(const Primary& primary, const std::vector<SteppedSinePoint>& points);
+// The peaks of a finished stepped sine in OUT recomputed from its recorded points (OUT/sweep.csv), the
 // bare structure from `primary`: rewrites OUT/peaks.csv and the peaks of OUT/summary.json
-// (`bagdem peaks`). InputError when OUT holds no complete sweep, or when the bare peaks differ
+// (`bagdem peaks`). InputError when OUT holds no complete stepped sine, or when the bare peaks differ
 // from those recorded (the case or its --set differ from the run's).
-std::vector<ModePeak> recompute_sweep_peaks(const Primary& primary, const std::filesystem::path& out);
+std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& primary, const std::filesystem::path& out);
 // One line for a mode's peak: the fitted and the largest simulated peak, the reduction with its
 // interval, and the band-edge mark.
 std::string describe_peak(const ModePeak& peak);
-// Why a sweep has no peak where one was looked for: a line for a band that holds no natural
+// Why a stepped sine has no peak where one was looked for: a line for a band that holds no natural
 // frequency of the structure, and one per mode whose every point was unsteady; none when each
 // mode has its peak.
-std::vector<std::string> missing_peaks(const Primary& primary, const std::vector<SweepPoint>& points);
+std::vector<std::string> missing_peaks(const Primary& primary, const std::vector<SteppedSinePoint>& points);
 
 }  // namespace bagdem

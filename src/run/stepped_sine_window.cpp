@@ -1,5 +1,5 @@
-// A sweep point's window (sweep_window.hpp).
-#include "sweep_window.hpp"
+// A stepped sine point's window (stepped_sine_window.hpp).
+#include "stepped_sine_window.hpp"
 
 #include <cmath>
 #include <vector>
@@ -42,7 +42,7 @@ bool balances(const WindowBalance& b) {
 
 // Response, energy and first harmonics over the window.
 void measure_window(const Simulation& sim, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
-                    SweepPoint& pt) {
+                    SteppedSinePoint& pt) {
   const double F = P.amplitude;
   const double cycles = static_cast<double>(win.ys.size());
   std::vector<double> magnitude;
@@ -61,7 +61,7 @@ void measure_window(const Simulation& sim, const Primary& P, const PointWindow& 
 }
 
 // The damper's effective parameters over the same cycles (one step = one sample); sets pt.steady.
-ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SweepPoint& pt) {
+ReducedRow reduce_window(const PointWindow& win, const Scene& scene, const ReductionContext& context, SteppedSinePoint& pt) {
   CavitySeries last;
   for (const CavitySeries& c : win.recent) {
     last.t.insert(last.t.end(), c.t.begin(), c.t.end()), last.x.insert(last.x.end(), c.x.begin(), c.x.end());

@@ -1,7 +1,7 @@
-// Internal to src/run: what a stepped-sine sweep carries across an interruption (checkpoint.bin of
-// kind "sweep", checkpoint_file.hpp). A sweep is checkpointed when settling ends and after each
+// Internal to src/run: what a stepped sine carries across an interruption (checkpoint.bin of
+// kind "sweep", checkpoint_file.hpp). A stepped sine is checkpointed when settling ends and after each
 // point written (and during settling on SIGINT/SIGTERM); --resume continues from there: the points
-// written are restored, each chain (sweep_chains.hpp) continues from its state after its last point
+// written are restored, each chain (stepped_sine_chains.hpp) continues from its state after its last point
 // written, and a point not written is run again from its start.
 #pragma once
 #include <filesystem>
@@ -10,25 +10,25 @@
 
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
-#include "bagdem/run/frequency_sweep.hpp"
+#include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/step/simulation.hpp"
 
 namespace bagdem {
 
-// Why a sweep stops before its end: SIGINT/SIGTERM (`signal`), or 0 for the testing aid
+// Why a stepped sine stops before its end: SIGINT/SIGTERM (`signal`), or 0 for the testing aid
 // RunOptions::stop_after_steps (as if killed: nothing more is written).
-struct SweepHalt {
+struct SteppedSineHalt {
   int signal;
 };
 
-// What `bagdem run` prints when `signal` stopped a sweep at time t (s) after `points` points.
+// What `bagdem run` prints when `signal` stopped a stepped sine at time t (s) after `points` points.
 std::string interrupted_message(int signal, double t, std::size_t points, const std::filesystem::path& out);
 
-struct SweepState {
+struct SteppedSineState {
   bool settled = false;               // settling is over: the points below follow it
   double clearance = 0;               // the contents' free travel when settling ended (ReductionContext)
   SeriesLengths lengths;              // rows of results.h5.part's series (frames) at the checkpoint
-  std::vector<SweepPoint> points;     // the points done, in order
+  std::vector<SteppedSinePoint> points;     // the points done, in order
   std::vector<ReducedRow> reduced;    // their reduction
   std::vector<double> frame_times;    // times of the frames written (results.xmf)
   std::vector<std::vector<char>> images;  // per chain, its simulation's state after its last point
@@ -36,17 +36,17 @@ struct SweepState {
                                           // state, before the chains start
 };
 
-// Readies `out` for a sweep: with `resume`, the state from out/checkpoint.bin and the first chain's
+// Readies `out` for a stepped sine: with `resume`, the state from out/checkpoint.bin and the first chain's
 // simulation state in `sim` (InputError when it or results.h5.part is missing or unusable);
 // otherwise a fresh state and no checkpoint. Either way the earlier run's tables go
 // (output_files.hpp).
-void start_sweep_state(const std::filesystem::path& out, bool resume, Simulation& sim, SweepState& state);
+void start_stepped_sine_state(const std::filesystem::path& out, bool resume, Simulation& sim, SteppedSineState& state);
 
 // Writes out the state, its images included.
-void save_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, const SweepState& state);
+void save_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, const SteppedSineState& state);
 
-// Reads a sweep's checkpoint (InputError when it is missing, corrupt, of a run, or of another
+// Reads a stepped sine's checkpoint (InputError when it is missing, corrupt, of a run, or of another
 // case) into `state`.
-void load_sweep_checkpoint(const std::filesystem::path& path, const Scene& scene, SweepState& state);
+void load_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, SteppedSineState& state);
 
 }  // namespace bagdem

@@ -1,5 +1,5 @@
-// A stepped-sine sweep's own tables (sweep_files.hpp).
-#include "sweep_files.hpp"
+// A stepped sine's own tables (stepped_sine_files.hpp).
+#include "stepped_sine_files.hpp"
 
 #include <omp.h>
 
@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "bagdem/io/json.hpp"
-#include "sweep_peaks.hpp"
+#include "stepped_sine_peaks.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -18,7 +18,7 @@ namespace {
 constexpr double kTwoPi = 2 * std::numbers::pi;
 }  // namespace
 
-const std::vector<TableColumn> kSweepColumns = {
+const std::vector<TableColumn> kSteppedSineColumns = {
     {"requested_frequency", "Hz"}, {"frequency", "Hz"},
     {"response_re", "m"},          {"response_im", "m"},
     {"receptance_re", "m/N"},      {"receptance_im", "m/N"},
@@ -34,7 +34,7 @@ const std::vector<TableColumn> kSweepColumns = {
     {"spread", "1"},
     {"change", "1"},               {"wall_time", "s"}};
 
-std::vector<double> sweep_row(const SweepPoint& p) {
+std::vector<double> stepped_sine_row(const SteppedSinePoint& p) {
   const double w = kTwoPi * p.frequency;
   return {p.requested, p.frequency, p.response.real(), p.response.imag(), p.receptance.real(), p.receptance.imag(),
           p.bare.real(), p.bare.imag(), -w * w * p.response.real(), -w * w * p.response.imag(), w * w * std::abs(p.receptance), w * w * std::abs(p.bare), p.cavity.real(),
@@ -43,16 +43,16 @@ std::vector<double> sweep_row(const SweepPoint& p) {
           p.wall_seconds};
 }
 
-void write_sweep_csv(const fs::path& path, const std::vector<SweepPoint>& points) {
+void write_stepped_sine_csv(const fs::path& path, const std::vector<SteppedSinePoint>& points) {
   std::vector<std::vector<double>> rows;
-  for (const SweepPoint& p : points) rows.push_back(sweep_row(p));
-  write_table_csv(path, kSweepColumns, rows);
+  for (const SteppedSinePoint& p : points) rows.push_back(stepped_sine_row(p));
+  write_table_csv(path, kSteppedSineColumns, rows);
 }
 
-std::vector<SweepPoint> read_sweep_csv(const fs::path& path) {
-  std::vector<SweepPoint> points;
-  for (const std::vector<double>& r : read_table_csv(path, kSweepColumns)) {
-    SweepPoint p;
+std::vector<SteppedSinePoint> read_stepped_sine_csv(const fs::path& path) {
+  std::vector<SteppedSinePoint> points;
+  for (const std::vector<double>& r : read_table_csv(path, kSteppedSineColumns)) {
+    SteppedSinePoint p;
     p.requested = r[0], p.frequency = r[1], p.response = {r[2], r[3]}, p.receptance = {r[4], r[5]}, p.bare = {r[6], r[7]};
     p.cavity = {r[12], r[13]}, p.contents_force = {r[14], r[15]};
     p.work_external = r[16], p.dissipated_structure = r[17], p.dissipated_contents = r[18], p.balance = r[19];
@@ -63,11 +63,11 @@ std::vector<SweepPoint> read_sweep_csv(const fs::path& path) {
   return points;
 }
 
-void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<SweepPoint>& points) {
+void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<SteppedSinePoint>& points) {
   static const std::vector<TableColumn> columns = {{"frequency", "Hz"}, {"bare_receptance_abs", "m/N"}, {"bare_accelerance_abs", "m/s^2/N"}};
   if (points.empty()) return;
   double lo = points.front().frequency, hi = lo;
-  for (const SweepPoint& p : points) lo = std::min(lo, p.frequency), hi = std::max(hi, p.frequency);
+  for (const SteppedSinePoint& p : points) lo = std::min(lo, p.frequency), hi = std::max(hi, p.frequency);
   std::vector<std::vector<double>> rows;
   const int n = hi > lo ? 400 : 1;
   for (int k = 0; k < n; ++k) {
@@ -77,14 +77,14 @@ void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<
   write_table_csv(path, columns, rows);
 }
 
-std::string sweep_summary_json(const Scene& scene, const SweepReport& rep, std::size_t particles, std::size_t chains) {
+std::string stepped_sine_summary_json(const Scene& scene, const SteppedSineReport& rep, std::size_t particles, std::size_t chains) {
   std::ostringstream j;
   j << std::setprecision(10);
   j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n  \"kind\": \"stepped-sine\",\n"
     << "  \"particles\": " << particles << ",\n  \"dt\": " << scene.dt << ",\n"
     << "  \"threads\": " << omp_get_max_threads() << ",\n  \"chains\": " << chains << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
     << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
-    << std::count_if(rep.points.begin(), rep.points.end(), [](const SweepPoint& p) { return !p.steady; }) << ",\n"
+    << std::count_if(rep.points.begin(), rep.points.end(), [](const SteppedSinePoint& p) { return !p.steady; }) << ",\n"
     << "  \"force_amplitude_N\": " << scene.primary->amplitude << ",\n  \"peaks_missing\": [";
   const std::vector<std::string> missing = missing_peaks(*scene.primary, rep.points);  // why a mode has no peak
   for (std::size_t k = 0; k < missing.size(); ++k) j << (k ? ", " : "") << '"' << json_escape(missing[k]) << '"';

@@ -1,4 +1,4 @@
-// Test support of the sweep restart suites (test_sweep_restart.cpp, test_faults.cpp): a small
+// Test support of the sweep restart suites (test_stepped_sine_restart.cpp, test_faults.cpp): a small
 // coupled sweep and the comparison of two sweeps' outputs.
 #pragma once
 #include <gtest/gtest.h>

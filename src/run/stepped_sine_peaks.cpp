@@ -1,5 +1,5 @@
-// The peaks of a stepped-sine sweep (run/sweep_peaks.hpp, run/frequency_sweep.hpp).
-#include "sweep_peaks.hpp"
+// The peaks of a stepped sine (run/stepped_sine_peaks.hpp, run/stepped_sine.hpp).
+#include "stepped_sine_peaks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
-#include "sweep_files.hpp"
+#include "stepped_sine_files.hpp"
 
 namespace bagdem {
 
@@ -24,15 +24,15 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
-std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SweepPoint>& points) {
+std::vector<ModePoints> group_by_mode(const Primary& P, const std::vector<SteppedSinePoint>& points) {
   std::vector<ModePoints> out;
   if (points.empty()) return out;
-  std::vector<const SweepPoint*> pts;
-  for (const SweepPoint& p : points) pts.push_back(&p);
-  std::sort(pts.begin(), pts.end(), [](const SweepPoint* a, const SweepPoint* b) { return a->frequency < b->frequency; });
+  std::vector<const SteppedSinePoint*> pts;
+  for (const SteppedSinePoint& p : points) pts.push_back(&p);
+  std::sort(pts.begin(), pts.end(), [](const SteppedSinePoint* a, const SteppedSinePoint* b) { return a->frequency < b->frequency; });
   for (std::size_t m : P.evaluated_modes(pts.front()->frequency, pts.back()->frequency)) {
     ModePoints mp{m, {}};
-    for (const SweepPoint* p : pts)
+    for (const SteppedSinePoint* p : pts)
       if (P.nearest_elastic_mode(p->frequency) == m) mp.points.push_back(p);
     if (!mp.points.empty()) out.push_back(std::move(mp));
   }
@@ -45,7 +45,7 @@ std::vector<double> refinement_frequencies(const ModePoints& m, double dt, std::
   for (std::size_t i = 1; i < p.size(); ++i)
     if (std::abs(p[i]->receptance) > std::abs(p[k]->receptance)) k = i;
   if (k == 0 || k + 1 >= p.size()) return {};
-  const SweepPoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
+  const SteppedSinePoint* side = std::abs(p[k - 1]->receptance) > std::abs(p[k + 1]->receptance) ? p[k - 1] : p[k + 1];
   const double a = p[k]->frequency, b = side->frequency, parts = static_cast<double>(n + 1);
   std::vector<std::size_t> used = {steps_per_cycle(a, dt), steps_per_cycle(b, dt)};
   std::vector<double> out;
@@ -92,18 +92,18 @@ std::string peaks_json(const std::vector<ModePeak>& peaks) {
   return j.str();
 }
 
-std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SteppedSinePoint>& points) {
   std::vector<ModePeak> out;
   // The modes and their bands from every point; the damped peak from the steady ones alone. Points
   // left out must not narrow the band the bare structure is searched in (were the points around
   // the bare resonance unsteady, the steady ones' band would miss it).
   for (const ModePoints& all : group_by_mode(P, points)) {
-    std::vector<const SweepPoint*> steady;
-    for (const SweepPoint* p : all.points)
+    std::vector<const SteppedSinePoint*> steady;
+    for (const SteppedSinePoint* p : all.points)
       if (p->steady) steady.push_back(p);
     if (steady.empty()) continue;
     std::vector<double> f, mag;
-    for (const SweepPoint* p : steady) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
+    for (const SteppedSinePoint* p : steady) f.push_back(p->frequency), mag.push_back(std::abs(p->receptance));
     ModePeak mp;
     mp.name = P.dof_names[all.dof];
     mp.mode = P.elastic_mode_number(all.dof);
@@ -125,14 +125,14 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SweepPoint
   return out;
 }
 
-std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesystem::path& out) {
+std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& P, const std::filesystem::path& out) {
   const std::filesystem::path summary_path = out / "summary.json", peaks_path = out / "peaks.csv";
   if (!std::filesystem::exists(summary_path))
     throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json is missing)");
   nlohmann::ordered_json summary = read_json(summary_path);
   if (summary.value("kind", "") != "stepped-sine" || !summary.contains("peaks"))
     throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json has no peaks of a stepped-sine sweep)");
-  const std::vector<ModePeak> peaks = sweep_peaks(P, read_sweep_csv(out / "sweep.csv"));
+  const std::vector<ModePeak> peaks = sweep_peaks(P, read_stepped_sine_csv(out / "sweep.csv"));
   // The bare peaks depend on the structure alone: they must be those the run recorded.
   const std::vector<std::vector<double>> recorded = read_table_csv(peaks_path, {{"mode", "1"}, {"bare_peak", "m/N"}});
   bool same = recorded.size() == peaks.size();
@@ -146,19 +146,19 @@ std::vector<ModePeak> recompute_sweep_peaks(const Primary& P, const std::filesys
   return peaks;
 }
 
-std::vector<std::string> missing_peaks(const Primary& P, const std::vector<SweepPoint>& points) {
+std::vector<std::string> missing_peaks(const Primary& P, const std::vector<SteppedSinePoint>& points) {
   std::vector<std::string> out;
   if (points.empty()) return out;
   const std::vector<ModePoints> modes = group_by_mode(P, points);
   if (modes.empty()) {
-    const auto [lo, hi] = std::minmax_element(points.begin(), points.end(), [](const SweepPoint& a, const SweepPoint& b) { return a.frequency < b.frequency; });
+    const auto [lo, hi] = std::minmax_element(points.begin(), points.end(), [](const SteppedSinePoint& a, const SteppedSinePoint& b) { return a.frequency < b.frequency; });
     std::ostringstream m;
     m << "no peak reduction: the swept band " << lo->frequency << "-" << hi->frequency
       << " Hz holds no natural frequency of the structure (bagdem check lists them): set excitation.around_modes, or the frequencies around one";
     out.push_back(m.str());
   }
   for (const ModePoints& m : modes)
-    if (std::none_of(m.points.begin(), m.points.end(), [](const SweepPoint* p) { return p->steady; }))
+    if (std::none_of(m.points.begin(), m.points.end(), [](const SteppedSinePoint* p) { return p->steady; }))
       out.push_back("no peak reduction for " + P.dof_names[m.dof] + ": every one of its " + std::to_string(m.points.size()) +
                     " points was unsteady (the warnings above say why): raise excitation.max_cycles or excitation.steady_tolerance");
   return out;

@@ -226,21 +226,27 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
 // here). The law's force pulls at the end of a damped impact, so the rebound is fastest where the
 // force crosses zero, before the pull: a drop test that reports that speed overstates e.
 TEST_F(HookeCase, DropReportsTheLawsRestitution) {
-  const fs::path out = at("impact") / "drop";
-  const CmdResult drop = cli({"drop", at("impact").string(), "--out", out.string(), "--threads", "1"});
-  ASSERT_EQ(drop.code, 0) << drop.err;
-  const TextTable result = read_text_table(out / "drop_result.csv");
-  const TextTable series = read_text_table(out / "drop.csv");
-  ASSERT_EQ(result.rows.size(), 1u);
-  ASSERT_GT(series.rows.size(), 1u);
-  const double v_before = number(result, 0, "v_before"), e_drop = number(result, 0, "restitution");
-  // The series ends in free flight, away from the wall: the speed the ball left it with.
-  const double leaving = -number(series, series.rows.size() - 1, "approach_velocity");
-  EXPECT_EQ(number(series, series.rows.size() - 1, "wall_force"), 0.0) << "the series ends in free flight";
-  EXPECT_NEAR(leaving / v_before, kE, 0.03 * kE) << "the ball left the wall at e times its approach speed";
-  EXPECT_NEAR(e_drop, kE, 0.03 * kE) << "drop reports e_drop " << e_drop << " for the Hooke law's e " << kE
-                                     << "; the ball left the wall at " << leaving / v_before << " times its approach speed\n"
+  // e = 0.3-0.5: the pull at the impact's end is strongest against the peak (a probe found e_drop
+  // 0.388 for 0.3 and 0.547 for 0.5 when the test stopped in the pull, taken for another wall).
+  for (const double e : {0.3, 0.4, kE}) {
+    SCOPED_TRACE("e " + std::to_string(e));
+    const fs::path out = at("impact") / ("drop-" + std::to_string(e));
+    const CmdResult drop = cli({"drop", at("impact").string(), "--out", out.string(), "--threads", "1", "--set",
+                                "interactions.default.restitution=" + std::to_string(e)});
+    ASSERT_EQ(drop.code, 0) << drop.err;
+    const TextTable result = read_text_table(out / "drop_result.csv");
+    const TextTable series = read_text_table(out / "drop.csv");
+    ASSERT_EQ(result.rows.size(), 1u);
+    ASSERT_GT(series.rows.size(), 1u);
+    const double v_before = number(result, 0, "v_before"), e_drop = number(result, 0, "restitution");
+    // The series ends in free flight, away from the wall: the speed the ball left it with.
+    const double leaving = -number(series, series.rows.size() - 1, "approach_velocity");
+    EXPECT_EQ(number(series, series.rows.size() - 1, "wall_force"), 0.0) << "the series ends in free flight";
+    EXPECT_NEAR(leaving / v_before, e, 0.03 * e) << "the ball left the wall at e times its approach speed";
+    EXPECT_NEAR(e_drop, e, 0.03 * e) << "drop reports e_drop " << e_drop << " for the Hooke law's e " << e << "; the ball left the wall at "
+                                     << leaving / v_before << " times its approach speed\n"
                                      << drop.out << drop.err;
+  }
 }
 
 TEST_F(HookeCase, SweepTradeCalibrate) {

@@ -64,6 +64,11 @@ std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vecto
   double peak = 0;
   std::uint64_t calm = 0;
   bool ended = false;
+  // A law that pulls at the end of an impact (contact_pulls): the wall ahead pulls back on the
+  // contents then, against u as another wall would push; another wall is taken for one only once
+  // that pull is over (the force back to >= 0 after it).
+  const bool pulls = contact_pulls(s);
+  bool pulling = false, pull_over = !pulls;
   for (std::uint64_t n = 0; n < max_steps && !ended; ++n) {
     sim.step();
     const CavitySample c = sim.take_cavity_sample();  // one step: this step's force, the velocity after it
@@ -71,7 +76,11 @@ std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vecto
     t.push_back(sim.time()), F.push_back(f), v.push_back(vn);
     peak = std::max(peak, f);
     calm = f > kThreshold * peak ? 0 : calm + 1;
-    ended = peak > 0 && ((calm >= quiet_steps && vn < 0.01 * speed) || (vn < 0 && f < -kThreshold * peak));
+    if (pulls && peak > 0) {
+      if (f < 0) pulling = true;
+      else if (pulling) pull_over = true;
+    }
+    ended = peak > 0 && ((calm >= quiet_steps && vn < 0.01 * speed) || (pull_over && vn < 0 && f < -kThreshold * peak));
   }
   // The impact: the pulses on the wall ahead, merged (one side, every wave), foot to foot.
   const std::vector<Impact> pulses = find_impacts(t, F, 0.0, kThreshold, 2 * (t.back() - t.front()));  // merge every wave

@@ -37,7 +37,8 @@ void Stepper::guards() {
     const std::size_t i = guard_.crossed;
     m << "ball " << p_.order[i] << " left the cavity through the STL wall '" << scene_.mesh_walls[guard_.crossed_surface - (scene_.bag ? 1 : 0)].name
       << "' (its centre is " << guard_.crossed_depth << " m beyond it). It went through within one step: reduce "
-         "simulation.timestep, the cavity acceleration or the particle speeds, or raise the wall's Young's modulus.";
+         "simulation.timestep, the cavity acceleration or the particle speeds, or raise the wall's Young's modulus "
+         "(law = \"hooke\": the pair's stiffness).";
     throw RunError(m.str());
   }
   if (crossed) {
@@ -81,7 +82,7 @@ void Stepper::guards() {
         << ", " << p_.x[i].z()
         << ") m. It went through the boundary within one step or flew out of an open cavity: reduce "
            "simulation.timestep, the cavity acceleration or the particle speeds, raise the wall's "
-           "Young's modulus, or close the cavity.";
+           "Young's modulus (law = \"hooke\": the pair's stiffness), or close the cavity.";
       throw RunError(m.str());
     }
   }
@@ -90,7 +91,7 @@ void Stepper::guards() {
       << 100 * scene_.max_overlap_fraction
       << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
-         "raise the Young's modulus.";
+         "raise the Young's modulus (law = \"hooke\": the pair's interactions.NAME.stiffness).";
     throw RunError(m.str());
   }
   // Last: a ball that fast has usually done one of the above already, which names what it did.

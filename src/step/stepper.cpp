@@ -53,10 +53,8 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   update_neighbours(true);
   for (std::size_t i = 0; i < n; ++i) start_sums(i);
   ctx_.enter(StepMode::set_up, scene_.dt);  // forces at rest: no history increment, no dissipation
-  pair_contacts();
-  wall_contacts();
-  triangle_contacts();
-  film_stage();
+  for (const StageEntry& s : stages())
+    if (s.at_rest) (this->*s.run)();
   if (structure_.couple) {
     structure_forces();  // the contents' load at rest
     structure_.release_step = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
@@ -88,17 +86,17 @@ void Stepper::advance(std::uint64_t steps) {
 // The step's stages (stage.hpp), in order: what each runs, and the clock that times it.
 std::span<const Stepper::StageEntry> Stepper::stages() {
   static constexpr StageEntry table[] = {
-      // stage               staged                         fused (fusable)
-      {Stage::kick_drift, &Stepper::kick_drift, &Stepper::kick_drift, &StageTimes::integrate},
-      {Stage::move_cavity, &Stepper::move_cavity, &Stepper::move_cavity, &StageTimes::integrate},
-      {Stage::neighbours, &Stepper::renew_neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours},
-      {Stage::pairs, &Stepper::pair_stage, &Stepper::fused_contacts, &StageTimes::pairs},  // + walls, next drift
-      {Stage::walls, &Stepper::wall_contacts, nullptr, &StageTimes::walls},
-      {Stage::triangles, &Stepper::triangle_contacts, &Stepper::triangle_contacts, &StageTimes::triangles},
-      {Stage::film, &Stepper::film_stage, &Stepper::film_stage, &StageTimes::film},
-      {Stage::structure, &Stepper::structure_stage, &Stepper::structure_stage, &StageTimes::integrate},
-      {Stage::kick, &Stepper::kick, &Stepper::kick, &StageTimes::integrate},
-      {Stage::guards, &Stepper::end_step, &Stepper::end_step, &StageTimes::guards}};
+      // stage               staged                         fused (fusable)                 clock               at rest
+      {Stage::kick_drift, &Stepper::kick_drift, &Stepper::kick_drift, &StageTimes::integrate, false},
+      {Stage::move_cavity, &Stepper::move_cavity, &Stepper::move_cavity, &StageTimes::integrate, false},
+      {Stage::neighbours, &Stepper::renew_neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours, false},
+      {Stage::pairs, &Stepper::pair_stage, &Stepper::fused_contacts, &StageTimes::pairs, true},  // + walls, next drift
+      {Stage::walls, &Stepper::wall_contacts, nullptr, &StageTimes::walls, true},
+      {Stage::triangles, &Stepper::triangle_contacts, &Stepper::triangle_contacts, &StageTimes::triangles, true},
+      {Stage::film, &Stepper::film_stage, &Stepper::film_stage, &StageTimes::film, true},
+      {Stage::structure, &Stepper::structure_stage, &Stepper::structure_stage, &StageTimes::integrate, false},
+      {Stage::kick, &Stepper::kick, &Stepper::kick, &StageTimes::integrate, false},
+      {Stage::guards, &Stepper::end_step, &Stepper::end_step, &StageTimes::guards, false}};
   return table;
 }
 

@@ -159,6 +159,7 @@ class Stepper {
     void (Stepper::*run)();
     void (Stepper::*fused)();
     double StageTimes::*clock;
+    bool at_rest;  // a force stage: set-up evaluates the forces at rest with it (StepMode::set_up)
   };
   static std::span<const StageEntry> stages();
   void begin_step(bool last);

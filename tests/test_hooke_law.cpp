@@ -56,6 +56,7 @@ double oscillator_max_overlap(double k, double m_eff, double e, double v) {
 
 TEST(HookeLaw, DampingRatioAndRestitutionAreInverse) {
   EXPECT_EQ(hooke::damping_ratio(1.0), 0.0);
+  EXPECT_FALSE(std::signbit(hooke::damping_ratio(1.0))) << "bagdem check would print a damping ratio of -0";
   for (double e : {0.05, 0.2, 0.5, 0.8, 0.99}) {
     const double zeta = hooke::damping_ratio(e);
     EXPECT_GT(zeta, 0.0);

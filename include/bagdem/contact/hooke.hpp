@@ -27,7 +27,7 @@ namespace hooke {
 // The damping ratio that returns restitution e, and its inverse.
 inline double damping_ratio(double e) {
   const double l = std::log(e);
-  return -l / std::sqrt(std::numbers::pi * std::numbers::pi + l * l);
+  return l < 0 ? -l / std::sqrt(std::numbers::pi * std::numbers::pi + l * l) : 0.0;  // e = 1: +0, not -0
 }
 inline double restitution(double zeta) { return std::exp(-zeta * std::numbers::pi / std::sqrt(1 - zeta * zeta)); }
 // Duration of a head-on impact of effective mass m_eff (unit: s).

@@ -7,13 +7,11 @@
 
 namespace bagdem {
 
-namespace {
-std::string number(double x) {
+std::string short_text(double x) {
   char b[64];
   std::snprintf(b, sizeof b, "%.10g", x);
   return b;
 }
-}  // namespace
 
 std::vector<std::string> keys::all_paths() {
   std::vector<std::string> p;
@@ -36,7 +34,7 @@ bool sets_key(std::string_view set, std::string_view path) {
 }
 
 Overrides& Overrides::set(const QuantityKey& k, double si) {
-  sets_.push_back(k.path + "=" + (k.unit.empty() ? number(si) : "\"" + number(si) + " " + k.unit + "\""));
+  sets_.push_back(k.path + "=" + (k.unit.empty() ? short_text(si) : "\"" + short_text(si) + " " + k.unit + "\""));
   return *this;
 }
 Overrides& Overrides::set(const IntegerKey& k, long long v) {
@@ -48,7 +46,7 @@ Overrides& Overrides::set(const WordKey& k, std::string_view word) {
   return *this;
 }
 Overrides& Overrides::set(const VectorKey& k, const Vec3& si) {
-  sets_.push_back(k.path + "=[" + number(si.x()) + ", " + number(si.y()) + ", " + number(si.z()) + "]");
+  sets_.push_back(k.path + "=[" + short_text(si.x()) + ", " + short_text(si.y()) + ", " + short_text(si.z()) + "]");
   return *this;
 }
 Overrides& Overrides::set(const TomlKey& k, std::string_view toml) {

@@ -70,12 +70,6 @@ std::size_t inputs_width(const Plan& plan) { return 3 + 2 * plan.spec.vary.size(
 
 }  // namespace
 
-std::string short_text(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", x);
-  return b;
-}
-
 Table read_csv(const std::string& path) {
   std::vector<std::vector<std::string>> rows = read_csv_cells(path);
   Table t;

@@ -13,6 +13,10 @@
 
 namespace bagdem {
 
+// A number as overrides and the study commands' tables write it: 10 significant digits (%.10g;
+// "nan", "inf" as printf gives them).
+std::string short_text(double x);
+
 struct QuantityKey {
   std::string path;
   std::string unit;  // the SI unit written after the value ("m", "kg"); "" for a bare SI number

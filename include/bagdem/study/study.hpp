@@ -28,6 +28,8 @@
 #include <utility>
 #include <vector>
 
+#include "bagdem/case/overrides.hpp"
+
 namespace bagdem::study {
 
 // ---- plan.cpp: the study and its points ---------------------------------------------------------
@@ -192,9 +194,8 @@ std::string csv_text(const Table& t);
 // a number with an optional unit). `unit` gets the SI unit ("m", "1"), or "" for a plain number.
 double si_number(const std::string& given, std::string* unit);
 
-// A number as the study commands write it into --set values and their tables: 10 significant
-// digits (%.10g; "nan", "inf" as printf gives them).
-std::string short_text(double x);
+// A number as the study commands write it into --set values and their tables (case/overrides.hpp).
+using bagdem::short_text;
 
 // OUT/<name>.csv's content: point, status, seed, each varied key as given and as an SI number
 // (`<key> [unit]`), then the point's own columns (union over the points, in order of appearance),

@@ -20,6 +20,7 @@
 
 #include "bag_support.hpp"
 #include "h5_read.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/parallel.hpp"
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/error.hpp"
@@ -67,15 +68,6 @@ double film_distance(const TriangleMesh& mesh, const std::vector<Vec3>& x, const
   double d2 = 1e300;
   for (const auto& t : mesh.triangles) d2 = std::min(d2, closest_point_on_triangle(p, x[t[0]], x[t[1]], x[t[2]]).distance2);
   return std::sqrt(d2);
-}
-
-// A number after `"key": ` in a JSON text (first occurrence after `after`), NaN when absent.
-double json_number(const std::string& text, const std::string& key, const std::string& after = "") {
-  std::size_t from = after.empty() ? 0 : text.find(after);
-  if (from == std::string::npos) return std::nan("");
-  const std::size_t k = text.find("\"" + key + "\":", from);
-  if (k == std::string::npos) return std::nan("");
-  return std::strtod(text.c_str() + k + key.size() + 3, nullptr);
 }
 
 }  // namespace
@@ -215,12 +207,12 @@ TEST(BagSettledReuse, RunSavesTheSettledBag) {
   const SettledRun& run = settled_run();
   ASSERT_EQ(run.result.code, 0) << run.result.err;
   EXPECT_TRUE(fs::exists(run.out / "bag.h5"));
-  const std::string summary = slurp(run.out / "summary.json");
-  ASSERT_NE(summary.find("\"bag\""), std::string::npos) << summary;
-  const double packing = json_number(summary, "packing_fraction", "\"bag\"");
-  const double balls = json_number(summary, "balls", "\"bag\"");
-  std::printf("BagSettledReuse: summary.json bag entry: balls %g, packing fraction %.4f\n", balls, packing);
-  EXPECT_EQ(balls, 30);
+  const bagdem::Summary summary = bagdem::read_summary(run.out / "summary.json");
+  ASSERT_TRUE(summary.bag);
+  const double packing = summary.bag->packing_fraction;
+  const std::size_t balls = summary.bag->balls;
+  std::printf("BagSettledReuse: summary.json bag entry: balls %zu, packing fraction %.4f\n", balls, packing);
+  EXPECT_EQ(balls, 30u);
   EXPECT_GT(packing, 0.3);
   EXPECT_LT(packing, 0.75);
 }

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/reduce/summary.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/study/trade.hpp"
 #include "case_texts.hpp"
@@ -116,12 +118,6 @@ double number(const TextTable& t, std::size_t row, const std::string& column) {
   return c < t.names.size() && row < t.rows.size() ? std::stod(t.rows[row][c]) : NAN;
 }
 
-// The number after `"key": ` in a JSON text (NaN when absent).
-double json_number(const std::string& js, const std::string& key, std::size_t from = 0) {
-  const std::size_t at = js.find("\"" + key + "\": ", from);
-  return at == npos ? NAN : std::stod(js.substr(at + key.size() + 4));
-}
-
 }  // namespace
 
 // The three cases, written once for the suite; each test writes its outputs beside them.
@@ -165,7 +161,7 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   const CmdResult run = cli({"run", c, "--out", out, "--quiet", "--threads", "1"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_NE(slurp(fs::path(out) / "results.h5").find("law = 'hooke'"), npos) << "results.h5 keeps the case as resolved";
-  EXPECT_NE(slurp(fs::path(out) / "summary.json").find("\"status\": \"complete\""), npos);
+  EXPECT_EQ(bagdem::read_summary(fs::path(out) / "summary.json").kind, bagdem::SummaryKind::stepped_sine);  // complete, or it refuses
   const std::size_t points = read_text_table(fs::path(out) / "sweep.csv").rows.size();
   EXPECT_EQ(points, 6u) << "5 frequencies and one refinement";
   const TextTable peaks = read_text_table(fs::path(out) / "peaks.csv");
@@ -261,7 +257,7 @@ TEST_F(HookeCase, SweepTradeCalibrate) {
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(sp.rows[i][sp.find("status")], "done");
     EXPECT_GT(number(sp, i, "reduction_dB"), 1.0) << "point " << i;
-    const double dt = json_number(slurp(study / ("point-00" + std::to_string(i)) / "summary.json"), "dt");
+    const double dt = bagdem::read_summary(study / ("point-00" + std::to_string(i)) / "summary.json").dt;
     EXPECT_NEAR(dt, hooke_step(k[i], 0.01), 1e-6 * dt) << "point " << i << "'s step is its spring's";
   }
 
@@ -305,11 +301,10 @@ TEST_F(HookeCase, SweepTradeCalibrate) {
   ASSERT_EQ(r.code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("calibrated excitation.amplitude = "), npos) << r.out;
   EXPECT_EQ(read_text_table(cal / "calibrate.csv").rows.size(), 3u);
-  const std::string js = slurp(cal / "calibration.json");
-  const std::size_t solution = js.find("\"solutions\": [");
-  ASSERT_NE(solution, npos) << js;
-  EXPECT_NEAR(json_number(js, "value", solution), 0.05, 1e-9) << js;
-  EXPECT_NE(js.find("\"matched\": true"), npos) << js;
+  const nlohmann::ordered_json js = bagdem::read_json(cal / "calibration.json");
+  ASSERT_TRUE(js.contains("solutions") && !js["solutions"].empty()) << js.dump(2);
+  EXPECT_NEAR(bagdem::json_number(js, "/solutions/0/value"), 0.05, 1e-9) << js.dump(2);
+  EXPECT_TRUE(js["solutions"][0].value("matched", false)) << js.dump(2);
 }
 
 TEST_F(HookeCase, CharacterizePredictDesign) {

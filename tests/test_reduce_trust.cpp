@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/contact/hertz_theory.hpp"
 #include "bagdem/io/table_csv.hpp"
@@ -214,8 +215,9 @@ TEST(SweepPeak, MarkedAtTheBandEdgeAndReducedWithIntervals) {
     d.write("case.toml", glued_ball_sweep({{"around_modes", "[1]"}, {"span", 0.12}, {"points", points}}));
     const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--quiet"}, d.path);
     ASSERT_EQ(r.code, 0) << r.err;
-    const std::string summary = bagdem::testing::slurp(d.path / "out" / "summary.json");
-    EXPECT_NE(summary.find(edge ? "\"at_band_edge\": true" : "\"at_band_edge\": false"), std::string::npos) << summary;
+    const bagdem::Summary summary = bagdem::read_summary(d.path / "out" / "summary.json");
+    ASSERT_EQ(summary.peaks.size(), 1u);
+    EXPECT_EQ(summary.peaks[0].at_band_edge, edge);
     EXPECT_EQ(r.out.find("AT THE BAND'S EDGE") != std::string::npos, edge) << r.out;
     const TextTable t = read_text_table(d.path / "out" / "reduced.csv");
     for (const char* column : {"M_eff_ci95", "C_eff_ci95", "Cb_over_Mbw_ci95", "energy_per_cycle_ci95", "e", "e_ci95",
@@ -249,9 +251,10 @@ TEST(SweepPeak, NoPeakSaysWhy) {
     const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--quiet"}, d.path);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << r.out;
-    const std::string summary = bagdem::testing::slurp(d.path / "out" / "summary.json");
-    EXPECT_NE(summary.find("\"peaks\": []"), std::string::npos) << summary;
-    EXPECT_NE(summary.find("\"peaks_missing\": [\"no peak reduction"), std::string::npos) << summary;
+    const bagdem::Summary summary = bagdem::read_summary(d.path / "out" / "summary.json");
+    EXPECT_TRUE(summary.peaks.empty());
+    ASSERT_EQ(summary.peaks_missing.size(), 1u);
+    EXPECT_EQ(summary.peaks_missing[0].rfind("no peak reduction", 0), 0u) << summary.peaks_missing[0];
   }
 }
 

@@ -12,7 +12,7 @@
 
 #include "bagdem/error.hpp"
 #include "bagdem/io/results_file.hpp"
-#include "bagdem/step/energy.hpp"
+#include "bagdem/energy.hpp"
 #include "h5_read.hpp"
 
 using namespace bagdem;

@@ -24,6 +24,7 @@
 #include "bagdem/run/bag_report.hpp"
 #include "bagdem/run/clearance.hpp"
 #include "bagdem/run/drop_fallback.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 #include "checkpoint_file.hpp"
@@ -34,13 +35,6 @@ namespace bagdem {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A number for JSON with 10 significant digits.
-std::string number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
 
 // Steps between two events of an interval (at least 1).
 std::uint64_t every(double interval, double dt) {
@@ -131,65 +125,40 @@ class Progress {
 // summary.json of a complete run: rep's headline figures (the structure's are set here), `psteps`
 // the particle-steps of this session, `response` and `response_acc` the structure's response at x_a
 // after release, sampled every ds (s).
-std::string summary_json(const Scene& scene, const Simulation& sim, RunReport& rep, double psteps,
-                         const std::vector<double>& response, const std::vector<double>& response_acc, double ds) {
-  const bool energy = scene.models.energy;
-  const EnergySample e = sim.energy();
-  const std::uint64_t total = scene.total_steps();
-  const double wall = rep.wall_seconds;
-  std::ostringstream j;
-  j << std::setprecision(10);
-  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n"
-    << "  \"particles\": " << sim.particles().size() << ",\n  \"steps\": " << total << ",\n"
-    << "  \"dt\": " << scene.dt << ",\n  \"dt_reason\": \"" << json_escape(scene.dt_reason) << "\",\n"
-    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << wall << ",\n"
-    << "  \"particle_steps_per_second\": " << (wall > 0 ? psteps / wall : 0) << ",\n"
-    << "  \"ns_per_particle_step\": " << rep.ns_per_particle_step << ",\n"
-    << "  \"neighbour_builds\": " << sim.neighbour_builds() << ",\n"
-    << "  \"energy_balance_error\": " << (energy ? number(rep.energy_balance_error) : "null") << ",\n";
-  if (energy) {
-    j << "  \"energy\": {\"kinetic\": " << e.kinetic << ", \"elastic\": " << e.elastic
-      << ", \"work_cavity\": " << e.work_cavity << ", \"work_gravity\": " << e.work_gravity
-      << ", \"dissipated_normal\": " << e.dissipated_normal << ", \"dissipated_tangential\": "
-      << e.dissipated_tangential << ", \"dissipated_rolling\": " << e.dissipated_rolling
-      << ", \"dissipated_damping\": " << e.dissipated_damping << "},\n";
-  } else {
-    j << "  \"energy\": null,\n  \"note\": \"output.energy = false: no energy budget was tallied\",\n";
-  }
-  if (rep.bag)
-    j << "  \"bag\": {\"balls\": " << scene.bag->balls << ", \"film_triangles\": " << scene.bag->rest.triangles.size()
-      << ", \"packing_fraction\": " << rep.bag_packing << ", \"outer_m\": [" << rep.bag_outer.x() << ", "
-      << rep.bag_outer.y() << ", " << rep.bag_outer.z() << "]},\n";
+Summary run_summary(const Scene& scene, const Simulation& sim, RunReport& rep, double psteps, const std::vector<double>& response,
+                    const std::vector<double>& response_acc, double ds) {
+  Summary s;
+  s.case_file = scene.case_file, s.particles = sim.particles().size(), s.steps = scene.total_steps();
+  s.dt = scene.dt, s.dt_reason = scene.dt_reason, s.threads = omp_get_max_threads();
+  s.wall_time = rep.wall_seconds, s.particle_steps_per_second = rep.wall_seconds > 0 ? psteps / rep.wall_seconds : 0;
+  s.ns_per_particle_step = rep.ns_per_particle_step, s.neighbour_builds = sim.neighbour_builds();
+  if (scene.models.energy) s.energy = sim.energy(), s.energy_balance_error = rep.energy_balance_error;
+  if (rep.bag) s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer};
   if (scene.primary) {
     const Primary& P = *scene.primary;
     const auto& S = sim.structure().scalars;
     rep.structure = true;
     rep.response_rms = rms(response, ds, 0.0);
     rep.acceleration_rms = rms(response_acc, ds, 0.0);
-    j << "  \"structure\": {\"kind\": \"" << P.kind << "\", \"response_at_m\": " << P.response_at
-      << ", \"response_rms_m\": " << rep.response_rms << ", \"acceleration_rms_m_s2\": " << rep.acceleration_rms;
+    SummaryStructure st;
+    st.kind = P.kind, st.response_at = P.response_at, st.response_rms = rep.response_rms, st.acceleration_rms = rep.acceleration_rms;
     if (P.random_hi > 0) {
       rep.band_response_rms = band_rms(response, ds, P.random_lo, P.random_hi, P.random_skip);
-      j << ", \"band_response_rms_m\": " << rep.band_response_rms << ", \"band_Hz\": [" << P.random_lo << ", " << P.random_hi
-        << "], \"band_from_s\": " << P.random_skip;
+      st.band = SummaryBand{rep.band_response_rms, P.random_lo, P.random_hi, P.random_skip};
     }
-    j
-      << ", \"work_external_J\": " << S.work_external << ", \"work_contents_J\": " << S.work_contents
-      << ", \"dissipated_J\": " << S.dissipated << ", \"energy_J\": " << sim.structure_energy();
+    st.work_external = S.work_external, st.work_contents = S.work_contents, st.dissipated = S.dissipated;
+    st.energy = sim.structure_energy();
     if (!P.harmonic && response.size() > 8) {
       // Free decay or a blow: the decay of the response (structure/response.hpp, fit_decay).
-      const DecayFit d = fit_decay(response, ds);
-      rep.decay_time = d.decay_time;
-      rep.decay_zeta = d.zeta;
-      j << ", \"decay\": {\"peaks\": " << d.peaks << ", \"rate_1_s\": " << d.rate << ", \"damped_frequency_Hz\": "
-        << d.damped_frequency << ", \"damping_ratio\": " << d.zeta << ", \"decay_time_20dB_s\": " << d.decay_time
-        << ", \"measured_decay_time_20dB_s\": " << d.measured_decay_time << "}";
+      st.decay = fit_decay(response, ds);
+      rep.decay_time = st.decay->decay_time;
+      rep.decay_zeta = st.decay->zeta;
     }
-    j << "},\n";
+    s.structure = std::move(st);
   }
-  j << "  \"cycles_measured\": " << rep.cycles << ",\n"
-    << "  \"dissipated_per_cycle_J\": " << (rep.cycles > 0 ? number(rep.dissipated_per_cycle) : "null") << "\n}\n";
-  return j.str();
+  s.cycles_measured = rep.cycles;
+  if (rep.cycles > 0) s.dissipated_per_cycle = rep.dissipated_per_cycle;
+  return s;
 }
 
 // When a run records, checks and reports, in steps.
@@ -463,7 +432,7 @@ void RunLoop::finish() {
   fs::remove(ckpt());
 
   const double ds = static_cast<double>(at_.n_cavity) * scene_.dt;
-  write_atomically(out_ / "summary.json", summary_json(scene_, sim_, rep_, psteps, response_, response_acc_, ds));
+  write_summary(out_ / "summary.json", run_summary(scene_, sim_, rep_, psteps, response_, response_acc_, ds));
   // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
   if (!scene_.primary && at_.f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
     try {

@@ -455,7 +455,7 @@ SteppedSineReport SteppedSineRun::finish() {
   close_results("complete", true);
   fs::remove(out_ / "checkpoint.bin");
 
-  const std::string summary = stepped_sine_summary_json(scene_, rep_, sim0().particles().size(), chains_.size());
+  const Summary summary = stepped_sine_summary(scene_, rep_, sim0().particles().size(), chains_.size());
   write_peaks_csv(out_ / "peaks.csv", rep_.peaks);
   if (const std::string why = drop_where_no_restitution(scene_, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
@@ -463,7 +463,7 @@ SteppedSineReport SteppedSineRun::finish() {
   rep_.compare = compare_with_continuum(P_, P_.amplitude, rep_.reduced);
   write_compare_csv(out_ / "compare.csv", rep_.compare);
   write_bare_curve(out_ / "bare_curve.csv", P_, rep_.points);
-  write_atomically(out_ / "summary.json", summary);
+  write_summary(out_ / "summary.json", summary);
   return rep_;
 }
 

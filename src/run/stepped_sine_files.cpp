@@ -77,19 +77,16 @@ void write_bare_curve(const fs::path& path, const Primary& P, const std::vector<
   write_table_csv(path, columns, rows);
 }
 
-std::string stepped_sine_summary_json(const Scene& scene, const SteppedSineReport& rep, std::size_t particles, std::size_t chains) {
-  std::ostringstream j;
-  j << std::setprecision(10);
-  j << "{\n  \"status\": \"complete\",\n  \"case\": \"" << json_escape(scene.case_file) << "\",\n  \"kind\": \"stepped-sine\",\n"
-    << "  \"particles\": " << particles << ",\n  \"dt\": " << scene.dt << ",\n"
-    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"chains\": " << chains << ",\n  \"wall_time_s\": " << rep.wall_seconds << ",\n"
-    << "  \"points\": " << rep.points.size() << ",\n  \"not_steady\": "
-    << std::count_if(rep.points.begin(), rep.points.end(), [](const SteppedSinePoint& p) { return !p.steady; }) << ",\n"
-    << "  \"force_amplitude_N\": " << scene.primary->amplitude << ",\n  \"peaks_missing\": [";
-  const std::vector<std::string> missing = missing_peaks(*scene.primary, rep.points);  // why a mode has no peak
-  for (std::size_t k = 0; k < missing.size(); ++k) j << (k ? ", " : "") << '"' << json_escape(missing[k]) << '"';
-  j << "],\n  \"peaks\": " << peaks_json(rep.peaks) << "\n}\n";  // the peaks last: bagdem peaks rewrites them
-  return j.str();
+Summary stepped_sine_summary(const Scene& scene, const SteppedSineReport& rep, std::size_t particles, std::size_t chains) {
+  Summary s;
+  s.kind = SummaryKind::stepped_sine;
+  s.case_file = scene.case_file, s.particles = particles, s.dt = scene.dt, s.threads = omp_get_max_threads();
+  s.chains = chains, s.wall_time = rep.wall_seconds, s.points = rep.points.size();
+  s.not_steady = static_cast<std::size_t>(std::count_if(rep.points.begin(), rep.points.end(), [](const SteppedSinePoint& p) { return !p.steady; }));
+  s.force_amplitude = scene.primary->amplitude;
+  s.peaks_missing = missing_peaks(*scene.primary, rep.points);  // why a mode has no peak
+  s.peaks = rep.peaks;
+  return s;
 }
 
 }  // namespace bagdem

@@ -7,6 +7,7 @@
 
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/run/stepped_sine.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/structure/primary.hpp"
 
 namespace bagdem {
@@ -16,7 +17,7 @@ extern const std::vector<TableColumn> kSteppedSineColumns;
 std::vector<double> stepped_sine_row(const SteppedSinePoint& p);
 
 // summary.json of a complete stepped sine: the case, the run's figures and each mode's peak.
-std::string stepped_sine_summary_json(const Scene& scene, const SteppedSineReport& rep, std::size_t particles, std::size_t chains);
+Summary stepped_sine_summary(const Scene& scene, const SteppedSineReport& rep, std::size_t particles, std::size_t chains);
 
 // sweep.csv: a row per point; and the points read back (every field sweep.csv holds).
 void write_stepped_sine_csv(const std::filesystem::path& path, const std::vector<SteppedSinePoint>& points);

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "bagdem/error.hpp"
-#include "bagdem/io/json.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
@@ -71,27 +71,6 @@ void write_peaks_csv(const std::filesystem::path& path, const std::vector<ModePe
   write_table_csv(path, columns, rows);
 }
 
-std::string peaks_json(const std::vector<ModePeak>& peaks) {
-  auto num = [](double v) {
-    std::ostringstream n;
-    n << std::setprecision(10) << v;
-    return std::isfinite(v) ? n.str() : std::string("null");
-  };
-  std::ostringstream j;
-  j << "[";
-  for (std::size_t k = 0; k < peaks.size(); ++k) {
-    const ModePeak& m = peaks[k];
-    j << (k ? ",\n" : "\n") << "    {\"mode\": \"" << m.name << "\", \"bare_frequency_Hz\": " << num(m.bare_frequency)
-      << ", \"bare_peak_m_per_N\": " << num(m.bare_peak) << ", \"frequency_Hz\": " << num(m.frequency) << ", \"peak_m_per_N\": "
-      << num(m.peak) << ", \"simulated_frequency_Hz\": " << num(m.simulated_frequency) << ", \"simulated_peak_m_per_N\": "
-      << num(m.simulated_peak) << ", \"peak_ci95_m_per_N\": " << num(m.peak_ci95) << ", \"reduction_dB\": " << num(m.reduction_db)
-      << ", \"reduction_dB_ci95\": " << num(m.reduction_db_ci95) << ", \"reduction_percent\": " << num(m.reduction_percent)
-      << ", \"at_band_edge\": " << (m.at_band_edge ? "true" : "false") << ", \"unsteady_points\": " << m.unsteady_points << "}";
-  }
-  j << (peaks.empty() ? "]" : "\n  ]");
-  return j.str();
-}
-
 std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SteppedSinePoint>& points) {
   std::vector<ModePeak> out;
   // The modes and their bands from every point; the damped peak from the steady ones alone. Points
@@ -129,8 +108,8 @@ std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& P, const std::
   const std::filesystem::path summary_path = out / "summary.json", peaks_path = out / "peaks.csv";
   if (!std::filesystem::exists(summary_path))
     throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json is missing)");
-  nlohmann::ordered_json summary = read_json(summary_path);
-  if (summary.value("kind", "") != "stepped-sine" || !summary.contains("peaks"))
+  Summary summary = read_summary(summary_path);
+  if (summary.kind != SummaryKind::stepped_sine)
     throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json has no peaks of a stepped-sine sweep)");
   const std::vector<ModePeak> peaks = sweep_peaks(P, read_stepped_sine_csv(out / "sweep.csv"));
   // The bare peaks depend on the structure alone: they must be those the run recorded.
@@ -141,8 +120,8 @@ std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& P, const std::
   if (!same)
     throw InputError(peaks_path.string(), "bare_peak", "", "the case's bare structure differs from the run's: give the case and the --set the run was made with");
   write_peaks_csv(peaks_path, peaks);
-  summary["peaks"] = nlohmann::ordered_json::parse(peaks_json(peaks));
-  write_atomically(summary_path, summary.dump(2) + "\n");
+  summary.peaks = peaks;
+  write_summary(summary_path, summary);
   return peaks;
 }
 

@@ -1,5 +1,5 @@
 // Internal to src/run: the peaks of a stepped sine (run/stepped_sine.hpp): the points grouped by
-// the mode they are nearest to, the peak refinement's next frequency, and peaks.csv / summary.json.
+// the mode they are nearest to, the peak refinement's next frequency, and peaks.csv.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -28,7 +28,5 @@ std::vector<double> refinement_frequencies(const ModePoints& m, double dt, std::
 
 // peaks.csv: one row per evaluated mode.
 void write_peaks_csv(const std::filesystem::path& path, const std::vector<ModePeak>& peaks);
-// summary.json's "peaks" array (NaN as null).
-std::string peaks_json(const std::vector<ModePeak>& peaks);
 
 }  // namespace bagdem

@@ -18,7 +18,7 @@
 #include "bagdem/particles.hpp"
 #include "bagdem/scene.hpp"
 #include "bagdem/span_balance.hpp"
-#include "bagdem/step/energy.hpp"
+#include "bagdem/energy.hpp"
 #include "bagdem/step/samples.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/primary.hpp"

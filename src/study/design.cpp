@@ -14,11 +14,11 @@
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
-#include "bagdem/io/json.hpp"
 #include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/study/design_files.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
@@ -231,7 +231,8 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
     for (const Point& p : plan.points)
       if (finished[p.index]) {
-        const double rms = json_number(read_json(fs::path(plan.point_dir(p)) / "summary.json"), "/structure/band_response_rms_m");
+        const Summary run = read_summary(fs::path(plan.point_dir(p)) / "summary.json");
+        const double rms = run.structure && run.structure->band ? run.structure->band->response_rms : NAN;
         x[p.combination][p.index] = {20 * std::log10(best[p.combination]->bare_rms / rms)};
       }
   } else if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {

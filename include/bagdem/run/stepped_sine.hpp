@@ -52,6 +52,7 @@
 
 #include "bagdem/reduce/compare.hpp"
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/reduce/summary.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/scene.hpp"
 
@@ -76,19 +77,6 @@ struct SteppedSinePoint {
   double change = 0;                      // relative change between the last two K-cycle means
   double spread = 0;                      // cycle-to-cycle scatter of the amplitude over the last K cycles (relative RMS)
   double wall_seconds = 0;
-};
-
-struct ModePeak {
-  std::string name;                       // "mode 1", ...
-  std::size_t mode = 0;                   // elastic mode number (1 = the first elastic mode)
-  double bare_frequency = 0, bare_peak = 0;  // peak of |H| of the bare structure (unit: Hz, m/N)
-  double frequency = 0, peak = 0;         // fitted peak of |H| with the contents (unit: Hz, m/N)
-  double simulated_frequency = 0, simulated_peak = 0;  // the largest simulated |H| (unit: Hz, m/N)
-  double peak_ci95 = 0;                   // 95% half-width of the largest simulated |H| (unit: m/N)
-  double reduction_db = 0, reduction_percent = 0;
-  double reduction_db_ci95 = 0;           // 95% half-width of the reduction (unit: dB)
-  bool at_band_edge = false;              // the largest |H| is the mode's first or last point
-  std::size_t unsteady_points = 0;        // the mode's points left out as unsteady
 };
 
 struct SteppedSineReport {

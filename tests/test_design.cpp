@@ -17,9 +17,11 @@
 #include <numbers>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
 #include "bagdem/study/design.hpp"
+#include "bagdem/study/design_files.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
 
@@ -28,13 +30,6 @@ using namespace bagdem::study;
 namespace fs = std::filesystem;
 
 namespace {
-// A design.csv column's index by its name (without the unit); a missing one fails the test.
-std::size_t column(const TextTable& t, const std::string& name) {
-  const std::size_t k = t.find(name);
-  EXPECT_LT(k, t.names.size()) << "design.csv has no column " << name;
-  return k;
-}
-
 DesignRow row(std::vector<double> db, double mass) {
   DesignRow r;
   r.db = db, r.db_lo = db, r.db_hi = db, r.added_mass = mass;
@@ -96,40 +91,35 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
   const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
   ASSERT_EQ(r.code, 0) << r.err << r.out;
 
-  const TextTable design = read_text_table(out / "design.csv");
-  const auto& cells = design.rows;
-  ASSERT_EQ(cells.size(), 3u) << "a row per candidate (an SDOF: one place)";
-  auto col = [&](const std::string& name) { return column(design, name); };
-  const std::size_t status = col("status"), rank = col("rank"), diameter = col("particles.ball.diameter"), mass = col("added_mass"),
-                    objective = col("objective_dB"), dem = col("dem_objective_dB"), seeds = col("dem_seeds");
-  col("reduction_dB_mode1");
-  col("pareto");
-  const std::size_t edge = col("at_band_edge");
+  const DesignTable design = read_design_csv(out / "design.csv");
+  ASSERT_EQ(design.rows.size(), 3u) << "a row per candidate (an SDOF: one place)";
+  EXPECT_EQ(design.varied, std::vector<std::string>{"particles.ball.diameter"});
+  EXPECT_EQ(design.modes, std::vector<int>{1});
   const double rho = 7800;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const auto& c = cells[i];
-    const double d = c[diameter] == "6 mm" ? 6e-3 : c[diameter] == "8 mm" ? 8e-3 : 10e-3;
+  for (const DesignRow& c : design.rows) {
+    const std::string& given = c.given.at(0);
+    const double d = given == "6 mm" ? 6e-3 : given == "8 mm" ? 8e-3 : 10e-3;
     const double m = rho * std::numbers::pi * d * d * d / 6;
-    EXPECT_NEAR(std::stod(c[mass]), m, 1e-9 * m);
+    EXPECT_NEAR(c.added_mass, m, 1e-9 * m);
     if (d == 10e-3) {
-      EXPECT_EQ(c[status], "over budget") << "0.0041 kg is 20% of the structure";
-      EXPECT_EQ(c[rank], "");
+      EXPECT_EQ(c.status.kind, Standing::over_budget) << "0.0041 kg is 20% of the structure";
+      EXPECT_EQ(c.rank, 0);
       continue;
     }
-    ASSERT_EQ(c[status], "ranked");
-    EXPECT_EQ(c[edge], "0") << "the damped peak lies inside the band";
+    ASSERT_EQ(c.status.kind, Standing::ranked);
+    EXPECT_EQ(c.at_band_edge, 0) << "the damped peak lies inside the band";
     const double z = zeta * std::sqrt(M / (M + 2 * m / 7));
     const double expected = 20 * std::log10(z * std::sqrt(1 - z * z) / (zeta * std::sqrt(1 - zeta * zeta)));
-    std::printf("  %s ball: predicted %s dB, analytic %.4f dB\n", c[diameter].c_str(), c[objective].c_str(), expected);
+    std::printf("  %s ball: predicted %.4f dB, analytic %.4f dB\n", given.c_str(), c.objective, expected);
     // 0.01 dB: the damped peak is sampled at 400 frequencies over the band (0.01 Hz apart).
-    EXPECT_NEAR(std::stod(c[objective]), expected, 0.01);
-    EXPECT_EQ(c[rank], d == 6e-3 ? "1" : "2") << "the lighter ball raises the peak less";
+    EXPECT_NEAR(c.objective, expected, 0.01);
+    EXPECT_EQ(c.rank, d == 6e-3 ? 1 : 2) << "the lighter ball raises the peak less";
   }
-  EXPECT_EQ(cells[0][diameter], "6 mm");
-  EXPECT_EQ(cells[0][seeds], "2") << "the best pair run coupled with 2 starts";
-  EXPECT_TRUE(std::isfinite(std::stod(cells[0][dem])));
-  EXPECT_EQ(cells[1][seeds], "0");
-  EXPECT_EQ(cells[1][dem], "");
+  EXPECT_EQ(design.rows[0].given.at(0), "6 mm");
+  EXPECT_EQ(design.rows[0].dem_seeds, 2) << "the best pair run coupled with 2 starts";
+  EXPECT_TRUE(std::isfinite(design.rows[0].dem_objective));
+  EXPECT_EQ(design.rows[1].dem_seeds, 0);
+  EXPECT_TRUE(std::isnan(design.rows[1].dem_objective));
 
   // The chosen case: the 6-mm ball, ready to run.
   const Scene chosen = load_case((out / "chosen").string());
@@ -165,28 +155,88 @@ TEST(Design, ARandomForceRanksByTheInBandRms) {
       "--verify", "1", "--verify-seeds", "1", "--out", out.string(), "--jobs", "2"};
   const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
   ASSERT_EQ(r.code, 0) << r.err << r.out;
-  const TextTable design = read_text_table(out / "design.csv");
-  const auto& cells = design.rows;
-  ASSERT_EQ(cells.size(), 2u);
-  auto col = [&](const std::string& name) { return column(design, name); };
-  const std::size_t diameter = col("particles.ball.diameter"), objective = col("objective_dB"), dem = col("dem_objective_dB");
-  col("reduction_dB_random");
+  const DesignTable design = read_design_csv(out / "design.csv");
+  ASSERT_EQ(design.rows.size(), 2u);
+  EXPECT_EQ(design.modes, std::vector<int>{0}) << "a random force's band (reduction_dB_random)";
   const int lines = 201;  // 200 intervals over the band
   auto sigma = [&](double mass) {
     double s2 = 0;
     for (int i = 0; i < lines; ++i) s2 += std::norm(sdof_receptance(mass, c, k, 2 * std::numbers::pi * (18 + 4.0 * i / (lines - 1))));
     return std::sqrt(s2 / 2 * 2.0 / lines);  // a = rms sqrt(2 / lines); the rms cancels in the ratio
   };
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const double d = cells[i][diameter] == "6 mm" ? 6e-3 : 8e-3, m = 7800 * std::numbers::pi * d * d * d / 6;
+  for (const DesignRow& row : design.rows) {
+    const std::string& given = row.given.at(0);
+    const double d = given == "6 mm" ? 6e-3 : 8e-3, m = 7800 * std::numbers::pi * d * d * d / 6;
     const double expected = 20 * std::log10(sigma(M) / sigma(M + 2 * m / 7));
-    std::printf("  %s ball: predicted %s dB, analytic %.6f dB\n", cells[i][diameter].c_str(), cells[i][objective].c_str(), expected);
+    std::printf("  %s ball: predicted %.6f dB, analytic %.6f dB\n", given.c_str(), row.objective, expected);
     // The map's M_eff is 2/7 m to 0.1%; the lines are the case's (201 over the band, ends included).
-    EXPECT_NEAR(std::stod(cells[i][objective]), expected, 1e-4);
+    EXPECT_NEAR(row.objective, expected, 1e-4);
   }
   // The heavier ball detunes the resonance toward the band's lower end: less RMS in the band.
-  EXPECT_EQ(cells[0][diameter], "8 mm");
-  EXPECT_TRUE(std::isfinite(std::stod(cells[0][dem]))) << "the coupled run's in-band RMS";
+  EXPECT_EQ(design.rows[0].given.at(0), "8 mm");
+  EXPECT_TRUE(std::isfinite(design.rows[0].dem_objective)) << "the coupled run's in-band RMS";
+}
+
+// design.csv is one type: every status and figure comes back as written (an empty cell as NaN), and
+// a damaged table is refused naming the file, the column and the cell.
+TEST(DesignTable, ComesBackAsWrittenAndRefusesADamagedOne) {
+  bagdem::testing::TempDir t;
+  DesignTable a{{"bag.balls.diameter", "bag.radius"}, {1, 3}, {}};
+  const std::vector<Status> statuses = {{Standing::ranked, ""},
+                                        {Standing::over_budget, ""},
+                                        {Standing::does_not_load, "bag.radius = 1 mm: too small, \"quoted\", with a comma"},
+                                        {Standing::no_map, ""},
+                                        {Standing::other_damper, "8 mm balls"},
+                                        {Standing::outside_map, "above Gamma 20"},
+                                        {Standing::mode_not_in_stepped_sine, "3"}};
+  for (std::size_t i = 0; i < statuses.size(); ++i) {
+    DesignRow r = row({10.5 + i, 7.25}, 0.01 * (i + 1));
+    r.status = statuses[i], r.given = {"\"8 mm\"", std::to_string(i) + " mm"};
+    r.position = 0.1 * i, r.attach = NAN, r.mass_ratio = 0.05, r.rank = statuses[i].ranked() ? 1 : 0, r.pareto = i == 0;
+    r.at_band_edge = 1, r.interpolation_db = i == 0 ? NAN : 0.25, r.dem_seeds = 3, r.dem_db = {11, NAN}, r.dem_db_ci95 = {0.5, NAN};
+    r.dem_objective = 11, r.dem_objective_ci95 = 0.5, r.map = "map-00" + std::to_string(i);
+    a.rows.push_back(r);
+  }
+  const fs::path path = t.path / "design.csv";
+  write_design_csv(path, a);
+  const DesignTable b = read_design_csv(path);
+  EXPECT_EQ(b.varied, a.varied);
+  EXPECT_EQ(b.modes, a.modes);
+  ASSERT_EQ(b.rows.size(), a.rows.size());
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    const DesignRow &x = a.rows[i], &y = b.rows[i];
+    EXPECT_EQ(y.status.kind, x.status.kind) << i;
+    EXPECT_EQ(y.status.why, x.status.why) << i;
+    EXPECT_EQ(y.given, x.given);
+    EXPECT_EQ(y.rank, x.rank);
+    EXPECT_EQ(y.pareto, x.pareto);
+    EXPECT_EQ(y.db, x.db);
+    EXPECT_EQ(y.db_hi, x.db_hi);
+    EXPECT_EQ(y.objective_lo, x.objective_lo);
+    EXPECT_NEAR(y.position, x.position, 1e-9);
+    EXPECT_TRUE(std::isnan(y.attach));
+    EXPECT_EQ(std::isnan(y.interpolation_db), std::isnan(x.interpolation_db));
+    EXPECT_EQ(y.dem_db[0], 11);
+    EXPECT_TRUE(std::isnan(y.dem_db[1]));
+    EXPECT_EQ(y.map, x.map);
+  }
+  // Damaged: a cell that is not a number, a status design never writes, a column missing.
+  const std::string good = bagdem::testing::slurp(path);
+  auto refused = [&](const std::string& text, const std::string& column) {
+    std::ofstream(path) << text;
+    try {
+      (void)read_design_csv(path);
+      ADD_FAILURE() << "read without a word:\n" << text;
+    } catch (const bagdem::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(column), std::string::npos) << e.what();
+    }
+  };
+  std::string text = good;
+  refused(text.replace(text.find("0.01,"), 5, "lots,"), "added_mass");
+  text = good;
+  refused(text.replace(text.find("over budget"), 11, "over bud"), "status");
+  text = good;
+  refused(text.replace(text.find("pareto [1],"), 11, ""), "design.csv");
 }
 
 // Bad input is refused before anything runs (exit 2), naming the option or key: a mode the sweep

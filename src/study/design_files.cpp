@@ -9,6 +9,7 @@
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
 
@@ -26,41 +27,139 @@ std::vector<std::string> row_sets(const DesignSummary& s, const DesignRow& r, co
 }
 }  // namespace
 
-void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
+namespace {
+// The columns of design.csv, in order, for the chosen modes and the varied keys.
+std::vector<std::string> design_columns(const DesignTable& t) {
   std::vector<std::string> head = {"rank [1]", "status"};
-  for (const Varied& v : s.candidates.vary) head.push_back(v.key);
+  for (const std::string& v : t.varied) head.push_back(v);
   for (const char* c : {"position_xL [1]", "attach [m]", "added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
-  for (int m : s.modes)
+  for (int m : t.modes)
     for (const char* c : {"reduction_dB", "reduction_dB_lo", "reduction_dB_hi"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
   for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "at_band_edge [1]", "interpolation_dB [dB]",
                         "pareto [1]", "dem_seeds [1]"})
     head.push_back(c);
-  for (int m : s.modes)
+  for (int m : t.modes)
     for (const char* c : {"dem_reduction_dB", "dem_reduction_dB_ci95"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
   for (const char* c : {"dem_objective_dB [dB]", "dem_objective_dB_ci95 [dB]", "map"}) head.push_back(c);
+  return head;
+}
+
+// A row's cells in design_columns' order.
+std::vector<std::string> design_cells(const DesignTable& t, const DesignRow& r) {
+  std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status.text()};
+  c.insert(c.end(), r.given.begin(), r.given.end());
+  for (double x : {r.position, r.attach, r.added_mass, r.mass_ratio}) c.push_back(cell(x));
+  for (std::size_t k = 0; k < t.modes.size(); ++k)
+    for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
+  for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
+  c.push_back(std::to_string(r.at_band_edge));
+  c.push_back(cell(r.interpolation_db));
+  c.push_back(r.pareto ? "1" : "0");
+  c.push_back(std::to_string(r.dem_seeds));
+  for (std::size_t k = 0; k < t.modes.size(); ++k)
+    for (double x : {k < r.dem_db.size() ? r.dem_db[k] : NAN, k < r.dem_db_ci95.size() ? r.dem_db_ci95[k] : NAN}) c.push_back(cell(x));
+  c.push_back(cell(r.dem_objective));
+  c.push_back(cell(r.dem_objective_ci95));
+  c.push_back(fs::path(r.map).filename().string());
+  return c;
+}
+
+// Reads one row back, cell by cell in design_columns' order.
+struct CellReader {
+  const TextTable& t;
+  const std::vector<std::string>& row;
+  std::size_t at = 0;
+  const std::string& next() { return row[at++]; }
+  [[noreturn]] void refuse(const std::string& value, const std::string& allowed) const {
+    throw InputError(t.path, t.names[at - 1], value, allowed);
+  }
+  double number() {  // empty: undefined (NaN)
+    const std::string& s = next();
+    if (s.empty()) return NAN;
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size()) refuse(s, "is not a number");
+    return x;
+  }
+  int count() {  // empty: 0
+    const double x = number();
+    if (std::isnan(x)) return 0;
+    if (x < 0 || x != std::floor(x)) refuse(row[at - 1], "is not a count");
+    return static_cast<int>(x);
+  }
+};
+
+int mode_of_label(const TextTable& t, const std::string& column, const std::string& label) {
+  if (label == "random") return 0;
+  char* end = nullptr;
+  const long m = label.rfind("mode", 0) == 0 ? std::strtol(label.c_str() + 4, &end, 10) : 0;
+  if (m < 1 || *end != '\0') throw InputError(t.path, column, label, "names no mode (\"mode1\", ..., or \"random\")");
+  return static_cast<int>(m);
+}
+}  // namespace
+
+void write_design_csv(const fs::path& path, const DesignTable& t) {
+  std::vector<std::string> head = design_columns(t);
   std::string text;
   for (std::size_t k = 0; k < head.size(); ++k) text += (k ? "," : "") + csv_cell(head[k]);
   text += "\n";
-  for (const DesignRow& r : rows) {
-    std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status.text()};
-    c.insert(c.end(), r.given.begin(), r.given.end());
-    for (double x : {r.position, r.attach, r.added_mass, r.mass_ratio}) c.push_back(cell(x));
-    for (std::size_t k = 0; k < s.modes.size(); ++k)
-      for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
-    for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
-    c.push_back(std::to_string(r.at_band_edge));
-    c.push_back(cell(r.interpolation_db));
-    c.push_back(r.pareto ? "1" : "0");
-    c.push_back(std::to_string(r.dem_seeds));
-    for (std::size_t k = 0; k < s.modes.size(); ++k)
-      for (double x : {k < r.dem_db.size() ? r.dem_db[k] : NAN, k < r.dem_db_ci95.size() ? r.dem_db_ci95[k] : NAN}) c.push_back(cell(x));
-    c.push_back(cell(r.dem_objective));
-    c.push_back(cell(r.dem_objective_ci95));
-    c.push_back(fs::path(r.map).filename().string());
+  for (const DesignRow& r : t.rows) {
+    const std::vector<std::string> c = design_cells(t, r);
     for (std::size_t k = 0; k < c.size(); ++k) text += (k ? "," : "") + csv_cell(c[k]);
     text += "\n";
   }
-  write_atomically(fs::path(s.candidates.out_dir) / "design.csv", text);
+  write_atomically(path, text);
+}
+
+DesignTable read_design_csv(const fs::path& path) {
+  const TextTable t = read_text_table(path);
+  DesignTable d;
+  // The varied keys lie between status and position_xL; the modes are named by the reduction columns.
+  const std::size_t status = t.find("status"), position = t.find("position_xL");
+  if (t.find("rank") != 0 || status != 1 || position >= t.names.size())
+    throw InputError(t.path, "", "", "is not a design.csv: its columns do not start rank, status, the varied keys, position_xL");
+  d.varied.assign(t.names.begin() + 2, t.names.begin() + static_cast<std::ptrdiff_t>(position));
+  for (std::size_t k = 0; k < t.names.size(); ++k) {
+    const std::string& n = t.names[k];
+    const std::string prefix = "reduction_dB_";
+    if (n.rfind(prefix, 0) == 0 && n.find("_lo") == std::string::npos && n.find("_hi") == std::string::npos)
+      d.modes.push_back(mode_of_label(t, n, n.substr(prefix.size())));
+  }
+  // The header must be the one this table writes for those keys and modes.
+  const std::vector<std::string> head = design_columns(d);
+  bool same = head.size() == t.names.size();
+  for (std::size_t k = 0; same && k < head.size(); ++k) same = head[k].rfind(t.names[k], 0) == 0;
+  if (!same) throw InputError(t.path, "", "", "is not a design.csv of this bagdem: its columns differ from those design writes");
+  for (const std::vector<std::string>& row : t.rows) {
+    CellReader c{t, row};
+    DesignRow r;
+    r.rank = c.count();
+    const std::string status = c.next();
+    try {
+      r.status = Status::parse(status);
+    } catch (const InputError&) {
+      c.refuse(status, "is none of the statuses design writes (docs/bag-design.md)");
+    }
+    for (std::size_t k = 0; k < d.varied.size(); ++k) r.given.push_back(c.next());
+    r.position = c.number(), r.attach = c.number(), r.added_mass = c.number(), r.mass_ratio = c.number();
+    for (std::size_t k = 0; k < d.modes.size(); ++k) r.db.push_back(c.number()), r.db_lo.push_back(c.number()), r.db_hi.push_back(c.number());
+    r.objective = c.number(), r.objective_lo = c.number(), r.objective_hi = c.number();
+    r.at_band_edge = c.count();
+    r.interpolation_db = c.number();
+    r.pareto = c.count() != 0;
+    r.dem_seeds = c.count();
+    for (std::size_t k = 0; k < d.modes.size(); ++k) r.dem_db.push_back(c.number()), r.dem_db_ci95.push_back(c.number());
+    r.dem_objective = c.number(), r.dem_objective_ci95 = c.number();
+    r.map = c.next();
+    d.rows.push_back(std::move(r));
+  }
+  return d;
+}
+
+void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
+  DesignTable t{{}, s.modes, rows};
+  for (const Varied& v : s.candidates.vary) t.varied.push_back(v.key);
+  write_design_csv(fs::path(s.candidates.out_dir) / "design.csv", t);
 }
 
 const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {

@@ -62,6 +62,8 @@ struct Status {
   // design.csv's status: "ranked", "over budget", "does not load: WHY", "no map (its runs failed)",
   // "map of another damper (WHY)", "outside the map WHY", "mode WHY not in the sweep at this place".
   std::string text() const;
+  // The inverse of text(); InputError for a text that text() does not write.
+  static Status parse(const std::string& text);
 };
 
 struct DesignRow {

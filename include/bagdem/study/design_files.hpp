@@ -1,5 +1,6 @@
 // The files of `bagdem design` (study/design.hpp): OUT/design.csv, OUT/chosen, the summary printed.
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -17,8 +18,21 @@ struct DesignSummary {
   double length = 0;
 };
 
-// OUT/design.csv, a row per (candidate, position), ranked first (columns: docs/bag-design.md; an
-// empty cell where a figure is undefined), to a temporary name and renamed.
+// design.csv: one type, written and read by the same code. A row per (candidate, position), ranked
+// first (columns: docs/bag-design.md; an empty cell where a figure is undefined). What a row keeps
+// of its candidate is its values as given and its map's directory name (DesignRow::candidate is 0
+// when read back).
+struct DesignTable {
+  std::vector<std::string> varied;  // the candidates' keys, the columns after status
+  std::vector<int> modes;           // the chosen modes (0: a random force's band)
+  std::vector<DesignRow> rows;
+};
+// To a temporary name, then renamed.
+void write_design_csv(const std::filesystem::path& path, const DesignTable& table);
+// InputError naming the file, the column and the cell when a column is missing or a cell is not
+// what the column holds (a number, a count, a status design writes).
+DesignTable read_design_csv(const std::filesystem::path& path);
+// OUT/design.csv of a design.
 void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows);
 
 // The row chosen: the verified one with the best coupled objective, else the best predicted; null

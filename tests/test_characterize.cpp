@@ -42,14 +42,14 @@ TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
   const Scene s = load_case(t.path.string());
   CharacterizeArgs a;
   a.amplitudes = 3, a.frequencies = 3, a.gamma = {0.5, 2};
-  const MapGrid g = map_grid(s, a);
-  ASSERT_EQ(g.gamma.size(), 3u);
-  EXPECT_NEAR(g.gamma[1], 1.0, 1e-12);
-  ASSERT_EQ(g.frequency.size(), 3u);
-  EXPECT_NEAR(g.frequency[0], 18, 1e-12);
-  EXPECT_NEAR(g.frequency[1], 20, 1e-12);
-  EXPECT_NEAR(g.frequency[2], 22, 1e-12);
-  EXPECT_NEAR(g.g, 9.81, 1e-12);
+  const MapPlan g = map_plan(s, a);
+  ASSERT_EQ(g.axes.gamma.size(), 3u);
+  EXPECT_NEAR(g.axes.gamma[1], 1.0, 1e-12);
+  ASSERT_EQ(g.axes.frequency.size(), 3u);
+  EXPECT_NEAR(g.axes.frequency[0], 18, 1e-12);
+  EXPECT_NEAR(g.axes.frequency[1], 20, 1e-12);
+  EXPECT_NEAR(g.axes.frequency[2], 22, 1e-12);
+  EXPECT_NEAR(g.axes.g, 9.81, 1e-12);
   EXPECT_NEAR(g.amplitude(2, 1), 2 * 9.81 / std::pow(2 * std::numbers::pi * 20, 2), 1e-15);
   EXPECT_EQ(g.direction, Vec3::UnitX());
 
@@ -57,7 +57,7 @@ TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
     CharacterizeArgs b = a;
     b.gamma = bad;
     try {
-      map_grid(s, b);
+      map_plan(s, b);
       ADD_FAILURE() << "accepted --gamma of " << bad.size() << " values";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("--gamma"), std::string::npos) << e.what();
@@ -65,7 +65,7 @@ TEST(CharacterizeGrid, GammaLogSpacedFrequenciesPerBandAmplitudeFromGamma) {
   }
   CharacterizeArgs one = a;
   one.amplitudes = 1;
-  EXPECT_THROW(map_grid(s, one), InputError);
+  EXPECT_THROW(map_plan(s, one), InputError);
 }
 
 TEST(CharacterizeGrid, ARunLastsAtLeastTheCyclesAndTheTimeAsked) {

@@ -36,8 +36,8 @@ std::vector<std::pair<double, double>> stepped_sine_bands(std::vector<double> f)
   return bands;
 }
 
-MapGrid map_grid(const Scene& scene, const CharacterizeArgs& a) {
-  MapGrid m;
+MapPlan map_plan(const Scene& scene, const CharacterizeArgs& a) {
+  MapPlan m;
   auto range = [](const std::vector<double>& r, const std::string& option, const std::string& what) {
     if (r.size() != 2 || !(r[0] > 0) || !(r[1] > r[0]))
       throw InputError(option, "", "", "expected lo,hi with 0 < lo < hi (" + what + ")");
@@ -46,7 +46,7 @@ MapGrid map_grid(const Scene& scene, const CharacterizeArgs& a) {
   if (a.amplitudes < 2) throw InputError("--amplitudes", "", std::to_string(a.amplitudes), "at least 2 (a map interpolates between them)");
   if (a.frequencies < 2) throw InputError("--frequencies", "", std::to_string(a.frequencies), "at least 2 per band");
   for (int i = 0; i < a.amplitudes; ++i)
-    m.gamma.push_back(a.gamma[0] * std::pow(a.gamma[1] / a.gamma[0], double(i) / (a.amplitudes - 1)));
+    m.axes.gamma.push_back(a.gamma[0] * std::pow(a.gamma[1] / a.gamma[0], double(i) / (a.amplitudes - 1)));
   std::vector<std::pair<double, double>> bands;
   if (!a.band.empty()) {
     range(a.band, "--band", "frequencies in Hz");
@@ -57,14 +57,14 @@ MapGrid map_grid(const Scene& scene, const CharacterizeArgs& a) {
     throw InputError(scene.case_file, "excitation", "", "has no stepped-sine sweep to take the band from: give --band lo,hi (Hz)");
   }
   for (const auto& [lo, hi] : bands)
-    for (int j = 0; j < a.frequencies; ++j) m.frequency.push_back(lo + (hi - lo) * j / (a.frequencies - 1));
-  std::sort(m.frequency.begin(), m.frequency.end());
-  m.frequency.erase(std::unique(m.frequency.begin(), m.frequency.end()), m.frequency.end());
+    for (int j = 0; j < a.frequencies; ++j) m.axes.frequency.push_back(lo + (hi - lo) * j / (a.frequencies - 1));
+  std::sort(m.axes.frequency.begin(), m.axes.frequency.end());
+  m.axes.frequency.erase(std::unique(m.axes.frequency.begin(), m.axes.frequency.end()), m.axes.frequency.end());
   m.direction = scene.primary ? scene.primary->direction : excitation_direction(scene);
   if (m.direction.norm() == 0)
     throw InputError(scene.case_file, "cavity.motion", "", "gives no direction to shake in: set primary.direction or a harmonic cavity.motion");
   m.direction.normalize();
-  if (scene.gravity.norm() > 0) m.g = scene.gravity.norm();
+  if (scene.gravity.norm() > 0) m.axes.g = scene.gravity.norm();
   return m;
 }
 
@@ -119,7 +119,7 @@ constexpr double kRampCycles = 2;
 
 // The study of a grid: a zip over the cells (Gamma slowest, then frequency) of the motion's
 // amplitude and frequency and the run's duration; the overrides that make a coupled case prescribed.
-StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid& m) {
+StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapPlan& m) {
   StudySpec s;
   s.case_dir = fs::absolute(a.dir).lexically_normal().string();
   s.out_dir = fs::absolute(a.out.empty() ? fs::path(s.case_dir) / "map" : fs::path(a.out)).lexically_normal().string();
@@ -148,12 +148,12 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
   Varied X{keys::motion_amplitude.path, {}}, f{keys::motion_frequency.path, {}}, R{keys::motion_ramp.path, {}},
       T{keys::duration.path, {}}, K{keys::skip_cycles.path, {}};
   auto add = [](Varied& v, const std::string& given) { v.values.push_back({"\"" + given + "\"", given}); };
-  for (std::size_t i = 0; i < m.gamma.size(); ++i)
-    for (std::size_t j = 0; j < m.frequency.size(); ++j) {
-      const double period = 1 / m.frequency[j];
-      const auto [skip, cycles] = run_cycles(a, m.frequency[j]);
+  for (std::size_t i = 0; i < m.axes.gamma.size(); ++i)
+    for (std::size_t j = 0; j < m.axes.frequency.size(); ++j) {
+      const double period = 1 / m.axes.frequency[j];
+      const auto [skip, cycles] = run_cycles(a, m.axes.frequency[j]);
       add(X, short_text(m.amplitude(i, j)) + " " + keys::motion_amplitude.unit);
-      add(f, short_text(m.frequency[j]) + " " + keys::motion_frequency.unit);
+      add(f, short_text(m.axes.frequency[j]) + " " + keys::motion_frequency.unit);
       add(R, short_text(kRampCycles * period) + " " + keys::motion_ramp.unit);
       add(T, short_text((kRampCycles + skip + cycles) * period) + " " + keys::duration.unit);
       K.values.push_back({std::to_string(skip), std::to_string(skip)});
@@ -164,21 +164,21 @@ StudySpec grid_spec(const CharacterizeArgs& a, const Scene& scene, const MapGrid
 
 }  // namespace
 
-StudySpec characterize_spec(const CharacterizeArgs& a, MapGrid& grid) {
+StudySpec characterize_spec(const CharacterizeArgs& a, MapPlan& grid) {
   if (!fs::exists(fs::path(a.dir) / "case.toml"))
     throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
   const Scene scene = load_case(a.dir, a.sets);
-  grid = map_grid(scene, a);
+  grid = map_plan(scene, a);
   grid.damper = damper_record(scene);
   return grid_spec(a, scene, grid);
 }
 
-MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapGrid& grid) {
+MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapPlan& grid) {
   std::vector<MapCell> cells;
   MapOutcome o;
-  for (std::size_t i = 0; i < grid.gamma.size(); ++i)
-    for (std::size_t j = 0; j < grid.frequency.size(); ++j) {
-      const std::size_t combination = i * grid.frequency.size() + j;
+  for (std::size_t i = 0; i < grid.axes.gamma.size(); ++i)
+    for (std::size_t j = 0; j < grid.axes.frequency.size(); ++j) {
+      const std::size_t combination = i * grid.axes.frequency.size() + j;
       std::vector<ReducedRow> starts;
       for (const Point& p : plan.points) {
         if (p.combination != combination) continue;
@@ -190,7 +190,7 @@ MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, con
         const std::vector<ReducedRow> rows = read_reduced_csv(csv);
         if (!rows.empty()) starts.push_back(rows.front());
       }
-      cells.push_back(map_cell(grid.gamma[i], grid.frequency[j], grid.amplitude(i, j), starts));
+      cells.push_back(map_cell(grid.axes.gamma[i], grid.axes.frequency[j], grid.amplitude(i, j), starts));
     }
   write_map(plan.spec.out_dir, grid, cells, plan.spec.case_dir);
   for (const MapCell& c : cells) o.unsteady += c.starts - c.steady;
@@ -198,11 +198,11 @@ MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, con
 }
 
 int characterize_command(const CharacterizeArgs& a) {
-  MapGrid grid;
+  MapPlan grid;
   auto after = [&](const Plan& plan, const std::vector<bool>& finished) {
     const MapOutcome o = write_map_of(plan, finished, grid);
-    std::printf("map: %zu amplitudes x %zu frequencies, %d start%s each -> %s/map.csv, map.json, map.h5%s\n", grid.gamma.size(),
-                grid.frequency.size(), plan.spec.seeds, plan.spec.seeds > 1 ? "s" : "", plan.spec.out_dir.c_str(),
+    std::printf("map: %zu amplitudes x %zu frequencies, %d start%s each -> %s/map.csv, map.json, map.h5%s\n", grid.axes.gamma.size(),
+                grid.axes.frequency.size(), plan.spec.seeds, plan.spec.seeds > 1 ? "s" : "", plan.spec.out_dir.c_str(),
                 o.missing ? (" (" + std::to_string(o.missing) + " runs missing)").c_str() : "");
     if (o.unsteady)
       std::printf("note: %zu run%s of %zu did not reach a steady window (energy balance off by more than 1%%): a longer --window-time or --skip-time\n",

@@ -145,7 +145,7 @@ void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const Stu
   m.dir = base.case_dir, m.sets = c.sets;
   m.jobs = a.jobs, m.threads = a.threads, m.cores = a.cores;
   m.out = c.map;
-  MapGrid grid;
+  MapPlan grid;
   Plan plan = make_plan(characterize_spec(m, grid));
   validate_plan(plan);
   const std::vector<bool> done = done_points(plan);

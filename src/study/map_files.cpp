@@ -30,38 +30,38 @@ std::string json_number(double x) {
 
 // [[row of amplitude 0], [row of amplitude 1], ...] of a value per cell (cells Gamma-major).
 template <class F>
-std::string json_rows(const MapGrid& g, const std::vector<MapCell>& cells, F value) {
+std::string json_rows(const MapPlan& g, const std::vector<MapCell>& cells, F value) {
   std::string s = "[";
-  for (std::size_t i = 0; i < g.gamma.size(); ++i) {
+  for (std::size_t i = 0; i < g.axes.gamma.size(); ++i) {
     s += i ? ", [" : "[";
-    for (std::size_t j = 0; j < g.frequency.size(); ++j) s += (j ? ", " : "") + json_number(value(cells[i * g.frequency.size() + j]));
+    for (std::size_t j = 0; j < g.axes.frequency.size(); ++j) s += (j ? ", " : "") + json_number(value(cells[i * g.axes.frequency.size() + j]));
     s += "]";
   }
   return s + "]";
 }
 
 
-void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
+void write_json(const fs::path& path, const MapPlan& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
   std::ostringstream s;
   s.precision(12);
   s << "{\n  \"case\": \"" << json_escape(case_dir) << "\",\n";
   s << "  \"direction\": [" << g.direction.x() << ", " << g.direction.y() << ", " << g.direction.z() << "],\n";
-  s << "  \"g\": {\"value\": " << g.g << ", \"unit\": \"m/s^2\"},\n";
+  s << "  \"g\": {\"value\": " << g.axes.g << ", \"unit\": \"m/s^2\"},\n";
   auto list = [](const std::vector<double>& v) {
     std::string t = "[";
     for (std::size_t k = 0; k < v.size(); ++k) t += (k ? ", " : "") + json_number(v[k]);
     return t + "]";
   };
-  s << "  \"gamma\": {\"values\": " << list(g.gamma) << ", \"unit\": \"1\"},\n";
-  s << "  \"frequency\": {\"values\": " << list(g.frequency) << ", \"unit\": \"Hz\"},\n";
+  s << "  \"gamma\": {\"values\": " << list(g.axes.gamma) << ", \"unit\": \"1\"},\n";
+  s << "  \"frequency\": {\"values\": " << list(g.axes.frequency) << ", \"unit\": \"Hz\"},\n";
   s << "  \"amplitude\": {\"values\": " << json_rows(g, cells, [](const MapCell& c) { return c.amplitude; }) << ", \"unit\": \"m\"},\n";
   s << "  \"starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.starts); }) << ",\n";
   s << "  \"steady_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.steady); }) << ",\n";
   s << "  \"e_starts\": " << json_rows(g, cells, [](const MapCell& c) { return double(c.e_starts); }) << ",\n";
   s << "  \"e_method\": [";
-  for (std::size_t i = 0; i < g.gamma.size(); ++i) {
+  for (std::size_t i = 0; i < g.axes.gamma.size(); ++i) {
     s << (i ? ", [" : "[");
-    for (std::size_t j = 0; j < g.frequency.size(); ++j) s << (j ? ", " : "") << '"' << json_escape(cells[i * g.frequency.size() + j].e_method) << '"';
+    for (std::size_t j = 0; j < g.axes.frequency.size(); ++j) s << (j ? ", " : "") << '"' << json_escape(cells[i * g.axes.frequency.size() + j].e_method) << '"';
     s << "]";
   }
   s << "],\n";
@@ -77,17 +77,17 @@ void write_json(const fs::path& path, const MapGrid& g, const std::vector<MapCel
   write_atomically(path, s.str());
 }
 
-void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
+void write_h5(const fs::path& path, const MapPlan& g, const std::vector<MapCell>& cells, const std::string& case_dir) {
   const std::string tmp = path.string() + ".part";
   const h5::Check ok = h5::Check::with_prefix("map.h5: ");
   {
     h5::H5 file(ok(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create " + tmp), H5Fclose);
     h5::write_attribute(file, "case", case_dir, ok);
     h5::write_attribute(file, "direction", g.direction.data(), 3, ok);
-    h5::write_attribute(file, "g", g.g, ok);
-    const hsize_t na = g.gamma.size(), nf = g.frequency.size();
-    h5::write_dataset(file, "gamma", {na}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.gamma.data(), "1", ok);
-    h5::write_dataset(file, "frequency", {nf}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.frequency.data(), "Hz", ok);
+    h5::write_attribute(file, "g", g.axes.g, ok);
+    const hsize_t na = g.axes.gamma.size(), nf = g.axes.frequency.size();
+    h5::write_dataset(file, "gamma", {na}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.axes.gamma.data(), "1", ok);
+    h5::write_dataset(file, "frequency", {nf}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, g.axes.frequency.data(), "Hz", ok);
     auto grid_of = [&](auto value) {
       std::vector<double> v;
       for (const MapCell& c : cells) v.push_back(value(c));
@@ -114,7 +114,7 @@ void write_h5(const fs::path& path, const MapGrid& g, const std::vector<MapCell>
 
 }  // namespace
 
-void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir) {
+void write_map(const std::string& out_dir, const MapPlan& grid, const std::vector<MapCell>& cells, const std::string& case_dir) {
   const fs::path out(out_dir);
   write_map_csv(out / "map.csv", cells);
   write_json(out / "map.json", grid, cells, case_dir);

@@ -32,7 +32,7 @@
 
 namespace bagdem {
 
-// The grid of an effective-field map, as characterize plans it (study/characterize.hpp, MapGrid)
+// The grid of an effective-field map, as characterize plans it (study/characterize.hpp, MapPlan)
 // and predict reads it (EffectiveMap): acceleration ratios by frequencies, and the one conversion
 // between a cavity's amplitude and Gamma = X w^2 / g at a frequency.
 struct MapAxes {

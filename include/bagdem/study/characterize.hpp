@@ -55,19 +55,22 @@ struct CharacterizeArgs {
 // counts asked and at least the times asked, whole cycles.
 std::pair<int, int> run_cycles(const CharacterizeArgs& args, double f);
 
-// The grid of a map (SI units).
-struct MapGrid : MapAxes {       // the axes (reduce/predict.hpp), as the map read back has them
+// What characterize is to run (SI units): the map's grid, which the map read back has too
+// (MapAxes, reduce/predict.hpp; the map itself is one type: map.csv's cells, MapCell, read as
+// EffectiveMap), the direction it shakes in and the damper it characterises.
+struct MapPlan {
+  MapAxes axes;
   Vec3 direction = Vec3::UnitX(); // the prescribed motion's direction (unit vector)
   DamperRecord damper;            // the damper characterised (study/damper_record.hpp): OUT/damper.toml
   // The displacement amplitude of cell (i, j) (unit: m).
-  double amplitude(std::size_t i, std::size_t j) const { return amplitude_of(gamma[i], frequency[j]); }
+  double amplitude(std::size_t i, std::size_t j) const { return axes.amplitude_of(axes.gamma[i], axes.frequency[j]); }
 };
 
-// The grid of the command's options on a loaded scene. Throws InputError (naming the option or the
+// The plan of the command's options on a loaded scene. Throws InputError (naming the option or the
 // case key) for a range that is not positive and ascending, fewer than 2 amplitudes or frequencies,
 // or no band (a case without a stepped-sine sweep needs --band), and no direction (neither a
 // primary structure nor harmonic cavity motion).
-MapGrid map_grid(const Scene& scene, const CharacterizeArgs& args);
+MapPlan map_plan(const Scene& scene, const CharacterizeArgs& args);
 
 // The bands of a stepped-sine sweep: its frequencies sorted and split where a gap exceeds 3 times
 // the median gap (one band per evaluated mode), each as [lowest, highest].
@@ -83,7 +86,7 @@ MapCell map_cell(double gamma, double frequency, double amplitude, const std::ve
 // The map's tables: OUT/map.csv (a row per cell), OUT/map.json and OUT/map.h5 (a dataset per
 // figure, [amplitudes x frequencies]), each to a temporary name and renamed. Columns and units:
 // docs/characterize.md.
-void write_map(const std::string& out_dir, const MapGrid& grid, const std::vector<MapCell>& cells, const std::string& case_dir);
+void write_map(const std::string& out_dir, const MapPlan& grid, const std::vector<MapCell>& cells, const std::string& case_dir);
 
 // `bagdem predict CASE --map DIR` (src/study/predict_command.cpp; reduce/predict.hpp): the case's
 // structure with the map's damper, without DEM.
@@ -105,13 +108,13 @@ struct StudySpec;
 struct Plan;
 // The study that characterizes args.dir: its runs as the points of a study (loads the case; fills
 // `grid`). Throws InputError.
-StudySpec characterize_spec(const CharacterizeArgs& args, MapGrid& grid);
+StudySpec characterize_spec(const CharacterizeArgs& args, MapPlan& grid);
 // After the runs: each cell from its finished points' reduced.csv, written as OUT/map.*.
 struct MapOutcome {
   std::size_t missing = 0;   // runs without a result (failed or not run)
   std::size_t unsteady = 0;  // runs whose window was not steady (left out of the figures)
 };
-MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapGrid& grid);
+MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapPlan& grid);
 
 // Returns the exit code: 0 every cell done, 2 bad input (nothing run), 3 a run failed (the map is
 // written with the cells that have starts).

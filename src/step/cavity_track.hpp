@@ -20,6 +20,12 @@ struct CavityTrack {
   } sums;
   Vec3 pos_at_build = Vec3::Zero();  // position and shear at the last neighbour build
   Vec3 shear_at_build = Vec3::Zero();
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.pod(now), io.pod(prev), io.pod(sums), io.pod(pos_at_build), io.pod(shear_at_build);
+  }
 };
 
 }  // namespace bagdem

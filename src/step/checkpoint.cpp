@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3036ULL;  // "bagdem06": format 6 (the surfaces' elastic energies, euler_terms)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3037ULL;  // "bagdem07": format 7 (each component's fields together)
 
 struct Writer {
   std::vector<char> out;
@@ -48,61 +48,21 @@ struct Reader {
   }
 };
 
-// Each component's fields, one list used for both directions so they can never disagree.
-template <class IO>
-void fields(IO& io, Particles& p) {
-  io.vec(p.x), io.vec(p.v), io.vec(p.w), io.vec(p.v_pred), io.vec(p.w_pred), io.vec(p.f), io.vec(p.t);
-}
-template <class IO>
-void fields(IO& io, ParticleTallies& tally) {
-  io.vec(tally.wall_force_prev), io.vec(tally.wall_impulse);
-  io.vec(tally.wall_ang_impulse), io.vec(tally.work_cavity), io.vec(tally.diss_normal);
-  io.vec(tally.diss_tangential), io.vec(tally.diss_rolling);
-}
-template <class IO>
-void fields(IO& io, PairState& ps) {
-  io.vec(ps.pairs.begin), io.vec(ps.pairs.partner);
-  ps.hist.fields(io);
-}
-
-// The primary structure (empty vectors without one).
-template <class IO>
-void fields(IO& io, StructureState& st) {
-  io.vec(st.q), io.vec(st.v), io.vec(st.v_pred), io.vec(st.a), io.vec(st.damping_prev), io.vec(st.load_prev);
-  auto& c = st.scalars;  // field by field: the struct's padding bytes would make images differ
-  io.pod(c.phase), io.pod(c.omega), io.pod(c.force), io.pod(c.released), io.pod(c.work_external);
-  io.pod(c.work_contents), io.pod(c.dissipated);
-  io.pod(st.load_now);
-}
-
 }  // namespace
 
-// The whole state, in this order. The bag's film and the triangle contacts are empty vectors
-// without them; their candidate lists are not stored: they are rebuilt from the stored build
-// positions, which gives the same lists.
+// The whole state: the stepper's own, then each component's checkpoint fields (its header), in
+// this order. The bag's film and the triangle contacts are empty vectors without them.
 template <class IO>
 void Stepper::state_fields(IO& io) {
-  io.pod(step_), io.pod(nb_.builds), io.pod(cavity_.sums), io.pod(energy0_.potential), io.pod(energy0_.stored);
-  io.pod(cavity_.now), io.pod(cavity_.prev);
-  fields(io, p_);
-  fields(io, p_.tally);
-  fields(io, ps_);
-  io.vec(nb_.x_at_build);
-  walls_.hist.fields(io);
-  io.vec(walls_.touch);
-  io.vec(film_.x), io.vec(film_.v), io.vec(film_.v_pred), io.vec(film_.f), io.vec(film_.f_damp_prev);
-  io.vec(film_.wall_force_prev);
-  film_.wall_hist.fields(io);
-  io.vec(film_.wall_touch);
-  io.vec(film_.strings), io.pod(film_.tally);
-  io.vec(mesh_.slots), io.vec(mesh_.slot_count), io.vec(mesh_.elastic);
-  mesh_.slot_hist.fields(io);
-  io.vec(mesh_.side), io.vec(mesh_.film_at_build), io.pod(mesh_.cavity_at_build);
-  io.vec(mesh_.force_prev), io.vec(mesh_.node_slots), io.vec(mesh_.node_slot_count), io.vec(mesh_.node_elastic);
-  mesh_.node_slot_hist.fields(io);
-  fields(io, structure_);
-  io.vec(structure_.cavity_load), io.pod(structure_.film_load_moments);
-  io.pod(cavity_.pos_at_build), io.pod(cavity_.shear_at_build);
+  io.pod(step_), io.pod(energy0_.potential), io.pod(energy0_.stored);
+  p_.checkpoint(io);
+  nb_.checkpoint(io);
+  ps_.checkpoint(io);
+  walls_.checkpoint(io);
+  film_.checkpoint(io);
+  mesh_.checkpoint(io);
+  structure_.checkpoint(io);
+  cavity_.checkpoint(io);
 }
 
 std::vector<char> Stepper::save_state() const {
@@ -120,7 +80,7 @@ void Stepper::load_state(const std::vector<char>& image) {
   r.pod(magic);
   r.pod(n);
   if (magic != kMagic)
-    throw std::runtime_error("not a checkpoint of this bagdem version (format 6); rerun from the start");
+    throw std::runtime_error("not a checkpoint of this bagdem version (format 7); rerun from the start");
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));

@@ -30,6 +30,14 @@ struct Film : FilmNodes {
     Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
   } tally;
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.vec(x), io.vec(v), io.vec(v_pred), io.vec(f), io.vec(f_damp_prev), io.vec(wall_force_prev);
+    wall_hist.fields(io);
+    io.vec(wall_touch), io.vec(strings), io.pod(tally);
+  }
 };
 
 }  // namespace bagdem

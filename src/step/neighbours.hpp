@@ -30,6 +30,13 @@ struct Neighbours {
   bool needs_rebuild = false;
   bool near_edge = false;     // a ball is more than skin/2 - kSkinStep x skin from its place at the build
   double largest_step = 0;    // the largest distance a ball moved in the last step (unit: m)
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  // The rest is derived again from the stored list (Stepper::load_state).
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.pod(builds), io.vec(x_at_build);
+  }
 };
 
 }  // namespace bagdem

@@ -18,6 +18,13 @@ struct PairContacts : PairState {
   };
   std::vector<CrossStamp> cross_done;
   std::uint64_t regions = 0;  // parallel regions of the pair stage so far
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.vec(pairs.begin), io.vec(pairs.partner);
+    hist.fields(io);
+  }
 };
 
 }  // namespace bagdem

@@ -278,7 +278,7 @@ class Stepper {
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
   void find_film_walls_near(const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
-  void state_fields(IO& io);  // checkpoint.cpp
+  void state_fields(IO& io);  // checkpoint.cpp: its own fields, then each component's checkpoint()
   bool meshes_need_rebuild() const;
   template <bool Tangential, bool Energy>
   void film_walls();

@@ -24,6 +24,18 @@ struct StructureCoupling : StructureState {
   std::vector<Vec3> cavity_load;            // per ball: load moments on the cavity this step
   Vec3 film_load_moments = Vec3::Zero();    // the film's (walls and strings) this step
   std::uint64_t release_step = 0;           // the step at which settling ends
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  // Empty vectors without a structure.
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.vec(q), io.vec(v), io.vec(v_pred), io.vec(a), io.vec(damping_prev), io.vec(load_prev);
+    auto& c = scalars;  // field by field: the struct's padding bytes would make images differ
+    io.pod(c.phase), io.pod(c.omega), io.pod(c.force), io.pod(c.released), io.pod(c.work_external);
+    io.pod(c.work_contents), io.pod(c.dissipated);
+    io.pod(load_now);
+    io.vec(cavity_load), io.pod(film_load_moments);
+  }
 };
 
 }  // namespace bagdem

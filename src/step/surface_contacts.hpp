@@ -44,6 +44,18 @@ struct SurfaceContacts {
   ContactHistories node_slot_hist;          // their histories (no rolling: a node does not turn)
   std::vector<std::uint8_t> node_slot_count;
   std::vector<double> node_elastic;         // per film node: the elastic energy of its STL-wall contacts (unit: J)
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  // The candidate lists are not stored: they are rebuilt from the stored build positions, which
+  // gives the same lists.
+  template <class IO>
+  void checkpoint(IO& io) {
+    io.vec(slots), io.vec(slot_count), io.vec(elastic);
+    slot_hist.fields(io);
+    io.vec(side), io.vec(film_at_build), io.pod(cavity_at_build);
+    io.vec(force_prev), io.vec(node_slots), io.vec(node_slot_count), io.vec(node_elastic);
+    node_slot_hist.fields(io);
+  }
 };
 
 }  // namespace bagdem

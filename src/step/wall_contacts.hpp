@@ -23,6 +23,13 @@ struct WallContacts {
   // wall stage when it has nothing else to do for them (advance).
   std::vector<std::uint32_t> near_balls;
   std::vector<std::uint8_t> near_scratch;  // find_near_walls: per ball, 1 if in near_balls (kept: no allocation in a step)
+  // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
+  // cannot disagree. IO: pod(x) and vec(v).
+  template <class IO>
+  void checkpoint(IO& io) {
+    hist.fields(io);
+    io.vec(touch);
+  }
 };
 
 }  // namespace bagdem

@@ -115,6 +115,8 @@ const std::vector<BadCase>& bad_cases() {
        {"'interactions.default.stiffness'", "(missing)", "is required with law = \"hooke\"", "> 0"}},
       {"hooke stiffness negative", Base::shaken, "", "", {"interactions.default.law=\"hooke\"", "interactions.default.stiffness=-5"},
        {"'interactions.default.stiffness'", "-5", "must be > 0 (N/m)"}},
+      {"hooke stiffness ratio above 1", Base::shaken, "", "", {"interactions.default.law=\"hooke\"", "interactions.default.stiffness=\"1e5 N/m\"", "interactions.default.stiffness_ratio=3"},
+       {"'interactions.default.stiffness_ratio'", "3", "must be in (0, 1]"}},
       {"stiffness with hertz-mindlin", Base::shaken, "", "", {"interactions.default.stiffness=\"1e5 N/m\""},
        {"'interactions.default.stiffness'", "\"1e5 N/m\"", "law = \"hooke\" only", "\"hertz-mindlin\""}},
       // [particles]

@@ -69,7 +69,7 @@ std::size_t film_self_intersections(const TriangleMesh& mesh, const std::vector<
 // film triangles: the film, stretched ~6 mm outwards by the ball, has passed through itself (there
 // is no film-film contact) and the ball faces the outer side of a folded-over triangle; it has not
 // gone through the film. With a 100 m/s ball, or a 1 MPa film at 20 m/s, the overlap guard
-// ("a contact overlap reached 10.5% of a particle radius") fires first instead.
+// ("a contact overlap passed 10% of the smaller radius by ...") fires first instead.
 TEST(BagGuard, FastBallThroughTheFilmStopsTheRun) {
   LoadedCase c(guard_toml(0.0, 20.0));
   const Scene& s = c.scene;

@@ -376,7 +376,7 @@ TEST(Determinism, PipelinedGuardStopsAtTheSameStep) {
   };
   const auto one = stopped(1);
   std::printf("[pipelined guard] 1 thread: %s\n", one.first.c_str());
-  ASSERT_NE(one.first.find("contact overlap reached"), std::string::npos) << one.first;
+  ASSERT_NE(one.first.find("contact overlap passed"), std::string::npos) << one.first;
   const std::string step = one.first.substr(0, one.first.find("):"));
   for (int threads : {2, 3}) {
     const auto p = stopped(threads);
@@ -384,6 +384,6 @@ TEST(Determinism, PipelinedGuardStopsAtTheSameStep) {
                 p.first.c_str());
     EXPECT_GT(p.second, 200u) << "the failing step must come in pipelined steps";
     EXPECT_EQ(p.first.substr(0, p.first.find("):")), step) << threads << " threads";
-    EXPECT_NE(p.first.find("contact overlap reached"), std::string::npos) << p.first;
+    EXPECT_NE(p.first.find("contact overlap passed"), std::string::npos) << p.first;
   }
 }

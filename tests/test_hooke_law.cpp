@@ -122,3 +122,32 @@ TEST(HookeLaw, TheAutoStepIsTheLawsContactTime) {
   EXPECT_NE(r.out.find("pair        steel-steel: hooke, e 0.5"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("k_n 5e+05 N/m"), std::string::npos) << r.out;
 }
+
+// A spring too soft for the impacts is named before the run: at the expected speed the undamped
+// linear contact overlaps delta = v sqrt(m*/k) (a ball on a wall: m* = m); above the guard's
+// simulation.max_overlap of the radius the case loads with a warning naming the pair's stiffness.
+TEST(HookeLaw, ASpringTooSoftForTheImpactsIsNamed) {
+  const double m = 4.0 / 3.0 * std::numbers::pi * kRadius * kRadius * kRadius * 7800;
+  const double v = 0.5, k_edge = m * v * v / (0.1 * kRadius * 0.1 * kRadius);  // delta = 10% of the radius
+  auto warnings = [&](double k) {
+    bagdem::testing::TempDir tmp;
+    bagdem::testing::CaseText c;
+    c.simulation("0.01 s", bagdem::testing::kNoGravity).steel().interactions(0.5);
+    c.box("steel", "[0, 0, 0]", "[\"20 mm\", \"20 mm\", \"20 mm\"]");
+    c.set("simulation", {{"expected_speed", "0.5 m/s"}, {"timestep", "1e-6 s"}, {"force_timestep", "true"}})
+        .set("interactions.default", {{"law", "\"hooke\""}, {"stiffness", std::to_string(k) + " N/m"}})
+        .balls("balls", "steel", "4 mm", 5);
+    tmp.write("case.toml", c.str());
+    std::string all;
+    for (const std::string& w : load_case(tmp.path, {}).warnings) all += w + "\n";
+    return all;
+  };
+  // Damping shortens the overlap a little (e = 0.5): just above the undamped edge passes.
+  EXPECT_EQ(warnings(1.01 * k_edge).find("would overlap"), std::string::npos) << warnings(1.01 * k_edge);
+  const std::string soft = warnings(0.5 * k_edge);
+  EXPECT_NE(soft.find("would overlap"), std::string::npos) << soft;
+  EXPECT_NE(soft.find("Raise interactions.default.stiffness"), std::string::npos) << soft;
+  // A stiff spring at a step forced above its critical step says so.
+  const std::string stiff = warnings(1e9);
+  EXPECT_NE(stiff.find("is above the critical step"), std::string::npos) << stiff;
+}

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "bagdem/case/case_reader.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/contact/law.hpp"
 #include "bagdem/contact/pair_laws.hpp"
 #include "bagdem/error.hpp"
@@ -65,7 +66,9 @@ Interaction read_interaction(const CaseReader& in, const std::string& key, const
     it.stiffness = given ? in.quantity(key + ".stiffness", dim::stiffness) : base.stiffness;
     it.stiffness_ratio = in.quantity(key + ".stiffness_ratio", dim::none, inherits ? base.stiffness_ratio : Interaction{}.stiffness_ratio);
     if (!(it.stiffness > 0)) in.fail(key + ".stiffness", "must be > 0 (N/m)");
-    if (!(it.stiffness_ratio > 0)) in.fail(key + ".stiffness_ratio", "must be > 0 (k_t / k_n; 2/7 by default)");
+    // Elastic spheres have k_t / k_n = 2 (1 - nu) / (2 - nu): 2/3 to 1 for nu in [0, 0.5].
+    if (!(it.stiffness_ratio > 0 && it.stiffness_ratio <= 1))
+      in.fail(key + ".stiffness_ratio", "must be in (0, 1] (k_t / k_n; 2/7 by default; elastic spheres have 2/3 to 1)");
   } else {
     for (const char* k : {".stiffness", ".stiffness_ratio"})
       if (in.has(key + k))
@@ -123,7 +126,8 @@ void resolve_output(const CaseReader& in, Scene& s) {
   o.skip_cycles = in.quantity("output.skip_cycles", dim::none, 1.0);
   if (!(o.skip_cycles >= 0)) in.fail("output.skip_cycles", "must be >= 0");
   if (!(o.frame_interval > 0)) in.fail("output.frame_interval", "must be > 0");
-  if (!(o.cavity_interval >= s.dt)) in.fail("output.cavity_interval", "must be at least one time step (" + std::to_string(s.dt) + " s)");
+  if (!(o.cavity_interval >= s.dt))
+    in.fail("output.cavity_interval", "must be at least one time step (" + short_text(s.dt) + " s, " + s.dt_reason + ")");
   if (!(o.energy_interval >= s.dt)) in.fail("output.energy_interval", "must be at least one time step");
   if (!(o.checkpoint_interval >= 0)) in.fail("output.checkpoint_interval", "must be >= 0 (0 = no checkpoints)");
 }

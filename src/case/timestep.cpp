@@ -24,6 +24,10 @@ namespace {
 // The step limits, each the smallest over what it concerns (s); 1e300 where nothing limits.
 struct StepLimits {
   double rayleigh = 1e300, contact = 1e300, critical = 1e300, film = 1e300, structure = 1e300;
+  // The largest overlap a contact of the balls reaches at the expected impact speed, over the
+  // smaller radius, and the materials of that contact.
+  double overlap = 0;
+  int overlap_a = -1, overlap_b = -1;
 };
 
 // simulation.expected_speed, or (auto) 2 x the cavity's peak speed + the free-fall speed over the
@@ -80,9 +84,10 @@ void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, d
       const PairLaw& law = s.laws(a, b);
       const ContactLawRow& row = contact_law(law.kind);
       if (row.from_moduli && (particle_material || wall_material)) dt_rayleigh = std::min(dt_rayleigh, rayleigh);
-      auto consider = [&](double R_eff, double m_eff) {
+      auto consider = [&](double R_eff, double m_eff, double r_small) {
         dt_contact = std::min(dt_contact, row.resolved_step(law, m_eff, R_eff, v, per_contact));
         const double delta = row.max_overlap(law, m_eff, R_eff, v);
+        if (delta / r_small > L.overlap) L.overlap = delta / r_small, L.overlap_a = a, L.overlap_b = b;
         const double S_n = row.stiffness(law, R_eff, delta);
         const double zeta = 0.5 * law.damping;  // gamma / (2 sqrt(S m*)) for gamma = damping x sqrt(S m*)
         dt_crit = std::min(dt_crit, hertz::critical_step(std::sqrt(S_n / m_eff), zeta));
@@ -96,9 +101,9 @@ void contact_limits(const Scene& s, const std::vector<double>& rmin, double v, d
       if (particle_material) {
         const double rb = rmin[static_cast<std::size_t>(b)];
         const double mb = sphere_mass(s.materials[static_cast<std::size_t>(b)].density, rb);
-        consider(r * rb / (r + rb), m * mb / (m + mb));
+        consider(r * rb / (r + rb), m * mb / (m + mb), std::min(r, rb));
       }
-      if (wall_material) consider(r, m);
+      if (wall_material) consider(r, m, r);
     }
   }
 }
@@ -182,6 +187,12 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
         << dt_crit << " s, or set simulation.force_timestep = true";
       in.fail("simulation.timestep", m.str());
     }
+    if (s.dt > dt_crit) {
+      std::ostringstream w;
+      w << "simulation.timestep = " << s.dt << " s is above the critical step " << dt_crit
+        << " s (simulation.force_timestep = true): the integration may diverge, and the guards then stop the run";
+      s.warnings.push_back(w.str());
+    }
     why << "explicit";
     if (s.dt > dt_contact * 1.0000001) {
       std::ostringstream w;
@@ -205,6 +216,30 @@ void choose_step(const CaseReader& in, Scene& s, const StepLimits& L, double saf
     why << " -> " << (s.dt == a ? "Rayleigh" : s.dt == b ? "contact time" : s.dt == c ? "critical step" : s.dt == f ? "film" : "structure")
         << " limits";
   }
+}
+
+// A contact that would overlap more than the guard allows (simulation.max_overlap) at the expected
+// impact speed: the run is likely to stop there. A warning, not a refusal: the expected speed is an
+// upper estimate (2 x the cavity's peak speed + free fall). Names the key that stiffens the contact.
+void overlap_warning(const CaseReader& in, Scene& s, const StepLimits& L, double v) {
+  if (L.overlap <= s.max_overlap_fraction || L.overlap_a < 0) return;
+  const std::string& A = s.materials[static_cast<std::size_t>(L.overlap_a)].name;
+  const std::string& B = s.materials[static_cast<std::size_t>(L.overlap_b)].name;
+  std::string key;
+  if (contact_law(s.laws(L.overlap_a, L.overlap_b).kind).from_moduli) {
+    const bool a_softer = s.materials[static_cast<std::size_t>(L.overlap_a)].youngs_modulus <= s.materials[static_cast<std::size_t>(L.overlap_b)].youngs_modulus;
+    key = "materials." + (a_softer ? A : B) + ".youngs_modulus";
+  } else {
+    key = "interactions.default.stiffness";
+    for (const std::string& pair : {A + "-" + B, B + "-" + A})
+      if (in.has("interactions." + pair + ".stiffness")) key = "interactions." + pair + ".stiffness";
+  }
+  std::ostringstream w;
+  w << "at the expected impact speed " << v << " m/s a " << A << "-" << B << " contact would overlap " << 100 * L.overlap
+    << "% of the smaller radius, above the guard's " << 100 * s.max_overlap_fraction
+    << "% (simulation.max_overlap): the run may stop there. Raise " << key
+    << ", or give simulation.expected_speed if the impacts are slower";
+  s.warnings.push_back(w.str());
 }
 
 // The drive and the force must be resolved by the chosen step.
@@ -265,6 +300,7 @@ void resolve_timestep(const CaseReader& in, Scene& s) {
   std::ostringstream why;
   choose_step(in, s, L, safety, per_contact, v, why);
   check_drive(in, s);
+  overlap_warning(in, s, L, v);
   why << "; expected impact speed " << v << " m/s; critical step " << L.critical << " s";
   s.dt_reason = why.str();
 }

@@ -87,9 +87,13 @@ void Stepper::guards() {
     }
   }
   if (overlap) {
-    m << "a contact overlap reached " << 100 * largest_overlap_ratio() << "% of a particle radius (limit "
-      << 100 * scene_.max_overlap_fraction
-      << "%, key simulation.max_overlap). Impacts are faster or contacts softer than the time step "
+    // The guard's own figure: how far beyond the limit (the ratio over the pairs and walls, taken
+    // again here, may miss the contact that passed it: a triangulated surface's).
+    m << "a contact overlap passed " << 100 * scene_.max_overlap_fraction << "% of the smaller radius (key simulation.max_overlap) by "
+      << guard_.overlap_excess << " m";
+    if (const double ratio = largest_overlap_ratio(); ratio > scene_.max_overlap_fraction)
+      m << " (the largest ball-ball or ball-wall overlap: " << 100 * ratio << "% of a radius)";
+    m << ". Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
          "raise the Young's modulus (law = \"hooke\": the pair's interactions.NAME.stiffness).";
     throw RunError(m.str());

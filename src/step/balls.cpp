@@ -144,7 +144,7 @@ void Stepper::kick_drift() {
     // Rounded up as nb_.travel is (end_drift): never short of the true distances.
     mesh_.travel = std::nextafter(mesh_.travel + (nb_.largest_step + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
   }
-  if (structure_.couple) structure_drift();
+  if (structure_.couple) structure_.drift(scene_.dt);
 }
 
 
@@ -174,7 +174,7 @@ void Stepper::kick() {
     return std::isfinite(film_.v[k].squaredNorm());
   }, [](bool a, bool b) { return a && b; });
   if (structure_.couple) {
-    structure_kick();
+    structure_.kick(scene_.dt);
     for (double v : structure_.v) finite = finite && std::isfinite(v);
   }
   guard_.all_finite = finite;

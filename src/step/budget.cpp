@@ -85,7 +85,7 @@ EnergySample Stepper::energy() const {
   e.dissipated_normal += film_.tally.diss_normal;
   e.dissipated_tangential += film_.tally.diss_tangential;
   e.dissipated_damping = film_.tally.diss_damping;
-  e.elastic = elastic_energy() + film_elastic_energy();
+  e.elastic = elastic_energy() + film_elastic_energy(scene_, frame(), film_, mesh_);
   e.work_gravity = energy0_.potential - potential_energy();
   return e;
 }

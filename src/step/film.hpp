@@ -1,14 +1,19 @@
 // The film component: the bag's film nodes (FilmNodes), its membrane, its strings, its contacts
-// with the cavity's walls and its tallies. Its stage: film (film.cpp).
+// with the cavity's walls and its tallies; and its stage, film_stage (film.cpp), a free function of
+// the views it needs (FilmStage).
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "bagdem/bag/membrane.hpp"
+#include "bagdem/contact/surface_law.hpp"
+#include "bagdem/scene.hpp"
 #include "bagdem/step/samples.hpp"
 #include "bagdem/vec3.hpp"
+#include "cavity_frame.hpp"
 #include "history.hpp"
+#include "surface_contacts.hpp"
 
 namespace bagdem {
 
@@ -30,6 +35,8 @@ struct Film : FilmNodes {
     Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
   } tally;
+  // Sizes the film's arrays for the scene's bag (none without one), the nodes at their rest places.
+  void set_up(const Scene& scene);
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   template <class IO>
@@ -39,5 +46,59 @@ struct Film : FilmNodes {
     io.vec(wall_touch), io.vec(strings), io.pod(tally);
   }
 };
+
+// What the film stage works on: the step, the scene, the cavity's frame, the film, the surface
+// contacts (the balls' loads on the film from the triangles stage; the nodes' STL-wall slots), and
+// the film's load moments on the structure this step (StructureCoupling::film_load_moments).
+struct FilmStage {
+  const StepContext& ctx;
+  const Scene& scene;
+  const CavityFrame& frame;
+  Film& film;
+  SurfaceContacts& surfaces;
+  Vec3& load_moments;
+};
+
+// The film stage (stage.hpp): the nodes' forces of this step, gravity, membrane, film-wall contacts,
+// strings and the balls' loads, summed in a fixed order.
+void film_stage(const FilmStage& s);
+
+// Node k against the STL walls (surfaces.cpp): adds to the wall force on it F_wall, the angular
+// impulse on the cavity L, the load moments, the dissipation (dn, dtg) and lowers `deepest` to
+// its signed distance.
+template <bool Tangential, bool Energy>
+void film_node_stl_contacts(const FilmStage& s, std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
+                            double& deepest);
+
+// The walls within skin of each film node's reach at the build, `film` the nodes then and `cavity`
+// the cavity's position then (with the shear then): film.wall_near, bit w for wall w. Until the
+// next build neither moves more than skin/2, so the film-wall contacts skip the others.
+void find_film_walls_near(Film& film, const Scene& scene, const CavityFrame& frame, const std::vector<Vec3>& at_build, const Vec3& cavity);
+
+// Elastic energy held by the film: membrane and bending, strings, film-wall and STL-wall contacts.
+double film_elastic_energy(const Scene& scene, const CavityFrame& frame, const Film& film, const SurfaceContacts& surfaces);
+
+// Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall
+// law (R* = the film's contact radius, m* = the node's mass) against a surface moving at c_vel (end
+// of step) and c_half (over it), histories in slot `at` of hist. The force on the node;
+// dissipation into dn, dtg; `elastic` (when not null): the elastic part of the normal force.
+template <bool Tangential, bool Energy>
+BAGDEM_INLINE Vec3 film_node_contact(const FilmStage& s, std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel,
+                                     const Vec3& c_half, ContactHistories& hist, std::size_t at, double& dn, double& dtg,
+                                     double* elastic = nullptr) {
+  const Film& film = s.film;
+  ContactGeometry g;
+  g.n = n, g.overlap = overlap, g.R_eff = s.scene.bag->contact_radius, g.m_eff = film.mass[k];
+  g.arm_i = g.arm_j = 0;
+  g.v_rel = film.v_pred[k] - c_vel;
+  g.v_half = film.v[k] - c_half;
+  g.w_half.setZero();
+  Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
+  [[maybe_unused]] double no_tally = 0;
+  const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, law, s.ctx.dt, Energy ? hist.damping_prev[at] : no_tally,
+                                                             Tangential ? &hist.tangential[at] : nullptr, nullptr, no_torque, diss, elastic);
+  if constexpr (Energy) dn += diss.x(), dtg += diss.y();
+  return Fc;
+}
 
 }  // namespace bagdem

@@ -44,8 +44,8 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   walls_.touch.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
   walls_.near.assign(n, 0);
   cavity_.now = cavity_.prev = cavity_at(0.0);
-  set_up_structure();
-  set_up_film();
+  if (scene_.primary) structure_.set_up(*scene_.primary, n);
+  film_.set_up(scene_);
   set_up_meshes();
   // The contents' mass, balls then film nodes (the order contents_relative_velocity sums them in).
   for (std::size_t i = 0; i < n; ++i) energy0_.contents_mass += p_.mass[i];
@@ -56,7 +56,7 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   for (const StageEntry& s : stages())
     if (s.at_rest) (this->*s.run)();
   if (structure_.couple) {
-    structure_forces();  // the contents' load at rest
+    bagdem::structure_stage(ctx_, *scene_.primary, since_release(false), structure_);  // the contents' load at rest
     structure_.release_step = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
     if (structure_.release_step == 0) release_structure();
   }
@@ -66,7 +66,7 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
 }
 
 CavityState Stepper::cavity_at(double t) const {
-  if (structure_.couple) return structure_cavity();
+  if (structure_.couple) return structure_.cavity(*scene_.primary);
   if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
   return scene_.motion->at(t - scene_.settle);
 }
@@ -129,7 +129,7 @@ void Stepper::step_once(bool last) {
 void Stepper::renew_neighbours() { update_neighbours(false); }
 void Stepper::pair_stage() { pair_contacts(); }
 void Stepper::structure_stage() {
-  if (structure_.couple) structure_forces();
+  if (structure_.couple) bagdem::structure_stage(ctx_, *scene_.primary, since_release(ctx_.stepping()), structure_);
 }
 void Stepper::end_step() {
   ++step_;

@@ -23,6 +23,7 @@
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/primary.hpp"
 #include "balls.hpp"
+#include "cavity_frame.hpp"
 #include "cavity_track.hpp"
 #include "film.hpp"
 #include "guard_values.hpp"
@@ -112,8 +113,8 @@ class Stepper {
   // The spans' cuts now and how often they moved.
   const SpanBalance& balance() const { return balance_; }
   const StageTimes& stage_times() const { return times_; }
-  // Maximum number of triangle features one ball touches at once.
-  static constexpr std::size_t kMaxMeshContacts = 16;
+  // Maximum number of triangle features one ball touches at once (surface_contacts.hpp).
+  static constexpr std::size_t kMaxMeshContacts = bagdem::kMaxMeshContacts;
   // The Verlet list is renewed one step ahead: before the pairs at a step's positions when, at the
   // step before, a ball was more than skin/2 - kSkinStep x skin from its place at the build; and a
   // ball that moves more than kSkinStep x skin in one step stops the run (guards). So no ball is
@@ -179,43 +180,18 @@ class Stepper {
   void triangle_contacts();
   template <bool Tangential, bool Rolling, bool Energy>
   void triangle_contacts_impl();
-  void film_stage();
+  void film_stage() { bagdem::film_stage({ctx_, scene_, frame(), film_, mesh_, structure_.film_load_moments}); }
   void kick();
   void guards();
-  void set_up_structure();
   void release_structure();
-  void release_state(Eigen::VectorXd& q, Eigen::VectorXd& v, double& phase) const;
-  void restart_acceleration();
-  void bare_state_at(double theta, double w, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
-  void steady_rigid(double theta, double w, double sign);
-  void structure_drift();
-  CavityState structure_cavity() const;
-  double external_force(double t_motion) const;
-  void structure_forces();
-  void structure_kick();
-  // The cavity's motion at a lab point x (WallMotion, stage.hpp). Without a slope the same for
-  // every point (rigid_motion); with one, each adds shear * s (s: the point's axial coordinate).
-  WallMotion rigid_motion() const { return rigid_motion(cavity_.prev, cavity_.now); }
-  WallMotion rigid_motion(const CavityState& prev, const CavityState& now) const {
-    const Vec3 step = now.position - prev.position;
-    return {now.position, now.velocity, ctx_.stepping() ? Vec3(step / ctx_.dt) : now.velocity, step};
-  }
-  WallMotion motion_at(const Vec3& x) const {
-    WallMotion m = rigid_motion();
-    if (!structure_.tilt) return m;
-    const double s = (x - cavity_.now.position - scene_.cavity_reference).dot(structure_.load_axis);
-    m.pos += s * cavity_.now.shear;
-    m.vel += s * cavity_.now.shear_rate;
-    m.step += s * (cavity_.now.shear - cavity_.prev.shear);
-    if (ctx_.stepping()) m.half = m.step / ctx_.dt;
-    return m;
-  }
-  // Moments (f, f s, f s^2) of the transverse force f = F . e the contents put on the cavity at
-  // `local` (cavity frame), s its axial distance from the cavity reference (structure/primary.hpp).
-  Vec3 load_moments(const Vec3& local, const Vec3& force_on_cavity) const {
-    const double s = (local - scene_.cavity_reference).dot(structure_.load_axis), f = force_on_cavity.dot(structure_.load_dir);
-    return {f, f * s, f * s * s};
-  }
+  // The time since the structure's release at this step's end (stepping) or now (unit: s).
+  double since_release(bool stepping) const;
+  // The cavity's frame over the step in progress (cavity_frame.hpp), and its answers.
+  CavityFrame frame() const { return {scene_, ctx_, cavity_, structure_}; }
+  WallMotion rigid_motion() const { return frame().rigid(); }
+  WallMotion rigid_motion(const CavityState& prev, const CavityState& now) const { return frame().rigid(prev, now); }
+  WallMotion motion_at(const Vec3& x) const { return frame().at(x); }
+  Vec3 load_moments(const Vec3& local, const Vec3& force_on_cavity) const { return frame().load_moments(local, force_on_cavity); }
   // A stage over the balls [b0, b1) (drift_span, wall_span, as chosen for the scene's models).
   // cavity: the walls' motion over the step (rigid_motion), which the wall stage reads (with a
   // slope, per ball: motion_at) and the drift does not.
@@ -273,40 +249,11 @@ class Stepper {
                         Vec3& T_cavity, Vec3& load) const;
   double surface_point(const surface_contacts::Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m, Vec3& v_end,
                        Vec3& v_half) const;
-  void set_up_film();
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
-  void find_film_walls_near(const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
   void state_fields(IO& io);  // checkpoint.cpp: its own fields, then each component's checkpoint()
   bool meshes_need_rebuild() const;
-  template <bool Tangential, bool Energy>
-  void film_walls();
-  // Film node k against the STL walls: adds to the wall force on it F_wall, the angular impulse on
-  // the cavity L, the dissipation (dn, dt) and lowers `deepest` to its signed distance.
-  template <bool Tangential, bool Energy>
-  void node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg, double& deepest);
-  double film_elastic_energy() const;
-  // Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall
-  // law (film.cpp: R* = the film's contact radius, m* = the node's mass) against a surface moving at
-  // c_vel (end of step) and c_half (over it), histories in slot `at` of hist. The force on the
-  // node; dissipation into dn, dtg; `elastic` (when not null): the Hertz elastic part of the normal force.
-  template <bool Tangential, bool Energy>
-  BAGDEM_INLINE Vec3 node_contact(std::size_t k, const Vec3& n, double overlap, const PairLaw& law, const Vec3& c_vel, const Vec3& c_half,
-                                  ContactHistories& hist, std::size_t at, double& dn, double& dtg, double* elastic = nullptr) {
-    ContactGeometry g;
-    g.n = n, g.overlap = overlap, g.R_eff = scene_.bag->contact_radius, g.m_eff = film_.mass[k];
-    g.arm_i = g.arm_j = 0;
-    g.v_rel = film_.v_pred[k] - c_vel;
-    g.v_half = film_.v[k] - c_half;
-    g.w_half.setZero();
-    Vec3 no_torque(0, 0, 0), diss(0, 0, 0);  // a node does not turn (arm 0)
-    [[maybe_unused]] double no_tally = 0;
-    const Vec3 Fc = surface_contact<Tangential, false, Energy>(g, law, ctx_.dt, Energy ? hist.damping_prev[at] : no_tally,
-                                                               Tangential ? &hist.tangential[at] : nullptr, nullptr, no_torque, diss, elastic);
-    if constexpr (Energy) dn += diss.x(), dtg += diss.y();
-    return Fc;
-  }
   // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
   // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
   // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).

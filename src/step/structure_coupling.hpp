@@ -1,13 +1,16 @@
 // The structure coupling component: the primary structure's state (StructureState) and how the
 // cavity rides on it and loads it: where it is held while the contents settle, whether it feels
-// the contents, the cavity's axis and direction on it, the load moments of this step. Its stage:
-// structure (structure.cpp).
+// the contents, the cavity's axis and direction on it, the load moments of this step. Its part of
+// each stage is a member here taking the primary and the step's context; its stage, structure_stage
+// (structure.cpp), is a free function of them.
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
 #include "bagdem/step/samples.hpp"
+#include "bagdem/structure/primary.hpp"
+#include "stage.hpp"
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
@@ -24,6 +27,26 @@ struct StructureCoupling : StructureState {
   std::vector<Vec3> cavity_load;            // per ball: load moments on the cavity this step
   Vec3 film_load_moments = Vec3::Zero();    // the film's (walls and strings) this step
   std::uint64_t release_step = 0;           // the step at which settling ends
+
+  // Sizes the state for P (`balls` load slots), held where it is released from.
+  void set_up(const Primary& P, std::size_t balls);
+  // Settling is over: the structure starts moving (structure.cpp).
+  void release(const Primary& P);
+  // kick_drift's part: v += dt/2 a, q += dt v, v_pred = v + dt/2 a. kick's: v += dt/2 a.
+  void drift(double dt);
+  void kick(double dt);
+  // The cavity's state on the structure (move_cavity).
+  CavityState cavity(const Primary& P) const;
+  // The structure stage's work: the contents' load of this step (the balls' and the film's), the
+  // external force at `t` (since release), the acceleration; tallied when ctx is a step.
+  void forces(const Primary& P, const StepContext& ctx, double t);
+  // a from the present state, the contents' load of the last step and the force at t (set-up mode:
+  // nothing is tallied and the previous-step values restart from here).
+  void restart_acceleration(const Primary& P, double t);
+  // A harmonic drive's new frequency from the next step on; t as restart_acceleration's.
+  void set_drive_frequency(const Primary& P, double hz, double t);
+  double energy(const Primary& P) const;  // kinetic + elastic (unit: J)
+  StructureResponse response(const Primary& P) const;
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   // Empty vectors without a structure.
@@ -37,5 +60,9 @@ struct StructureCoupling : StructureState {
     io.vec(cavity_load), io.pod(film_load_moments);
   }
 };
+
+// The structure stage (stage.hpp): the structure's forces and acceleration of this step, t the
+// time since release at the step's end (StructureCoupling::forces).
+void structure_stage(const StepContext& ctx, const Primary& P, double t, StructureCoupling& structure);
 
 }  // namespace bagdem

@@ -15,6 +15,9 @@
 
 namespace bagdem {
 
+// Maximum number of triangle features one ball (or film node) touches at once: its contact slots.
+inline constexpr std::size_t kMaxMeshContacts = 16;
+
 struct SurfaceContacts {
   struct Surface {
     const TriangleMesh* mesh;   // topology (and, for STL walls, the vertices in the cavity frame)

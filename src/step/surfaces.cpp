@@ -127,7 +127,7 @@ void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::v
   if (mesh_.surfaces.size() == 1 && mesh_.surfaces[0].film) mesh_.wake.assign(p_.size(), 0.0);
   mesh_.cavity_at_build = cavity;
   if (&film != &mesh_.film_at_build) mesh_.film_at_build = film;
-  if (scene_.bag) find_film_walls_near(film, cavity);
+  if (scene_.bag) find_film_walls_near(film_, scene_, frame(), film, cavity);
 }
 
 // The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the
@@ -332,38 +332,41 @@ double Stepper::surface_point(const Found& fd, const Surface& sf, const Vec3& c_
 // Film nodes against the STL walls: the film-wall law of film.cpp (R* = the film's contact
 // radius, m* = the node's mass, reach = half the thickness) on the sphere-triangle contact.
 template <bool Tangential, bool Energy>
-void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
-                                    double& deepest) {
+void film_node_stl_contacts(const FilmStage& st, std::size_t k, Vec3& F_wall, Vec3& L, Vec3& load, double& dn, double& dtg,
+                            double& deepest) {
   constexpr std::size_t K = kMaxMeshContacts;
-  const Bag& bag = *scene_.bag;
-  const double dt = ctx_.dt;
-  const WallMotion wm = motion_at(film_.x[k]);
+  const Scene& scene = st.scene;
+  const Film& film = st.film;
+  SurfaceContacts& mesh = st.surfaces;
+  const Bag& bag = *scene.bag;
+  const double dt = st.ctx.dt;
+  const WallMotion wm = st.frame.at(film.x[k]);
   const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
-  const double reach = mesh_.node_reach[k];
-  const Vec3 x = film_.x[k] - c_pos;
+  const double reach = mesh.node_reach[k];
+  const Vec3 x = film.x[k] - c_pos;
   Found found[K];
   auto view = [&](std::uint32_t s) {
-    const Surface& sf = mesh_.surfaces[s];
+    const SurfaceContacts::Surface& sf = mesh.surfaces[s];
     return PointView{x, &sf.mesh->vertices, reach, -1.0};  // STL walls only: the film has no candidate list
   };
   auto deepest_of = [&](std::uint32_t, double overlap, double, bool) { deepest = std::min(deepest, reach - overlap); };
   thread_local std::vector<EulerTerm> terms;
-  const std::size_t nf = find_features<K>(mesh_.surfaces, mesh_.node_cand, k, view, deepest_of, [] {}, found, terms);
-  mesh_.node_elastic[k] = 0;
-  MeshSlot* slot = &mesh_.node_slots[k * K];
-  const std::size_t n_prev = mesh_.node_slot_count[k];
+  const std::size_t nf = find_features<K>(mesh.surfaces, mesh.node_cand, k, view, deepest_of, [] {}, found, terms);
+  mesh.node_elastic[k] = 0;
+  MeshSlot* slot = &mesh.node_slots[k * K];
+  const std::size_t n_prev = mesh.node_slot_count[k];
   if (nf == 0 && n_prev == 0) return;  // no STL wall touched, now or at the last step
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
-  carry_slots(slot, mesh_.node_slot_hist, k * K, n_prev, found, nf, prev, prev_hist, taken);
+  carry_slots(slot, mesh.node_slot_hist, k * K, n_prev, found, nf, prev, prev_hist, taken);
   double law_overlap[K];
   law_overlaps(terms, found, nf,
-               [&](std::uint32_t s) -> const PairLaw& { return scene_.laws(bag.material, mesh_.surfaces[s].material); }, law_overlap);
+               [&](std::uint32_t s) -> const PairLaw& { return scene.laws(bag.material, mesh.surfaces[s].material); }, law_overlap);
   if constexpr (Energy) {
     for (std::size_t j = 0; j < n_prev; ++j) {
       if (taken[j]) continue;
-      const Vec3 d = closing_tally<Tangential, false>(prev[j].n, film_.v[k] - prev[j].surface_velocity, Vec3::Zero(), dt,
+      const Vec3 d = closing_tally<Tangential, false>(prev[j].n, film.v[k] - prev[j].surface_velocity, Vec3::Zero(), dt,
                                                       prev_hist[j].damping_prev, Tangential ? &prev_hist[j].tangential : nullptr,
                                                       nullptr);
       dn += d.x(), dtg += d.y();
@@ -372,38 +375,38 @@ void Stepper::node_mesh_contacts(std::size_t k, Vec3& F_wall, Vec3& L, Vec3& loa
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
     const std::size_t at = k * K + f;
-    MeshSlot& s = renew_slot(slot, mesh_.node_slot_hist, at, f, fd, prev, prev_hist);
+    MeshSlot& s = renew_slot(slot, mesh.node_slot_hist, at, f, fd, prev, prev_hist);
     s.surface_velocity = c_half;
     // The law gives damping and friction; the elastic force is the Euler sum's (below).
     double elastic = 0;
-    Vec3 Fc = node_contact<Tangential, Energy>(k, fd.n, law_overlap[f], scene_.laws(bag.material, mesh_.surfaces[fd.surface].material),
-                                               c_vel, c_half, mesh_.node_slot_hist, at, dn, dtg, &elastic);
+    Vec3 Fc = film_node_contact<Tangential, Energy>(st, k, fd.n, law_overlap[f], scene.laws(bag.material, mesh.surfaces[fd.surface].material),
+                                               c_vel, c_half, mesh.node_slot_hist, at, dn, dtg, &elastic);
     Fc -= elastic * fd.n;
     Vec3 parts[kPatchMembers] = {Fc};
     for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
     F_wall += Fc;
     for (std::size_t i = 0; i < fd.members; ++i) {
       const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
-      L -= dt * (point - scene_.cavity_reference).cross(parts[i]);
-      if (structure_.couple) load += load_moments(point, -parts[i]);
+      L -= dt * (point - scene.cavity_reference).cross(parts[i]);
+      if (st.frame.structure.couple) load += st.frame.load_moments(point, -parts[i]);
     }
   }
-  mesh_.node_slot_count[k] = static_cast<std::uint8_t>(nf);
+  mesh.node_slot_count[k] = static_cast<std::uint8_t>(nf);
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const auto [u, Fe] = euler_load(e, scene_.laws(bag.material, mesh_.surfaces[e.surface].material), bag.contact_radius);
+    const auto [u, Fe] = euler_load(e, scene.laws(bag.material, mesh.surfaces[e.surface].material), bag.contact_radius);
     U += u;
     F_wall += Fe;
-    L -= dt * (e.point - scene_.cavity_reference).cross(Fe);
-    if (structure_.couple) load += load_moments(e.point, -Fe);
+    L -= dt * (e.point - scene.cavity_reference).cross(Fe);
+    if (st.frame.structure.couple) load += st.frame.load_moments(e.point, -Fe);
   }
-  mesh_.node_elastic[k] = U;
+  mesh.node_elastic[k] = U;
 }
 
-template void Stepper::node_mesh_contacts<false, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Stepper::node_mesh_contacts<false, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Stepper::node_mesh_contacts<true, false>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
-template void Stepper::node_mesh_contacts<true, true>(std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void film_node_stl_contacts<false, false>(const FilmStage&, std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void film_node_stl_contacts<false, true>(const FilmStage&, std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void film_node_stl_contacts<true, false>(const FilmStage&, std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
+template void film_node_stl_contacts<true, true>(const FilmStage&, std::size_t, Vec3&, Vec3&, Vec3&, double&, double&, double&);
 
 std::size_t Stepper::mesh_contact_count() const {
   std::size_t c = 0;

@@ -265,7 +265,7 @@ TEST(Determinism, FusedStepEqualsStaged) {
   }
 }
 
-// advance() on several threads runs its steps pipelined (Stepper::run_pipelined): the threads
+// advance() on several threads runs its steps pipelined (Stepper::pipelined_region, a column of the stage table): the threads
 // stay in one region for up to a balance window of steps (64) and wait only for the ranges next
 // to theirs. It must end bitwise where the fused steps end (the 1-thread run, and 2 threads with
 // pipelining off). Energy tallies off and on, frictional and frictionless, 2 and 3 threads (3: more

@@ -17,4 +17,12 @@ struct GuardValues {
   std::size_t mesh_overflow = static_cast<std::size_t>(-1);  // a ball touching more than kMaxMeshContacts features
 };
 
+// The guards' test of what the ball stages fold (StageFold), the one test of a whole step
+// (Stepper::guards) and of a pipelined range's step (end_range_step): a velocity not finite, an
+// overlap beyond the limit, a ball outside the cavity, a ball that moved more than `step_limit` in
+// the step (unit: m).
+inline bool balls_fail(bool finite, double overlap_excess, double min_boundary_distance, double largest_step, double step_limit) {
+  return !finite || overlap_excess > 0.0 || min_boundary_distance < 0.0 || largest_step > step_limit;
+}
+
 }  // namespace bagdem

@@ -23,8 +23,8 @@ void Stepper::guards() {
   const bool crossed = guard_.crossed != none, crowded = guard_.mesh_overflow != none;
   const bool film_out = scene_.bag && film_.deepest < 0.5 * scene_.bag->film.thickness -
                                                        scene_.max_overlap_fraction * scene_.bag->contact_radius;
-  const bool too_fast = nb_.largest_step > kSkinStep * scene_.skin;
-  if (!bad && !overlap && !escaped && !crossed && !crowded && !film_out && !too_fast) return;
+  const bool balls = balls_fail(guard_.all_finite, guard_.overlap_excess, guard_.min_boundary_distance, nb_.largest_step, kSkinStep * scene_.skin);
+  if (!balls && !crossed && !crowded && !film_out) return;
 
   std::ostringstream m;
   m << "run stopped at t = " << time() << " s (step " << step_ << "): ";

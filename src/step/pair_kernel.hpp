@@ -166,7 +166,7 @@ struct PairKernel {
   // last step (an opened pair's tallies and records are cleared at the next look), else once travel
   // has grown by half its gap, less 1e-9 of the radii's sum, which covers the rounding of the gap
   // (about 1e-16 of it) many times over. travel: the stepper's, or in pipelined steps the pair's
-  // range's (run_pipelined).
+  // range's (pipelined_region).
   BAGDEM_INLINE bool look(std::uint32_t k, double travel) const {
     const std::uint32_t i = first[k], j = partner[k];
     const double rsum = radius(i) + radius(j);

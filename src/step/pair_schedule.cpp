@@ -68,7 +68,7 @@ void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
   }
 }
 
-// Pipelined steps (run_pipelined): the threads stay in one region for up to `pipelined` steps
+// Pipelined steps (pipelined_region): the threads stay in one region for up to `pipelined` steps
 // and meet nowhere. Range r goes on to step s once the ranges whose balls its cross pairs reach
 // are at step s (RangeProgress::done), and every range's rebuild decision for it is known (the
 // positions at step s - 1, Stepper::kSkinStep). A guard that fails ends the steps for all:

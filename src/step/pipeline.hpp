@@ -29,6 +29,8 @@ struct Pipeline {
   double region_travel = 0;                   // the pairs' travel when the pipelined steps began (cross_travel)
   std::vector<CavityState> cavity_path;       // the cavity at each pipelined step (0: at the start)
   std::vector<WallMotion> wall_path;          // the walls' motion over each pipelined step
+  std::uint64_t region_steps = 0;             // the region planned (plan_pipelined): at most this many steps
+  std::uint64_t region_done = 0;              // the steps it did (pipelined_region)
   std::uint64_t pipelined_steps = 0;
   std::uint64_t fused_steps = 0;
 };

@@ -30,7 +30,9 @@
 
 namespace bagdem {
 
-std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
+std::uint64_t Stepper::plan_pipelined(std::uint64_t most) {
+  pipe_.region_steps = 0;
+  if (most == 0) return 0;
   const auto threads = static_cast<std::uint32_t>(std::max(1, omp_get_max_threads()));
   const bool several = p_.size() >= opt_.parallel_balls && ps_.pairs.size() > kParallelMin;
   // Fused steps (the next drift done: ctx_.balls drifted) with nothing that needs all balls at every step:
@@ -53,7 +55,12 @@ std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
     pipe_.cavity_path[steps + 1] = c;
     pipe_.wall_path[steps] = rigid_motion(pipe_.cavity_path[steps], c);
   }
-  if (steps == 0) return 0;
+  pipe_.region_steps = steps;
+  return steps;
+}
+
+void Stepper::pipelined_region() {
+  const std::uint64_t steps = pipe_.region_steps;
   pipe_.region_travel = nb_.travel;
   for (RangeProgress& g : pipe_.progress) {
     g.done.store(0, std::memory_order_relaxed);
@@ -122,7 +129,7 @@ std::uint64_t Stepper::run_pipelined(std::uint64_t most) {
   pipe_.fused_steps += done;
   pipe_.pipelined_steps += done;
   ps_.regions += done;  // the cross stamps used
-  return done;
+  pipe_.region_done = done;
 }
 
 // The wake of a cross pair (i in a range q below r, j in r) is set and compared on this scale: the
@@ -159,7 +166,7 @@ void Stepper::end_range_step(std::size_t r, std::uint64_t s) {
     }
   };
   // The guards' tests (guards) on the range's folds.
-  if (!f.finished_finite || f.excess > 0.0 || f.min_dist < 0.0 || g.step > kSkinStep * scene_.skin) {
+  if (balls_fail(f.finished_finite, f.excess, f.min_dist, g.step, kSkinStep * scene_.skin)) {
     g.failed = s;
     stop_before(s + 1);
   } else if (near) {

@@ -72,31 +72,26 @@ CavityState Stepper::cavity_at(double t) const {
 }
 
 void Stepper::advance(std::uint64_t steps) {
-  for (std::uint64_t k = 0; k < steps;) {
-    const std::uint64_t pipelined = k + 1 < steps ? run_pipelined(steps - 1 - k) : 0;  // not the last (its kick)
-    if (pipelined > 0) {
-      k += pipelined;
-    } else {
-      step_once(k + 1 == steps);
-      ++k;
-    }
-  }
+  for (std::uint64_t k = 0; k < steps;) k += run_table(k + 1 == steps, k + 1 < steps ? steps - 1 - k : 0);  // the last: not pipelined (its kick)
 }
 
 // The step's stages (stage.hpp), in order: what each runs, and the clock that times it.
 std::span<const Stepper::StageEntry> Stepper::stages() {
   static constexpr StageEntry table[] = {
-      // stage               staged                         fused (fusable)                 clock               at rest
-      {Stage::kick_drift, &Stepper::kick_drift, &Stepper::kick_drift, &StageTimes::integrate, false},
-      {Stage::move_cavity, &Stepper::move_cavity, &Stepper::move_cavity, &StageTimes::integrate, false},
-      {Stage::neighbours, &Stepper::renew_neighbours, &Stepper::renew_neighbours, &StageTimes::neighbours, false},
-      {Stage::pairs, &Stepper::pair_stage, &Stepper::fused_contacts, &StageTimes::pairs, true},  // + walls, next drift
-      {Stage::walls, &Stepper::wall_contacts, nullptr, &StageTimes::walls, true},
-      {Stage::triangles, &Stepper::triangle_contacts, &Stepper::triangle_contacts, &StageTimes::triangles, true},
-      {Stage::film, &Stepper::film_stage, &Stepper::film_stage, &StageTimes::film, true},
-      {Stage::structure, &Stepper::structure_stage, &Stepper::structure_stage, &StageTimes::integrate, false},
-      {Stage::kick, &Stepper::kick, &Stepper::kick, &StageTimes::integrate, false},
-      {Stage::guards, &Stepper::end_step, &Stepper::end_step, &StageTimes::guards, false}};
+      // A pipelined region is the pairs row's alone: the walls, the drift, the cavity's path and the
+      // guards of its steps run inside it, and it runs only where the other rows have nothing to do
+      // (plan_pipelined: no triangulated surface, no structure; the list holds; the kick deferred).
+      // stage            staged                      fused (fusable)             pipelined (many steps)         clock                   at rest
+      {Stage::kick_drift, &Stepper::kick_drift, &Stepper::kick_drift, nullptr, &StageTimes::integrate, false},
+      {Stage::move_cavity, &Stepper::move_cavity, &Stepper::move_cavity, nullptr, &StageTimes::integrate, false},
+      {Stage::neighbours, &Stepper::renew_neighbours, &Stepper::renew_neighbours, nullptr, &StageTimes::neighbours, false},
+      {Stage::pairs, &Stepper::pair_stage, &Stepper::fused_contacts, &Stepper::pipelined_region, &StageTimes::pairs, true},  // fused: + walls, next drift
+      {Stage::walls, &Stepper::wall_contacts, nullptr, nullptr, &StageTimes::walls, true},
+      {Stage::triangles, &Stepper::triangle_contacts, &Stepper::triangle_contacts, nullptr, &StageTimes::triangles, true},
+      {Stage::film, &Stepper::film_stage, &Stepper::film_stage, nullptr, &StageTimes::film, true},
+      {Stage::structure, &Stepper::structure_stage, &Stepper::structure_stage, nullptr, &StageTimes::integrate, false},
+      {Stage::kick, &Stepper::kick, &Stepper::kick, nullptr, &StageTimes::integrate, false},
+      {Stage::guards, &Stepper::end_step, &Stepper::end_step, nullptr, &StageTimes::guards, false}};
   return table;
 }
 
@@ -106,15 +101,19 @@ void Stepper::begin_step(bool last) {
   if (structure_.couple && step_ == structure_.release_step && !structure_.scalars.released) release_structure();
 }
 
-// The stages one after the other, each its row's staged or (fusable) fused function: fused, the
-// pair stage also does the walls and the next step's drift, each thread on its range of balls
-// (fused_contacts).
-void Stepper::step_once(bool last) {
-  begin_step(last);
-  const bool fused = fusable();
+// The one executor: the table's rows in order, each its column's function for the schedule. A
+// pipelined region when `most` later steps allow one (plan_pipelined: it does that many steps, or
+// fewer); else one step, fused (fusable: the pair stage also does the walls and the next step's
+// drift, each thread on its range of balls, fused_contacts) or staged. Returns the steps done.
+std::uint64_t Stepper::run_table(bool last, std::uint64_t most) {
+  Schedule schedule = Schedule::pipelined;
+  if (plan_pipelined(most) == 0) {
+    begin_step(last);
+    schedule = fusable() ? Schedule::fused : Schedule::staged;
+  }
   double t = opt_.profile ? omp_get_wtime() : 0.0;
   for (const StageEntry& s : stages()) {
-    const auto run = fused ? s.fused : s.run;
+    const auto run = schedule == Schedule::pipelined ? s.pipelined : schedule == Schedule::fused ? s.fused : s.run;
     if (run == nullptr) continue;
     (this->*run)();
     if (opt_.profile) {
@@ -124,6 +123,7 @@ void Stepper::step_once(bool last) {
     }
   }
   if (opt_.profile) ++times_.steps;
+  return schedule == Schedule::pipelined ? pipe_.region_done : 1;
 }
 
 void Stepper::renew_neighbours() { update_neighbours(false); }

@@ -93,7 +93,7 @@ class Stepper {
   // (fused_contacts; default on). Results are the same bits either way; tests compare the two.
   void set_fusion(bool on) { opt_.fuse = on; }
   std::uint64_t fused_steps() const { return pipe_.fused_steps; }
-  // Whether advance() may run its steps pipelined on several threads (run_pipelined; default on):
+  // Whether advance() may run its steps pipelined on several threads (pipelined_region; default on):
   // the threads stay in one parallel region for many steps and wait only for the ranges next to
   // theirs, not for all at each step. Results are the same bits either way; tests compare the two.
   void set_pipelining(bool on) { opt_.pipelining = on; }
@@ -159,12 +159,15 @@ class Stepper {
     Stage stage;
     void (Stepper::*run)();
     void (Stepper::*fused)();
+    void (Stepper::*pipelined)();  // a pipelined region (several steps): the pairs row's alone
     double StageTimes::*clock;
     bool at_rest;  // a force stage: set-up evaluates the forces at rest with it (StepMode::set_up)
   };
   static std::span<const StageEntry> stages();
   void begin_step(bool last);
-  void step_once(bool last);
+  // How run_table runs the rows: one step staged or fused, or a pipelined region of several.
+  enum class Schedule { staged, fused, pipelined };
+  std::uint64_t run_table(bool last, std::uint64_t most);
   // The stages that are not a function of their own elsewhere.
   void renew_neighbours();
   void pair_stage();
@@ -210,7 +213,7 @@ class Stepper {
   bool fusable() const { return opt_.fuse && !opt_.profile && ctx_.defer_kick; }
   // The pairs stage; with `walls` and `drift` (fused_contacts), each thread's range of balls goes through
   // them once its pairs are done.
-  // pipelined > 0: up to that many pipelined steps (run_pipelined), whose count it returns.
+  // pipelined > 0: up to that many pipelined steps (pipelined_region), whose count it returns.
   std::uint64_t pair_contacts(BallSpan walls = nullptr, BallSpan drift = nullptr, std::uint64_t pipelined = 0);
   template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
   std::uint64_t pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined);
@@ -218,10 +221,12 @@ class Stepper {
   std::uint64_t pipelined_pair_steps(const CrossPart& cross_part, const RangePart& range_part);
   // The pair stage's folds into the guards' values (and, fused, the walls' and the drift's).
   void end_pair_stage(const StageFold& fold, bool fused);
-  // Up to `most` steps of advance() as pipelined steps; how many it did (0: the scene or the state
-  // does not allow them now).
-  std::uint64_t run_pipelined(std::uint64_t most);
-  // The travel scale of the cross pairs into range r at pipelined step s (run_pipelined).
+  // Plans a pipelined region of up to `most` steps of advance(): how many it may do (0: the scene
+  // or the state does not allow one now; the cavity's path computed ahead for them).
+  std::uint64_t plan_pipelined(std::uint64_t most);
+  // The region plan_pipelined planned (the pairs row's pipelined function): pipe_.region_done steps.
+  void pipelined_region();
+  // The travel scale of the cross pairs into range r at pipelined step s (pipelined_region).
   double cross_travel(std::size_t r, std::uint64_t s) const;
   // Range r finished pipelined step s: its travel, its rebuild flag, its guards.
   void end_range_step(std::size_t r, std::uint64_t s);

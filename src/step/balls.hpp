@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bagdem/contact/geometry.hpp"
 #include "bagdem/particles.hpp"
 
 namespace bagdem {
@@ -12,6 +13,21 @@ struct Balls : Particles {
   std::vector<std::uint32_t> order;  // per ball: its index in scene.particles (Stepper::input_index)
   ParticleTallies tally;             // per ball: this step's dissipation and the running totals
   bool uniform = false;              // all balls of one radius and one material
+  // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
+  // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
+  // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).
+  template <bool Spin>
+  BAGDEM_INLINE void motion_against_surface(std::size_t p, const Vec3& v_end, const Vec3& v_half, ContactGeometry& g) const {
+    if constexpr (Spin) {
+      g.v_rel = contact_velocity(v_pred[p], v_end, w_pred[p], Vec3::Zero(), g);
+      g.v_half = contact_velocity(v[p], v_half, w[p], Vec3::Zero(), g);
+      g.w_half = w[p];
+    } else {
+      g.v_rel = v_pred[p] - v_end;
+      g.v_half = v[p] - v_half;
+      g.w_half.setZero();
+    }
+  }
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   template <class IO>

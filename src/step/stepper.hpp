@@ -180,9 +180,7 @@ class Stepper {
   void derive_pair_buffers();
   void find_near_walls();
   void wall_contacts();
-  void triangle_contacts();
-  template <bool Tangential, bool Rolling, bool Energy>
-  void triangle_contacts_impl();
+  void triangle_contacts() { triangle_stage({ctx_, scene_, frame(), p_, film_, mesh_, structure_.cavity_load, guard_}); }
   void film_stage() { bagdem::film_stage({ctx_, scene_, frame(), film_, mesh_, structure_.film_load_moments}); }
   void kick();
   void guards();
@@ -242,37 +240,14 @@ class Stepper {
   void end_walls(const StageFold& fold);
   template <bool Tangential, bool Rolling, bool Energy>
   Vec3 open_pair(std::size_t k);
-  // Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
-  // and the STL walls' share to F_cavity / T_cavity (force on the ball, torque on the cavity).
-  template <bool Tangential, bool Rolling, bool Energy>
-  void mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, Vec3& load,
-                     double& excess);
-  // Parts of mesh_contacts (surfaces.cpp).
-  double euler_forces(std::size_t p, const std::vector<surface_contacts::EulerTerm>& terms, Vec3& F, Vec3& F_cavity,
-                      Vec3& T_cavity, Vec3& load);
-  void surface_reaction(const surface_contacts::Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity,
-                        Vec3& T_cavity, Vec3& load) const;
-  double surface_point(const surface_contacts::Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m, Vec3& v_end,
-                       Vec3& v_half) const;
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
   void state_fields(IO& io);  // checkpoint.cpp: its own fields, then each component's checkpoint()
   bool meshes_need_rebuild() const;
-  // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
-  // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
-  // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).
   template <bool Spin>
   BAGDEM_INLINE void motion_against_surface(std::size_t p, const Vec3& v_end, const Vec3& v_half, ContactGeometry& g) const {
-    if constexpr (Spin) {
-      g.v_rel = contact_velocity(p_.v_pred[p], v_end, p_.w_pred[p], Vec3::Zero(), g);
-      g.v_half = contact_velocity(p_.v[p], v_half, p_.w[p], Vec3::Zero(), g);
-      g.w_half = p_.w[p];
-    } else {
-      g.v_rel = p_.v_pred[p] - v_end;
-      g.v_half = p_.v[p] - v_half;
-      g.w_half.setZero();
-    }
+    p_.motion_against_surface<Spin>(p, v_end, v_half, g);  // balls.hpp
   }
   // The kick for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
   // whether the new velocity is finite.

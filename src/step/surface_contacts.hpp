@@ -15,6 +15,13 @@
 
 namespace bagdem {
 
+struct Balls;
+struct CavityFrame;
+struct Film;
+struct GuardValues;
+struct Scene;
+struct StepContext;
+
 // Maximum number of triangle features one ball (or film node) touches at once: its contact slots.
 inline constexpr std::size_t kMaxMeshContacts = 16;
 
@@ -60,5 +67,22 @@ struct SurfaceContacts {
     node_slot_hist.fields(io);
   }
 };
+
+// What the triangles stage works on: the step, the scene, the cavity's frame, the balls (their
+// forces, torques and tallies gain the surfaces' share), the film's nodes (read: the surface the
+// balls touch), the surface contacts, the balls' load moments on the structure
+// (StructureCoupling::cavity_load) and the guards' values (overlap, a crossing, an overflow).
+struct TriangleStage {
+  const StepContext& ctx;
+  const Scene& scene;
+  const CavityFrame& frame;
+  Balls& balls;
+  const Film& film;
+  SurfaceContacts& surfaces;
+  std::vector<Vec3>& cavity_load;
+  GuardValues& guard;
+};
+// The triangles stage (stage.hpp; surfaces.cpp): each ball against the triangulated surfaces.
+void triangle_stage(const TriangleStage& s);
 
 }  // namespace bagdem

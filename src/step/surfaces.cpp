@@ -69,12 +69,6 @@ void Stepper::set_up_meshes() {
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
-void Stepper::triangle_contacts() {
-  if (mesh_.surfaces.empty()) return;
-  with_flags([this]<bool T, bool R, bool E>() { triangle_contacts_impl<T, R, E>(); }, scene_.models.tangential,
-             scene_.models.rolling, scene_.models.energy);
-}
-
 // Each ball's contacts add to its force after its walls' (the same order for any thread count); the
 // STL walls' share enters the cavity's load and work as the analytic walls' does.
 // Asleep (Stepper::asleep): with the film the only surface, mesh_.travel bounds from above how far
@@ -83,34 +77,6 @@ void Stepper::triangle_contacts() {
 // all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before mesh_.travel
 // has grown by gap: it is not looked at before mesh_.travel reaches mesh_.wake[p] (0 after a
 // build, when every ball is).
-template <bool Tangential, bool Rolling, bool Energy>
-void Stepper::triangle_contacts_impl() {
-  const std::size_t n = p_.size();
-  const double dt = ctx_.dt;
-  const WallMotion rigid = rigid_motion();
-  auto one = [&](std::size_t p) {
-    double excess = -HUGE_VAL;
-    if (asleep(p)) return excess;  // nothing touched now or at the last step: nothing to add
-    const Vec3 c_step = structure_.tilt ? motion_at(p_.x[p]).step : rigid.step;
-    Vec3 F = p_.f[p], T = p_.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
-    mesh_contacts<Tangential, Rolling, Energy>(p, F, T, diss, F_cavity, T_cavity, load, excess);
-    if (structure_.couple) structure_.cavity_load[p] += load;
-    p_.f[p] = F;
-    p_.t[p] = T;
-    p_.tally.wall_impulse[p] -= dt * F_cavity;
-    p_.tally.wall_ang_impulse[p] += dt * T_cavity;
-    if constexpr (Energy) {
-      p_.tally.work_cavity[p] += 0.5 * (F_cavity + mesh_.force_prev[p]).dot(c_step);
-      mesh_.force_prev[p] = F_cavity;
-      p_.tally.diss_normal[p] += diss.x();
-      p_.tally.diss_tangential[p] += diss.y();
-      p_.tally.diss_rolling[p] += diss.z();
-    }
-    return excess;
-  };
-  guard_.overlap_excess = parallel_fold(n, guard_.overlap_excess, one, [](double a, double b) { return std::max(a, b); });
-}
-
 // From the positions of a build (the current ones, or those stored in a checkpoint).
 void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
@@ -152,60 +118,104 @@ bool Stepper::meshes_need_rebuild() const {
   return false;
 }
 
+namespace {
+using Surface = SurfaceContacts::Surface;
+
+// Ball p against the triangulated surfaces: adds to its force F, torque T and dissipation diss,
+// the STL walls' share to F_cavity / T_cavity (force on the ball, torque on the cavity) and load
+// (its moments), and raises excess to its overlaps' (over the guard's limit).
 template <bool Tangential, bool Rolling, bool Energy>
-void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity,
-                               Vec3& load, double& excess) {
+void mesh_contacts(const TriangleStage& st, std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, Vec3& load,
+                   double& excess);
+double euler_forces(const TriangleStage& st, std::size_t p, const std::vector<EulerTerm>& terms, Vec3& F, Vec3& F_cavity, Vec3& T_cavity,
+                    Vec3& load);
+void surface_reaction(const TriangleStage& st, const Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity,
+                      Vec3& T_cavity, Vec3& load);
+double surface_point(const Film& film, const Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m,
+                     Vec3& v_end_out, Vec3& v_half_out);
+
+template <bool Tangential, bool Rolling, bool Energy>
+void triangle_contacts_impl(const TriangleStage& st) {
+  const std::size_t n = st.balls.size();
+  const double dt = st.ctx.dt;
+  const WallMotion rigid = st.frame.rigid();
+  auto one = [&](std::size_t p) {
+    double excess = -HUGE_VAL;
+    if (st.surfaces.asleep(p)) return excess;  // nothing touched now or at the last step: nothing to add
+    const Vec3 c_step = st.frame.structure.tilt ? st.frame.at(st.balls.x[p]).step : rigid.step;
+    Vec3 F = st.balls.f[p], T = st.balls.t[p], diss(0, 0, 0), F_cavity(0, 0, 0), T_cavity(0, 0, 0), load(0, 0, 0);
+    mesh_contacts<Tangential, Rolling, Energy>(st, p, F, T, diss, F_cavity, T_cavity, load, excess);
+    if (st.frame.structure.couple) st.cavity_load[p] += load;
+    st.balls.f[p] = F;
+    st.balls.t[p] = T;
+    st.balls.tally.wall_impulse[p] -= dt * F_cavity;
+    st.balls.tally.wall_ang_impulse[p] += dt * T_cavity;
+    if constexpr (Energy) {
+      st.balls.tally.work_cavity[p] += 0.5 * (F_cavity + st.surfaces.force_prev[p]).dot(c_step);
+      st.surfaces.force_prev[p] = F_cavity;
+      st.balls.tally.diss_normal[p] += diss.x();
+      st.balls.tally.diss_tangential[p] += diss.y();
+      st.balls.tally.diss_rolling[p] += diss.z();
+    }
+    return excess;
+  };
+  st.guard.overlap_excess = parallel_fold(n, st.guard.overlap_excess, one, [](double a, double b) { return std::max(a, b); });
+}
+
+template <bool Tangential, bool Rolling, bool Energy>
+void mesh_contacts(const TriangleStage& st, std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F_cavity, Vec3& T_cavity, Vec3& load,
+                   double& excess) {
   constexpr std::size_t K = kMaxMeshContacts;
-  const double dt = ctx_.dt;
-  const double r = p_.radius[p];
-  const WallMotion wm = motion_at(p_.x[p]);
+  const double dt = st.ctx.dt;
+  const double r = st.balls.radius[p];
+  const WallMotion wm = st.frame.at(st.balls.x[p]);
   const Vec3 &c_pos = wm.pos, &c_vel = wm.vel, &c_half = wm.half;
 
   // 1. Contacts now: closest points within reach, one per feature, with their normal and overlap.
   Found found[K];
   auto view = [&](std::uint32_t s) {
-    const Surface& sf = mesh_.surfaces[s];
-    return PointView{sf.film ? p_.x[p] : Vec3(p_.x[p] - c_pos), sf.film ? &film_.x : &sf.mesh->vertices, r + sf.reach,
-                     sf.film ? static_cast<double>(mesh_.side[p]) : -1.0};
+    const Surface& sf = st.surfaces.surfaces[s];
+    return PointView{sf.film ? st.balls.x[p] : Vec3(st.balls.x[p] - c_pos), sf.film ? &st.film.x : &sf.mesh->vertices, r + sf.reach,
+                     sf.film ? static_cast<double>(st.surfaces.side[p]) : -1.0};
   };
   auto crossed = [&](std::uint32_t s, double overlap, double reach, bool own_side) {
     if (own_side) return;
 #pragma omp critical(bagdem_crossed)
-    if (guard_.crossed == static_cast<std::size_t>(-1) || overlap - reach > guard_.crossed_depth) {
-      guard_.crossed = p;
-      guard_.crossed_depth = overlap - reach;
-      guard_.crossed_surface = s;
+    if (st.guard.crossed == static_cast<std::size_t>(-1) || overlap - reach > st.guard.crossed_depth) {
+      st.guard.crossed = p;
+      st.guard.crossed_depth = overlap - reach;
+      st.guard.crossed_surface = s;
     }
   };
   auto overflow = [&] {
 #pragma omp critical(bagdem_crossed)
-    guard_.mesh_overflow = p;
+    st.guard.mesh_overflow = p;
   };
   double gap = 0;
   thread_local std::vector<EulerTerm> terms;
-  const std::size_t nf = find_features<K>(mesh_.surfaces, mesh_.cand, p, view, crossed, overflow, found, terms,
-                                          mesh_.wake.empty() ? nullptr : &gap);
-  mesh_.elastic[p] = 0;
-  if (scene_.bag) mesh_.film_push[p].clear();
+  const std::size_t nf = find_features<K>(st.surfaces.surfaces, st.surfaces.cand, p, view, crossed, overflow, found, terms,
+                                          st.surfaces.wake.empty() ? nullptr : &gap);
+  st.surfaces.elastic[p] = 0;
+  if (st.scene.bag) st.surfaces.film_push[p].clear();
 
   // 2. Histories (match_slots). A ball that touches no surface now and touched none at the last
   // step has nothing more to do (most of a bag's balls, at any step); it sleeps while it cannot.
-  MeshSlot* slot = &mesh_.slots[p * K];
-  const std::size_t n_prev = mesh_.slot_count[p];
+  MeshSlot* slot = &st.surfaces.slots[p * K];
+  const std::size_t n_prev = st.surfaces.slot_count[p];
   if (nf == 0 && n_prev == 0) {
-    if (!mesh_.wake.empty()) mesh_.wake[p] = mesh_.travel + gap;
+    if (!st.surfaces.wake.empty()) st.surfaces.wake[p] = st.surfaces.travel + gap;
     return;
   }
   bool taken[K] = {};
   MeshSlot prev[K];
   ContactHistory prev_hist[K];
-  carry_slots(slot, mesh_.slot_hist, p * K, n_prev, found, nf, prev, prev_hist, taken);
+  carry_slots(slot, st.surfaces.slot_hist, p * K, n_prev, found, nf, prev, prev_hist, taken);
   // Slots closed for good: tally what they still held.
   if constexpr (Energy) {
     for (std::size_t k = 0; k < n_prev; ++k) {
       if (taken[k]) continue;
-      const Vec3 v_c = p_.v[p] - prev[k].surface_velocity - r * p_.w[p].cross(prev[k].n);
-      diss += closing_tally<Tangential, Rolling>(prev[k].n, v_c, p_.w[p], dt, prev_hist[k].damping_prev,
+      const Vec3 v_c = st.balls.v[p] - prev[k].surface_velocity - r * st.balls.w[p].cross(prev[k].n);
+      diss += closing_tally<Tangential, Rolling>(prev[k].n, v_c, st.balls.w[p], dt, prev_hist[k].damping_prev,
                                                  Tangential ? &prev_hist[k].tangential : nullptr,
                                                  Rolling ? &prev_hist[k].rolling : nullptr);
     }
@@ -214,15 +224,15 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
   // 3. The contact law, as for a wall, with the surface point's velocity and effective mass: its
   // damping and friction (the elastic force is the Euler sum's, step 4), on the overlap whose
   // stiffness is the Euler sum's along the contact's normal (law_overlaps).
-  const PairLawTable& laws = scene_.laws;
+  const PairLawTable& laws = st.scene.laws;
   double law_overlap[K];
-  law_overlaps(terms, found, nf, [&](std::uint32_t s) -> const PairLaw& { return laws(p_.material[p], mesh_.surfaces[s].material); },
+  law_overlaps(terms, found, nf, [&](std::uint32_t s) -> const PairLaw& { return laws(st.balls.material[p], st.surfaces.surfaces[s].material); },
                law_overlap);
   for (std::size_t f = 0; f < nf; ++f) {
     const Found& fd = found[f];
-    const Surface& sf = mesh_.surfaces[fd.surface];
+    const Surface& sf = st.surfaces.surfaces[fd.surface];
     const std::size_t at = p * K + f;
-    MeshSlot& s = renew_slot(slot, mesh_.slot_hist, at, f, fd, prev, prev_hist);
+    MeshSlot& s = renew_slot(slot, st.surfaces.slot_hist, at, f, fd, prev, prev_hist);
     ContactGeometry g;
     g.n = fd.n;
     g.overlap = law_overlap[f];
@@ -230,31 +240,31 @@ void Stepper::mesh_contacts(std::size_t p, Vec3& F, Vec3& T, Vec3& diss, Vec3& F
     g.arm_i = r - 0.5 * fd.overlap;
     g.arm_j = 0;
     Vec3 vs_end, vs_half;
-    const double inv_m = surface_point(fd, sf, c_vel, c_half, p_.inv_mass[p], vs_end, vs_half);
+    const double inv_m = surface_point(st.film, fd, sf, c_vel, c_half, st.balls.inv_mass[p], vs_end, vs_half);
     g.m_eff = 1.0 / inv_m;
     s.surface_velocity = vs_half;
-    motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
+    st.balls.motion_against_surface<Tangential || Rolling>(p, vs_end, vs_half, g);
     [[maybe_unused]] double no_tally = 0;
     double elastic = 0;
     Vec3 Fc = surface_contact<Tangential, Rolling, Energy>(
-        g, laws(p_.material[p], sf.material), dt, Energy ? mesh_.slot_hist.damping_prev[at] : no_tally,
-        Tangential ? &mesh_.slot_hist.tangential[at] : nullptr, Rolling ? &mesh_.slot_hist.rolling[at] : nullptr, T, diss, &elastic);
+        g, laws(st.balls.material[p], sf.material), dt, Energy ? st.surfaces.slot_hist.damping_prev[at] : no_tally,
+        Tangential ? &st.surfaces.slot_hist.tangential[at] : nullptr, Rolling ? &st.surfaces.slot_hist.rolling[at] : nullptr, T, diss, &elastic);
     Fc -= elastic * g.n;
     F += Fc;
-    excess = std::max(excess, fd.overlap - scene_.max_overlap_fraction * r);
-    surface_reaction(fd, sf, Fc, mesh_.film_load[p * K + f], F_cavity, T_cavity, load);
+    excess = std::max(excess, fd.overlap - st.scene.max_overlap_fraction * r);
+    surface_reaction(st, fd, sf, Fc, st.surfaces.film_load[p * K + f], F_cavity, T_cavity, load);
   }
-  mesh_.slot_count[p] = static_cast<std::uint8_t>(nf);
+  st.surfaces.slot_count[p] = static_cast<std::uint8_t>(nf);
 
   // 4. The elastic force and energy: the Euler sum's terms.
-  mesh_.elastic[p] = euler_forces(p, terms, F, F_cavity, T_cavity, load);
+  st.surfaces.elastic[p] = euler_forces(st, p, terms, F, F_cavity, T_cavity, load);
 }
 
 // The reaction of contact fd's force Fc on the ball (its damping and friction) on the surface:
 // on the film, the loads of its hits' points on their triangles' nodes (film_load, by their shares
 // of a patch); on an STL wall, the cavity's force, torque and load.
-void Stepper::surface_reaction(const Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity, Vec3& T_cavity,
-                               Vec3& load) const {
+void surface_reaction(const TriangleStage& st, const Found& fd, const Surface& sf, const Vec3& Fc, FilmLoad& fl, Vec3& F_cavity,
+                      Vec3& T_cavity, Vec3& load) {
   Vec3 parts[kPatchMembers] = {Fc};
   for (std::size_t i = 0; i < fd.members && fd.members > 1; ++i) parts[i] = fd.member[i].share * Fc;
   if (sf.film) {
@@ -268,8 +278,8 @@ void Stepper::surface_reaction(const Found& fd, const Surface& sf, const Vec3& F
     F_cavity += Fc;
     for (std::size_t i = 0; i < fd.members; ++i) {
       const Vec3& point = fd.members > 1 ? fd.member[i].point : fd.hit.hit.point;
-      T_cavity -= (point - scene_.cavity_reference).cross(parts[i]);
-      if (structure_.couple) load += load_moments(point, -parts[i]);
+      T_cavity -= (point - st.scene.cavity_reference).cross(parts[i]);
+      if (st.frame.structure.couple) load += st.frame.load_moments(point, -parts[i]);
     }
   }
 }
@@ -278,21 +288,21 @@ void Stepper::surface_reaction(const Found& fd, const Surface& sf, const Vec3& F
 // (euler_terms), each the law's force along its normal, its reaction on the feature's nodes by the
 // closest point's weights (on the film: film_push; on an STL wall: the cavity's force, torque and
 // load). Returns the energy (unit: J).
-double Stepper::euler_forces(std::size_t p, const std::vector<EulerTerm>& terms, Vec3& F, Vec3& F_cavity, Vec3& T_cavity,
-                             Vec3& load) {
+double euler_forces(const TriangleStage& st, std::size_t p, const std::vector<EulerTerm>& terms, Vec3& F, Vec3& F_cavity, Vec3& T_cavity,
+                    Vec3& load) {
   double U = 0;
   for (const EulerTerm& e : terms) {
-    const Surface& sf = mesh_.surfaces[e.surface];
-    const auto [u, Fe] = euler_load(e, scene_.laws(p_.material[p], sf.material), p_.radius[p]);
+    const Surface& sf = st.surfaces.surfaces[e.surface];
+    const auto [u, Fe] = euler_load(e, st.scene.laws(st.balls.material[p], sf.material), st.balls.radius[p]);
     U += u;
     F += Fe;
     if (sf.film) {
       for (int a = 0; a < 3; ++a)
-        if (e.weights[a] != 0) mesh_.film_push[p].push_back({e.node[a], -e.weights[a] * Fe});
+        if (e.weights[a] != 0) st.surfaces.film_push[p].push_back({e.node[a], -e.weights[a] * Fe});
     } else {
       F_cavity += Fe;
-      T_cavity -= (e.point - scene_.cavity_reference).cross(Fe);
-      if (structure_.couple) load += load_moments(e.point, -Fe);
+      T_cavity -= (e.point - st.scene.cavity_reference).cross(Fe);
+      if (st.frame.structure.couple) load += st.frame.load_moments(e.point, -Fe);
     }
   }
   return U;
@@ -303,8 +313,8 @@ double Stepper::euler_forces(std::size_t p, const std::vector<EulerTerm>& terms,
 // inverse effective mass, returned: on the film the barycentric mean of the triangle's nodes,
 // 1/m_s = sum w_k^2 / m_k (a patch: its hits' mean by their shares); on a rigid surface the
 // cavity's motion at infinite mass.
-double Stepper::surface_point(const Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m,
-                              Vec3& v_end_out, Vec3& v_half_out) const {
+double surface_point(const Film& film, const Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m,
+                     Vec3& v_end_out, Vec3& v_half_out) {
   // The film point's velocities and inverse mass (a rigid surface: the cavity's, at infinity).
   Vec3 v_end[kPatchMembers], v_half[kPatchMembers];
   double inv_m_s[kPatchMembers] = {};
@@ -313,10 +323,10 @@ double Stepper::surface_point(const Found& fd, const Surface& sf, const Vec3& c_
     if (!sf.film) continue;
     const auto& tri = sf.mesh->triangles[fd.members > 1 ? fd.member[i].triangle : fd.hit.triangle];
     const Vec3& w = fd.members > 1 ? fd.member[i].weights : fd.hit.hit.weights;
-    v_end[i] = w[0] * film_.v_pred[tri[0]] + w[1] * film_.v_pred[tri[1]] + w[2] * film_.v_pred[tri[2]];
-    v_half[i] = w[0] * film_.v[tri[0]] + w[1] * film_.v[tri[1]] + w[2] * film_.v[tri[2]];
-    inv_m_s[i] = w[0] * w[0] * film_.inv_mass[tri[0]] + w[1] * w[1] * film_.inv_mass[tri[1]] +
-                 w[2] * w[2] * film_.inv_mass[tri[2]];
+    v_end[i] = w[0] * film.v_pred[tri[0]] + w[1] * film.v_pred[tri[1]] + w[2] * film.v_pred[tri[2]];
+    v_half[i] = w[0] * film.v[tri[0]] + w[1] * film.v[tri[1]] + w[2] * film.v[tri[2]];
+    inv_m_s[i] = w[0] * w[0] * film.inv_mass[tri[0]] + w[1] * w[1] * film.inv_mass[tri[1]] +
+                 w[2] * w[2] * film.inv_mass[tri[2]];
   }
   // A patch's: the point of its hits' mean by their shares.
   Vec3 vs_end = Vec3::Zero(), vs_half = Vec3::Zero();
@@ -328,6 +338,14 @@ double Stepper::surface_point(const Found& fd, const Surface& sf, const Vec3& c_
   return inv_m;
 }
 
+
+}  // namespace
+
+void triangle_stage(const TriangleStage& st) {
+  if (st.surfaces.surfaces.empty()) return;
+  const ModelSwitches& m = st.scene.models;
+  with_flags([&st]<bool T, bool R, bool E>() { triangle_contacts_impl<T, R, E>(st); }, m.tangential, m.rolling, m.energy);
+}
 
 // Film nodes against the STL walls: the film-wall law of film.cpp (R* = the film's contact
 // radius, m* = the node's mass, reach = half the thickness) on the sphere-triangle contact.

@@ -124,22 +124,14 @@ bool Stepper::near_edge(double d2, double travel, double& far) const {
 }
 
 void Stepper::kick_drift() {
-  const double dt = scene_.dt, h = 0.5 * dt;
+  const double dt = scene_.dt;
   if (ctx_.balls != BallKick::drifted) {
     StageFold fold;
     over_balls(drift_stage(ctx_.balls == BallKick::pending), fold);
     end_drift(fold);
   }
   ctx_.balls = BallKick::due;
-  const std::size_t nn = film_.size();
-  const double node_step2 = parallel_fold(nn, 0.0, [&](std::size_t k) {
-    const Vec3 dv = h * film_.inv_mass[k] * film_.f[k];
-    film_.v[k] += dv;
-    const Vec3 step = dt * film_.v[k];
-    film_.x[k] += step;
-    film_.v_pred[k] = film_.v[k] + dv;
-    return step.squaredNorm();
-  }, [](double a, double b) { return std::max(a, b); });
+  const double node_step2 = film_.drift(dt);
   if (!mesh_.wake.empty()) {
     // Rounded up as nb_.travel is (end_drift): never short of the true distances.
     mesh_.travel = std::nextafter(mesh_.travel + (nb_.largest_step + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
@@ -168,11 +160,7 @@ void Stepper::kick() {
         },
         scene_.models.rotation);
   }
-  const std::size_t nn = film_.size();
-  finite = parallel_fold(nn, finite, [&](std::size_t k) {
-    film_.v[k] += h * film_.inv_mass[k] * film_.f[k];
-    return std::isfinite(film_.v[k].squaredNorm());
-  }, [](bool a, bool b) { return a && b; });
+  finite = film_.kick(scene_.dt) && finite;
   if (structure_.couple) {
     structure_.kick(scene_.dt);
     for (double v : structure_.v) finite = finite && std::isfinite(v);

@@ -48,6 +48,26 @@ void Film::set_up(const Scene& scene) {
   strings.assign(bag.strings.size(), {});
 }
 
+double Film::drift(double dt) {
+  const double h = 0.5 * dt;
+  return parallel_fold(size(), 0.0, [&](std::size_t k) {
+    const Vec3 dv = h * inv_mass[k] * f[k];
+    v[k] += dv;
+    const Vec3 step = dt * v[k];
+    x[k] += step;
+    v_pred[k] = v[k] + dv;
+    return step.squaredNorm();
+  }, [](double a, double b) { return std::max(a, b); });
+}
+
+bool Film::kick(double dt) {
+  const double h = 0.5 * dt;
+  return parallel_fold(size(), true, [&](std::size_t k) {
+    v[k] += h * inv_mass[k] * f[k];
+    return std::isfinite(v[k].squaredNorm());
+  }, [](bool a, bool b) { return a && b; });
+}
+
 void film_stage(const FilmStage& s) {
   const Scene& scene = s.scene;
   if (!scene.bag) return;

@@ -37,6 +37,10 @@ struct Film : FilmNodes {
   } tally;
   // Sizes the film's arrays for the scene's bag (none without one), the nodes at their rest places.
   void set_up(const Scene& scene);
+  // kick_drift's part: v += dt/2 F/m, x += dt v, v_pred = v + dt/2 F/m; returns the largest step's
+  // square (unit: m^2). kick's: v += dt/2 F/m; returns whether every velocity is finite.
+  double drift(double dt);
+  bool kick(double dt);
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   template <class IO>

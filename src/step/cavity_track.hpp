@@ -20,6 +20,20 @@ struct CavityTrack {
   } sums;
   Vec3 pos_at_build = Vec3::Zero();  // position and shear at the last neighbour build
   Vec3 shear_at_build = Vec3::Zero();
+  // The cavity at time t is c: the last state becomes prev, and the sample's sums take c.
+  void move_to(double t, const CavityState& c) {
+    prev = now;
+    now = c;
+    ++sums.steps;
+    sums.time += t;
+    sums.position += now.position;
+    sums.velocity += now.velocity;
+  }
+  // How far a point of the cavity moved since the last build, at most (a slope moves a point at
+  // most |d shear| `extent` further; extent: half the cavity's axial extent, 0 without a slope).
+  double moved_since_build(double extent) const {
+    return (now.position - pos_at_build).norm() + (extent > 0 ? (now.shear - shear_at_build).norm() * extent : 0.0);
+  }
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   template <class IO>

@@ -122,7 +122,7 @@ void Stepper::pipelined_region() {
   guard_.min_boundary_distance = last.min_dist;
   guard_.finished_finite = guard_.all_finite = guard_.balls_finite = true;
   for (std::uint64_t s = 0; s < done; ++s) {
-    cavity_to(static_cast<double>(step_ + 1) * scene_.dt, pipe_.cavity_path[s + 1]);
+    cavity_.move_to(static_cast<double>(step_ + 1) * scene_.dt, pipe_.cavity_path[s + 1]);
     ++step_;
     end_balance();
   }

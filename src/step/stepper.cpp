@@ -146,21 +146,10 @@ void Stepper::end_balance() {
 // ---- move_cavity -------------------------------------------------------------------------------
 void Stepper::move_cavity() {
   const double t = static_cast<double>(step_ + 1) * scene_.dt;
-  cavity_to(t, cavity_at(t));
+  cavity_.move_to(t, cavity_at(t));
   // The walls' candidates (walls_.near) hold while the cavity moved at most skin/2 since the last
-  // build; a slope moves a point at most |d shear| l further (l: half the cavity's axial extent).
-  const double moved = (cavity_.now.position - cavity_.pos_at_build).norm() +
-                       (structure_.tilt ? (cavity_.now.shear - cavity_.shear_at_build).norm() * structure_.tilt_extent : 0.0);
-  if (moved > 0.5 * scene_.skin) nb_.needs_rebuild = true;
-}
-
-void Stepper::cavity_to(double t, const CavityState& c) {
-  cavity_.prev = cavity_.now;
-  cavity_.now = c;
-  ++cavity_.sums.steps;
-  cavity_.sums.time += t;
-  cavity_.sums.position += cavity_.now.position;
-  cavity_.sums.velocity += cavity_.now.velocity;
+  // build.
+  if (cavity_.moved_since_build(structure_.tilt ? structure_.tilt_extent : 0.0) > 0.5 * scene_.skin) nb_.needs_rebuild = true;
 }
 
 }  // namespace bagdem

@@ -175,7 +175,6 @@ class Stepper {
   void end_step();
   void kick_drift();
   void move_cavity();
-  void cavity_to(double t, const CavityState& c);  // the cavity at time t is c (and its sums)
   void update_neighbours(bool force_rebuild);
   void derive_pair_buffers();
   void find_near_walls();

@@ -16,19 +16,20 @@ namespace bagdem {
 // half-step velocity alone (as LAMMPS and LIGGGHTS do) the damping force lags by dt/2, a first-order
 // error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
 // second order. Also finds the largest step a ball took (nb_.travel; end_drift).
+namespace {
 template <bool Finish, bool Rotation, bool Gravity, bool Energy>
-void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, StageFold& fold) {
-  const double dt = scene_.dt, h = 0.5 * dt;
-  const Vec3 g = scene_.gravity;
+void drift_span(const Scene& scene, Balls& state, std::size_t b0, std::size_t b1, StageFold& fold) {
+  const double dt = scene.dt, h = 0.5 * dt;
+  const Vec3 g = scene.gravity;
   // The arrays and the folds in locals, and every ball's values read before any is written: the
   // compiler then keeps them in registers (through the members, each store would make it reload
   // them, as a store may alias).
-  Vec3 *x = p_.x.data(), *v = p_.v.data(), *w = p_.w.data(), *v_pred = p_.v_pred.data(), *w_pred = p_.w_pred.data();
-  Vec3 *f = p_.f.data(), *t = p_.t.data(), *diss = p_.tally.step_dissipation.data();
-  const double *mass = p_.mass.data(), *inv_mass = p_.inv_mass.data(), *inv_inertia = p_.inv_inertia.data();
+  Vec3 *x = state.x.data(), *v = state.v.data(), *w = state.w.data(), *v_pred = state.v_pred.data(), *w_pred = state.w_pred.data();
+  Vec3 *f = state.f.data(), *t = state.t.data(), *diss = state.tally.step_dissipation.data();
+  const double *mass = state.mass.data(), *inv_mass = state.inv_mass.data(), *inv_inertia = state.inv_inertia.data();
   bool finite = fold.finished_finite;
   double step2 = fold.step2;
-  // Balls all alike (p_.uniform): their mass and inertia are the first ball's (the same values, so
+  // Balls all alike (state.uniform): their mass and inertia are the first ball's (the same values, so
   // the same results), and the loop reads three arrays fewer.
   auto balls = [&](auto mass_of, auto inv_mass_of, auto inv_inertia_of) BAGDEM_INLINE_LAMBDA {
     for (std::size_t i = b0; i < b1; ++i) {
@@ -59,7 +60,7 @@ void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, Stag
       if constexpr (Energy) diss[i].setZero();
     }
   };
-  if (p_.uniform) {
+  if (state.uniform) {
     const double m = mass[0], im = inv_mass[0], ii = inv_inertia[0];
     balls([m](std::size_t) { return m; }, [im](std::size_t) { return im; }, [ii](std::size_t) { return ii; });
   } else {
@@ -67,6 +68,13 @@ void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, Stag
           [inv_inertia](std::size_t i) { return inv_inertia[i]; });
   }
   fold.finished_finite = finite, fold.step2 = step2;
+}
+}  // namespace
+
+// The span the threads' schedules run (BallSpan).
+template <bool Finish, bool Rotation, bool Gravity, bool Energy>
+void Stepper::drift_span(std::size_t b0, std::size_t b1, const WallMotion&, StageFold& fold) {
+  bagdem::drift_span<Finish, Rotation, Gravity, Energy>(scene_, p_, b0, b1, fold);
 }
 
 Stepper::BallSpan Stepper::drift_stage(bool finish) const {

@@ -1,6 +1,7 @@
 // The balls component: their state (Particles: positions, velocities, forces, ...) in the
 // stepper's order, that order, and their tallies. Its stages: kick_drift and kick (balls.cpp).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -13,6 +14,14 @@ struct Balls : Particles {
   std::vector<std::uint32_t> order;  // per ball: its index in scene.particles (Stepper::input_index)
   ParticleTallies tally;             // per ball: this step's dissipation and the running totals
   bool uniform = false;              // all balls of one radius and one material
+  // The kick for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
+  // whether the new velocity is finite.
+  BAGDEM_INLINE bool kick(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {
+    const Vec3 vi = v[i] + h * inv_mass[i] * F;
+    v[i] = vi;
+    if (rotation) w[i] += h * inv_inertia[i] * T;
+    return std::isfinite(vi.squaredNorm());
+  }
   // Ball p's motion relative to a point of a surface (a wall, an STL wall, the film) that moves at
   // v_end at the end of the step and at v_half over it: g.v_rel, g.v_half and g.w_half, from g.n,
   // g.arm_i and g.arm_j. Spin: the tangential or rolling role is modelled (else the centre's alone).

@@ -1,6 +1,7 @@
 // The pair kernel: the pairs stage's work on a span of candidate pairs (geometry -> contact law ->
-// forces on the balls), with the arrays it reads held in locals for the stage (a store may alias
-// any member of the stepper, and the compiler would load each array's address again after every
+// forces on the balls), a function of its views (the step's context, the scene, the balls, the
+// pair contacts), with the arrays it reads held in locals for the stage (a store may alias any
+// member of a component, and the compiler would load each array's address again after every
 // store; the flag stores to `touching` alias anything). Which thread does which span, and when, is
 // the schedule's (pair_schedule.cpp). Every piece is inlined into the schedule's loops.
 #pragma once
@@ -11,8 +12,11 @@
 
 #include "bagdem/contact/hertz.hpp"
 #include "bagdem/contact/surface_law.hpp"
+#include "bagdem/scene.hpp"
+#include "balls.hpp"
 #include "history.hpp"
-#include "stepper.hpp"
+#include "pair_contacts.hpp"
+#include "stage.hpp"
 
 namespace bagdem {
 
@@ -23,11 +27,24 @@ constexpr std::size_t kBlock = 128, kScanWidth = 16;
 // spatial_order).
 constexpr std::size_t kFetchAheadMin = 16384, kFetchAheadMax = 4096;
 
+// A pair contact opened this step: clears its history and returns what it still held
+// (closing_tally, when Energy; else zero). Rare, so kept out of line: the pair loop stays small.
+template <bool Tangential, bool Rolling, bool Energy>
+[[gnu::noinline]] Vec3 open_pair(PairContacts& ps, const Balls& b, double dt, std::size_t k) {
+  ps.touching[k] = 0;
+  return ps.hist.open<Tangential, Rolling, Energy>(k, dt, [&] {
+    const std::uint32_t i = ps.first[k], j = ps.pairs.partner[k];
+    const Vec3 n = (b.x[i] - b.x[j]).normalized();
+    return OpeningMotion{n, b.v[i] - b.v[j] - (b.radius[i] * b.w[i] + b.radius[j] * b.w[j]).cross(n), b.w[i] - b.w[j]};
+  });
+}
+
 // Uniform: all balls alike, so their radius, inverse mass and law are the first ball's (the same
 // values, so the same results; R* and m* are then loop constants, two divisions fewer per contact).
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
 struct PairKernel {
-  Stepper& s;
+  PairContacts& pairs_state;
+  const Balls& balls;
   const double dt, frac;
   const PairLawTable* laws;
   const double r0, im0;
@@ -49,17 +66,17 @@ struct PairKernel {
   const std::size_t nballs, reach;
   const bool fetch_ahead;
 
-  explicit PairKernel(Stepper& st)
-      : s(st), dt(st.ctx_.dt), frac(st.scene_.max_overlap_fraction), laws(&st.scene_.laws),
-        r0(st.ps_.pairs.size() > 0 ? st.p_.radius[0] : 0.0), im0(st.ps_.pairs.size() > 0 ? st.p_.inv_mass[0] : 0.0),
-        law0(st.ps_.pairs.size() > 0 ? &st.scene_.laws(st.p_.material[0], st.p_.material[0]) : nullptr),
-        x(st.p_.x.data()), v(st.p_.v.data()), w(st.p_.w.data()), v_pred(st.p_.v_pred.data()), w_pred(st.p_.w_pred.data()),
-        radii(st.p_.radius.data()), inv_mass(st.p_.inv_mass.data()), material(st.p_.material.data()), f(st.p_.f.data()),
-        t(st.p_.t.data()), diss(st.p_.tally.step_dissipation.data()), first(st.ps_.first.data()),
-        partner(st.ps_.pairs.partner.data()), touching(st.ps_.touching.data()), damping_prev(st.ps_.hist.damping_prev.data()),
-        tangential(st.ps_.hist.tangential.data()), rolling(st.ps_.hist.rolling.data()), cross(st.ps_.cross.data()),
-        rec(st.ps_.rec.data()), rec_diss(st.ps_.rec_diss.data()), wake(st.ps_.wake.data()), is_cross(st.ps_.is_cross.data()),
-        nballs(st.p_.size()), reach(st.ps_.reach), fetch_ahead(nballs >= kFetchAheadMin && reach <= kFetchAheadMax) {}
+  PairKernel(const StepContext& ctx, const Scene& scene, Balls& b, PairContacts& ps)
+      : pairs_state(ps), balls(b), dt(ctx.dt), frac(scene.max_overlap_fraction), laws(&scene.laws),
+        r0(ps.pairs.size() > 0 ? b.radius[0] : 0.0), im0(ps.pairs.size() > 0 ? b.inv_mass[0] : 0.0),
+        law0(ps.pairs.size() > 0 ? &scene.laws(b.material[0], b.material[0]) : nullptr),
+        x(b.x.data()), v(b.v.data()), w(b.w.data()), v_pred(b.v_pred.data()), w_pred(b.w_pred.data()),
+        radii(b.radius.data()), inv_mass(b.inv_mass.data()), material(b.material.data()), f(b.f.data()),
+        t(b.t.data()), diss(b.tally.step_dissipation.data()), first(ps.first.data()),
+        partner(ps.pairs.partner.data()), touching(ps.touching.data()), damping_prev(ps.hist.damping_prev.data()),
+        tangential(ps.hist.tangential.data()), rolling(ps.hist.rolling.data()), cross(ps.cross.data()),
+        rec(ps.rec.data()), rec_diss(ps.rec_diss.data()), wake(ps.wake.data()), is_cross(ps.is_cross.data()),
+        nballs(b.size()), reach(ps.reach), fetch_ahead(nballs >= kFetchAheadMin && reach <= kFetchAheadMax) {}
 
   BAGDEM_INLINE double radius(std::uint32_t i) const { return Uniform ? r0 : radii[i]; }
 
@@ -183,9 +200,9 @@ struct PairKernel {
     if constexpr (Tangential) prefetch_object(&tangential[k], kTangentialBytes<Energy>);
     if constexpr (Rolling) prefetch_object(&rolling[k]);
   }
-  // A pair opened: its closing tally onto its balls, its history cleared (Stepper::open_pair).
+  // A pair opened: its closing tally onto its balls, its history cleared (open_pair).
   BAGDEM_INLINE void open(std::uint32_t k) const {
-    const Vec3 d = s.template open_pair<Tangential, Rolling, Energy>(k);
+    const Vec3 d = open_pair<Tangential, Rolling, Energy>(pairs_state, balls, dt, k);
     if constexpr (Energy) {
       diss[first[k]] += 0.5 * d;
       diss[partner[k]] += 0.5 * d;
@@ -274,7 +291,7 @@ struct PairKernel {
         closed[nc] = k, at[nc++] = static_cast<std::uint32_t>(c);
         continue;
       }
-      const Vec3 d = touching[k] != 0 ? s.template open_pair<Tangential, Rolling, Energy>(k) : Vec3::Zero();
+      const Vec3 d = touching[k] != 0 ? open_pair<Tangential, Rolling, Energy>(pairs_state, balls, dt, k) : Vec3::Zero();
       rec[2 * c] = rec[2 * c + 1] = {Vec3::Zero(), Vec3::Zero()};
       if constexpr (Energy) rec_diss[c] = d;
     }
@@ -310,7 +327,7 @@ struct PairKernel {
 
   // Pairs [k0, k1) in blocks.
   BAGDEM_INLINE void span(std::size_t k0, std::size_t k1, double travel, double& excess) const {
-    const std::vector<std::uint32_t>& crossing = s.ps_.cross;
+    const std::vector<std::uint32_t>& crossing = pairs_state.cross;
     std::size_t ahead = k0 < k1 ? first[k0] + reach : 0;
     if constexpr (Tangential || Rolling) fetch_touching(k0, std::min(k1, k0 + kBlock));
     for (std::size_t k = k0; k < k1; k += kBlock) {

@@ -48,18 +48,6 @@ void Stepper::fused_contacts() {
   ++pipe_.fused_steps;
 }
 
-// A pair contact opened this step: clears its history and returns what it still held
-// (closing_tally, when Energy; else zero). Rare, so kept out of line: the pair loop stays small.
-template <bool Tangential, bool Rolling, bool Energy>
-[[gnu::noinline]] Vec3 Stepper::open_pair(std::size_t k) {
-  ps_.touching[k] = 0;
-  return ps_.hist.open<Tangential, Rolling, Energy>(k, ctx_.dt, [&] {
-    const std::uint32_t i = ps_.first[k], j = ps_.pairs.partner[k];
-    const Vec3 n = (p_.x[i] - p_.x[j]).normalized();
-    return OpeningMotion{n, p_.v[i] - p_.v[j] - (p_.radius[i] * p_.w[i] + p_.radius[j] * p_.w[j]).cross(n), p_.w[i] - p_.w[j]};
-  });
-}
-
 void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
   guard_.overlap_excess = fold.excess;
   if (fused) {
@@ -112,7 +100,7 @@ std::uint64_t Stepper::pipelined_pair_steps(const CrossPart& cross_part, const R
 
 template <bool Tangential, bool Rolling, bool Energy, bool Uniform>
 std::uint64_t Stepper::pair_contacts_impl(BallSpan walls, BallSpan drift, std::uint64_t pipelined) {
-  const PairKernel<Tangential, Rolling, Energy, Uniform> kernel(*this);
+  const PairKernel<Tangential, Rolling, Energy, Uniform> kernel(ctx_, scene_, p_, ps_);
   // Range r in two parts: its particles' records from the ranges below and its pairs up to its
   // first cross pair; then, with the records of its cross pairs at hand (PairState), its other pairs
   // and, fused (fused_contacts), its walls and its drift. With one range the first part is all pairs.

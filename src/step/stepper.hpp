@@ -147,10 +147,6 @@ class Stepper {
   using RangeProgress = Pipeline::RangeProgress;
   static constexpr std::uint64_t kNever = Pipeline::kNever;
 
-  template <bool, bool, bool, bool>
-  friend struct PairKernel;  // pair_kernel.hpp: the pairs stage's work, on the stepper's arrays
-  template <bool, bool, bool>
-  friend struct WallKernel;  // walls.cpp: the walls stage's work
   // One row of the step's table of stages (stages()): what it runs, the clock that times it.
   // One row of the step's table of stages (stages()): what it runs staged, what it runs in a fused
   // step (fusable(): the pairs, the walls and the next step's drift in one parallel region; null:
@@ -237,8 +233,6 @@ class Stepper {
   BallSpan wall_stage() const;
   // The wall stage's results into the guards' values.
   void end_walls(const StageFold& fold);
-  template <bool Tangential, bool Rolling, bool Energy>
-  Vec3 open_pair(std::size_t k);
   void set_up_meshes();
   void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
@@ -248,13 +242,8 @@ class Stepper {
   BAGDEM_INLINE void motion_against_surface(std::size_t p, const Vec3& v_end, const Vec3& v_half, ContactGeometry& g) const {
     p_.motion_against_surface<Spin>(p, v_end, v_half, g);  // balls.hpp
   }
-  // The kick for ball i, with its force F and torque T: v += h F/m, w += h T/I (h = dt/2). Returns
-  // whether the new velocity is finite.
   BAGDEM_INLINE bool kick_ball(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {
-    const Vec3 v = p_.v[i] + h * p_.inv_mass[i] * F;
-    p_.v[i] = v;
-    if (rotation) p_.w[i] += h * p_.inv_inertia[i] * T;
-    return std::isfinite(v.squaredNorm());
+    return p_.kick(i, F, T, h, rotation);  // balls.hpp
   }
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
@@ -282,7 +271,7 @@ class Stepper {
   StructureCoupling structure_;  // structure_coupling.hpp
   CavityTrack cavity_;         // cavity_track.hpp
   // Wall slot of ball p on wall w (WallContacts::hist).
-  std::size_t wall_slot(std::size_t p, std::size_t w) const { return w * p_.size() + p; }
+  std::size_t wall_slot(std::size_t p, std::size_t w) const { return walls_.slot(p, w, p_.size()); }
   // A ball that cannot touch the film before the surfaces' travel reaches its wake (surfaces.cpp).
   bool asleep(std::size_t p) const { return mesh_.asleep(p); }
 

@@ -69,14 +69,6 @@ void Stepper::set_up_meshes() {
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
-// Each ball's contacts add to its force after its walls' (the same order for any thread count); the
-// STL walls' share enters the cavity's load and work as the analytic walls' does.
-// Asleep (Stepper::asleep): with the film the only surface, mesh_.travel bounds from above how far
-// the balls and the film's nodes moved in all (the largest ball step plus the largest node step,
-// summed over the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates
-// all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before mesh_.travel
-// has grown by gap: it is not looked at before mesh_.travel reaches mesh_.wake[p] (0 after a
-// build, when every ball is).
 // From the positions of a build (the current ones, or those stored in a checkpoint).
 void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
@@ -134,6 +126,14 @@ void surface_reaction(const TriangleStage& st, const Found& fd, const Surface& s
 double surface_point(const Film& film, const Found& fd, const Surface& sf, const Vec3& c_vel, const Vec3& c_half, double inv_m,
                      Vec3& v_end_out, Vec3& v_half_out);
 
+// Each ball's contacts add to its force after its walls' (the same order for any thread count); the
+// STL walls' share enters the cavity's load and work as the analytic walls' does.
+// Asleep (SurfaceContacts::asleep): with the film the only surface, surfaces.travel bounds from above how far
+// the balls and the film's nodes moved in all (the largest ball step plus the largest node step,
+// summed over the steps, rounded up: kick_drift). A ball that touched nothing, with its candidates
+// all `gap` beyond its reach when looked at (mesh_contacts), cannot touch one before surfaces.travel
+// has grown by gap: it is not looked at before surfaces.travel reaches surfaces.wake[p] (0 after a
+// build, when every ball is).
 template <bool Tangential, bool Rolling, bool Energy>
 void triangle_contacts_impl(const TriangleStage& st) {
   const std::size_t n = st.balls.size();

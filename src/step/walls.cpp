@@ -60,7 +60,14 @@ struct WallKernel {
     double F[4], nxFt[4], roll[4], diss[4];
   };
 
-  const WallStage& s;
+  // The view's components, held directly (one indirection fewer per access than through the view).
+  const Scene& scene;
+  const CavityFrame& frame;
+  Balls& balls;
+  WallContacts& walls;
+  std::vector<Vec3>& cavity_load;
+  const bool couple, tilt;  // the structure feels the load; the cavity follows its slope
+  const std::size_t nballs;
   const WallMotion& rigid;  // the walls' motion over the step (per ball with a slope: motion_at)
   StageFold& ext;
   const double dt, frac, h;
@@ -75,7 +82,8 @@ struct WallKernel {
   std::size_t nh = 0, nc = 0;
 
   WallKernel(const WallStage& st, const WallMotion& motion, StageFold& fold)
-      : s(st), rigid(motion), ext(fold), dt(st.ctx.dt), frac(st.scene.max_overlap_fraction), h(0.5 * st.ctx.dt),
+      : scene(st.scene), frame(st.frame), balls(st.balls), walls(st.walls), cavity_load(st.cavity_load),
+        couple(st.frame.structure.couple), tilt(st.frame.structure.tilt), nballs(st.balls.size()), rigid(motion), ext(fold), dt(st.ctx.dt), frac(st.scene.max_overlap_fraction), h(0.5 * st.ctx.dt),
         lo(st.scene.cavity_lo), hi(st.scene.cavity_hi), laws(st.scene.laws), kick(st.kick), rotation(st.scene.models.rotation) {}
 
   // The rest of ball b's wall stage, once its wall contacts are in b.F, b.T and b.diss: F_wall and
@@ -83,27 +91,27 @@ struct WallKernel {
   BAGDEM_INLINE void complete(const Held& b, const Vec3& F_wall, const Vec3& T_cavity, const Vec3& load) {
     const std::size_t p = b.p;
     const Vec3 &F = b.F, &T = b.T;
-    if (s.frame.structure.couple) s.cavity_load[p] = load;
-    s.balls.f[p] = F;
-    s.balls.t[p] = T;
-    s.walls.touch[p] = b.touched;
+    if (couple) cavity_load[p] = load;
+    balls.f[p] = F;
+    balls.t[p] = T;
+    walls.touch[p] = b.touched;
     ext.min_dist = std::min({ext.min_dist, b.d_min, b.d_bounds});
-    ext.excess = std::max(ext.excess, s.balls.radius[p] - b.d_min - frac * s.balls.radius[p]);  // the deepest wall contact
-    if (kick) ext.kicked_finite = s.balls.kick(p, F, T, h, rotation) && ext.kicked_finite;
+    ext.excess = std::max(ext.excess, balls.radius[p] - b.d_min - frac * balls.radius[p]);  // the deepest wall contact
+    if (kick) ext.kicked_finite = balls.kick(p, F, T, h, rotation) && ext.kicked_finite;
     // Tallies: the load on the cavity (always) and the energy budget (when asked). A ball with no
     // wall contact adds zero to its impulses (a sum that starts at +0 is never -0, so adding +0
     // changes no bit): skipped, as for the balls far from the walls.
     if (b.touched != 0) {
-      s.balls.tally.wall_impulse[p] -= dt * F_wall;
-      s.balls.tally.wall_ang_impulse[p] += dt * T_cavity;
+      balls.tally.wall_impulse[p] -= dt * F_wall;
+      balls.tally.wall_ang_impulse[p] += dt * T_cavity;
     }
     if constexpr (Energy) {
       // Work of the walls on the contents: trapezoidal rule over the cavity's displacement.
-      s.balls.tally.work_cavity[p] += 0.5 * (F_wall + s.balls.tally.wall_force_prev[p]).dot(b.c_step);
-      s.balls.tally.wall_force_prev[p] = F_wall;
-      s.balls.tally.diss_normal[p] += b.diss.x();
-      s.balls.tally.diss_tangential[p] += b.diss.y();
-      s.balls.tally.diss_rolling[p] += b.diss.z();
+      balls.tally.work_cavity[p] += 0.5 * (F_wall + balls.tally.wall_force_prev[p]).dot(b.c_step);
+      balls.tally.wall_force_prev[p] = F_wall;
+      balls.tally.diss_normal[p] += b.diss.x();
+      balls.tally.diss_tangential[p] += b.diss.y();
+      balls.tally.diss_rolling[p] += b.diss.z();
     }
   }
 
@@ -127,9 +135,9 @@ struct WallKernel {
       TangentialHistory* th[kLanes];
       RollingHistory* rh[kLanes];
       for (std::size_t l = 0; l < kLanes; ++l) {
-        damping[l] = Energy ? &s.walls.hist.damping_prev[e[l]->slot] : nullptr;
-        th[l] = Tangential ? &s.walls.hist.tangential[e[l]->slot] : nullptr;
-        rh[l] = Rolling ? &s.walls.hist.rolling[e[l]->slot] : nullptr;
+        damping[l] = Energy ? &walls.hist.damping_prev[e[l]->slot] : nullptr;
+        th[l] = Tangential ? &walls.hist.tangential[e[l]->slot] : nullptr;
+        rh[l] = Rolling ? &walls.hist.rolling[e[l]->slot] : nullptr;
       }
       auto with_law = [&](const auto& law) BAGDEM_INLINE_LAMBDA {
         const SurfaceLanes c = surface_contact_lanes<Tangential, Rolling, Energy>(g, law, dt, damping, th, rh);
@@ -164,8 +172,8 @@ struct WallKernel {
         F_wall += Fc;
         // Torque on the cavity about its reference point, from the contact point on the wall.
         const Vec3 at = b.x_local - ct.d * vec(ct.row[0]);
-        T_cavity -= cross(Vec3(at - s.scene.cavity_reference), Fc);
-        if (s.frame.structure.couple) load += s.frame.load_moments(at, -Fc);
+        T_cavity -= cross(Vec3(at - scene.cavity_reference), Fc);
+        if (couple) load += frame.load_moments(at, -Fc);
       }
       complete(b, F_wall, T_cavity, load);
     }
@@ -173,47 +181,47 @@ struct WallKernel {
   }
 
   BAGDEM_INLINE void fetch_ball(std::size_t p) const {
-    for (const Vec3* a : {&s.balls.x[p], &s.balls.v[p], &s.balls.w[p], &s.balls.f[p], &s.balls.t[p]}) prefetch_object(a);
-    prefetch_object(&s.walls.near[p]);
+    for (const Vec3* a : {&balls.x[p], &balls.v[p], &balls.w[p], &balls.f[p], &balls.t[p]}) prefetch_object(a);
+    prefetch_object(&walls.near[p]);
   }
 
   BAGDEM_INLINE void ball(std::size_t p) {
     // Gravity (kick_drift) and the pairs (pair_contacts).
-    Vec3 F = s.balls.f[p];
-    Vec3 T = s.balls.t[p];
+    Vec3 F = balls.f[p];
+    Vec3 T = balls.t[p];
     [[maybe_unused]] Vec3 diss(0, 0, 0);
-    if constexpr (Energy) diss = s.balls.tally.step_dissipation[p];
+    if constexpr (Energy) diss = balls.tally.step_dissipation[p];
 
     // Walls: the pair law with R_j = m_j = infinity; the wall moves with the cavity.
-    const WallMotion wm = s.frame.structure.tilt ? s.frame.at(s.balls.x[p]) : rigid;
+    const WallMotion wm = tilt ? frame.at(balls.x[p]) : rigid;
     const Vec3 &c_vel = wm.vel, &c_half = wm.half;  // c_half: mean over the step
-    const Vec3 x_local = s.balls.x[p] - wm.pos;
-    const double r = s.balls.radius[p];
+    const Vec3 x_local = balls.x[p] - wm.pos;
+    const double r = balls.radius[p];
     // The cavity's bounds: a centre outside them has left the cavity (for "planes" cavities the
     // planes need not enclose anything).
     const double d_bounds = std::min((x_local - lo).minCoeff(), (hi - x_local).minCoeff());
-    const std::uint32_t near = s.walls.near[p];
+    const std::uint32_t near = walls.near[p];
     if (near == 0) {
       // No wall can touch this ball (find_near_walls): only the sums and the bounds. What it adds
       // to its tallies this step is zero and is skipped (its last wall force was zero too).
-      if (s.frame.structure.couple) s.cavity_load[p].setZero();
+      if (couple) cavity_load[p].setZero();
       if constexpr (Energy) {
-        s.balls.tally.diss_normal[p] += diss.x();
-        s.balls.tally.diss_tangential[p] += diss.y();
-        s.balls.tally.diss_rolling[p] += diss.z();
+        balls.tally.diss_normal[p] += diss.x();
+        balls.tally.diss_tangential[p] += diss.y();
+        balls.tally.diss_rolling[p] += diss.z();
       }
       ext.min_dist = std::min(ext.min_dist, d_bounds);
-      if (kick) ext.kicked_finite = s.balls.kick(p, F, T, h, rotation) && ext.kicked_finite;
+      if (kick) ext.kicked_finite = balls.kick(p, F, T, h, rotation) && ext.kicked_finite;
       return;
     }
     if (nc + static_cast<std::size_t>(std::popcount(near)) > kBatch) flush();
     double d_min = 1e300;  // nearest wall
-    const std::uint32_t touched_before = s.walls.touch[p];
+    const std::uint32_t touched_before = walls.touch[p];
     std::uint32_t touched = 0;
     const std::size_t first = nc;
     for (std::uint32_t bits = near; bits != 0; bits &= bits - 1) {
       const auto w = static_cast<std::size_t>(std::countr_zero(bits));
-      const Wall& wall = s.scene.walls[w];
+      const Wall& wall = scene.walls[w];
       ContactGeometry g;
       const double d = wall_distance(wall, x_local, g.n);
       d_min = std::min(d_min, d);
@@ -222,8 +230,8 @@ struct WallKernel {
         // A contact that just opened: tally what it still held, clear its history (walls not
         // touched cost no memory access).
         if (touched_before & (1u << w)) {
-          const Vec3 d = s.walls.hist.open<Tangential, Rolling, Energy>(s.walls.slot(p, w, s.balls.size()), dt, [&] {
-            return OpeningMotion{g.n, s.balls.v[p] - c_half - r * s.balls.w[p].cross(g.n), s.balls.w[p]};
+          const Vec3 d = walls.hist.open<Tangential, Rolling, Energy>(walls.slot(p, w, nballs), dt, [&] {
+            return OpeningMotion{g.n, balls.v[p] - c_half - r * balls.w[p].cross(g.n), balls.w[p]};
           });
           if constexpr (Energy) diss += d;
         }
@@ -231,12 +239,12 @@ struct WallKernel {
       }
       touched |= 1u << w;
       g.R_eff = wall_effective_radius(wall, r);
-      g.m_eff = s.balls.mass[p];
+      g.m_eff = balls.mass[p];
       g.arm_i = r - 0.5 * g.overlap;
       g.arm_j = 0;
       // The wall's velocity at the end of the step is exact (prescribed); at the half step it is
       // the mean over the step.
-      s.balls.motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
+      balls.motion_against_surface<Tangential || Rolling>(p, c_vel, c_half, g);
       Contact& ct = list[nc++];
       auto put = [&ct](int r, const Vec3& v, double w) BAGDEM_INLINE_LAMBDA {
         ct.row[r][0] = v.x(), ct.row[r][1] = v.y(), ct.row[r][2] = v.z(), ct.row[r][3] = w;
@@ -246,11 +254,11 @@ struct WallKernel {
       put(2, g.v_half, g.m_eff);
       put(3, g.w_half, g.arm_i);
       ct.d = d;
-      ct.slot = s.walls.slot(p, w, s.balls.size());
+      ct.slot = walls.slot(p, w, nballs);
       // Its histories fetched now, to be in cache when the batch's law reads them (flush).
-      if constexpr (Tangential) prefetch_object(&s.walls.hist.tangential[ct.slot], kTangentialBytes<Energy>);
-      if constexpr (Rolling) prefetch_object(&s.walls.hist.rolling[ct.slot]);
-      ct.law = &laws(s.balls.material[p], wall.material);
+      if constexpr (Tangential) prefetch_object(&walls.hist.tangential[ct.slot], kTangentialBytes<Energy>);
+      if constexpr (Rolling) prefetch_object(&walls.hist.rolling[ct.slot]);
+      ct.law = &laws(balls.material[p], wall.material);
     }
     const Held b{F, T, diss, x_local, wm.step, d_min, d_bounds, static_cast<std::uint32_t>(p), touched, static_cast<std::uint32_t>(nc)};
     if (nc == first) {

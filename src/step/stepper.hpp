@@ -147,10 +147,9 @@ class Stepper {
   using RangeProgress = Pipeline::RangeProgress;
   static constexpr std::uint64_t kNever = Pipeline::kNever;
 
-  // One row of the step's table of stages (stages()): what it runs, the clock that times it.
   // One row of the step's table of stages (stages()): what it runs staged, what it runs in a fused
   // step (fusable(): the pairs, the walls and the next step's drift in one parallel region; null:
-  // done by another stage of its group), the clock that times it.
+  // done by another stage of its group), what it runs in a pipelined region, the clock that times it.
   struct StageEntry {
     Stage stage;
     void (Stepper::*run)();
@@ -164,7 +163,7 @@ class Stepper {
   // How run_table runs the rows: one step staged or fused, or a pipelined region of several.
   enum class Schedule { staged, fused, pipelined };
   std::uint64_t run_table(bool last, std::uint64_t most);
-  // The stages that are not a function of their own elsewhere.
+  // The rows' functions: each hands its stage's work (a function of its views, or the stepper's own) to the schedule.
   void renew_neighbours();
   void pair_stage();
   void structure_stage();

@@ -128,7 +128,8 @@ DesignTable read_design_csv(const fs::path& path) {
   // The header must be the one this table writes for those keys and modes.
   const std::vector<std::string> head = design_columns(d);
   bool same = head.size() == t.names.size();
-  for (std::size_t k = 0; same && k < head.size(); ++k) same = head[k].rfind(t.names[k], 0) == 0;
+  for (std::size_t k = 0; same && k < head.size(); ++k)
+    same = head[k] == t.names[k] + (t.units[k].empty() ? "" : " [" + t.units[k] + "]");
   if (!same) throw InputError(t.path, "", "", "is not a design.csv of this bagdem: its columns differ from those design writes");
   for (const std::vector<std::string>& row : t.rows) {
     CellReader c{t, row};

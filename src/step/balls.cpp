@@ -15,7 +15,7 @@ namespace bagdem {
 // Also predicts the end-of-step velocities the contact law uses, v(n+1/2) + dt/2 F(n)/m: with the
 // half-step velocity alone (as LAMMPS and LIGGGHTS do) the damping force lags by dt/2, a first-order
 // error in the restitution (-26% at e = 0.01 with 40 steps per contact); the prediction makes it
-// second order. Also finds the largest step a ball took (nb_.travel; end_drift).
+// second order. Also finds the largest step a ball took (Neighbours::travel, end_drift).
 namespace {
 template <bool Finish, bool Rotation, bool Gravity, bool Energy>
 void drift_span(const Scene& scene, Balls& state, std::size_t b0, std::size_t b1, StageFold& fold) {
@@ -37,7 +37,7 @@ void drift_span(const Scene& scene, Balls& state, std::size_t b0, std::size_t b1
       const Vec3 x0 = x[i];
       Vec3 vi = v[i];
       if constexpr (Finish) {
-        vi = vi + dv;  // the last step's kick (kick_ball's operations on the same force)
+        vi = vi + dv;  // the last step's kick (Balls::kick's operations on the same force)
         finite = finite & std::isfinite(vi.squaredNorm());
       }
       vi = vi + dv;
@@ -69,6 +69,16 @@ void drift_span(const Scene& scene, Balls& state, std::size_t b0, std::size_t b1
   }
   fold.finished_finite = finite, fold.step2 = step2;
 }
+
+
+// The drift over balls [b0, b1) for the scene's models (Finish: the last step's kick first).
+using DriftSpan = void (*)(const Scene& scene, Balls& state, std::size_t b0, std::size_t b1, StageFold& fold);
+DriftSpan drift_span_for(const Scene& scene, bool finish) {
+  DriftSpan span = nullptr;
+  with_flags([&span]<bool Finish, bool Rotation, bool Gravity, bool Energy>() { span = &drift_span<Finish, Rotation, Gravity, Energy>; },
+             finish, scene.models.rotation, scene.models.gravity, scene.models.energy);
+  return span;
+}
 }  // namespace
 
 // The span the threads' schedules run (BallSpan).
@@ -98,83 +108,59 @@ void StageFold::merge(const StageFold& o) {
   finished_finite = finished_finite && o.finished_finite;
 }
 
-void Stepper::end_drift(const StageFold& fold) {
-  guard_.finished_finite = fold.finished_finite;
-  nb_.largest_step = std::sqrt(fold.step2);
-  // Rounded up twice over (the square root and the sum): nb_.travel never falls short of the true
-  // sum of the steps, which the pair stage's skipping relies on (PairState::wake).
-  nb_.travel = std::nextafter(nb_.travel + nb_.largest_step * (1.0 + 1e-14), HUGE_VAL);
-  // The list is renewed a step ahead (kSkinStep): before the pairs at these positions when a ball
-  // was near the skin's edge at the last ones.
-  nb_.needs_rebuild = nb_.near_edge;
-  nb_.near_edge = nb_.travel > nb_.far_check_at && near_skin_edge();
+void end_drift(const StageFold& fold, const Balls& balls, double skin, Neighbours& nb, GuardValues& guard) {
+  guard.finished_finite = fold.finished_finite;
+  nb.end_drift(fold.step2, balls.x, skin);
 }
 
-// Whether a ball is more than skin/2 - kSkinStep x skin from where it was at the last build.
-// Asked only when it could be (end_drift): a ball moved at most nb_.travel - t since nb_.travel was t,
-// so after a check found them all within d of their place at the build, none can pass the edge
-// before nb_.travel has grown by edge - d. The same steps rebuild as with the test at every step, and
-// the drift does not read nb_.x_at_build. In the shaken PD-box bed the check runs a few times per
-// rebuild (the slack shrinks by a fraction each time).
-bool Stepper::near_skin_edge() {
-  const Vec3 *x = p_.x.data(), *at_build = nb_.x_at_build.data();
-  const double d2 = parallel_fold(p_.size(), 0.0, [=](std::size_t i) { return (x[i] - at_build[i]).squaredNorm(); },
-                                  [](double a, double b) { return std::max(a, b); });
-  return near_edge(d2, nb_.travel, nb_.far_check_at);
-}
-
-bool Stepper::near_edge(double d2, double travel, double& far) const {
-  const double edge = (0.5 - kSkinStep) * scene_.skin;
-  if (d2 > edge * edge) return true;
-  // Rounded down by far more than the rounding of these few operations (1e-16 of skin).
-  far = travel + (edge - std::nextafter(std::sqrt(d2), HUGE_VAL)) - 1e-12 * scene_.skin;
-  return false;
-}
-
-void Stepper::kick_drift() {
-  const double dt = scene_.dt;
-  if (ctx_.balls != BallKick::drifted) {
+void kick_drift_stage(const DriftStage& s) {
+  const Scene& scene = s.scene;
+  if (s.ctx.balls != BallKick::drifted) {
+    const DriftSpan span = drift_span_for(scene, s.ctx.balls == BallKick::pending);
     StageFold fold;
-    over_balls(drift_stage(ctx_.balls == BallKick::pending), fold);
-    end_drift(fold);
+    Balls& balls = s.balls;
+    for_range_spans(s.balance, balls.size(), fold, [span, &scene, &balls](std::size_t b0, std::size_t b1, StageFold& f) { span(scene, balls, b0, b1, f); },
+                    [](StageFold& a, const StageFold& b) { a.merge(b); });
+    end_drift(fold, balls, scene.skin, s.nb, s.guard);
   }
-  ctx_.balls = BallKick::due;
-  const double node_step2 = film_.drift(dt);
-  if (!mesh_.wake.empty()) {
-    // Rounded up as nb_.travel is (end_drift): never short of the true distances.
-    mesh_.travel = std::nextafter(mesh_.travel + (nb_.largest_step + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
+  s.ctx.balls = BallKick::due;
+  const double node_step2 = s.film.drift(scene.dt);
+  if (!s.surfaces.wake.empty()) {
+    // Rounded up as the balls' travel is (Neighbours::end_drift): never short of the true distances.
+    s.surfaces.travel = std::nextafter(s.surfaces.travel + (s.nb.largest_step + std::sqrt(node_step2)) * (1.0 + 1e-14), HUGE_VAL);
   }
-  if (structure_.couple) structure_.drift(scene_.dt);
+  if (s.structure.couple) s.structure.drift(scene.dt);
 }
 
 
 // ---- kick ----------------------------------------------------------------------------------------
 // Also checks that every velocity is a number (a diverged integration shows there first).
-void Stepper::kick() {
-  const double h = 0.5 * scene_.dt;
-  const std::size_t n = p_.size();
+void kick_stage(const KickStage& s) {
+  const Scene& scene = s.scene;
+  const double h = 0.5 * scene.dt;
+  Balls& balls = s.balls;
   bool finite = true;
-  if (ctx_.defer_kick) {
-    finite = guard_.finished_finite;  // the last step's kick, finished in kick_drift; this one's comes next step
-  } else if (kick_balls_here()) {
-    finite = guard_.balls_finite && guard_.finished_finite;  // the balls were kicked in wall_contacts
+  if (s.ctx.defer_kick) {
+    finite = s.guard.finished_finite;  // the last step's kick, finished in kick_drift; this one's comes next step
+  } else if (s.kicked_in_walls) {
+    finite = s.guard.balls_finite && s.guard.finished_finite;  // the balls were kicked in the wall stage
   } else {
     with_flags(
         [&]<bool Rotation>() {
-          auto one = [this, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
-            finite = kick_ball(i, p_.f[i], p_.t[i], h, Rotation) && finite;
+          auto one = [&balls, h](std::size_t i, bool& finite) BAGDEM_INLINE_LAMBDA {
+            finite = balls.kick(i, balls.f[i], balls.t[i], h, Rotation) && finite;
           };
-          for_ranges(balance_, n, finite, one, [](bool& a, bool b) { a = a && b; });
+          for_ranges(s.balance, balls.size(), finite, one, [](bool& a, bool b) { a = a && b; });
         },
-        scene_.models.rotation);
+        scene.models.rotation);
   }
-  finite = film_.kick(scene_.dt) && finite;
-  if (structure_.couple) {
-    structure_.kick(scene_.dt);
-    for (double v : structure_.v) finite = finite && std::isfinite(v);
+  finite = s.film.kick(scene.dt) && finite;
+  if (s.structure.couple) {
+    s.structure.kick(scene.dt);
+    for (double v : s.structure.v) finite = finite && std::isfinite(v);
   }
-  guard_.all_finite = finite;
-  if (ctx_.balls != BallKick::drifted) ctx_.balls = ctx_.defer_kick ? BallKick::pending : BallKick::due;
+  s.guard.all_finite = finite;
+  if (s.ctx.balls != BallKick::drifted) s.ctx.balls = s.ctx.defer_kick ? BallKick::pending : BallKick::due;
 }
 
 }  // namespace bagdem

@@ -1,5 +1,6 @@
 // The balls component: their state (Particles: positions, velocities, forces, ...) in the
-// stepper's order, that order, and their tallies. Its stages: kick_drift and kick (balls.cpp).
+// stepper's order, that order, and their tallies. Its stages: kick_drift and kick (balls.cpp), free
+// functions of the views below.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -9,6 +10,16 @@
 #include "bagdem/particles.hpp"
 
 namespace bagdem {
+
+class SpanBalance;
+struct Film;
+struct GuardValues;
+struct Neighbours;
+struct Scene;
+struct StageFold;
+struct StepContext;
+struct StructureCoupling;
+struct SurfaceContacts;
 
 struct Balls : Particles {
   std::vector<std::uint32_t> order;  // per ball: its index in scene.particles (Stepper::input_index)
@@ -46,5 +57,40 @@ struct Balls : Particles {
     io.vec(tally.diss_normal), io.vec(tally.diss_tangential), io.vec(tally.diss_rolling);
   }
 };
+
+// What the kick_drift stage works on: the step (its kick state moves on), the scene, the balls on
+// the threads' spans (balance), the film's nodes and the structure (their drift), the neighbours'
+// travel and the surfaces' (the balls' and the nodes' largest steps), the guards' values.
+struct DriftStage {
+  StepContext& ctx;
+  const Scene& scene;
+  Balls& balls;
+  SpanBalance& balance;
+  Neighbours& nb;
+  Film& film;
+  SurfaceContacts& surfaces;
+  StructureCoupling& structure;
+  GuardValues& guard;
+};
+// The kick_drift stage (stage.hpp): velocity Verlet's first half-kick and drift (and, pending, the
+// last step's second half-kick first).
+void kick_drift_stage(const DriftStage& s);
+// A drift's folds over the balls into the guards' values and the neighbours' travel.
+void end_drift(const StageFold& fold, const Balls& balls, double skin, Neighbours& nb, GuardValues& guard);
+
+// What the kick stage works on: as the drift's, and whether the wall stage already kicked the balls
+// (no triangulated surface adds to their forces after it).
+struct KickStage {
+  StepContext& ctx;
+  const Scene& scene;
+  Balls& balls;
+  SpanBalance& balance;
+  Film& film;
+  StructureCoupling& structure;
+  GuardValues& guard;
+  bool kicked_in_walls;
+};
+// The kick stage (stage.hpp): velocity Verlet's second half-kick, and whether every velocity is finite.
+void kick_stage(const KickStage& s);
 
 }  // namespace bagdem

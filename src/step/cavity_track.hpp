@@ -1,6 +1,6 @@
 // The cavity track component: the cavity's state now and at the last step, its sums over the
 // current sample, and where it was at the last neighbour build. Its stage: move_cavity
-// (stepper.cpp; from the structure: structure.cpp).
+// (cavity_track.cpp; on the structure, StructureCoupling::cavity).
 #pragma once
 #include <cstdint>
 
@@ -8,6 +8,10 @@
 #include "bagdem/vec3.hpp"
 
 namespace bagdem {
+
+struct Neighbours;
+struct Scene;
+struct StructureCoupling;
 
 struct CavityTrack {
   CavityState now, prev;
@@ -41,5 +45,21 @@ struct CavityTrack {
     io.pod(now), io.pod(prev), io.pod(sums), io.pod(pos_at_build), io.pod(shear_at_build);
   }
 };
+
+// The cavity's state at time t: on the structure when one carries it, else the scene's prescribed
+// motion (held where it starts while the contents settle).
+CavityState cavity_at(const Scene& scene, const StructureCoupling& structure, double t);
+
+// What the move_cavity stage works on: the scene, the steps done before this one, the cavity, the
+// structure that carries it, and the neighbours (whose walls' lists it may end).
+struct CavityStage {
+  const Scene& scene;
+  std::uint64_t steps_done;
+  CavityTrack& cavity;
+  const StructureCoupling& structure;
+  Neighbours& nb;
+};
+// The move_cavity stage (stage.hpp): the cavity at this step's end.
+void move_cavity_stage(const CavityStage& s);
 
 }  // namespace bagdem

@@ -91,10 +91,7 @@ void Stepper::load_state(const std::vector<char>& image) {
   state_fields(r);
   // What is derived from the pair list (first, per-pair buffers, the walls near each
   // ball), without a new broad-phase search.
-  derive_pair_buffers();
-  nb_.near_edge = near_skin_edge();  // as the run that saved the image found it at this step (end_drift)
-  find_near_walls();
-  if (!mesh_.surfaces.empty()) build_mesh_candidates(nb_.x_at_build, mesh_.film_at_build, mesh_.cavity_at_build);
+  neighbours_restored({scene_, frame(), p_, nb_, ps_, walls_, mesh_, film_, cavity_, structure_});
 }
 
 }  // namespace bagdem

@@ -52,8 +52,73 @@ void Stepper::end_pair_stage(const StageFold& fold, bool fused) {
   guard_.overlap_excess = fold.excess;
   if (fused) {
     end_walls(fold);
-    end_drift(fold);
+    end_drift(fold, p_, scene_.skin, nb_, guard_);
   }
+}
+
+// The particles cut into `ranges` ranges, the cross pairs and their records (PairState). Redone
+// after each neighbour build, when the thread count changes and when the pair stage's balance moved
+// its cuts. The cuts are the balance's (SpanBalance), at first of about equal pair counts.
+void Stepper::derive_ranges(std::uint32_t ranges) {
+  const std::size_t n = p_.size(), np = ps_.pairs.size();
+  const CandidatePairs& pairs = ps_.pairs;
+  if (balance_.spans() != ranges || balance_.cuts().back() != n) {
+    std::vector<std::uint32_t> cuts(ranges + 1, static_cast<std::uint32_t>(n));
+    cuts[0] = 0;
+    for (std::uint32_t r = 1; r < ranges; ++r) cuts[r] = ps_.first[np * r / ranges];
+    balance_.reset(cuts);
+  }
+  ps_.ranges = ranges;
+  ps_.range_first = balance_.cuts();
+  ps_.cross.clear();
+  ps_.is_cross.assign(np, 0);
+  for (std::uint32_t r = 0; r < ranges; ++r)
+    for (std::uint32_t k = pairs.begin[ps_.range_first[r]]; k < pairs.begin[ps_.range_first[r + 1]]; ++k)
+      if (pairs.partner[k] >= ps_.range_first[r + 1]) {
+        ps_.cross.push_back(k);
+        ps_.is_cross[k] = 1;
+      }
+  ps_.j_side.clear();
+  for (std::size_t c = 0; c < ps_.cross.size(); ++c)
+    ps_.j_side.push_back({pairs.partner[ps_.cross[c]], static_cast<std::uint32_t>(c)});
+  // By j; for one j by i, as the cross list is.
+  std::stable_sort(ps_.j_side.begin(), ps_.j_side.end(),
+                   [](const PairState::JSide& a, const PairState::JSide& b) { return a.particle < b.particle; });
+  ps_.j_side_range.resize(ranges + 1);
+  for (std::uint32_t r = 0; r <= ranges; ++r)
+    ps_.j_side_range[r] = static_cast<std::uint32_t>(
+        std::lower_bound(ps_.j_side.begin(), ps_.j_side.end(), ps_.range_first[r],
+                         [](const PairState::JSide& e, std::uint32_t p) { return e.particle < p; }) -
+        ps_.j_side.begin());
+  // The cross pairs by j's range (each range's thread computes those into it), and where each
+  // range's own pairs first need records (PairState).
+  auto range_of = [&](std::uint32_t p) {
+    return static_cast<std::uint32_t>(std::upper_bound(ps_.range_first.begin(), ps_.range_first.end(), p) - ps_.range_first.begin() - 1);
+  };
+  ps_.cross_into_range.assign(ranges + 1, 0);
+  ps_.records_upto.resize(ranges);
+  ps_.records_from.resize(ranges);
+  ps_.cross_from.resize(ranges);
+  for (std::uint32_t r = 0; r < ranges; ++r) {
+    ps_.records_upto[r] = ps_.cross_from[r] = r;
+    ps_.records_from[r] = pairs.begin[ps_.range_first[r + 1]];
+  }
+  for (const std::uint32_t k : ps_.cross) {
+    const std::uint32_t i = ps_.first[k], ri = range_of(i), rj = range_of(pairs.partner[k]);
+    ++ps_.cross_into_range[rj + 1];
+    ps_.records_upto[ri] = std::max(ps_.records_upto[ri], rj);
+    ps_.cross_from[rj] = std::min(ps_.cross_from[rj], ri);
+    ps_.records_from[ri] = std::min(ps_.records_from[ri], k);
+  }
+  for (std::uint32_t r = 0; r < ranges; ++r) ps_.cross_into_range[r + 1] += ps_.cross_into_range[r];
+  ps_.cross_into.resize(ps_.cross.size());
+  std::vector<std::uint32_t> fill(ps_.cross_into_range.begin(), ps_.cross_into_range.end() - 1);
+  for (std::size_t c = 0; c < ps_.cross.size(); ++c)
+    ps_.cross_into[fill[range_of(pairs.partner[ps_.cross[c]])]++] = static_cast<std::uint32_t>(c);
+  ps_.cross_done = std::vector<PairContacts::CrossStamp>(ranges);
+  pipe_.progress = std::vector<RangeProgress>(ranges);
+  ps_.rec.assign(2 * ps_.cross.size(), {Vec3::Zero(), Vec3::Zero()});
+  ps_.rec_diss.assign(scene_.models.energy ? ps_.cross.size() : 0, Vec3::Zero());
 }
 
 // Pipelined steps (pipelined_region): the threads stay in one region for up to `pipelined` steps

@@ -50,7 +50,7 @@ std::uint64_t Stepper::plan_pipelined(std::uint64_t most) {
   pipe_.cavity_path[0] = cavity_.now;
   std::uint64_t steps = 0;
   for (; steps < most_steps; ++steps) {
-    const CavityState c = cavity_at(static_cast<double>(step_ + steps + 1) * scene_.dt);
+    const CavityState c = cavity_at(scene_, structure_, static_cast<double>(step_ + steps + 1) * scene_.dt);
     if ((c.position - cavity_.pos_at_build).norm() > 0.5 * scene_.skin) break;
     pipe_.cavity_path[steps + 1] = c;
     pipe_.wall_path[steps] = rigid_motion(pipe_.cavity_path[steps], c);
@@ -156,7 +156,7 @@ void Stepper::end_range_step(std::size_t r, std::uint64_t s) {
     const Vec3 *x = p_.x.data(), *at_build = nb_.x_at_build.data();
     double d2 = 0;
     for (std::size_t i = ps_.range_first[r]; i < ps_.range_first[r + 1]; ++i) d2 = std::max(d2, (x[i] - at_build[i]).squaredNorm());
-    near = near_edge(d2, travel, g.far);
+    near = Neighbours::near_edge_of(d2, travel, g.far, scene_.skin);
   }
   g.travel[(s + 1) % 4] = travel;
   g.near[(s + 1) % 4] = near;

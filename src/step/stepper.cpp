@@ -1,5 +1,5 @@
-// The stepper: set-up, the table of stages and the ways of running it (stage.hpp), and the cavity's
-// motion. Each stage's work is in the file named after it.
+// The stepper: set-up, the table of stages and the ways of running it (stage.hpp). Each stage's
+// work is in the file named after it.
 #include "stepper.hpp"
 
 #include <omp.h>
@@ -43,10 +43,10 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   walls_.hist.assign(n * nw, scene.models.tangential, scene.models.rolling, scene.models.energy);
   walls_.touch.assign(n, 0);  // 32 bits: a cavity has at most 32 walls (checked when loading)
   walls_.near.assign(n, 0);
-  cavity_.now = cavity_.prev = cavity_at(0.0);
+  cavity_.now = cavity_.prev = cavity_at(scene_, structure_, 0.0);
   if (scene_.primary) structure_.set_up(*scene_.primary, n);
   film_.set_up(scene_);
-  set_up_meshes();
+  mesh_.set_up(scene_, p_, film_);
   // The contents' mass, balls then film nodes (the order contents_relative_velocity sums them in).
   for (std::size_t i = 0; i < n; ++i) energy0_.contents_mass += p_.mass[i];
   for (std::size_t k = 0; k < film_.size(); ++k) energy0_.contents_mass += film_.mass[k];
@@ -63,12 +63,6 @@ Stepper::Stepper(const Scene& scene) : scene_(scene) {
   energy0_.potential = potential_energy();
   const EnergySample e0 = energy();
   energy0_.stored = e0.kinetic + e0.elastic;
-}
-
-CavityState Stepper::cavity_at(double t) const {
-  if (structure_.couple) return structure_.cavity(*scene_.primary);
-  if (t < scene_.settle) return {scene_.motion->at(0.0).position, Vec3::Zero()};
-  return scene_.motion->at(t - scene_.settle);
 }
 
 void Stepper::advance(std::uint64_t steps) {
@@ -126,7 +120,6 @@ std::uint64_t Stepper::run_table(bool last, std::uint64_t most) {
   return schedule == Schedule::pipelined ? pipe_.region_done : 1;
 }
 
-void Stepper::renew_neighbours() { update_neighbours(false); }
 void Stepper::pair_stage() { pair_contacts(); }
 void Stepper::structure_stage() {
   if (structure_.couple) bagdem::structure_stage(ctx_, *scene_.primary, since_release(ctx_.stepping()), structure_);
@@ -141,15 +134,6 @@ void Stepper::end_step() {
 // where its cuts moved.
 void Stepper::end_balance() {
   if (balance_.end_step()) ps_.ranges = 0;
-}
-
-// ---- move_cavity -------------------------------------------------------------------------------
-void Stepper::move_cavity() {
-  const double t = static_cast<double>(step_ + 1) * scene_.dt;
-  cavity_.move_to(t, cavity_at(t));
-  // The walls' candidates (walls_.near) hold while the cavity moved at most skin/2 since the last
-  // build.
-  if (cavity_.moved_since_build(structure_.tilt ? structure_.tilt_extent : 0.0) > 0.5 * scene_.skin) nb_.needs_rebuild = true;
 }
 
 }  // namespace bagdem

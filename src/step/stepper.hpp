@@ -163,20 +163,21 @@ class Stepper {
   // How run_table runs the rows: one step staged or fused, or a pipelined region of several.
   enum class Schedule { staged, fused, pipelined };
   std::uint64_t run_table(bool last, std::uint64_t most);
-  // The rows' functions: each hands its stage's work (a function of its views, or the stepper's own) to the schedule.
-  void renew_neighbours();
+  // The rows' functions: each hands its stage's work (a function of its views, or the pair
+  // schedule's) to the executor.
+  void kick_drift() { kick_drift_stage({ctx_, scene_, p_, balance_, nb_, film_, mesh_, structure_, guard_}); }
+  void move_cavity() { move_cavity_stage({scene_, step_, cavity_, structure_, nb_}); }
+  void renew_neighbours() { update_neighbours(false); }
+  void update_neighbours(bool force_rebuild) {
+    neighbours_stage({scene_, frame(), p_, nb_, ps_, walls_, mesh_, film_, cavity_, structure_}, force_rebuild);
+  }
   void pair_stage();
   void structure_stage();
   void end_step();
-  void kick_drift();
-  void move_cavity();
-  void update_neighbours(bool force_rebuild);
-  void derive_pair_buffers();
-  void find_near_walls();
   void wall_contacts();
   void triangle_contacts() { triangle_stage({ctx_, scene_, frame(), p_, film_, mesh_, structure_.cavity_load, guard_}); }
   void film_stage() { bagdem::film_stage({ctx_, scene_, frame(), film_, mesh_, structure_.film_load_moments}); }
-  void kick();
+  void kick() { kick_stage({ctx_, scene_, p_, balance_, film_, structure_, guard_, kick_balls_here()}); }
   void guards();
   void release_structure();
   // The time since the structure's release at this step's end (stepping) or now (unit: s).
@@ -197,8 +198,6 @@ class Stepper {
   BallSpan drift_stage(bool finish) const;
   // span over all balls, on the threads' spans (SpanBalance), its folds merged into fold.
   void over_balls(BallSpan span, StageFold& fold);
-  void end_drift(const StageFold& fold);
-  bool near_skin_edge();
   // Stages 4, 5 and the next step's 1 in one parallel region (fused_contacts).
   void fused_contacts();
   // ctx_.defer_kick also means no triangulated surface, so no film: no later stage adds to the balls.
@@ -222,9 +221,6 @@ class Stepper {
   double cross_travel(std::size_t r, std::uint64_t s) const;
   // Range r finished pipelined step s: its travel, its rebuild flag, its guards.
   void end_range_step(std::size_t r, std::uint64_t s);
-  // Whether balls at most sqrt(d2) from their place at the build are near the skin's edge
-  // (kSkinStep); if not, far: the travel (now `travel`) up to which they cannot be.
-  bool near_edge(double d2, double travel, double& far) const;
   void derive_ranges(std::uint32_t ranges);
   void end_balance();
   template <bool Tangential, bool Rolling, bool Energy>
@@ -232,25 +228,14 @@ class Stepper {
   BallSpan wall_stage() const;
   // The wall stage's results into the guards' values.
   void end_walls(const StageFold& fold);
-  void set_up_meshes();
-  void build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity);
   template <class IO>
   void state_fields(IO& io);  // checkpoint.cpp: its own fields, then each component's checkpoint()
-  bool meshes_need_rebuild() const;
-  template <bool Spin>
-  BAGDEM_INLINE void motion_against_surface(std::size_t p, const Vec3& v_end, const Vec3& v_half, ContactGeometry& g) const {
-    p_.motion_against_surface<Spin>(p, v_end, v_half, g);  // balls.hpp
-  }
-  BAGDEM_INLINE bool kick_ball(std::size_t i, const Vec3& F, const Vec3& T, double h, bool rotation) {
-    return p_.kick(i, F, T, h, rotation);  // balls.hpp
-  }
   // Per-particle sums of the new step start from gravity and zero torque and dissipation.
   void start_sums(std::size_t i) {
     p_.f[i] = scene_.models.gravity ? Vec3(p_.mass[i] * scene_.gravity) : Vec3::Zero();
     p_.t[i].setZero();
     if (scene_.models.energy) p_.tally.step_dissipation[i].setZero();
   }
-  CavityState cavity_at(double t) const;
   double potential_energy() const;
   double largest_overlap_ratio() const;
   // fn(overlap, normal elastic energy (0 on a triangulated surface: mesh_.elastic), tangential,
@@ -271,8 +256,6 @@ class Stepper {
   CavityTrack cavity_;         // cavity_track.hpp
   // Wall slot of ball p on wall w (WallContacts::hist).
   std::size_t wall_slot(std::size_t p, std::size_t w) const { return walls_.slot(p, w, p_.size()); }
-  // A ball that cannot touch the film before the surfaces' travel reaches its wake (surfaces.cpp).
-  bool asleep(std::size_t p) const { return mesh_.asleep(p); }
 
   // The step in progress and the schedules.
   StepContext ctx_;            // what the stages of the step in progress share

@@ -54,6 +54,17 @@ struct SurfaceContacts {
   ContactHistories node_slot_hist;          // their histories (no rolling: a node does not turn)
   std::vector<std::uint8_t> node_slot_count;
   std::vector<double> node_elastic;         // per film node: the elastic energy of its STL-wall contacts (unit: J)
+  // Sized for the scene's surfaces and balls; each ball's side of the film (surfaces.cpp).
+  void set_up(const Scene& scene, const Balls& balls, const Film& film);
+  // The candidate lists from the positions of a build: the balls' (of these radii), the film
+  // nodes', the cavity's (the neighbours stage, or a loaded checkpoint's stored ones).
+  void build_candidates(const Scene& scene, const std::vector<double>& radius, const std::vector<Vec3>& balls,
+                        const std::vector<Vec3>& film, const Vec3& cavity);
+  // Whether the lists may not hold now: a ball (from x_at_build) or a film node moved more than
+  // skin/2 since the build (relative to the cavity, for STL walls). tilt: how much farther a slope
+  // moves a point of the cavity, |shear| x half its axial extent (0 without one) (unit: m).
+  bool need_rebuild(const Scene& scene, const std::vector<Vec3>& balls, const std::vector<Vec3>& x_at_build,
+                    const std::vector<Vec3>& film, const Vec3& cavity, double tilt) const;
   // Its checkpoint fields (step/checkpoint.cpp): one list for writing and reading, so the two
   // cannot disagree. IO: pod(x) and vec(v).
   // The candidate lists are not stored: they are rebuilt from the stored build positions, which

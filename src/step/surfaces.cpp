@@ -35,77 +35,77 @@
 namespace bagdem {
 using namespace surface_contacts;
 
-void Stepper::set_up_meshes() {
-  mesh_.surfaces.clear();
-  if (scene_.bag) mesh_.surfaces.push_back({&scene_.bag->rest, true, scene_.bag->material, 0.5 * scene_.bag->film.thickness});
-  for (const MeshWall& w : scene_.mesh_walls) mesh_.surfaces.push_back({&w.mesh, false, w.material, 0.0});
-  if (mesh_.surfaces.empty()) return;
-  const std::size_t n = p_.size();
-  mesh_.slots.assign(n * kMaxMeshContacts, MeshSlot{});
-  mesh_.slot_hist.assign(n * kMaxMeshContacts, scene_.models.tangential, scene_.models.rolling, scene_.models.energy);
-  mesh_.slot_count.assign(n, 0);
-  mesh_.film_load.assign(n * kMaxMeshContacts, FilmLoad{});
-  mesh_.elastic.assign(n, 0.0);
-  mesh_.film_push.assign(n, {});
-  mesh_.side.assign(n, -1);
-  if (scene_.bag) {
+void SurfaceContacts::set_up(const Scene& scene, const Balls& balls, const Film& film) {
+  surfaces.clear();
+  if (scene.bag) surfaces.push_back({&scene.bag->rest, true, scene.bag->material, 0.5 * scene.bag->film.thickness});
+  for (const MeshWall& w : scene.mesh_walls) surfaces.push_back({&w.mesh, false, w.material, 0.0});
+  if (surfaces.empty()) return;
+  const std::size_t n = balls.size();
+  slots.assign(n * kMaxMeshContacts, MeshSlot{});
+  slot_hist.assign(n * kMaxMeshContacts, scene.models.tangential, scene.models.rolling, scene.models.energy);
+  slot_count.assign(n, 0);
+  film_load.assign(n * kMaxMeshContacts, FilmLoad{});
+  elastic.assign(n, 0.0);
+  film_push.assign(n, {});
+  side.assign(n, -1);
+  if (scene.bag) {
     // The bag's balls are inside its film; any other ball is on the side where it starts.
-    const Bag& bag = *scene_.bag;
+    const Bag& bag = *scene.bag;
     for (std::size_t i = 0; i < n; ++i) {
       const bool in_bag = i >= bag.ball_first && i < bag.ball_first + bag.balls;
-      mesh_.side[i] = in_bag || winding_number(bag.rest, film_.x, p_.x[i]) > 0.5 ? -1 : 1;
+      side[i] = in_bag || winding_number(bag.rest, film.x, balls.x[i]) > 0.5 ? -1 : 1;
     }
   }
-  mesh_.cand.assign(mesh_.surfaces.size(), {});
-  mesh_.force_prev.assign(n, Vec3::Zero());
-  mesh_.node_cand.assign(mesh_.surfaces.size(), {});
-  if (scene_.bag && !scene_.mesh_walls.empty()) {
-    mesh_.node_reach.assign(film_.size(), 0.5 * scene_.bag->film.thickness);
-    mesh_.node_slots.assign(film_.size() * kMaxMeshContacts, MeshSlot{});
-    mesh_.node_slot_hist.assign(film_.size() * kMaxMeshContacts, scene_.models.tangential, false, scene_.models.energy);
-    mesh_.node_slot_count.assign(film_.size(), 0);
-    mesh_.node_elastic.assign(film_.size(), 0.0);
+  cand.assign(surfaces.size(), {});
+  force_prev.assign(n, Vec3::Zero());
+  node_cand.assign(surfaces.size(), {});
+  if (scene.bag && !scene.mesh_walls.empty()) {
+    node_reach.assign(film.size(), 0.5 * scene.bag->film.thickness);
+    node_slots.assign(film.size() * kMaxMeshContacts, MeshSlot{});
+    node_slot_hist.assign(film.size() * kMaxMeshContacts, scene.models.tangential, false, scene.models.energy);
+    node_slot_count.assign(film.size(), 0);
+    node_elastic.assign(film.size(), 0.0);
   }
 }
 
 // ---- 6. triangles -------------------------------------------------------------------------------
 // From the positions of a build (the current ones, or those stored in a checkpoint).
-void Stepper::build_mesh_candidates(const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
-  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
-    const Surface& sf = mesh_.surfaces[s];
+void SurfaceContacts::build_candidates(const Scene& scene, const std::vector<double>& radius, const std::vector<Vec3>& balls,
+                                       const std::vector<Vec3>& film, const Vec3& cavity) {
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    const Surface& sf = surfaces[s];
     if (sf.film) {
-      find_mesh_candidates(*sf.mesh, film, balls, p_.radius, Vec3::Zero(), sf.reach, scene_.skin, mesh_.cand[s]);
+      find_mesh_candidates(*sf.mesh, film, balls, radius, Vec3::Zero(), sf.reach, scene.skin, cand[s]);
     } else {
-      find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, p_.radius, cavity, 0.0, scene_.skin, mesh_.cand[s]);
-      if (!mesh_.node_reach.empty())
-        find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, mesh_.node_reach, cavity, 0.0, scene_.skin, mesh_.node_cand[s]);
+      find_mesh_candidates(*sf.mesh, sf.mesh->vertices, balls, radius, cavity, 0.0, scene.skin, cand[s]);
+      if (!node_reach.empty())
+        find_mesh_candidates(*sf.mesh, sf.mesh->vertices, film, node_reach, cavity, 0.0, scene.skin, node_cand[s]);
     }
   }
-  // Balls sleep when the film is the only surface (mesh_.wake); after a build each is looked at.
-  if (mesh_.surfaces.size() == 1 && mesh_.surfaces[0].film) mesh_.wake.assign(p_.size(), 0.0);
-  mesh_.cavity_at_build = cavity;
-  if (&film != &mesh_.film_at_build) mesh_.film_at_build = film;
-  if (scene_.bag) find_film_walls_near(film_, scene_, frame(), film, cavity);
+  // Balls sleep when the film is the only surface (wake); after a build each is looked at.
+  if (surfaces.size() == 1 && surfaces[0].film) wake.assign(balls.size(), 0.0);
+  cavity_at_build = cavity;
+  if (&film != &film_at_build) film_at_build = film;
 }
 
 // The candidate lists of STL walls hold while no ball moved more than skin/2 relative to the
 // cavity; those of the film while no ball and no film node moved more than skin/2.
-bool Stepper::meshes_need_rebuild() const {
-  if (mesh_.surfaces.empty()) return false;
-  const double limit2 = 0.25 * scene_.skin * scene_.skin;
+bool SurfaceContacts::need_rebuild(const Scene& scene, const std::vector<Vec3>& balls, const std::vector<Vec3>& x_at_build,
+                                   const std::vector<Vec3>& film, const Vec3& cavity, double tilt) const {
+  if (surfaces.empty()) return false;
+  const double limit2 = 0.25 * scene.skin * scene.skin;
   // The candidates of STL walls are found for the cavity's translation; a slope moves a point at
   // most |shear| l (l: half the cavity's axial extent) further, which is taken off the allowance.
-  const double tilt = structure_.tilt ? cavity_.now.shear.norm() * structure_.tilt_extent : 0.0;
-  const double limit_walls2 = std::pow(std::max(0.0, 0.5 * scene_.skin - tilt), 2);
-  if (!scene_.mesh_walls.empty()) {
-    const Vec3 dc = cavity_.now.position - mesh_.cavity_at_build;
-    for (std::size_t i = 0; i < p_.size(); ++i)
-      if ((p_.x[i] - nb_.x_at_build[i] - dc).squaredNorm() > limit_walls2) return true;
+  const double limit_walls2 = std::pow(std::max(0.0, 0.5 * scene.skin - tilt), 2);
+  if (!scene.mesh_walls.empty()) {
+    const Vec3 dc = cavity - cavity_at_build;
+    for (std::size_t i = 0; i < balls.size(); ++i)
+      if ((balls[i] - x_at_build[i] - dc).squaredNorm() > limit_walls2) return true;
   }
-  const Vec3 dc = cavity_.now.position - mesh_.cavity_at_build;
-  for (std::size_t k = 0; k < film_.size(); ++k) {
-    if ((film_.x[k] - mesh_.film_at_build[k]).squaredNorm() > limit2) return true;
-    if (!mesh_.node_reach.empty() && (film_.x[k] - mesh_.film_at_build[k] - dc).squaredNorm() > limit_walls2) return true;
+  const Vec3 dc = cavity - cavity_at_build;
+  for (std::size_t k = 0; k < film.size(); ++k) {
+    if ((film[k] - film_at_build[k]).squaredNorm() > limit2) return true;
+    if (!node_reach.empty() && (film[k] - film_at_build[k] - dc).squaredNorm() > limit_walls2) return true;
   }
   return false;
 }

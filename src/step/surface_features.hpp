@@ -37,17 +37,52 @@ struct Found {
   PatchMember member[kPatchMembers];  // the first `members` when members > 1 (else unset)
 };
 
+// The angle-weighted pseudonormal of the hit's feature (Baerentzen & Aanaes, "Signed distance
+// computation using the angle weighted pseudonormal", IEEE TVCG 11(3), 2005, eq. 4): a face's
+// normal; an edge's, the sum of its one or two faces' unit normals (each seen under the angle pi);
+// a vertex's, the sum of its faces' unit normals, each weighted by the face's angle there. Not
+// normalized: only its sign against a direction is asked.
+inline Vec3 pseudonormal(const TriangleMesh& mesh, const std::vector<Vec3>& vx, const MeshHit& mh) {
+  auto face = [&](std::uint32_t t) {
+    const auto& tri = mesh.triangles[t];
+    return Vec3((vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized());
+  };
+  const std::uint32_t index = mh.key & 0x3fffffffu;
+  switch (mh.hit.feature) {
+    case Feature::Face:
+      return face(mh.triangle);
+    case Feature::Edge: {
+      const auto& et = mesh.edge_triangles[index];
+      return et[1] == kNoTriangle ? face(et[0]) : Vec3(face(et[0]) + face(et[1]));
+    }
+    case Feature::Vertex:
+      break;
+  }
+  Vec3 sum = Vec3::Zero();
+  for (std::uint32_t k = mesh.vertex_triangle_begin[index]; k < mesh.vertex_triangle_begin[index + 1]; ++k) {
+    const std::uint32_t t = mesh.vertex_triangles[k];
+    const auto& tri = mesh.triangles[t];
+    const int at = tri[0] == index ? 0 : tri[1] == index ? 1 : 2;
+    const Vec3 a = vx[tri[(at + 1) % 3]] - vx[index], b = vx[tri[(at + 2) % 3]] - vx[index];
+    sum += std::atan2(a.cross(b).norm(), a.dot(b)) * face(t);
+  }
+  return sum;
+}
+
 // Normal and overlap of a body at x on `side` of a surface (-1: against its triangles' normals),
-// touching the hit's feature within `reach`. The side is judged by the touched triangle's normal
-// (exact for a face; for an edge or vertex, right whenever the centre is in that feature's region
-// on its own side). Returns false when the centre is beyond the mid-surface.
-inline bool oriented(const Vec3& x, const std::vector<Vec3>& vx, const std::array<std::uint32_t, 3>& tri, const TriangleHit& h,
-              double side, double reach, Vec3& n, double& overlap) {
-  const Vec3 normal = (vx[tri[1]] - vx[tri[0]]).cross(vx[tri[2]] - vx[tri[0]]).normalized();
-  const Vec3 d = x - h.point;
-  const double dist = std::sqrt(h.distance2);
+// touching the hit's feature within `reach` (its key set: select_mesh_contacts). The side is judged
+// by the feature's angle-weighted pseudonormal (pseudonormal): on a closed surface that does not
+// cut itself, the sign of (x - closest point) . pseudonormal tells inside from outside at a face,
+// an edge or a vertex alike (Baerentzen & Aanaes 2005, theorem 1), where the touched triangle's own
+// normal misjudges a centre nearly in that triangle's plane beside a sharp fold. Returns false when
+// the centre is beyond the mid-surface.
+inline bool oriented(const Vec3& x, const std::vector<Vec3>& vx, const TriangleMesh& mesh, const MeshHit& mh, double side, double reach,
+                     Vec3& n, double& overlap) {
+  const Vec3 normal = pseudonormal(mesh, vx, mh);
+  const Vec3 d = x - mh.hit.point;
+  const double dist = std::sqrt(mh.hit.distance2);
   const bool own_side = side * d.dot(normal) >= 0;
-  n = dist > 1e-12 * reach ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal);
+  n = dist > 1e-12 * reach ? Vec3((own_side ? 1.0 : -1.0) * d / dist) : Vec3(side * normal.normalized());
   overlap = reach - (own_side ? dist : -dist);
   return own_side;
 }
@@ -344,7 +379,7 @@ inline std::size_t find_features(const Surfaces& surfaces, const std::vector<Mes
     for (const MeshHit& mh : hits) {
       Vec3 n;
       double overlap;
-      const bool own_side = oriented(pv.x, vx, mesh.triangles[mh.triangle], mh.hit, pv.side, pv.reach, n, overlap);
+      const bool own_side = oriented(pv.x, vx, mesh, mh, pv.side, pv.reach, n, overlap);
       touched(s, overlap, pv.reach, own_side);
       Found fd;
       fd.surface = s, fd.hit = mh, fd.n = n, fd.overlap = overlap, fd.from = -1;

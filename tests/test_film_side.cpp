@@ -7,6 +7,10 @@
 // judged at its nearest hit as the winding number says. The touched triangle's own normal (the rule
 // before) misjudges some of the same points: the ones nearly in that triangle's plane beside a
 // sharp fold, where a run stopped with "crossed the bag's film" while the ball was inside.
+// A film doubled in a pleat (two layers closer than the reach): a ball on the inner side of the near
+// layer also reaches the far one, seen from its outer side. The point's side is its nearest hit's
+// (find_features): the far layer is no crossing and gives no contact of the law; a centre between
+// the layers is a crossing.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +19,7 @@
 
 #include "bagdem/mesh/shapes.hpp"
 #include "bagdem/mesh/triangle_mesh.hpp"
+#include "mesh_support.hpp"
 #include "step/surface_features.hpp"
 
 using namespace bagdem;
@@ -86,4 +91,51 @@ TEST(FilmSide, SmoothClosedFilmAgreesWithTheFaceNormal) {
   ASSERT_GT(j.points, 3000u);
   EXPECT_EQ(j.pseudonormal, 0u);
   EXPECT_EQ(j.face_normal, 0u);
+}
+
+namespace {
+
+struct Sheet {
+  const TriangleMesh* mesh;
+};
+
+// The contacts find_features gives a unit-reach point at x against one mesh (every triangle a
+// candidate), side -1; crossed: whether it reported a hit beyond the mid-surface.
+std::vector<Found> contacts(const TriangleMesh& m, const Vec3& x, bool& crossed) {
+  std::vector<Sheet> surfaces{{&m}};
+  std::vector<MeshCandidates> cand(1);
+  cand[0].begin = {0, static_cast<std::uint32_t>(m.triangles.size())};
+  for (std::uint32_t t = 0; t < m.triangles.size(); ++t) cand[0].triangle.push_back(t);
+  auto view = [&](std::uint32_t) { return PointView{x, &m.vertices, 1.0, -1.0}; };
+  crossed = false;
+  auto touched = [&](std::uint32_t, double, double, bool own_side) { crossed = crossed || !own_side; };
+  Found found[16];
+  std::vector<EulerTerm> terms;
+  const std::size_t nf = find_features<16>(surfaces, cand, 0, view, touched, [] {}, found, terms);
+  return {found, found + nf};
+}
+
+}  // namespace
+
+TEST(FilmSide, AFarLayerOfAPleatIsNeitherACrossingNorAContact) {
+  // The near layer at z = 0 with its outer side down (normals -z: the ball above is inside), the
+  // far layer 0.05 below it folded back (normals +z: its outer side faces the ball), one mesh.
+  using bagdem::testing::floor_mesh;
+  const TriangleMesh near = floor_mesh(Vec3(0, 0, 0), 4, 4, 8, 8);
+  const TriangleMesh far = rectangle_mesh(Vec3(0, 0, -0.05), 4, 4, 8, 8);
+  TriangleMesh m = near;
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), far.vertices.begin(), far.vertices.end());
+  for (auto t : far.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  build_topology(m);
+  bool crossed = true;
+  const std::vector<Found> above = contacts(m, Vec3(0.31, 0.27, 0.9), crossed);
+  EXPECT_FALSE(crossed);
+  ASSERT_EQ(above.size(), 1u);  // the near layer's one contact, as against a plane
+  EXPECT_NEAR(above[0].n.z(), 1.0, 1e-12);
+  EXPECT_NEAR(above[0].overlap, 0.1, 1e-12);
+  EXPECT_LT(above[0].hit.triangle, near.triangles.size());
+  // The centre between the layers: beyond the near layer's mid-surface, its nearest hit.
+  contacts(m, Vec3(0.31, 0.27, -0.02), crossed);
+  EXPECT_TRUE(crossed);
 }

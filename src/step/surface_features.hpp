@@ -325,7 +325,8 @@ struct PointView {
 // within reach give the elastic energy's terms (euler_terms, into terms), and, one per feature
 // (select_mesh_contacts), oriented, one per patch (keep_patches), the contacts whose damping and
 // friction the law gives; at most kMax into found, in surface order. view(s) places the point (PointView); touched(s,
-// overlap, reach, own_side) sees each contact found; full() is told when one did not fit.
+// overlap, reach, own_side) sees each contact found (own_side false: the point is beyond the mid-surface, by its
+// nearest hit; a farther hit seen from its outer side is dropped); full() is told when one did not fit.
 // gap (when not null): the least distance of a candidate beyond the point's reach (HUGE_VAL
 // without candidates), rounded down.
 template <std::size_t kMax, class Surfaces, class View, class Touched, class Full>
@@ -375,11 +376,20 @@ inline std::size_t find_features(const Surfaces& surfaces, const std::vector<Mes
     if (hits.empty()) continue;
     euler_terms(mesh, vx, pv.x, pv.reach, pv.side, hits, s, terms);
     select_mesh_contacts(mesh, hits);
+    // The point's side of the surface is its nearest hit's (oriented; the nearest always survives
+    // select_mesh_contacts). Another hit seen from its outer side lies behind a nearer part of the
+    // surface (a point on the inner side sees only inner sides unless the surface is between:
+    // a film doubled in a pleat, closer than the reach): no contact of the law, not a crossing.
+    std::size_t nearest = 0;
+    for (std::size_t k = 1; k < hits.size(); ++k)
+      if (hits[k].hit.distance2 < hits[nearest].hit.distance2) nearest = k;
     patch.clear();
-    for (const MeshHit& mh : hits) {
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      const MeshHit& mh = hits[k];
       Vec3 n;
       double overlap;
       const bool own_side = oriented(pv.x, vx, mesh, mh, pv.side, pv.reach, n, overlap);
+      if (!own_side && k != nearest) continue;
       touched(s, overlap, pv.reach, own_side);
       Found fd;
       fd.surface = s, fd.hit = mh, fd.n = n, fd.overlap = overlap, fd.from = -1;

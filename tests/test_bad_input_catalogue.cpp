@@ -157,6 +157,7 @@ const std::vector<BadCase>& bad_cases() {
       {"gravity nan", Base::shaken, "gravity = [0, 0, \"-9.81 m/s^2\"]", "gravity = [0, 0, nan]", {},
        {"'simulation.gravity'", "[0, 0, nan]", "finite", "m/s^2"}},
       {"seed negative", Base::shaken, "", "", {"simulation.seed=-1"}, {"'simulation.seed'", "-1", "integer from 0 to"}},
+      {"energy limit 1", Base::shaken, "", "", {"simulation.max_energy_error=1"}, {"'simulation.max_energy_error'", "= 1:", "[0, 1)"}},
       {"neighbour octree", Base::shaken, "", "", {"simulation.neighbour=\"octree\""}, {"'simulation.neighbour'", "\"octree\"", "\"hash\""}},
       {"expected speed inf", Base::shaken, "", "", {"simulation.expected_speed=inf"}, {"'simulation.expected_speed'", "inf", "finite"}},
       {"steps per contact 5", Base::shaken, "", "", {"simulation.steps_per_contact=5"}, {"'simulation.steps_per_contact'", "5", ">= 10"}},
@@ -183,6 +184,7 @@ const std::vector<BadCase>& bad_cases() {
       // [bag] (the shipped bean bag)
       {"balls 0", Base::bag, "", "", {"bag.balls.count=0"}, {"'bag.balls.count'", "= 0:", "[1, 1e7]"}},
       {"film thickness inf", Base::bag, "", "", {"bag.film.thickness=inf"}, {"'bag.film.thickness'", "inf", "finite"}},
+      {"self radius 0", Base::bag, "", "", {"bag.film.self_contact=true", "bag.film.self_radius=\"0 mm\""}, {"'bag.film.self_radius'", "must be > 0"}},
       {"triangles 10", Base::bag, "", "", {"bag.triangles=10"}, {"'bag.triangles'", "10", "[20, 2e6]"}},
       {"shape sphere", Base::bag, "", "", {"bag.shape=\"sphere\""}, {"'bag.shape'", "\"sphere\"", "\"capsule\", \"pillow\""}},
       {"string stiffness nan", Base::bag, "", "", {"bag.strings.0.stiffness=nan"}, {"'bag.strings.0.stiffness'", "nan", "finite"}},

@@ -1,5 +1,6 @@
 // Run guards through the command line: a run that goes unstable (overlap beyond
-// simulation.max_overlap, a particle leaving the cavity, NaN) stops with exit code 3 and a message
+// simulation.max_overlap, a particle leaving the cavity, NaN, an energy budget off by more than
+// simulation.max_energy_error) stops with exit code 3 and a message
 // that says what happened and what to change; its record, results.failed.h5, is a valid HDF5 file
 // whose root attribute "status" starts with "failed", and summary.json (the mark of a complete run)
 // is not written. An earlier complete results.h5 in the same directory is kept, bit for bit.
@@ -65,12 +66,15 @@ std::string read_string_attribute(hid_t obj, const std::string& name) {
 // Writes the case, runs it (with `sets`), and checks everything a failed run must leave: exit code
 // 3, a message on stderr holding every one of `message_parts` and naming the run's record,
 // results.failed.h5 valid with status "failed...", no summary.json, no results.h5.part, no results.h5.
-void run_and_expect_failure(const std::string& toml, const std::vector<std::string>& message_parts) {
+void run_and_expect_failure(const std::string& toml, const std::vector<std::string>& message_parts,
+                            const std::vector<std::string>& more = {}) {
   TempDir tmp;
   const fs::path dir = tmp.path / "case", out = tmp.path / "out";
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << toml;
-  const CmdResult r = run_bagdem({"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"}, tmp.path);
+  std::vector<std::string> args = {"run", dir.string(), "--out", out.string(), "--quiet", "--threads", "1"};
+  args.insert(args.end(), more.begin(), more.end());
+  const CmdResult r = run_bagdem(args, tmp.path);
   EXPECT_EQ(r.code, 3) << "stderr: " << r.err << "\nstdout: " << r.out;
   EXPECT_NE(r.err.find("error: run stopped at t = "), std::string::npos) << r.err;
   for (const auto& p : message_parts)
@@ -149,6 +153,18 @@ TEST(RunGuards, NotANumberStops) {
       one_ball_case(vec("10 mm", "10 mm", "10 mm"), "[1e308, 0, 0]",
                     {{"timestep", "10 s"}, {"force_timestep", "true"}}, "200 GPa", "100 s"),
       {"not a number", "reduce simulation.timestep"});
+}
+
+TEST(RunGuards, EnergyGainedByAnUnstableStepStops) {
+  // cases/box-damper with a linear spring (1e5 N/m) and a step forced to 1.45 x the critical step
+  // of its stiffest contact (3.46e-5 s): velocity Verlet is unstable there, and the balls gain
+  // energy that no work put in. The energy guard stops the run when the budget is off by 5% of its
+  // scale (simulation.max_energy_error, at t = 0.006 s); with the guard off the same run completed,
+  // its budget off by 25% at the end, and nothing said so but that figure.
+  const std::string toml = slurp(std::string(BAGDEM_SOURCE_DIR) + "/cases/box-damper/case.toml");
+  run_and_expect_failure(toml, {"energy budget broke", "simulation.max_energy_error", "Reduce simulation.timestep"},
+                         {"--set", "interactions.default.law=\"hooke\"", "--set", "interactions.default.stiffness=\"1e5 N/m\"",
+                          "--set", "simulation.timestep=\"5e-5 s\"", "--set", "simulation.force_timestep=true"});
 }
 
 TEST(RunGuards, StableRunCompletes) {

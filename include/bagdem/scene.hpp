@@ -78,6 +78,7 @@ struct Scene {
   std::string broad_phase = "hash";
   double skin = 0;                     // Verlet skin (unit: m)
   double max_overlap_fraction = 0.1;   // run stops when an overlap exceeds this fraction of the radius
+  double max_energy_error = 0.05;      // run stops when the energy budget is off by this fraction of its scale (0: never)
   std::uint64_t seed = 0;              // random seed (particle generation)
   OutputSettings output;
 

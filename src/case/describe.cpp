@@ -118,7 +118,9 @@ void describe_numerics(std::ostream& o, const Scene& s) {
                                            : std::string("off"))
     << "; on SIGINT/SIGTERM\n";
   o << "guards      overlap above " << 100 * s.max_overlap_fraction
-    << "% of a radius, NaN, or a particle outside the cavity stops the run\n";
+    << "% of a radius, NaN, or a particle outside the cavity stops the run";
+  if (s.models.energy && s.max_energy_error > 0) o << "; so does an energy budget off by " << 100 * s.max_energy_error << "% of its scale";
+  o << "\n";
 }
 
 // The memory of the step and the size of results.h5, estimated.

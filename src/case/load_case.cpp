@@ -227,6 +227,8 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   s.broad_phase = in.choice("simulation.neighbour", kinds, "hash");
   s.max_overlap_fraction = in.quantity("simulation.max_overlap", dim::none, 0.1);
   if (!(s.max_overlap_fraction > 0 && s.max_overlap_fraction < 1)) in.fail("simulation.max_overlap", "must be in (0, 1)");
+  s.max_energy_error = in.quantity("simulation.max_energy_error", dim::none, 0.05);
+  if (!(s.max_energy_error >= 0 && s.max_energy_error < 1)) in.fail("simulation.max_energy_error", "must be in [0, 1) (0: never stop on it)");
 
   const std::string cav_mat = in.string("cavity.material");
   const auto cm = std::find(names.begin(), names.end(), cav_mat);

@@ -147,6 +147,7 @@ void film_limits(const Scene& s, const std::vector<double>& rmin, double v, Step
   }
   for (const Wall& w : s.walls) consider_film(w.material, bag.contact_radius, mn, mn);
   for (const MeshWall& w : s.mesh_walls) consider_film(w.material, bag.contact_radius, mn, mn);
+  if (bag.self_radius > 0) consider_film(bag.material, 0.5 * bag.self_radius, 0.5 * mn, mn);  // node against node
   // Membrane (Kelvin-Voigt damping ratio zeta at its top frequency) and strings on their ties.
   dt_film = std::min(dt_film, hertz::critical_step(bag.max_frequency, bag.damping_ratio));
   for (const BagString& st : bag.strings) {

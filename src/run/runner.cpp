@@ -41,14 +41,21 @@ std::uint64_t every(double interval, double dt) {
   return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
 }
 
-// Relative closure of the energy budget: |in - (change of stored) - dissipated| / scale.
-double balance_error(const EnergySample& e, double stored0) {
+// The energy budget's closure: residual = in - (change of stored) - dissipated, and its scale.
+struct Closure {
+  double residual, scale;
+};
+Closure closure(const EnergySample& e, double stored0) {
   const double in = e.work_cavity + e.work_gravity;
   const double diss = e.dissipated();
-  const double residual = in - (e.kinetic + e.elastic - stored0) - diss;
-  const double scale = std::max({std::abs(e.work_cavity) + std::abs(e.work_gravity), diss,
-                                 e.kinetic + e.elastic, stored0, 1e-300});
-  return std::abs(residual) / scale;
+  return {in - (e.kinetic + e.elastic - stored0) - diss,
+          std::max({std::abs(e.work_cavity) + std::abs(e.work_gravity), diss, e.kinetic + e.elastic, stored0, 1e-300})};
+}
+
+// Relative closure of the energy budget: |in - (change of stored) - dissipated| / scale.
+double balance_error(const EnergySample& e, double stored0) {
+  const Closure c = closure(e, stored0);
+  return std::abs(c.residual) / c.scale;
 }
 
 // /structure columns (results_file.hpp): time; the response at x_a along e; the external force at
@@ -216,6 +223,7 @@ class RunLoop {
   std::uint64_t next_event(std::uint64_t s) const;
   void record(std::uint64_t s);
   void check_bag(double t) const;
+  void check_energy(double t, const EnergySample& e);
   void save() {
     file_->flush();
     run_.lengths = file_->lengths();
@@ -236,6 +244,7 @@ class RunLoop {
   const RunSchedule at_;
   RunReport rep_;
   RunTallies run_;
+  double energy_scale_ = 0;  // the largest scale of the energy budget so far (check_energy; unit: J)
   // The primary structure's response at x_a after release, for the summary's RMS and decay figures.
   std::vector<double> response_, response_acc_;
   std::vector<double> frame_times_;
@@ -346,6 +355,25 @@ void RunLoop::check_bag(double t) const {
                    "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
 }
 
+// The energy budget at time t: the contents (and the film) may not gain energy no work put in, by
+// more than simulation.max_energy_error of the budget's largest scale so far (the largest scale, not
+// the present one: a run's first samples have little work in them). An element or a contact that
+// goes unstable shows here first, where its energy jumps within a few steps.
+void RunLoop::check_energy(double t, const EnergySample& e) {
+  const double limit = scene_.max_energy_error;
+  if (!(limit > 0)) return;
+  const Closure c = closure(e, sim_.initial_stored_energy());
+  energy_scale_ = std::max(energy_scale_, c.scale);
+  if (std::abs(c.residual) <= limit * energy_scale_) return;
+  std::ostringstream m;
+  m << "run stopped at t = " << t << " s: the energy budget broke: the stored energy and the dissipation differ from the work "
+    << "put in by " << c.residual << " J, " << std::abs(c.residual) / energy_scale_ << " of its scale (limit "
+    << limit << ", key simulation.max_energy_error). Something went unstable within a few steps: a contact too stiff "
+    << "for the step, or a film triangle collapsed. Reduce simulation.timestep (or simulation.timestep_safety), "
+    << "refine the film (bag.triangles), or lower the excitation.";
+  throw RunError(m.str());
+}
+
 // What is due at step s (just done).
 void RunLoop::record(std::uint64_t s) {
   const bool energy = scene_.models.energy;
@@ -360,7 +388,11 @@ void RunLoop::record(std::uint64_t s) {
     file_->append_cavity(c.time, c.position, c.velocity, c.force, c.torque, c.contents_velocity);
     structure_row();
   }
-  if (energy && (s % at_.n_energy == 0 || s == at_.total)) file_->append_energy(t, sim_.energy().terms());
+  if (energy && (s % at_.n_energy == 0 || s == at_.total)) {
+    const EnergySample e = sim_.energy();
+    file_->append_energy(t, e.terms());
+    check_energy(t, e);
+  }
   if (s % at_.n_frame == 0 || s == at_.total) {
     check_bag(t);
     append_frame(*file_, frame_of(sim_, t));

@@ -46,6 +46,18 @@ void Film::set_up(const Scene& scene) {
   wall_hist.assign(nn * nw, scene.models.tangential, false, scene.models.energy);
   wall_touch.assign(nn, 0);
   strings.assign(bag.strings.size(), {});
+  if (bag.self_radius > 0) {
+    self_broad = make_broad_phase(scene.broad_phase);
+    self_radii.assign(nn, bag.self_radius);
+    std::vector<std::vector<std::uint32_t>> around(nn);
+    for (const auto& e : bag.rest.edge_vertices) around[e[0]].push_back(e[1]), around[e[1]].push_back(e[0]);
+    neighbour_begin.assign(1, 0);
+    for (auto& a : around) {
+      std::sort(a.begin(), a.end());
+      neighbour.insert(neighbour.end(), a.begin(), a.end());
+      neighbour_begin.push_back(static_cast<std::uint32_t>(neighbour.size()));
+    }
+  }
 }
 
 double Film::drift(double dt) {
@@ -84,6 +96,7 @@ void film_stage(const FilmStage& s) {
   // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
   film.membrane->add_forces(film.x, film.v_pred, film.f, film.f_damp);
   with_flags([&s]<bool T, bool E>() { film_walls<T, E>(s); }, scene.models.tangential, scene.models.energy);
+  film_self_contacts(s);
 
   // Strings, from the tie's mean position to the anchor moving with the cavity.
   const double dt = s.ctx.dt;
@@ -239,7 +252,7 @@ void film_walls(const FilmStage& s) {
 double film_elastic_energy(const Scene& scene, const CavityFrame& frame, const Film& film, const SurfaceContacts& surfaces) {
   if (!scene.bag) return 0.0;
   const Bag& bag = *scene.bag;
-  double u = film.membrane->elastic_energy(film.x);
+  double u = film.membrane->elastic_energy(film.x) + film_self_energy(scene, film);
   for (std::size_t s = 0; s < bag.strings.size(); ++s) {
     const BagString& st = bag.strings[s];
     Vec3 c(0, 0, 0);

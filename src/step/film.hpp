@@ -8,6 +8,7 @@
 
 #include "bagdem/bag/membrane.hpp"
 #include "bagdem/contact/surface_law.hpp"
+#include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/scene.hpp"
 #include "bagdem/step/samples.hpp"
 #include "bagdem/vec3.hpp"
@@ -27,6 +28,12 @@ struct Film : FilmNodes {
     Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)
   };
   std::vector<StringState> strings;
+  // Film-film contact (film_self.cpp; Bag::self_radius > 0): the pairs of nodes within two
+  // spheres' radii and the skin at the last build, edge neighbours left out.
+  std::unique_ptr<BroadPhase> self_broad;
+  CandidatePairs self_pairs, self_found;
+  std::vector<double> self_radii;                        // per node: Bag::self_radius
+  std::vector<std::uint32_t> neighbour_begin, neighbour;  // CSR: each node's edge neighbours, ascending
   double deepest = 1e300;                   // smallest distance of a film node inside a wall (unit: m)
   struct Tallies {
     double work_cavity = 0;       // work of walls and string anchors on the film (unit: J)
@@ -79,7 +86,14 @@ void film_node_stl_contacts(const FilmStage& s, std::size_t k, Vec3& F_wall, Vec
 // next build neither moves more than skin/2, so the film-wall contacts skip the others.
 void find_film_walls_near(Film& film, const Scene& scene, const CavityFrame& frame, const std::vector<Vec3>& at_build, const Vec3& cavity);
 
-// Elastic energy held by the film: membrane and bending, strings, film-wall and STL-wall contacts.
+// Film-film contact (film_self.cpp): the pairs of nodes at `at_build` (the nodes at the build)
+// within two spheres' radii and the skin, their forces this step, and their elastic energy.
+void build_film_self_pairs(Film& film, const Scene& scene, const std::vector<Vec3>& at_build);
+void film_self_contacts(const FilmStage& s);
+double film_self_energy(const Scene& scene, const Film& film);
+
+// Elastic energy held by the film: membrane and bending, strings, film-wall, STL-wall and
+// film-film contacts.
 double film_elastic_energy(const Scene& scene, const CavityFrame& frame, const Film& film, const SurfaceContacts& surfaces);
 
 // Film node k against a wall or an STL wall (normal n towards the node, overlap): the film-wall

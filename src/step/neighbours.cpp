@@ -83,7 +83,10 @@ void find_near_walls(const NeighbourStage& s) {
 // in a checkpoint), and the walls near each film node.
 void build_surface_candidates(const NeighbourStage& s, const std::vector<Vec3>& balls, const std::vector<Vec3>& film, const Vec3& cavity) {
   s.surfaces.build_candidates(s.scene, s.balls.radius, balls, film, cavity);
-  if (s.scene.bag) find_film_walls_near(s.film, s.scene, s.frame, film, cavity);
+  if (s.scene.bag) {
+    find_film_walls_near(s.film, s.scene, s.frame, film, cavity);
+    build_film_self_pairs(s.film, s.scene, film);
+  }
 }
 
 }  // namespace

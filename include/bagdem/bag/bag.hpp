@@ -34,6 +34,9 @@ struct Bag {
   double max_frequency = 0;     // highest angular frequency of the membrane at rest (unit: rad/s)
   double min_node_mass = 0;     // lightest film node, scaling included (unit: kg)
   double mean_edge = 0;         // mean edge length of the film at rest (unit: m)
+  // Film-film contact (bag.film.self_contact): each node a sphere of this radius against the
+  // film's nodes that are not its neighbours along an edge; 0: the film may pass through itself (unit: m).
+  double self_radius = 0;
 
   std::string shape;            // "capsule" or "pillow"
   Vec3 axis = Vec3::UnitX();    // the bag's long axis, unit

@@ -30,30 +30,6 @@ CaseText guard_toml(double y0, double speed) {
       .set("bag", "length", "40 mm");
 }
 
-// Edges of the film crossing one of its triangles (not sharing a vertex): the film passing through
-// itself (the model has no film-film contact). Moller-Trumbore segment test.
-std::size_t film_self_intersections(const TriangleMesh& mesh, const std::vector<Vec3>& x) {
-  auto crosses = [](const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 e1 = b - a, e2 = c - a, d = p1 - p0, h = d.cross(e2);
-    const double det = e1.dot(h);
-    if (std::abs(det) < 1e-300) return false;
-    const Vec3 s = p0 - a;
-    const double u = s.dot(h) / det;
-    if (u < 0 || u > 1) return false;
-    const Vec3 q = s.cross(e1);
-    const double v = d.dot(q) / det;
-    if (v < 0 || u + v > 1) return false;
-    const double t = e2.dot(q) / det;
-    return t > 0 && t < 1;
-  };
-  std::size_t n = 0;
-  for (const auto& e : mesh.edge_vertices)
-    for (const auto& tri : mesh.triangles) {
-      if (tri[0] == e[0] || tri[1] == e[0] || tri[2] == e[0] || tri[0] == e[1] || tri[1] == e[1] || tri[2] == e[1]) continue;
-      n += crosses(x[e[0]], x[e[1]], x[tri[0]], x[tri[1]], x[tri[2]]);
-    }
-  return n;
-}
 
 }  // namespace
 

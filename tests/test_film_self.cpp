@@ -26,31 +26,6 @@ using namespace bagdem::testing;
 
 namespace {
 
-// Whether segment p-q cuts triangle (a, b, c) (Moller & Trumbore, J. Graphics Tools 2(1), 1997).
-bool cuts(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
-  const Vec3 h = d.cross(e2);
-  const double det = e1.dot(h);
-  if (std::abs(det) < 1e-30) return false;
-  const Vec3 s = p - a;
-  const double u = s.dot(h) / det;
-  if (u < 0 || u > 1) return false;
-  const Vec3 k = s.cross(e1);
-  const double v = d.dot(k) / det, t = e2.dot(k) / det;
-  return v >= 0 && u + v <= 1 && t >= 0 && t <= 1;
-}
-
-// Edges of the film that cut one of its triangles holding neither of their ends.
-std::size_t self_cuts(const TriangleMesh& m, const std::vector<Vec3>& x) {
-  std::size_t n = 0;
-  for (const auto& e : m.edge_vertices)
-    for (const auto& t : m.triangles) {
-      if (t[0] == e[0] || t[1] == e[0] || t[2] == e[0] || t[0] == e[1] || t[1] == e[1] || t[2] == e[1]) continue;
-      n += cuts(x[e[0]], x[e[1]], x[t[0]], x[t[1]], x[t[2]]);
-    }
-  return n;
-}
-
 const std::vector<std::string> kGammaHundred = {
     "bag.balls.diameter=\"10 mm\"", "bag.radius=\"11 mm\"", "bag.balls.primary_mass=\"0.332 kg\"",
     "primary={kind=\"prescribed\"}", "excitation={kind=\"none\"}",
@@ -79,7 +54,7 @@ Outcome run_gamma_hundred(bool self_contact) {
   try {
     for (std::uint64_t k = 0; k < steps; k += every) {
       sim.advance(every);
-      const std::size_t c = self_cuts(s.bag->rest, sim.film().x);
+      const std::size_t c = film_self_intersections(s.bag->rest, sim.film().x);
       if (c > 0 && o.first_cut_t < 0) o.first_cut_t = sim.time();
       o.max_cuts = std::max(o.max_cuts, c);
     }

@@ -28,7 +28,7 @@ EulerShare self_share(const PairLaw& law, double R, double delta) {
   return visit_law(law.kind, [&](auto L) { return decltype(L)::euler_share(law, R, delta, 1.0); });
 }
 
-// fn(i, j, delta, d, unit normal from j to i) for every pair of the list that overlaps now.
+// fn(i, j, delta, unit normal from j to i) for every pair of the list that overlaps now.
 template <class Fn>
 void for_each_touching(const Film& film, double r_s, Fn&& fn) {
   const CandidatePairs& c = film.self_pairs;

@@ -3,6 +3,7 @@
 // Or, with bag.from, a settled bag saved by an earlier run (io/bag_file.hpp). Schema:
 // docs/case-schema.md, section [bag].
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -15,6 +16,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/bag_file.hpp"
 #include "bagdem/mesh/shapes.hpp"
+#include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/particles.hpp"
 
@@ -261,6 +263,39 @@ void check_fits_cavity(const CaseReader& in, const Scene& s, const Bag& b, const
   }
 }
 
+// bag.film.self_radius against the film at rest: from 0.3 of the mean edge (two spheres must span a
+// triangle's circumradius, 0.58 of its edge, or a layer's node passes between another's) to below
+// half the distance of the nearest two nodes that are not along an edge, at rest (the film would
+// start pressed against itself).
+void check_self_radius(const CaseReader& in, const Bag& b) {
+  const double r = b.self_radius, e = b.mean_edge;
+  std::ostringstream m;
+  if (r < 0.3 * e || r > 0.8 * e) {
+    m << "must be from 0.3 to 0.8 of the film's mean edge " << e << " m (from " << 0.3 * e << " to " << 0.8 * e
+      << " m; \"auto\" is 0.4): smaller, another layer's nodes pass between the spheres; larger, the film starts pressed "
+      << "against itself";
+    in.fail("bag.film.self_radius", m.str());
+  }
+  const std::vector<Vec3>& x = b.rest.vertices;  // the film's own shape (a saved bag's nodes may be crumpled)
+  CandidatePairs near;
+  make_broad_phase("hash")->find(x, std::vector<double>(x.size(), r), 0.0, near);
+  std::vector<std::array<std::uint32_t, 2>> edges = b.rest.edge_vertices;  // lower index first, sorted below
+  std::sort(edges.begin(), edges.end());
+  double closest = HUGE_VAL;
+  for (std::uint32_t i = 0; i + 1 < near.begin.size(); ++i)
+    for (std::uint32_t k = near.begin[i]; k < near.begin[i + 1]; ++k) {
+      const std::uint32_t j = near.partner[k];
+      if (std::binary_search(edges.begin(), edges.end(), std::array<std::uint32_t, 2>{std::min(i, j), std::max(i, j)})) continue;
+      closest = std::min(closest, (x[i] - x[j]).norm());
+    }
+  if (closest < 2 * r) {
+    m << "is too large for this film: two of its nodes not along an edge are " << closest << " m apart at rest, so "
+      << "their spheres (radius " << r << " m) start pressed together. Give at most " << 0.5 * closest
+      << " m, or \"auto\"";
+    in.fail("bag.film.self_radius", m.str());
+  }
+}
+
 // The film's time and length scales: the Kelvin-Voigt damping time, the lightest node, the top
 // frequency, and the film-wall contact radius.
 void set_film_scales(const CaseReader& in, Bag& b) {
@@ -281,6 +316,7 @@ void set_film_scales(const CaseReader& in, Bag& b) {
   const double self_radius = in.quantity_or_auto("bag.film.self_radius", dim::length).value_or(0.4 * b.mean_edge);
   if (!(self_radius > 0)) in.fail("bag.film.self_radius", "must be > 0 or \"auto\"");
   b.self_radius = self ? self_radius : 0.0;
+  if (self) check_self_radius(in, b);
 }
 
 }  // namespace

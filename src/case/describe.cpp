@@ -39,7 +39,13 @@ void describe_bag(std::ostream& o, const Scene& s, double rmin) {
       << "            tension field " << on(b.film.tension_field) << ", bending D " << b.film.bending_stiffness
       << " N m, damping ratio " << b.damping_ratio << " (Kelvin-Voigt time " << b.film.damping_time
       << " s), node mass x " << b.mass_scaling << ", film-wall contact radius " << b.contact_radius << " m\n"
-      << "            highest membrane frequency " << b.max_frequency / (2 * std::numbers::pi)
+      << "            film-film contact ";
+    if (b.self_radius > 0)
+      o << "on: node spheres of radius " << b.self_radius << " m (" << b.self_radius / b.mean_edge
+        << " mean edges) against the nodes not along an edge\n";
+    else
+      o << "off (key bag.film.self_contact): the film may pass through itself\n";
+    o << "            highest membrane frequency " << b.max_frequency / (2 * std::numbers::pi)
       << " Hz: critical step " << 2 / b.max_frequency << " s\n";
     for (const BagString& st : b.strings)
       o << "string      " << st.name << ": " << st.nodes.size() << " tie nodes, anchor [" << st.anchor.transpose()

@@ -312,7 +312,7 @@ void set_film_scales(const CaseReader& in, Bag& b) {
   if (!(b.contact_radius > 0)) in.fail("bag.film.contact_radius", "must be > 0 or \"auto\"");
   // Film-film contact: a node's sphere of 0.4 mean edges keeps another layer's nodes from passing
   // between its nodes (a triangle's circumradius is 0.58 of its edge, below two such radii).
-  const bool self = in.boolean("bag.film.self_contact", false);
+  const bool self = in.boolean("bag.film.self_contact", true);
   const double self_radius = in.quantity_or_auto("bag.film.self_radius", dim::length).value_or(0.4 * b.mean_edge);
   if (!(self_radius > 0)) in.fail("bag.film.self_radius", "must be > 0 or \"auto\"");
   b.self_radius = self ? self_radius : 0.0;

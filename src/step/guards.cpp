@@ -49,8 +49,9 @@ void check_guards(const GuardStage& st) {
     const std::size_t i = guard.crossed;
     m << "ball " << balls.order[i] << " crossed the bag's film (its centre is " << guard.crossed_depth
       << " m beyond the film's mid-surface, at (" << balls.x[i].x() << ", " << balls.x[i].y() << ", " << balls.x[i].z()
-      << ") m), or the film folded through itself (film-film contact is not modelled) and the ball faces its "
-         "outer side. The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
+      << ") m), or the film folded through itself and the ball faces its outer side"
+      << (scene.bag->self_radius > 0 ? "" : " (bag.film.self_contact = false lets the film pass through itself: set it true)")
+      << ". The film contact is too soft for these impacts, or the film too coarse for the ball: raise "
          "the film material's youngs_modulus, refine the film (bag.triangles), reduce simulation.timestep, or "
          "lower the excitation.";
     throw RunError(m.str());

@@ -40,12 +40,12 @@ CaseText guard_toml(double y0, double speed) {
 // crossed the bag's film" (no tolerance: the run must stop with that message before its 2 ms end).
 // Printed for the report: where the ball is when the run stops (winding number of the film about
 // its centre: 1 inside, 0 outside) and how many film edges pass through film triangles.
-// Measured (this build): stops at step 687 (0.73 ms) with "ball 0 crossed the bag's film (its centre
-// is 0.00201747 m beyond the film's mid-surface ...)"; the overlap guard does not fire first. At
-// that moment the winding number about the ball is 1.000 (still enclosed) and 66 film edges pierce
-// film triangles: the film, stretched ~6 mm outwards by the ball, has passed through itself (there
-// is no film-film contact) and the ball faces the outer side of a folded-over triangle; it has not
-// gone through the film. With a 100 m/s ball, or a 1 MPa film at 20 m/s, the overlap guard
+// Measured (d7e9f53): stops at step 1701 (0.77 ms) with "ball 0 crossed the bag's film (its centre
+// is 0.00201494 m beyond the film's mid-surface ...)"; the overlap guard does not fire first. At
+// that moment the winding number about the ball is 1.000 (still enclosed) and 85 film edges pierce
+// film triangles: the film, stretched outwards by the ball, has passed through itself (film-film
+// contact off) and the ball faces the outer side of a folded-over triangle; it has not gone through
+// the film. With a 100 m/s ball, or a 1 MPa film at 20 m/s, the overlap guard
 // ("a contact overlap passed 10% of the smaller radius by ...") fires first instead.
 TEST(BagGuard, FastBallThroughTheFilmStopsTheRun) {
   LoadedCase c(guard_toml(0.0, 20.0).set("bag.film", "self_contact", "false"));

@@ -259,6 +259,48 @@ TEST(MembraneForces, AreMinusEnergyGradientOnSphereInEveryRegime) {
   }
 }
 
+// A wing of a hinge collapsing to a line (membrane.hpp, Bending: the fade). A 6 x 4 sheet bent
+// across x; one interior triangle's third node is moved towards the middle of its opposite edge, so
+// that the triangle keeps a fraction lam of its area. The bending forces (D x 1e4, where bending
+// dominates) are -grad of the faded energy inside the fade (lam < 0.1; central differences with
+// h = 1e-10 m, 1e-5 of the collapsed triangle's height at lam = 0.05), and stay bounded as the wing
+// collapses: faded, the largest is 0.25-0.63 of its value at lam = 0.1 down to lam = 0 (the hinges
+// of the wing fade, those of its stretched neighbours remain); unfaded it is 4.6, 29 and 250 times
+// that at lam = 0.05, 0.02 and 1e-3.
+TEST(MembraneForces, AHingeFadesAsItsWingCollapses) {
+  const TriangleMesh mesh = sheet(0.006, 0.004, 6, 4);
+  MembraneProperties p = film();
+  p.bending_stiffness *= 1e4;
+  Membrane m(mesh, p);
+  p.bending_stiffness = 0;
+  Membrane flat(mesh, p);  // the same membrane without bending: the difference is the hinges' force
+  std::vector<Vec3> bent = mesh.vertices;
+  for (Vec3& xi : bent) xi.z() = 2e-4 * std::sin(std::numbers::pi * xi.x() / 0.006);  // hinge angles ~0.1 rad
+  const auto& t = mesh.triangles[14];  // an interior triangle
+  const Vec3 mid = 0.5 * (bent[t[0]] + bent[t[1]]), apex = bent[t[2]];
+  auto at = [&](double lam) {
+    std::vector<Vec3> x = bent;
+    x[t[2]] = mid + lam * (apex - mid) + Vec3(0, 0, 1e-5);  // off the others' plane: the wing turns
+    return x;
+  };
+  auto largest = [&](double lam) {  // the largest bending force on a node
+    const std::vector<Vec3> x = at(lam), all = elastic_forces(m, x), stretch = elastic_forces(flat, x);
+    double f = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) f = std::max(f, (all[i] - stretch[i]).norm());
+    return f;
+  };
+  const double f01 = largest(0.1);
+  for (double lam : {0.05, 0.02, 1e-3, 1e-6, 0.0}) {
+    const double f = largest(lam);
+    std::printf("  wing at %g of its area: largest bending force %.3e N (%.3g of that at 0.1)\n", lam, f, f / f01);
+    EXPECT_TRUE(std::isfinite(f)) << lam;
+    EXPECT_LT(f, 1.5 * f01) << lam;
+  }
+  const double err = gradient_error(m, at(0.05), 1e-10);
+  std::printf("  inside the fade (0.05 of the area): |grad + f| / |f| = %.2e\n", err);
+  EXPECT_LT(err, 1e-5);
+}
+
 // ---- 2. rigid motions ---------------------------------------------------------------------------
 // A rotated and translated rest shape is stress free. Tolerances: |f| <= 1e-10 E t h per node (the
 // force of a strain of 1e-10 on a cell; round-off gives ~1e-14) and energy <= 1e-20 E t A (that of a

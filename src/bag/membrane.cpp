@@ -176,6 +176,7 @@ template <class T>
 struct HingeEval {
   T theta;
   std::array<V3<T>, 4> grad;
+  T nA2, nB2;  // |nA|^2, |nB|^2: (2 A)^2 of the wings
 };
 
 // From (sin, cos) x |nA| |nB|: atan2_unit where |theta| <= pi/4 (every hinge of a smooth film),
@@ -206,7 +207,8 @@ BAGDEM_INLINE HingeEval<T> hinge_eval(const V3<T>& x0, const V3<T>& x1, const V3
   const V3<T> ga = (-le / dot(nA, nA)) * nA, gb = (-le / dot(nB, nB)) * nB;
   const T inv_le2 = 1.0 / le2, sa = dot(da, e) * inv_le2, sb = dot(db, e) * inv_le2;
   return {hinge_angle<T>(e, nA, nB, le),
-          {-((1.0 - sa) * ga) - (1.0 - sb) * gb, -(sa * ga) - sb * gb, ga, gb}};
+          {-((1.0 - sa) * ga) - (1.0 - sb) * gb, -(sa * ga) - sb * gb, ga, gb},
+          dot(nA, nA), dot(nB, nB)};
 }
 
 // theta - theta0 in (-pi, pi]: the energy stays continuous if a hinge folds through +-pi.
@@ -214,6 +216,41 @@ template <class T>
 BAGDEM_INLINE T angle_change(T theta, T theta0) {
   const T d = theta - theta0;
   return select(d > std::numbers::pi, d - 2.0 * std::numbers::pi, select(d <= -std::numbers::pi, d + 2.0 * std::numbers::pi, d));
+}
+
+// The fade s(u) = u^2 (3 - 2u) for u < 1, else 1, and its derivative (membrane.hpp, Bending).
+struct Fade {
+  double s, ds;
+};
+BAGDEM_INLINE Fade fade_of(double u) { return u < 1.0 ? Fade{u * u * (3.0 - 2.0 * u), 6.0 * u * (1.0 - u)} : Fade{1.0, 0.0}; }
+
+// A hinge with a wing below its fade's start: energy and the forces on (x0, x1, xa, xb),
+// f = -grad(k s_A s_B d^2), d = theta - theta0, with grad |nA|^2 = 2 (da x nA) on x1, 2 (nA x e) on
+// xa (nA = e x da), grad |nB|^2 = 2 (nB x db) on x1, 2 (e x nB) on xb (nB = db x e), x0 taking
+// minus their sum.
+struct FadedHinge {
+  double energy;
+  std::array<Vec3, 4> force;
+};
+FadedHinge faded_hinge(const Vec3& x0, const Vec3& x1, const Vec3& xa, const Vec3& xb, double k, double theta0, double fade_a,
+                       double fade_b) {
+  const HingeEval<double> he = hinge_eval<double>(x0, x1, xa, xb);
+  const Vec3 e = x1 - x0, da = xa - x0, db = xb - x0;
+  const Vec3 nA = e.cross(da), nB = db.cross(e);
+  const Fade fa = fade_of(he.nA2 / fade_a), fb = fade_of(he.nB2 / fade_b);
+  const double d = angle_change<double>(he.theta, theta0);
+  // grad u_A and grad u_B on (x0, x1, xa, xb).
+  const Vec3 uA1 = (2.0 / fade_a) * da.cross(nA), uAa = (2.0 / fade_a) * nA.cross(e);
+  const Vec3 uB1 = (2.0 / fade_b) * nB.cross(db), uBb = (2.0 / fade_b) * e.cross(nB);
+  const std::array<Vec3, 4> gA = {-(uA1 + uAa), uA1, uAa, Vec3::Zero()}, gB = {-(uB1 + uBb), uB1, Vec3::Zero(), uBb};
+  const double s = fa.s * fb.s;
+  FadedHinge out{k * s * d * d, {}};
+  for (int i = 0; i < 4; ++i) {
+    // theta's gradient grows as 1/A where s falls as A^4; at A = 0 exactly it is not finite (s = 0).
+    const Vec3 bend = s > 0 ? Vec3(2.0 * s * d * he.grad[i]) : Vec3::Zero();
+    out.force[i] = -k * (bend + d * d * (fb.s * fa.ds * gA[i] + fa.s * fb.ds * gB[i]));
+  }
+  return out;
 }
 
 void check_properties(const MembraneProperties& p) {
@@ -310,7 +347,7 @@ void Membrane::build_hinges(const std::vector<Vec3>& x0) {
       const auto& A = tri_[edges[i].tri];
       const auto& B = tri_[edges[i + 1].tri];
       const std::uint32_t ka = edges[i].k, kb = edges[i + 1].k;
-      const Hinge h{A[ka], A[(ka + 1) % 3], A[(ka + 2) % 3], B[(kb + 2) % 3], 0.0, 0.0};
+      const Hinge h{A[ka], A[(ka + 1) % 3], A[(ka + 2) % 3], B[(kb + 2) % 3], 0.0, 0.0, 0.0, 0.0};
       if (B[kb] != h.v1) throw std::invalid_argument("Membrane: inconsistent triangle orientation");
       if (D > 0) hinges_.push_back(h);
     }
@@ -322,6 +359,7 @@ void Membrane::build_hinges(const std::vector<Vec3>& x0) {
     const Vec3 e = x0[h.v1] - x0[h.v0];
     const double a1 = 0.5 * e.cross(x0[h.a] - x0[h.v0]).norm(), a2 = 0.5 * e.cross(x0[h.b] - x0[h.v0]).norm();
     h.k = 0.5 * D * e.squaredNorm() / (a1 + a2);
+    h.fade_a = std::pow(0.1 * 2 * a1, 2), h.fade_b = std::pow(0.1 * 2 * a2, 2);
   }
   hinge_force_.assign(hinges_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   hinge_energy_.assign(hinges_.size(), 0.0);
@@ -437,6 +475,13 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
     const Lanes energy = k * d * d;
     for (int l = 0; l < kLanes && g * kLanes + l < nh; ++l) {
       const std::size_t i = g * kLanes + l;
+      const Hinge& hi = *h[l];
+      if (he.nA2[l] < hi.fade_a || he.nB2[l] < hi.fade_b) {  // a wing near collapse: faded (rare)
+        const FadedHinge f = faded_hinge(x[hi.v0], x[hi.v1], x[hi.a], x[hi.b], hi.k, hi.theta0, hi.fade_a, hi.fade_b);
+        hinge_energy_[i] = f.energy;
+        hinge_force_[i] = f.force;
+        continue;
+      }
       hinge_energy_[i] = energy[l];
       hinge_force_[i] = {lane(c * he.grad[0], l), lane(c * he.grad[1], l), lane(c * he.grad[2], l), lane(c * he.grad[3], l)};
     }
@@ -470,6 +515,11 @@ double Membrane::elastic_energy(const std::vector<Vec3>& x) const {
     energy += props_.thickness * area0_[i] * stress(law, green_strain(gradient_at(x, tri_[i], dm_inv_[i]))).psi;
   }
   for (const Hinge& h : hinges_) {
+    const HingeEval<double> he = hinge_eval<double>(x[h.v0], x[h.v1], x[h.a], x[h.b]);
+    if (he.nA2 < h.fade_a || he.nB2 < h.fade_b) {
+      energy += faded_hinge(x[h.v0], x[h.v1], x[h.a], x[h.b], h.k, h.theta0, h.fade_a, h.fade_b).energy;
+      continue;
+    }
     const double d = angle_change<double>(hinge_angle(x[h.v0], x[h.v1], x[h.a], x[h.b]), h.theta0);
     energy += h.k * d * d;
   }

@@ -22,6 +22,12 @@
 // and store up to 1.5 x bent at 45 degrees (tests/test_membrane_bending.cpp). For a film
 // D = E t^3 / (12 (1 - nu^2)) x a factor; it only removes the membrane's zero-energy modes and does
 // not carry the balls.
+// A hinge fades with its wings' areas: W_b = k_e s(u_A) s(u_B) (theta - theta_0)^2, u = (A / (0.1
+// A_rest))^2 and s(u) = u^2 (3 - 2u) below 1, 1 above (C1). A wing collapsing to a line (the tension
+// field lets a crushed triangle shrink to no area: the Gamma-100 bag of 10-mm balls) turns its
+// normal as fast as 1/A, and theta's gradient with it: unfaded, the hinge's stiffness grows as
+// 1/A^2 past any step. Faded, its force stays below k_e/(0.1 h_rest) and goes to 0 with the area;
+// a hinge whose wings keep a tenth of their area is unchanged (the same bits).
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.
@@ -90,6 +96,7 @@ class Membrane {
     std::uint32_t a, b;    // the opposite vertices of its two triangles (v0, v1, a) and (v1, v0, b)
     double theta0;         // rest angle (unit: rad)
     double k;              // stiffness k_e (unit: N m)
+    double fade_a, fade_b; // |n|^2 = (2 A)^2 of each wing where its fade begins: (0.1 x 2 A_rest)^2 (unit: m^4)
   };
   std::vector<Hinge> hinges_;
   double max_frequency_ = 0;  // computed once from the rest shape (unit: rad/s)

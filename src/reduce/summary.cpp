@@ -74,7 +74,9 @@ Json bag_json(const SummaryBag& b) {
   return {{"balls", b.balls},
           {"film_triangles", b.film_triangles},
           {"packing_fraction", number(b.packing_fraction)},
-          {"outer_m", {b.outer.x(), b.outer.y(), b.outer.z()}}};
+          {"outer_m", {b.outer.x(), b.outer.y(), b.outer.z()}},
+          {"film_self_steps", b.self_steps},
+          {"film_self_pairs_max", b.self_pairs_max}};
 }
 SummaryBag bag_of(const Keys& k, const Json& j) {
   SummaryBag b;
@@ -83,6 +85,8 @@ SummaryBag bag_of(const Keys& k, const Json& j) {
   const Json& o = k.at(j, "outer_m");
   if (!o.is_array() || o.size() != 3) throw InputError(k.file, "outer_m", o.dump(), "is not 3 numbers");
   for (int c = 0; c < 3; ++c) b.outer[c] = o[c].is_number() ? o[c].get<double>() : NAN;
+  if (j.contains("film_self_steps")) b.self_steps = k.count<std::uint64_t>(j, "film_self_steps");
+  if (j.contains("film_self_pairs_max")) b.self_pairs_max = k.count<std::uint64_t>(j, "film_self_pairs_max");
   return b;
 }
 

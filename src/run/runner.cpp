@@ -140,7 +140,10 @@ Summary run_summary(const Scene& scene, const Simulation& sim, RunReport& rep, d
   s.wall_time = rep.wall_seconds, s.particle_steps_per_second = rep.wall_seconds > 0 ? psteps / rep.wall_seconds : 0;
   s.ns_per_particle_step = rep.ns_per_particle_step, s.neighbour_builds = sim.neighbour_builds();
   if (scene.models.energy) s.energy = sim.energy(), s.energy_balance_error = rep.energy_balance_error;
-  if (rep.bag) s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer};
+  if (rep.bag) {
+    const FilmSelfContact c = sim.film_self_contact();
+    s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer, c.steps, c.most};
+  }
   if (scene.primary) {
     const Primary& P = *scene.primary;
     const auto& S = sim.structure().scalars;

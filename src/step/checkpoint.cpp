@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3037ULL;  // "bagdem07": format 7 (each component's fields together)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3038ULL;  // "bagdem08": format 8 (the film's tallies count its self-contacts)
 
 struct Writer {
   std::vector<char> out;

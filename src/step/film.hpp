@@ -41,6 +41,7 @@ struct Film : FilmNodes {
     double diss_damping = 0;      // membrane and string damping (unit: J)
     Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
+    FilmSelfContact self;            // film-film contacts so far (film_self.cpp)
   } tally;
   // Sizes the film's arrays for the scene's bag (none without one), the nodes at their rest places.
   void set_up(const Scene& scene);

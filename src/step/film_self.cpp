@@ -70,11 +70,14 @@ void film_self_contacts(const FilmStage& s) {
   Film& film = s.film;
   const PairLaw& law = scene.laws(bag.material, bag.material);
   const double R = 0.5 * bag.self_radius;
+  std::uint64_t touching = 0;
   for_each_touching(film, bag.self_radius, [&](std::size_t i, std::size_t j, double delta, const Vec3& n) {
     const Vec3 F = self_share(law, R, delta).force * n;
     film.f[i] += F;
     film.f[j] -= F;
+    ++touching;
   });
+  if (touching > 0) ++film.tally.self.steps, film.tally.self.most = std::max(film.tally.self.most, touching);
 }
 
 double film_self_energy(const Scene& scene, const Film& film) {

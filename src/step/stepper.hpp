@@ -77,6 +77,7 @@ class Stepper {
   const PairState& pair_state() const { return ps_; }
   // The bag's film nodes (empty without a bag).
   const FilmNodes& film() const { return film_; }
+  FilmSelfContact film_self_contact() const { return film_.tally.self; }
   // Ball-triangle contacts (film and STL walls) now.
   std::size_t mesh_contact_count() const;
   // Scene indices of the bag's balls whose centre lies outside the film now, ascending (generalized

@@ -38,6 +38,9 @@ struct SummaryBag {
   std::size_t balls = 0, film_triangles = 0;
   double packing_fraction = 0;     // when settling ended
   Vec3 outer = Vec3::Zero();       // its outer length, width, height then (outer_m; unit: m)
+  // The film's self-contacts over the run (film_self_steps, film_self_pairs_max; 0 in a summary
+  // written before they were counted).
+  std::uint64_t self_steps = 0, self_pairs_max = 0;
 };
 
 // A random force's band ("structure": band_response_rms_m, band_Hz, band_from_s).

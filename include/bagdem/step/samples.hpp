@@ -49,6 +49,12 @@ struct FilmNodes {
   std::size_t size() const { return x.size(); }
 };
 
+// How often the bag's film met itself (bag.film.self_contact): the steps at which two of its nodes'
+// spheres touched, and the most pairs touching at one step.
+struct FilmSelfContact {
+  std::uint64_t steps = 0, most = 0;
+};
+
 // The primary structure (scene.primary): its state (structure/primary.hpp's generalized coordinates).
 struct StructureState {
   std::vector<double> q, v, v_pred, a;  // generalized coordinates and their rates

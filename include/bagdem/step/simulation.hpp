@@ -52,6 +52,7 @@ class Simulation {
     return out;
   }
   const FilmNodes& film() const;  // the bag's film nodes (empty without a bag)
+  FilmSelfContact film_self_contact() const;  // how often the film met itself so far
   // Velocity of the contents' centre of mass (balls and film nodes) relative to the cavity.
   Vec3 contents_relative_velocity() const;
   // Adds dv to the velocity of every ball and film node (a drop test's launch) (unit: m/s).

@@ -372,7 +372,7 @@ void RunLoop::check_energy(double t, const EnergySample& e) {
   m << "run stopped at t = " << t << " s: the energy budget broke: the stored energy and the dissipation differ from the work "
     << "put in by " << c.residual << " J, " << std::abs(c.residual) / energy_scale_ << " of its scale (limit "
     << limit << ", key simulation.max_energy_error). Something went unstable within a few steps: a contact too stiff "
-    << "for the step, or a film triangle collapsed. Reduce simulation.timestep (or simulation.timestep_safety), "
+    << "for the step, or the film crushed finer than its triangles resolve. Reduce simulation.timestep (or simulation.timestep_safety), "
     << "refine the film (bag.triangles), or lower the excitation.";
   throw RunError(m.str());
 }

@@ -26,8 +26,8 @@
 // A_rest))^2 and s(u) = u^2 (3 - 2u) below 1, 1 above (C1). A wing collapsing to a line (the tension
 // field lets a crushed triangle shrink to no area: the Gamma-100 bag of 10-mm balls) turns its
 // normal as fast as 1/A, and theta's gradient with it: unfaded, the hinge's stiffness grows as
-// 1/A^2 past any step. Faded, its force stays below k_e/(0.1 h_rest) and goes to 0 with the area;
-// a hinge whose wings keep a tenth of their area is unchanged (the same bits).
+// 1/A^2 past any step. Faded, its force stays bounded and goes to 0 with the area; a hinge whose
+// wings keep a tenth of their area is unchanged (the same bits).
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.

@@ -134,6 +134,8 @@ TEST(Summary, ADamagedFileIsRefusedNamingTheKey) {
   expect_refused(replaced("\"steps\": 123456789012,", ""), "steps");
   expect_refused(replaced("\"kind\": \"run\"", "\"kind\": \"movie\""), "kind");
   expect_refused(replaced("\"packing_fraction\": 0.57", "\"packing_fraction\": true"), "packing_fraction");
+  expect_refused(replaced("\"film_self_steps\": 5631", "\"film_self_steps\": -2"), "film_self_steps");
+  expect_refused(replaced("\"film_self_pairs_max\": 5", "\"film_self_pairs_max\": \"5\""), "film_self_pairs_max");
   expect_refused(replaced("\"band_Hz\": [", "\"band_Hz\": [1, "), "band_Hz");
 }
 

@@ -76,6 +76,9 @@ int run_case(const Args& a, const Scene& s, const RunOptions& o) {
                 r.wall_seconds, r.ns_per_particle_step);
   if (r.cycles > 0)
     std::printf("energy dissipated per cycle: %.4e J (over %.1f measured cycles)\n", r.dissipated_per_cycle, r.cycles);
+  if (r.bag && r.film_self_steps > 0)
+    std::printf("bag: its film met itself at %llu steps, at most %llu node pairs at once (bag.film.self_contact)\n",
+                static_cast<unsigned long long>(r.film_self_steps), static_cast<unsigned long long>(r.film_self_pairs_max));
   if (r.structure) {
     std::printf("structure: RMS response %.4e m, RMS acceleration %.4e m/s^2 at response_at\n", r.response_rms,
                 r.acceleration_rms);

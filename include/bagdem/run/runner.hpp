@@ -16,6 +16,7 @@
 // gets status "interrupted" and is closed, and the report's `signal` is set (`bagdem run` exits with
 // 128 + the signal).
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ struct RunReport {
   bool bag = false;                    // the scene has a bag: the figures below are set
   double bag_packing = 0;              // its packing fraction when settling ended
   Vec3 bag_outer = Vec3::Zero();       // its outer length, width, height then (m)
+  std::uint64_t film_self_steps = 0;   // steps at which the film met itself (summary.json's film_self_steps)
+  std::uint64_t film_self_pairs_max = 0;  // the most node pairs touching at one step
   bool structure = false;              // the scene has a primary structure: the figures below are set
   double response_rms = 0;             // RMS displacement at x_a after release (m)
   double band_response_rms = 0;        // random force: its part in the force's band after excitation.skip (m)

@@ -431,7 +431,7 @@ double Membrane::elastic_energy(const std::vector<Vec3>& x) const {
       energy += faded_hinge(x[h.v0], x[h.v1], x[h.a], x[h.b], h.k, h.theta0, h.fade_a, h.fade_b).energy;
       continue;
     }
-    const double d = angle_change<double>(hinge_angle(x[h.v0], x[h.v1], x[h.a], x[h.b]), h.theta0);
+    const double d = angle_change<double>(he.theta, h.theta0);  // hinge_angle's own arithmetic
     energy += h.k * d * d;
   }
   return energy;

@@ -194,6 +194,10 @@ const std::vector<BadCase>& bad_cases() {
       {"string stiffness nan", Base::bag, "", "", {"bag.strings.0.stiffness=nan"}, {"'bag.strings.0.stiffness'", "nan", "finite"}},
       {"fill fraction inf", Base::bag, "", "", {"bag.fill_fraction=inf"}, {"'bag.fill_fraction'", "inf", "finite"}},
       {"mass scaling 0.5", Base::bag, "", "", {"bag.film.mass_scaling=0.5"}, {"'bag.film.mass_scaling'", "0.5", ">= 1"}},
+      {"bending interval 0", Base::bag, "", "", {"bag.film.bending_interval=0"}, {"'bag.film.bending_interval'", "0", "from 1 to 64"}},
+      {"bending interval 2.5", Base::bag, "", "", {"bag.film.bending_interval=2.5"}, {"'bag.film.bending_interval'", "2.5", "integer"}},
+      {"bending interval word", Base::bag, "", "", {"bag.film.bending_interval=\"slow\""},
+       {"'bag.film.bending_interval'", "\"slow\"", "\"auto\" or a whole number of steps from 1 to 64"}},
       {"balls seed negative", Base::bag, "", "", {"bag.balls.seed=-3"}, {"'bag.balls.seed'", "-3", "integer from 0 to"}},
       // --set
       {"--set count abc", Base::shaken, "", "", {"particles.balls.count=abc"}, {"'particles.balls.count'", "\"abc\"", "must be an integer"}},

@@ -5,6 +5,11 @@
 // counted per contact (one per feature, joined in patches), hits born at positive overlap in the
 // film's shallow valleys under the ball made it gain 3.3e-7 J/s; the Euler sum
 // (step/surface_features.hpp, euler_terms) counts no contacts.
+// The budget is checked with the bending on every step (bag.film.bending_interval = 1): on the
+// slower clock (auto: 8 steps here) the impulses of the bending every 8th step keep the settled
+// film jiggling, and the membrane damping's work on that jiggle shows as a residual of -9.8e-8 J/s
+// (6e-5 of the gravity work per second), the scheme's, not the accounting's
+// (test_membrane_bending.cpp: OnASlowerClockTheFilmSwingsAsOnEveryStep).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -24,7 +29,7 @@ namespace {
 // Bearing steel (200 GPa) ball of 20 mm in a capsule bag of 11 mm radius (LDPE, 50 um, damping
 // ratio 0.05, nodes 10x heavier), tied to the end walls of a still 80 x 30 x 30 mm box; the
 // contacts' restitution 0.5 / 0.3 (film), friction 0.3 / 0.4.
-std::string large_ball_bag(int triangles, const std::string& duration) {
+std::string large_ball_bag(int triangles, const std::string& duration, const std::string& film_keys = "") {
   return "[simulation]\nduration = \"" + duration + "\"\nsettle = \"0.05 s\"\ngravity = [0, 0, \"-9.81 m/s^2\"]\nseed = 7\n"
          "[materials.steel]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"200 GPa\"\npoisson_ratio = 0.3\n"
          "[materials.ldpe]\ndensity = \"920 kg/m^3\"\nyoungs_modulus = \"0.25 GPa\"\npoisson_ratio = 0.4\n"
@@ -33,7 +38,7 @@ std::string large_ball_bag(int triangles, const std::string& duration) {
          "[cavity]\nkind = \"box\"\nmaterial = \"steel\"\nmin = [\"-40 mm\", \"-15 mm\", \"-15 mm\"]\nmax = [\"40 mm\", \"15 mm\", \"15 mm\"]\n"
          "[bag]\nshape = \"capsule\"\naxis = [1, 0, 0]\nradius = \"11 mm\"\ntriangles = " + std::to_string(triangles) + "\n"
          "[bag.balls]\nmaterial = \"steel\"\ndiameter = \"20 mm\"\ncount = 1\n"
-         "[bag.film]\nmaterial = \"ldpe\"\nthickness = \"50 um\"\ndamping_ratio = 0.05\nmass_scaling = 10\n"
+         "[bag.film]\nmaterial = \"ldpe\"\nthickness = \"50 um\"\ndamping_ratio = 0.05\nmass_scaling = 10\n" + film_keys +
          "[[bag.strings]]\nat = \"tail\"\nanchor = [\"-30 mm\", \"0 mm\", \"0 mm\"]\nstiffness = \"200 N/m\"\ndamping = \"0.05 N s/m\"\n"
          "[[bag.strings]]\nat = \"head\"\nanchor = [\"30 mm\", \"0 mm\", \"0 mm\"]\nstiffness = \"200 N/m\"\ndamping = \"0.05 N s/m\"\n";
 }
@@ -42,7 +47,7 @@ std::string large_ball_bag(int triangles, const std::string& duration) {
 
 TEST(BagLargeBall, SettledInATightBagItKeepsItsEnergyBudget) {
   TempDir d;
-  d.write("case.toml", large_ball_bag(300, "1 s"));
+  d.write("case.toml", large_ball_bag(300, "1 s", "bending_interval = 1\n"));
   const Scene s = load_case(d.str());
   ASSERT_TRUE(s.bag);
   Simulation sim(s);

@@ -200,7 +200,7 @@ Membrane::Membrane(const TriangleMesh& mesh, const MembraneProperties& props) : 
   build_rest_frames(mesh.vertices);
   build_hinges(mesh.vertices);
   build_gather();
-  max_frequency_ = compute_max_frequency(mesh.vertices);
+  compute_frequencies(mesh.vertices);
 }
 
 // Each triangle's 2-D frame: x along its first edge, y in its plane, so the rest edge matrix
@@ -289,8 +289,9 @@ void Membrane::build_gather() {
 // row sums are added, which bounds the assembled matrix's. Membrane element: K = t A0 B^T C B with
 // B the 3x9 map from node displacements to (dExx, dEyy, 2 dExy) (Belytschko et al. 2000, ch. 9).
 // Hinge: K = 2 k g g^T (g the angle's gradient; the (theta - theta0) term vanishes at rest).
-double Membrane::compute_max_frequency(const std::vector<Vec3>& x0) const {
-  std::vector<double> row(3 * nodes(), 0.0);
+// The hinges' rows alone bound the bending's own highest frequency.
+void Membrane::compute_frequencies(const std::vector<Vec3>& x0) {
+  std::vector<double> row(3 * nodes(), 0.0), bend(3 * nodes(), 0.0);
   const Law law(props_);
   Eigen::Matrix3d C;
   C << law.k, law.k * law.nu, 0, law.k * law.nu, law.k, 0, 0, 0, law.k * (1 - law.nu) / 2;
@@ -318,20 +319,28 @@ double Membrane::compute_max_frequency(const std::vector<Vec3>& x0) const {
     double gsum = 0;
     for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
     for (int s = 0; s < 4; ++s)
-      for (int r = 0; r < 3; ++r) row[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
+      for (int r = 0; r < 3; ++r) {
+        row[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
+        bend[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
+      }
   }
-  double w2 = 0;
+  double w2 = 0, b2 = 0;
   for (std::size_t i = 0; i < nodes(); ++i)
     if (node_mass_[i] > 0)
-      for (int r = 0; r < 3; ++r) w2 = std::max(w2, row[3 * i + r] / node_mass_[i]);
-  return std::sqrt(w2);
+      for (int r = 0; r < 3; ++r) {
+        w2 = std::max(w2, row[3 * i + r] / node_mass_[i]);
+        b2 = std::max(b2, bend[3 * i + r] / node_mass_[i]);
+      }
+  max_frequency_ = std::sqrt(w2);
+  bending_frequency_ = std::sqrt(b2);
 }
 
 double Membrane::max_frequency() const { return max_frequency_; }
+double Membrane::bending_frequency() const { return bending_frequency_; }
 
 double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
-                            std::vector<Vec3>& f_damping) {
-  const std::size_t n = nodes(), nt = tri_.size(), nh = hinges_.size();
+                            std::vector<Vec3>& f_damping, double bending_weight) {
+  const std::size_t n = nodes(), nt = tri_.size(), nh = bending_weight > 0 ? hinges_.size() : 0;
   if (x.size() != n || v.size() != n || f_elastic.size() != n || f_damping.size() != n)
     throw std::invalid_argument("Membrane::add_forces: every vector must have nodes() entries");
   const Law law(props_);
@@ -382,7 +391,7 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
     auto each = [&](double Hinge::*f) { return Lanes{h[0]->*f, h[1]->*f, h[2]->*f, h[3]->*f}; };
     const HingeEval<Lanes> he = hinge_eval<Lanes>(node(&Hinge::v0), node(&Hinge::v1), node(&Hinge::a), node(&Hinge::b));
     const Lanes k = each(&Hinge::k), d = angle_change(he.theta, each(&Hinge::theta0));
-    const Lanes c = -2.0 * k * d;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx
+    const Lanes c = -2.0 * k * d * bending_weight;  // f = -dW/dx = -2 k (theta - theta0) dtheta/dx, weighted
     const Lanes energy = k * d * d;
     for (int l = 0; l < kLanes && g * kLanes + l < nh; ++l) {
       const std::size_t i = g * kLanes + l;
@@ -390,7 +399,7 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       if (he.nA2[l] < hi.fade_a || he.nB2[l] < hi.fade_b) {  // a wing near collapse: faded (rare)
         const FadedHinge f = faded_hinge(x[hi.v0], x[hi.v1], x[hi.a], x[hi.b], hi.k, hi.theta0, hi.fade_a, hi.fade_b);
         hinge_energy_[i] = f.energy;
-        hinge_force_[i] = f.force;
+        for (int s = 0; s < 4; ++s) hinge_force_[i][s] = bending_weight * f.force[s];
         continue;
       }
       hinge_energy_[i] = energy[l];
@@ -405,8 +414,9 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       fe += tri_elastic_[r][s];
       if (damped) fd += tri_damping_[r][s];
     }
-    for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
-      fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
+    if (nh > 0)
+      for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
+        fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
     f_elastic[i] += fe;
     if (damped) f_damping[i] += fd;
   });
@@ -414,7 +424,8 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
   // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.
   double energy = 0;
   for (double e : tri_energy_) energy += e;
-  for (double e : hinge_energy_) energy += e;
+  if (nh > 0)
+    for (double e : hinge_energy_) energy += e;
   return energy;
 }
 

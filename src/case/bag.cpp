@@ -303,6 +303,7 @@ void set_film_scales(const CaseReader& in, Bag& b) {
   Membrane probe(b.rest, b.film);
   b.min_node_mass = *std::min_element(probe.node_mass().begin(), probe.node_mass().end()) * b.mass_scaling;
   b.max_frequency = probe.max_frequency() / std::sqrt(b.mass_scaling);
+  b.bending_frequency = probe.bending_frequency() / std::sqrt(b.mass_scaling);
   b.film.damping_time = 2 * b.damping_ratio / b.max_frequency;
   // Film-wall contact radius: half the mean edge length (the patch a node stands for).
   double edges = 0;
@@ -463,6 +464,26 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
   set_film_scales(in, b);
   resolve_strings(in, b, s);
   s.bag = std::move(bag);
+}
+
+// bag.film.bending_interval: "auto" (default) or N in [1, 64]. Auto: the largest N up to 8 whose
+// slow step N dt stays within 0.5 / omega of the stiffest hinge before its fade (a wing at a tenth
+// of its area turns 10x faster than at rest: 10 x Bag::bending_frequency), a quarter of the
+// impulse scheme's stability limit omega N dt < 2; 1 when bending is that fast or absent.
+void resolve_bending_clock(const CaseReader& in, Scene& s) {
+  const char* key = "bag.film.bending_interval";
+  if (!s.bag) return;
+  auto b = std::make_shared<Bag>(*s.bag);
+  if (in.is_string(key)) {
+    if (in.string(key) != "auto") in.fail(key, "must be \"auto\" or a whole number of steps from 1 to 64");
+  }
+  if (in.has(key) && !in.is_string(key)) {
+    b->bending_interval = static_cast<int>(in.integer(key, 1, 1, 64));
+  } else {
+    const double slow = 0.5 / (10.0 * b->bending_frequency * s.dt);  // the largest N allowed
+    b->bending_interval = b->bending_frequency > 0 ? static_cast<int>(std::clamp(std::floor(slow), 1.0, 8.0)) : 1;
+  }
+  s.bag = std::move(b);
 }
 
 }  // namespace bagdem

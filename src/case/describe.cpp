@@ -46,7 +46,9 @@ void describe_bag(std::ostream& o, const Scene& s, double rmin) {
     else
       o << "off (key bag.film.self_contact): the film may pass through itself\n";
     o << "            highest membrane frequency " << b.max_frequency / (2 * std::numbers::pi)
-      << " Hz: critical step " << 2 / b.max_frequency << " s\n";
+      << " Hz: critical step " << 2 / b.max_frequency << " s\n"
+      << "            bending every " << b.bending_interval << " step(s) (key bag.film.bending_interval; its highest frequency "
+      << b.bending_frequency / (2 * std::numbers::pi) << " Hz)\n";
     for (const BagString& st : b.strings)
       o << "string      " << st.name << ": " << st.nodes.size() << " tie nodes, anchor [" << st.anchor.transpose()
         << "] m, k " << st.stiffness << " N/m, c " << st.damping << " N s/m, rest length " << st.rest_length << " m\n";

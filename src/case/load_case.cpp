@@ -250,6 +250,7 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
 
   warn_oversized_cavity(s);
   resolve_timestep(in, s);
+  resolve_bending_clock(in, s);
   refuse_impossible_run(in, s);
   resolve_output(in, s);
   in.reject_unknown_keys();

@@ -19,7 +19,7 @@ std::vector<std::string> keys::all_paths() {
                                &steady_tolerance, &attach, &motion_amplitude, &motion_frequency, &motion_ramp, &ball_diameter,
                                &mass_ratio, &primary_mass})
     p.push_back(k->path);
-  for (const IntegerKey* k : {&seed, &triangles, &bed_count}) p.push_back(k->path);
+  for (const IntegerKey* k : {&seed, &triangles, &bending_interval, &bed_count}) p.push_back(k->path);
   for (const TomlKey* k : {&excitation, &primary, &cavity_motion}) p.push_back(k->path);
   p.push_back(cavity_max.path), p.push_back(bed_file.path);
   for (const QuantityKey& k : {youngs_modulus("NAME"), stiffness("NAME"), friction("NAME"), rolling_friction("NAME")}) p.push_back(k.path);

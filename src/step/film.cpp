@@ -94,7 +94,12 @@ void film_stage(const FilmStage& s) {
   });
   s.load_moments.setZero();
   // Damping sees the velocity predicted to the end of the step, as the contact dashpots do.
-  film.membrane->add_forces(film.x, film.v_pred, film.f, film.f_damp);
+  // Bending on its slower clock (Bag::bending_interval N): N times its force at the positions of
+  // every N-th step (step 0's included), none at the others; velocity Verlet's two half-kicks around
+  // such a step then give the impulse scheme's kick of N dt.
+  const int N = bag.bending_interval;
+  const bool bending_now = !s.ctx.stepping() || (s.ctx.step + 1) % static_cast<std::uint64_t>(N) == 0;
+  film.membrane->add_forces(film.x, film.v_pred, film.f, film.f_damp, bending_now ? N : 0.0);
   with_flags([&s]<bool T, bool E>() { film_walls<T, E>(s); }, scene.models.tangential, scene.models.energy);
   film_self_contacts(s);
 

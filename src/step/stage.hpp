@@ -69,6 +69,9 @@ struct StepContext {
   // its steps; only when the wall stage would do it: no triangulated surface). Set per step.
   bool defer_kick = false;
   BallKick balls = BallKick::due;
+  // The step in progress (Stepper::steps_done() before it ends): its forces are at the positions
+  // of step `step + 1` (in set-up, at step 0's). Set per step.
+  std::uint64_t step = 0;
 };
 
 // The cavity's motion at a lab point: its displacement, the velocity at the end of the step, the

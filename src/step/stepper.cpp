@@ -92,6 +92,7 @@ std::span<const Stepper::StageEntry> Stepper::stages() {
 void Stepper::begin_step(bool last) {
   ctx_.enter(StepMode::step, scene_.dt);
   ctx_.defer_kick = !last && mesh_.surfaces.empty();
+  ctx_.step = step_;
   if (structure_.couple && step_ == structure_.release_step && !structure_.scalars.released) release_structure();
 }
 

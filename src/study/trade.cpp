@@ -91,6 +91,8 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
     for (const auto& [name, k] : f.springs) o.set(keys::stiffness(name), k * factor);
   } else if (knob == "film") {
     if (f.triangles > 0) o.set(keys::triangles, std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor)));
+  } else if (knob == "bending") {
+    if (f.triangles > 0 && factor == 1) o.set(keys::bending_interval, 1);  // 0: the case's clock ("auto" unless set)
   } else if (knob == "tangential") {
     if (f.friction && factor == 0)
       for (const std::string& i : f.interactions) o.set(keys::friction(i), 0);
@@ -110,7 +112,7 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
 }
 
 bool applies(const CaseFacts& f, const std::string& knob) {
-  if (knob == "film") return f.triangles > 0;
+  if (knob == "film" || knob == "bending") return f.triangles > 0;
   if (knob == "tangential") return f.friction;
   if (knob == "rolling") return f.rolling;
   if (knob == "steady") return f.steady_tolerance > 0;
@@ -138,6 +140,7 @@ std::vector<std::string> preset_overrides(const CaseFacts& f, const std::string&
 
 std::string knob_label(const Knob& k, double factor) {
   if (k.name == "tangential" || k.name == "rolling") return k.name + (factor == 0 ? " off" : " on");
+  if (k.name == "bending") return factor == 1 ? "bending every step" : "bending on its clock";
   return k.name + " x" + short_text(factor);
 }
 
@@ -223,6 +226,7 @@ const std::vector<Knob>& knobs() {
       {"stiffness", "Young's modulus of every ball material, and the spring of every Hooke interaction, x factor (softening)",
        {1, 0.1, 0.01}},
       {"film", "bag.triangles x factor (film resolution)", {2, 1, 0.5}},
+      {"bending", "the film's bending hinges on every step (1) or on their slower clock (0: bag.film.bending_interval as the case has it, \"auto\" by default)", {1, 0}},
       {"tangential", "tangential model (friction) on / off", {1, 0}},
       {"rolling", "rolling resistance on / off", {1, 0}},
       {"output", "output.cavity_interval x factor (the reduction's sampling)", {1, 4}},

@@ -32,6 +32,12 @@ struct Bag {
   double damping_ratio = 0;     // membrane damping ratio at its highest frequency (for reports)
   double mass_scaling = 1;      // film node masses x this (a fidelity knob; 1 = physical)
   double max_frequency = 0;     // highest angular frequency of the membrane at rest (unit: rad/s)
+  double bending_frequency = 0; // highest angular frequency of its bending alone at rest (unit: rad/s)
+  // Bending on a slower clock (impulse multiple time stepping: Tuckerman, Berne & Martyna, J. Chem.
+  // Phys. 97, 1992; Grubmueller et al., Mol. Sim. 6, 1991): the hinges' forces, N times over, at
+  // every N-th step's positions, none between. The film's bending is far slower than the step
+  // (omega_b dt ~ 1e-3 on the shipped bags): bag.film.bending_interval, resolve_bending_clock.
+  int bending_interval = 1;
   double min_node_mass = 0;     // lightest film node, scaling included (unit: kg)
   double mean_edge = 0;         // mean edge length of the film at rest (unit: m)
   // Film-film contact (bag.film.self_contact): each node a sphere of this radius against the

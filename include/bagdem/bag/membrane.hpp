@@ -67,15 +67,20 @@ class Membrane {
   const std::vector<double>& rest_area() const { return area0_; }      // per triangle (unit: m^2)
 
   // Adds the elastic (membrane + bending) forces at positions x to f_elastic and the damping forces
-  // at velocities v to f_damping (both sized nodes()). Returns the elastic energy at x (unit: J).
+  // at velocities v to f_damping (both sized nodes()). The bending forces are multiplied by
+  // bending_weight, 0 leaving them out (the film stage's slower clock for bending: Bag). Returns
+  // the elastic energy at x, bending left out with them (unit: J).
   double add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_elastic,
-                    std::vector<Vec3>& f_damping);
+                    std::vector<Vec3>& f_damping, double bending_weight = 1.0);
   // Elastic energy (membrane + bending) at x (unit: J).
   double elastic_energy(const std::vector<Vec3>& x) const;
 
   // Largest angular frequency of the membrane at rest, for the time step (Gershgorin bound over
   // the lumped-mass element matrices: an upper bound) (unit: rad/s).
   double max_frequency() const;
+  // The same bound over the bending hinges alone: the bending's own highest frequency at rest
+  // (unit: rad/s; 0 without bending).
+  double bending_frequency() const;
 
   // Per-triangle state at x, for output and checks: 0 slack, 1 wrinkled, 2 taut (always 2 without
   // the tension field); and the principal Green strains (e1 >= e2).
@@ -99,7 +104,7 @@ class Membrane {
     double fade_a, fade_b; // |n|^2 = (2 A)^2 of each wing where its fade begins: (0.1 x 2 A_rest)^2 (unit: m^4)
   };
   std::vector<Hinge> hinges_;
-  double max_frequency_ = 0;  // computed once from the rest shape (unit: rad/s)
+  double max_frequency_ = 0, bending_frequency_ = 0;  // computed once from the rest shape (unit: rad/s)
   // Per-element records and the node gather CSR (see "Determinism" above).
   std::vector<std::array<Vec3, 3>> tri_elastic_, tri_damping_;
   std::vector<std::array<Vec3, 4>> hinge_force_;
@@ -111,7 +116,7 @@ class Membrane {
   void build_rest_frames(const std::vector<Vec3>& x0);
   void build_hinges(const std::vector<Vec3>& x0);
   void build_gather();
-  double compute_max_frequency(const std::vector<Vec3>& x0) const;
+  void compute_frequencies(const std::vector<Vec3>& x0);  // max_frequency_ and bending_frequency_
 };
 
 }  // namespace bagdem

@@ -35,6 +35,8 @@ void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::st
 
 // bag.cpp: [bag] -> Scene::bag (film, strings) and the bag's balls appended to Scene::particles.
 void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>& material_names);
+// bag.cpp, after the step is known: the film's bending clock (Bag::bending_interval).
+void resolve_bending_clock(const CaseReader& in, Scene& s);
 
 // timestep.cpp: the time step (auto or explicit, checked against the critical step).
 void resolve_timestep(const CaseReader& in, Scene& s);

@@ -52,6 +52,7 @@ inline const QuantityKey motion_frequency{"cavity.motion.frequency", "Hz"};
 inline const QuantityKey motion_ramp{"cavity.motion.ramp", "s"};
 inline const VectorKey cavity_max{"cavity.max"};
 inline const IntegerKey triangles{"bag.triangles"};
+inline const IntegerKey bending_interval{"bag.film.bending_interval"};
 inline const QuantityKey ball_diameter{"bag.balls.diameter", "m"};
 inline const QuantityKey mass_ratio{"bag.balls.mass_ratio", ""};
 inline const QuantityKey primary_mass{"bag.balls.primary_mass", "kg"};

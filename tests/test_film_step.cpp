@@ -144,3 +144,22 @@ TEST(FilmStep, TheFilmContactsLimitIsTheStepperTrueLimit) {
   EXPECT_GE(lo, 0.97) << "the reported critical step is optimistic";
   EXPECT_GT(lo * s.dt_critical, 1.5 * old_rule) << "the film nodes' limit is no longer above the rolling sphere's";
 }
+
+// The bending's clock (bag.film.bending_interval, bag.cpp resolve_bending_clock): "auto" takes the
+// largest N up to 8 with 10 omega_b N dt <= 0.5 (omega_b: the hinges' Gershgorin bound). The
+// flagship's bag: 8 (10 omega_b 8 dt = 0.28). Its bending 30x stiffer (omega_b x 5.5): 2. 100x
+// stiffer: 1, the bending on every step. An explicit interval is taken as given.
+TEST(FilmStep, TheBendingRunsOnASlowerClockOnlyWhereItIsSlow) {
+  const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
+  for (const auto& [bending, expected] : {std::pair{1.0, 8}, {30.0, 2}, {100.0, 1}}) {
+    const Scene s = load_case(pipe, {"bag.film.bending=" + std::to_string(bending)});
+    const Bag& b = *s.bag;
+    const double slow = 10 * b.bending_frequency * b.bending_interval * s.dt;
+    std::printf("  bending x %g: omega_b %.4g rad/s, dt %.4g s, interval %d, 10 omega_b N dt %.3f\n", bending,
+                b.bending_frequency, s.dt, b.bending_interval, slow);
+    EXPECT_EQ(b.bending_interval, expected);
+    if (b.bending_interval > 1) EXPECT_LE(slow, 0.5);
+    if (b.bending_interval < 8) EXPECT_GT(10 * b.bending_frequency * (b.bending_interval + 1) * s.dt, 0.5);
+  }
+  EXPECT_EQ(load_case(pipe, {"bag.film.bending_interval=3"}).bag->bending_interval, 3);
+}

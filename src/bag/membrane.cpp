@@ -320,8 +320,9 @@ void Membrane::compute_frequencies(const std::vector<Vec3>& x0) {
     for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
     for (int s = 0; s < 4; ++s)
       for (int r = 0; r < 3; ++r) {
-        row[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
-        bend[3 * v[s] + r] += 2.0 * h.k * std::abs(g[s][r]) * gsum;
+        const double k = 2.0 * h.k * std::abs(g[s][r]) * gsum;
+        row[3 * v[s] + r] += k;
+        bend[3 * v[s] + r] += k;
       }
   }
   double w2 = 0, b2 = 0;

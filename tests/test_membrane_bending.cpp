@@ -188,7 +188,7 @@ TEST(MembraneBending, RightTriangleSheetIsAnisotropic) {
 // 28 mm, free, no tension field), released from rest bent on a cylinder of radius 0.5 m, swings
 // back and forth, its bending far slower than its stretching. Velocity Verlet at half the
 // membrane's critical step over one period of the swing, with the bending every step and with it
-// N = 8 times over at every 8th step only (add_forces' bending_weight; the impulse scheme of
+// N = 8 times over at every 8th step only (twice the bags' automatic interval) (add_forces' bending_weight; the impulse scheme of
 // Tuckerman, Berne & Martyna, J. Chem. Phys. 97, 1992; omega_b N dt = 0.087 here, 0.028 on the
 // pipe bag): the node heights agree to 1e-3 of the swing (measured 1.1e-4; 2.6e-5 at N = 4, 4.4e-4
 // at 16: second order in N dt), and the energy, the exact elastic energy plus the kinetic, stays

@@ -99,14 +99,15 @@ struct Sheet {
   const TriangleMesh* mesh;
 };
 
-// The contacts find_features gives a unit-reach point at x against one mesh (every triangle a
-// candidate), side -1; crossed: whether it reported a hit beyond the mid-surface.
-std::vector<Found> contacts(const TriangleMesh& m, const Vec3& x, bool& crossed) {
+// The contacts find_features gives a point at x (reach 1 unless given) against one mesh (every
+// triangle a candidate), side -1; crossed: whether it reported a hit beyond the mid-surface;
+// closed: the mesh is a closed film (PointView::closed).
+std::vector<Found> contacts(const TriangleMesh& m, const Vec3& x, bool& crossed, bool closed = false, double reach = 1.0) {
   std::vector<Sheet> surfaces{{&m}};
   std::vector<MeshCandidates> cand(1);
   cand[0].begin = {0, static_cast<std::uint32_t>(m.triangles.size())};
   for (std::uint32_t t = 0; t < m.triangles.size(); ++t) cand[0].triangle.push_back(t);
-  auto view = [&](std::uint32_t) { return PointView{x, &m.vertices, 1.0, -1.0}; };
+  auto view = [&](std::uint32_t) { return PointView{x, &m.vertices, reach, -1.0, closed}; };
   crossed = false;
   auto touched = [&](std::uint32_t, double, double, bool own_side) { crossed = crossed || !own_side; };
   Found found[16];
@@ -138,4 +139,48 @@ TEST(FilmSide, AFarLayerOfAPleatIsNeitherACrossingNorAContact) {
   // The centre between the layers: beyond the near layer's mid-surface, its nearest hit.
   contacts(m, Vec3(0.31, 0.27, -0.02), crossed);
   EXPECT_TRUE(crossed);
+}
+
+// A part of the film turned outside in (a 20-mm ball's bag at Gamma 20, crushed against the bore:
+// two triangles by an edge, one of them a sliver, faced the ball with their outer sides while the
+// ball's winding number was 1; the run stopped with "crossed the bag's film"; docs/verification.md,
+// "The bag at the extremes"). Here: a small closed bubble inside the film (the two spheres' meshes
+// as one, outward normals), its outer side facing the points between it and the film. Such a point
+// is inside the film as a whole (winding number 1) while its nearest hit, on the bubble, is seen
+// from its outer side. As a closed film (the bag's, PointView::closed) find_features reports no
+// crossing and gives its contacts from the side the point is on (normals from the hit to the
+// point); as an open surface it reports a crossing, as before. A point outside the film near it
+// (winding number 0) is a crossing either way.
+TEST(FilmSide, AFilmTurnedOutsideInIsNoCrossingForAPointInsideIt) {
+  TriangleMesh m = sphere_mesh(Vec3::Zero(), 1.0, 320);
+  const TriangleMesh bubble = sphere_mesh(Vec3(0.6, 0, 0), 0.2, 80);
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), bubble.vertices.begin(), bubble.vertices.end());
+  for (auto t : bubble.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  build_topology(m);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::size_t tried = 0, wrong_normal = 0, crossed_closed = 0, crossed_open = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 x = Vec3(0.6, 0, 0) + 0.27 * Vec3(g(rng), g(rng), g(rng)).normalized();  // 0.07 off the bubble
+    if (x.norm() > 0.85) continue;  // keep clear of the film's outer sphere
+    ASSERT_NEAR(winding_number(m, m.vertices, x), 1.0, 1e-9);
+    ++tried;
+    bool as_open = false, as_closed = true;
+    contacts(m, x, as_open, false, 0.1);
+    const std::vector<Found> closed = contacts(m, x, as_closed, true, 0.1);
+    crossed_open += as_open, crossed_closed += as_closed;
+    ASSERT_FALSE(closed.empty());
+    for (const Found& f : closed) wrong_normal += f.n.dot(x - f.hit.hit.point) <= 0;
+  }
+  ASSERT_GT(tried, 100u);
+  EXPECT_EQ(crossed_open, tried);
+  EXPECT_EQ(crossed_closed, 0u);
+  EXPECT_EQ(wrong_normal, 0u);
+  // Outside the film, 0.02 beyond its mid-surface: a crossing, closed or not.
+  for (bool closed : {false, true}) {
+    bool crossed = false;
+    contacts(m, Vec3(0, 0, 1.02), crossed, closed, 0.1);
+    EXPECT_TRUE(crossed) << "closed " << closed;
+  }
 }

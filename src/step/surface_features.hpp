@@ -313,8 +313,8 @@ void law_overlaps(const std::vector<EulerTerm>& terms, const Found* found, std::
 
 // The point `i` of a surface contact (a ball, or a film node) against the triangulated surfaces:
 // where it is in surface s's frame, the vertices there, its reach and its side (-1: against the
-// triangles' normals); closed: the surface is closed (the bag's film), so that the point's side of
-// it as a whole is its winding number's.
+// triangles' normals); closed: the surface is closed and keeps its layers apart (the bag's film with
+// film-film contact), so that the point's side of it as a whole is its winding number's.
 struct PointView {
   Vec3 x;
   const std::vector<Vec3>* vertices;
@@ -393,10 +393,11 @@ inline std::size_t find_features(const Surfaces& surfaces, const std::vector<Mes
       bool own_side = oriented(pv.x, vx, mesh, mh, pv.side, pv.reach, n, overlap);
       if (!own_side && k != nearest) continue;
       // The nearest hit seen from its outer side: a crossing, unless the point is on its own side of
-      // the closed film as a whole. The pseudonormal misjudges where the film is crushed (a triangle
-      // of almost no area turns its normal anywhere, with an angle of almost pi at its middle
-      // vertex); the winding number does not. The point then touches that part of the film from
-      // the side it is on, as the Euler sum's elastic force already has it.
+      // the closed film as a whole (its winding number). A film crushed against a wall can pass
+      // through itself locally for a moment, a sliver triangle slipping between the film-film
+      // contact's node spheres, and turn a flap's outer side to a ball that is inside; the ball then
+      // touches that flap from the side it is on, as the Euler sum's elastic force already has it.
+      // Without film-film contact (closed false) the film may tangle for good: a crossing, as before.
       if (!own_side && pv.closed && (winding_number(mesh, vx, pv.x) > 0.5) == (pv.side < 0))
         own_side = oriented(pv.x, vx, mesh, mh, -pv.side, pv.reach, n, overlap);
       touched(s, overlap, pv.reach, own_side);

@@ -176,7 +176,7 @@ void mesh_contacts(const TriangleStage& st, std::size_t p, Vec3& F, Vec3& T, Vec
   auto view = [&](std::uint32_t s) {
     const Surface& sf = st.surfaces.surfaces[s];
     return PointView{sf.film ? st.balls.x[p] : Vec3(st.balls.x[p] - c_pos), sf.film ? &st.film.x : &sf.mesh->vertices, r + sf.reach,
-                     sf.film ? static_cast<double>(st.surfaces.side[p]) : -1.0, sf.film};
+                     sf.film ? static_cast<double>(st.surfaces.side[p]) : -1.0, sf.film && st.scene.bag->self_radius > 0};
   };
   auto crossed = [&](std::uint32_t s, double overlap, double reach, bool own_side) {
     if (own_side) return;

@@ -99,6 +99,13 @@ struct Sheet {
   const TriangleMesh* mesh;
 };
 
+// other's vertices and triangles added to m, as one mesh (build_topology after).
+void append(TriangleMesh& m, const TriangleMesh& other) {
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (auto t : other.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
 // The contacts find_features gives a point at x (reach 1 unless given) against one mesh (every
 // triangle a candidate), side -1; crossed: whether it reported a hit beyond the mid-surface;
 // closed: the mesh is a closed film (PointView::closed).
@@ -125,9 +132,7 @@ TEST(FilmSide, AFarLayerOfAPleatIsNeitherACrossingNorAContact) {
   const TriangleMesh near = floor_mesh(Vec3(0, 0, 0), 4, 4, 8, 8);
   const TriangleMesh far = rectangle_mesh(Vec3(0, 0, -0.05), 4, 4, 8, 8);
   TriangleMesh m = near;
-  const auto base = static_cast<std::uint32_t>(m.vertices.size());
-  m.vertices.insert(m.vertices.end(), far.vertices.begin(), far.vertices.end());
-  for (auto t : far.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  append(m, far);
   build_topology(m);
   bool crossed = true;
   const std::vector<Found> above = contacts(m, Vec3(0.31, 0.27, 0.9), crossed);
@@ -154,9 +159,7 @@ TEST(FilmSide, AFarLayerOfAPleatIsNeitherACrossingNorAContact) {
 TEST(FilmSide, AFilmTurnedOutsideInIsNoCrossingForAPointInsideIt) {
   TriangleMesh m = sphere_mesh(Vec3::Zero(), 1.0, 320);
   const TriangleMesh bubble = sphere_mesh(Vec3(0.6, 0, 0), 0.2, 80);
-  const auto base = static_cast<std::uint32_t>(m.vertices.size());
-  m.vertices.insert(m.vertices.end(), bubble.vertices.begin(), bubble.vertices.end());
-  for (auto t : bubble.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  append(m, bubble);
   build_topology(m);
   std::mt19937 rng(3);
   std::normal_distribution<double> g(0.0, 1.0);

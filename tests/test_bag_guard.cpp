@@ -117,3 +117,64 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
   EXPECT_LT(wn, 0.5);
 }
 
+// However large the force on a film node, it stays inside the cavity: the walls' stop
+// (src/step/film.cpp, film_wall_stops) ends a node no deeper in a wall than the guard's overlap,
+// simulation.max_overlap x bag.film.contact_radius, where the film-wall law alone would let it go.
+// Scene: guard_toml's bag (zero gravity) with its floor 1 mm below the film, of a material
+// "floor" the film touches through a soft linear spring (hooke, k = 5 N/m) and the balls as steel,
+// for 8 ms: (a) the bag launched at the floor at 2 m/s (it lands, flattens and bounces); (b) the bag
+// at rest and the cavity shaken along z at 100 Hz, 1.5 mm (the floor strikes it at up to 0.94 m/s:
+// the cavity's work on the stopped nodes counts).
+// Reference: the spring alone stops a node of mass m at v sqrt(m / k), several times the allowed
+// overlap; with the stop no node is ever deeper than the allowed overlap (tolerance 1e-9 of it: the
+// stop's place is exact up to the cavity's and the node's rounding), the stop acted (it counts its
+// steps), no RunError, and the energy budget (the stop's loss tallied as film-wall dissipation)
+// closes within 1e-3 of its scale. Measured: deepest = allowed in both, the stop at 3949 and 110
+// steps, balance 4.2e-4 and 4.9e-4. Without the stop a node goes 5.1x and 2.3x the allowed depth;
+// without its dissipation tallied the balance is off by 3.3e-2 and 0.22, without the cavity's
+// work on the stopped nodes by 0.95 (b).
+TEST(BagGuard, FilmNodesStayInsideTheCavityForAnyForce) {
+  const double floor_z = -0.008;
+  for (const bool shaken : {false, true}) {
+    const double v0 = shaken ? 0.0 : 2.0;
+    CaseText toml = guard_toml(0.0, 0.0)
+                        .material("floor", "7800 kg/m^3", "2 GPa", "0.3")
+                        .set("interactions.floor-ldpe", {{"law", "\"hooke\""}, {"stiffness", "5 N/m"}, {"restitution", 0.5}})
+                        .box("floor", vec("-30 mm", "-15 mm", Value(floor_z)), vec("30 mm", "15 mm", Value(-floor_z)))
+                        .set("simulation", "duration", "8 ms");
+    if (shaken) toml.harmonic("3 mm", "100 Hz", "[0, 0, 1]");
+    LoadedCase c(toml);
+    const Scene& s = c.scene;
+    const double reach = 0.5 * s.bag->film.thickness, allowed = s.max_overlap_fraction * s.bag->contact_radius;
+    Simulation sim(s);
+    sim.add_contents_velocity(Vec3(0, 0, -v0));
+    const EnergySample e0 = sim.energy();
+    const double stored0 = shaken ? sim.initial_stored_energy() : e0.kinetic + e0.elastic;
+    double deepest = 0, m_max = 0, v_max = v0;  // the deepest overlap of a node on the floor, the heaviest node
+    for (std::size_t k = 0; k < sim.film().size(); ++k) m_max = std::max(m_max, sim.film().mass[k]);
+    std::string error;
+    try {
+      for (std::uint64_t k = 1; k <= s.total_steps(); ++k) {
+        sim.step();
+        const double z = floor_z + sim.cavity().position.z();
+        v_max = std::max(v_max, std::abs(sim.cavity().velocity.z()));
+        for (const Vec3& x : sim.film().x) deepest = std::max(deepest, reach - (x.z() - z));
+      }
+    } catch (const RunError& e) {
+      error = e.what();
+    }
+    const Balance b = energy_balance(sim.energy(), stored0);
+    const double spring_alone = v_max * std::sqrt(m_max / 5.0);
+    std::printf("BagGuard: bag %s at %.3g m/s onto a floor the film meets through a 5 N/m spring (dt %.3g s, %llu steps): the "
+                "spring alone would stop its heaviest node %.3g m deep; deepest node %.6g m (allowed %.6g m); the stop acted "
+                "at %llu steps; energy balance %.3g of its scale%s%s\n",
+                shaken ? "struck by the shaken floor" : "launched", v_max, s.dt, static_cast<unsigned long long>(sim.steps_done()),
+                spring_alone, deepest, allowed, static_cast<unsigned long long>(sim.film_wall_stops()), b.relative(),
+                error.empty() ? "" : "; stopped: ", error.c_str());
+    ASSERT_TRUE(error.empty()) << error;
+    ASSERT_GT(spring_alone, 3 * allowed) << "the scene must press the nodes deeper than the stop allows";
+    EXPECT_GT(sim.film_wall_stops(), 0u);
+    EXPECT_LE(deepest, allowed * (1 + 1e-9));
+    EXPECT_LT(b.relative(), 1e-3);
+  }
+}

@@ -23,7 +23,7 @@ Summary a_run() {
   s.particle_steps_per_second = 3.25e7, s.ns_per_particle_step = 30.7, s.neighbour_builds = 77;
   s.energy = bagdem::EnergySample{1, 2, 3, 4, 5, 6, 7, 8};
   s.energy_balance_error = 1.25e-9;
-  s.bag = bagdem::SummaryBag{812, 760, 0.57, bagdem::Vec3(0.1, 0.02, 0.03), 5631, 5};
+  s.bag = bagdem::SummaryBag{812, 760, 0.57, bagdem::Vec3(0.1, 0.02, 0.03), 5631, 5, 17};
   bagdem::SummaryStructure st;
   st.kind = "beam", st.response_at = 0.7, st.response_rms = 1e-4, st.acceleration_rms = 3.5;
   st.band = bagdem::SummaryBand{2e-5, 50, 400, 0.2};
@@ -75,6 +75,7 @@ TEST(Summary, ARunComesBackAsWritten) {
   EXPECT_EQ(b.bag->outer, a.bag->outer);
   EXPECT_EQ(b.bag->self_steps, 5631u);
   EXPECT_EQ(b.bag->self_pairs_max, 5u);
+  EXPECT_EQ(b.bag->wall_stops, 17u);
   EXPECT_EQ(b.structure->kind, "beam");
   same(b.structure->band->response_rms, 2e-5, "band_response_rms_m");
   same(b.structure->band->hi, 400, "band_Hz");
@@ -136,6 +137,7 @@ TEST(Summary, ADamagedFileIsRefusedNamingTheKey) {
   expect_refused(replaced("\"packing_fraction\": 0.57", "\"packing_fraction\": true"), "packing_fraction");
   expect_refused(replaced("\"film_self_steps\": 5631", "\"film_self_steps\": -2"), "film_self_steps");
   expect_refused(replaced("\"film_self_pairs_max\": 5", "\"film_self_pairs_max\": \"5\""), "film_self_pairs_max");
+  expect_refused(replaced("\"film_wall_stops\": 17", "\"film_wall_stops\": 1.5"), "film_wall_stops");
   expect_refused(replaced("\"band_Hz\": [", "\"band_Hz\": [1, "), "band_Hz");
 }
 

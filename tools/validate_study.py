@@ -20,11 +20,16 @@
 #      calibrate-modes13.png;
 #   4. with --keys, where the DEM and the study part ways: each candidate key (KEYS) varied alone at
 #      Table 3's configuration with the same --seeds starts as the calibrated case, and keys.csv
-#      (each value's reduction per mode and its change paired start by start).
+#      (each value's reduction per mode and its change paired start by start);
+#   5. with --slope, what sets the slope of the mass-ratio trend: the mass-ratio study's 5, 8 and 12%
+#      at the calibrated level, and again with each model choice of SLOPE_CHOICES varied alone
+#      (--seeds starts each), and slope.csv (per choice, value and mode: the reduction at each ratio,
+#      the slopes 8 - 5% and 12 - 8% with their intervals, and the runs' mean wall time).
+#      --slope alone skips steps 1-4 (it needs --damping-ratio).
 #
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
 #                        [--docs DIR] [--jobs J] [--keys] [--impact-amplitude "0.2 N"]
-#                        [--clearance-amplitude "0.5 N"]
+#                        [--clearance-amplitude "0.5 N"] [--slope]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -201,6 +206,19 @@ def continuum_summary(continuum):
     return out
 
 
+# Step 5's model choices, each varied alone on the mass-ratio study at SLOPE_RATIOS (issue 49): (the
+# key, its directory, the --vary arguments). The base values: bag.fill_fraction 0.5, the steel's
+# 2 GPa, the bag's 9-mm radius (its length follows the fill), a 50-um LDPE film, the level's force.
+SLOPE_RATIOS = (0.05, 0.08, 0.12)
+SLOPE_CHOICES = [
+    ("bag.fill_fraction", "tightness", ["--vary", "bag.fill_fraction=0.65"]),
+    ("materials.steel.youngs_modulus", "ball-stiffness", ["--vary", 'materials.steel.youngs_modulus="20 GPa"']),
+    ("bag.radius", "bag-radius", ["--vary", 'bag.radius="8 mm","10.5 mm"']),
+    ("bag.film.thickness", "film-thickness", ["--vary", 'bag.film.thickness="100 um"']),
+    ("excitation.amplitude", "force", ["--vary", 'excitation.amplitude="0.03 N","0.05 N"']),
+]
+
+
 def per_seed(out):
     """{(the varied key's SI value, mode): [(peak reduction [dB], reduced.csv's row nearest the damped peak)]}
     over the starts done of a study."""
@@ -252,6 +270,54 @@ def keys(out, level, zeta, seeds, jobs):
                           "reduction_db_ci95 [dB]": f"{h:.2f}", "paired_change_db_mean [dB]": f"{dm:.2f}",
                           "paired_change_db_ci95 [dB]": f"{dh:.2f}", "seeds [1]": len(per)})
     return table
+
+
+def slope_rows(out, level, seeds, jobs):
+    """slope.csv's rows: the calibrated case and each SLOPE_CHOICES value, per mode the reduction at
+    each of SLOPE_RATIOS over the starts, the slopes between them (the per-start differences' mean and
+    95% half-width) and the runs' mean wall time [s]."""
+    study = rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml"))
+    ratios = "bag.balls.mass_ratio=" + ",".join(f"{r:g}" for r in SLOPE_RATIOS)
+    table = []
+    for key, name, vary in [("(the calibrated case)", "base", [])] + SLOPE_CHOICES:
+        d = os.path.join(out, "slope", name)
+        args = [BAGDEM, "sweep", os.path.join(ROOT, "cases/pipe-beanbag"), "--seeds", str(seeds), "--out", d, "--jobs", str(jobs),
+                "--vary", ratios] + vary
+        for m in study + (level if key != "excitation.amplitude" else level[1:]) + MODES:
+            args += ["--set", m]
+        run(args)
+        peaks = rows(os.path.join(d, "peaks.csv"))
+        varied = [c for c in (peaks[0] if peaks else {}) if " [" not in c and c not in ("point", "status", "seed", "bag.balls.mass_ratio")]
+        walls = {}
+        for r in peaks:
+            if r["status"] == "done":
+                with open(os.path.join(d, r["point"], "summary.json")) as f:
+                    walls.setdefault(" / ".join(r[c] for c in varied), []).append(json.load(f)["wall_time_s"])
+        groups = {}  # (value, mode) -> {ratio: {seed: dB}}
+        for r in peaks:
+            if r["status"] == "done":
+                g = groups.setdefault((" / ".join(r[c] for c in varied), int(float(r["mode [1]"]))), {})
+                g.setdefault(float(r["bag.balls.mass_ratio"]), {})[int(r["seed"])] = float(r["reduction_dB [dB]"])
+        for (value, mode), g in sorted(groups.items()):
+            row = {"key": key, "value": value, "mode [1]": mode, "seeds [1]": min(len(g.get(x, {})) for x in SLOPE_RATIOS),
+                   "wall_s_mean [s]": f"{sum(walls[value]) / len(walls[value]):.1f}"}
+            for x in SLOPE_RATIOS:
+                m, h = mean_ci95(list(g.get(x, {}).values()))
+                row[f"reduction_db_{round(100 * x)}pct_mean [dB]"], row[f"reduction_db_{round(100 * x)}pct_ci95 [dB]"] = f"{m:.2f}", f"{h:.2f}"
+            for lo, hi in zip(SLOPE_RATIOS, SLOPE_RATIOS[1:]):
+                a, b = g.get(lo, {}), g.get(hi, {})
+                m, h = mean_ci95([b[k] - a[k] for k in b if k in a])
+                tag = f"{round(100 * hi)}_minus_{round(100 * lo)}"
+                row[f"slope_db_{tag}_mean [dB]"], row[f"slope_db_{tag}_ci95 [dB]"] = f"{m:.2f}", f"{h:.2f}"
+            table.append(row)
+    return table
+
+
+def rows_of_set(study_toml):
+    """A study.toml's `set` list (the overrides of its every run), as --set arguments."""
+    import tomllib
+    with open(study_toml, "rb") as f:
+        return [m.replace(" = ", "=", 1) for m in tomllib.load(f).get("set", [])]
 
 
 def clearance_rows(groups):
@@ -416,6 +482,8 @@ def main(argv):
     p.add_argument("--docs", default=os.path.join(ROOT, "docs", "validation"), help="where study.csv and the figures go")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--keys", action="store_true", help="also vary each candidate key alone (step 4) and write keys.csv")
+    p.add_argument("--slope", action="store_true",
+                   help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--clearance-amplitude", default="0.5 N",
                    help='the force at which the clearance study is also run, mode 1, bag radius 7-11 mm (default "0.5 N")')
     p.add_argument("--impact-amplitude", default="0.2 N",
@@ -425,6 +493,17 @@ def main(argv):
         sys.exit(f"tools/validate-study: no {BAGDEM}: run tools/validate-study (it builds), not this file")
     os.makedirs(a.docs, exist_ok=True)
     zeta = a.damping_ratio
+    if a.slope:
+        if zeta is None:
+            sys.exit("tools/validate-study: --slope needs --damping-ratio (the calibrated one: docs/validation/README.md)")
+        level = [f'excitation.amplitude="{a.amplitude}"', f"primary.damping_ratio={zeta}"]
+        columns = ["key", "value", "mode [1]", "seeds [1]"]
+        for x in SLOPE_RATIOS:
+            columns += [f"reduction_db_{round(100 * x)}pct_mean [dB]", f"reduction_db_{round(100 * x)}pct_ci95 [dB]"]
+        for lo, hi in zip(SLOPE_RATIOS, SLOPE_RATIOS[1:]):
+            columns += [f"slope_db_{round(100 * hi)}_minus_{round(100 * lo)}_mean [dB]", f"slope_db_{round(100 * hi)}_minus_{round(100 * lo)}_ci95 [dB]"]
+        write_csv(os.path.join(a.docs, "slope.csv"), columns + ["wall_s_mean [s]"], slope_rows(a.out, level, a.seeds, a.jobs))
+        return 0
     if zeta is None:
         cal, zeta = calibrate(a.out, a.amplitude, a.seeds, a.jobs)
         for name in ("calibration.json", "calibrate.csv"):

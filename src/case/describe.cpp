@@ -128,6 +128,9 @@ void describe_numerics(std::ostream& o, const Scene& s) {
   o << "guards      overlap above " << 100 * s.max_overlap_fraction
     << "% of a radius, NaN, or a particle outside the cavity stops the run";
   if (s.models.energy && s.max_energy_error > 0) o << "; so does an energy budget off by " << 100 * s.max_energy_error << "% of its scale";
+  if (s.bag)
+    o << "; the film's nodes are stopped at " << 100 * s.max_overlap_fraction << "% of bag.film.contact_radius into a cavity wall "
+      << "(the walls' stop; an STL wall's depth stops the run)";
   o << "\n";
 }
 

@@ -79,6 +79,10 @@ int run_case(const Args& a, const Scene& s, const RunOptions& o) {
   if (r.bag && r.film_self_steps > 0)
     std::printf("bag: its film met itself at %llu steps, at most %llu node pairs at once (bag.film.self_contact)\n",
                 static_cast<unsigned long long>(r.film_self_steps), static_cast<unsigned long long>(r.film_self_pairs_max));
+  if (r.bag && r.film_wall_stops > 0)
+    std::printf("bag: the walls' stop held a film node at %llu steps (the film-wall contact alone would have let it go deeper "
+                "than simulation.max_overlap x bag.film.contact_radius; docs/bag.md, Guards)\n",
+                static_cast<unsigned long long>(r.film_wall_stops));
   if (r.structure) {
     std::printf("structure: RMS response %.4e m, RMS acceleration %.4e m/s^2 at response_at\n", r.response_rms,
                 r.acceleration_rms);

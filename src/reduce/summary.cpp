@@ -76,7 +76,8 @@ Json bag_json(const SummaryBag& b) {
           {"packing_fraction", number(b.packing_fraction)},
           {"outer_m", {b.outer.x(), b.outer.y(), b.outer.z()}},
           {"film_self_steps", b.self_steps},
-          {"film_self_pairs_max", b.self_pairs_max}};
+          {"film_self_pairs_max", b.self_pairs_max},
+          {"film_wall_stops", b.wall_stops}};
 }
 SummaryBag bag_of(const Keys& k, const Json& j) {
   SummaryBag b;
@@ -87,6 +88,7 @@ SummaryBag bag_of(const Keys& k, const Json& j) {
   for (int c = 0; c < 3; ++c) b.outer[c] = o[c].is_number() ? o[c].get<double>() : NAN;
   if (j.contains("film_self_steps")) b.self_steps = k.count<std::uint64_t>(j, "film_self_steps");
   if (j.contains("film_self_pairs_max")) b.self_pairs_max = k.count<std::uint64_t>(j, "film_self_pairs_max");
+  if (j.contains("film_wall_stops")) b.wall_stops = k.count<std::uint64_t>(j, "film_wall_stops");
   return b;
 }
 

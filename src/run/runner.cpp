@@ -142,8 +142,9 @@ Summary run_summary(const Scene& scene, const Simulation& sim, RunReport& rep, d
   if (scene.models.energy) s.energy = sim.energy(), s.energy_balance_error = rep.energy_balance_error;
   if (rep.bag) {
     const FilmSelfContact c = sim.film_self_contact();
-    rep.film_self_steps = c.steps, rep.film_self_pairs_max = c.most;
-    s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer, c.steps, c.most};
+    rep.film_self_steps = c.steps, rep.film_self_pairs_max = c.most, rep.film_wall_stops = sim.film_wall_stops();
+    s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer, c.steps, c.most,
+                       rep.film_wall_stops};
   }
   if (scene.primary) {
     const Primary& P = *scene.primary;

@@ -11,7 +11,7 @@
 namespace bagdem {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x6261676465'6d3038ULL;  // "bagdem08": format 8 (the film's tallies count its self-contacts)
+constexpr std::uint64_t kMagic = 0x6261676465'6d3039ULL;  // "bagdem09": format 9 (the film's tallies count the walls' stops)
 
 struct Writer {
   std::vector<char> out;

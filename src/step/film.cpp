@@ -22,6 +22,7 @@ namespace bagdem {
 namespace {
 template <bool Tangential, bool Energy>
 void film_walls(const FilmStage& s);
+void film_wall_stops(const FilmStage& s);
 }  // namespace
 
 void Film::set_up(const Scene& scene) {
@@ -163,6 +164,7 @@ void film_stage(const FilmStage& s) {
     film.f_damp_prev[k] = film.f_damp[k];
   }
   film.tally.diss_damping += diss;
+  film_wall_stops(s);
 }
 
 void find_film_walls_near(Film& film, const Scene& scene, const CavityFrame& frame, const std::vector<Vec3>& at_build, const Vec3& cavity) {
@@ -183,8 +185,8 @@ void find_film_walls_near(Film& film, const Scene& scene, const CavityFrame& fra
 }
 
 // Film nodes against the cavity's walls (planes, cylinders): those near (film.wall_near) and
-// those touched at the last step; no other can be touched. deepest: over the walls looked at (the
-// others are farther than the skin, far from the guard's limit).
+// those touched at the last step; no other can be touched. deepest: over the STL walls (the walls'
+// stop, film_wall_stops, holds the nodes off the others).
 namespace {
 template <bool Tangential, bool Energy>
 void film_walls(const FilmStage& s) {
@@ -214,7 +216,6 @@ void film_walls(const FilmStage& s) {
       const Wall& wall = scene.walls[w];
       Vec3 n;
       const double d = wall_distance(wall, x_local, n);
-      deepest = std::min(deepest, d);
       const double overlap = reach - d;
       const std::size_t h = k * nw + w;
       if (overlap <= 0) {
@@ -249,6 +250,67 @@ void film_walls(const FilmStage& s) {
   film.tally.diss_normal += dn;
   film.tally.diss_tangential += dtg;
   film.deepest = deepest;
+}
+
+// The walls' stop: however large the force on a node, it ends no deeper in a plane or cylinder wall
+// than the guard's overlap, simulation.max_overlap x bag.film.contact_radius. Once the node's whole
+// force of the step is known, so is its place after the step (x + dt u, u = v + dt F/m its mid-step
+// velocity, as Film::drift makes it), and the wall's (moving at its velocity V now). Where the node
+// would end deeper, a force along the wall's normal puts it at that depth: an inelastic stop within
+// the step (the velocity-level contact of Moreau's contact dynamics; Box2D's speculative contacts
+// likewise look one step ahead). It acts only where the film-wall law cannot hold the node, so a
+// run it never touches keeps its bits; a run it touches counts those steps (tally.wall_stops).
+// Tallies: the force F jumps u by dv = dt F/m, so the node gains dt F.(u + dv/2) exactly; the
+// cavity gives dt F.V of it, and the rest, -dt F.(u - V + dv/2) >= 0 while the node closes in,
+// is dissipated.
+// Nodes looked at: those near a wall or touching it, and any whose step (relative to the cavity)
+// is half the allowed overlap or more (a node not near is farther than its reach from every wall:
+// find_film_walls_near).
+void film_wall_stops(const FilmStage& s) {
+  const Scene& scene = s.scene;
+  Film& film = s.film;
+  const StructureCoupling& structure = s.frame.structure;
+  const Bag& bag = *scene.bag;
+  const std::size_t nn = film.size(), nw = scene.walls.size();
+  const double dt = s.ctx.dt;
+  const WallMotion rigid = s.frame.rigid();
+  const double allowed = scene.max_overlap_fraction * bag.contact_radius;
+  const double limit = 0.5 * bag.film.thickness - allowed;  // the nearest a node's centre may end to a wall
+  const std::uint32_t every_wall = nw >= 32 ? ~0u : (1u << nw) - 1;
+  double diss = 0, work = 0;
+  Vec3 J(0, 0, 0), L(0, 0, 0), load(0, 0, 0);
+  bool stopped = false;
+  for (std::size_t k = 0; k < nn; ++k) {
+    Vec3 u = film.v[k] + dt * film.inv_mass[k] * film.f[k];
+    std::uint32_t walls = film.wall_near[k] | film.wall_touch[k];
+    if ((dt * (u - rigid.vel)).squaredNorm() >= 0.25 * allowed * allowed) walls = every_wall;
+    if (walls == 0) continue;
+    const WallMotion wm = structure.tilt ? s.frame.at(film.x[k]) : rigid;
+    const Vec3 x_local = film.x[k] - wm.pos;
+    for (; walls != 0; walls &= walls - 1) {
+      Vec3 n;
+      const double d = wall_distance(scene.walls[static_cast<std::size_t>(std::countr_zero(walls))], x_local, n);
+      const double ahead = d + dt * (u - wm.vel).dot(n);
+      if (ahead >= limit) continue;
+      const double dv = (limit - ahead) / dt;
+      const Vec3 F = (film.mass[k] * dv / dt) * n;
+      film.f[k] += F;
+      diss -= dt * F.dot(u - wm.vel + 0.5 * dv * n);
+      work += dt * F.dot(wm.vel);
+      u += dv * n;
+      J -= dt * F;
+      L -= dt * (x_local - d * n - scene.cavity_reference).cross(F);
+      if (structure.couple) load += s.frame.load_moments(x_local - d * n, -F);
+      stopped = true;
+    }
+  }
+  if (!stopped) return;
+  ++film.tally.wall_stops;
+  film.tally.diss_normal += diss;
+  film.tally.work_cavity += work;
+  film.tally.impulse += J;
+  film.tally.ang_impulse += L;
+  s.load_moments += load;
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ struct Film : FilmNodes {
   CandidatePairs self_pairs, self_found;
   std::vector<double> self_radii;                        // per node: Bag::self_radius
   std::vector<std::uint32_t> neighbour_begin, neighbour;  // CSR: each node's edge neighbours, ascending
-  double deepest = 1e300;                   // smallest distance of a film node inside a wall (unit: m)
+  double deepest = 1e300;                   // smallest distance of a film node inside an STL wall (unit: m)
   struct Tallies {
     double work_cavity = 0;       // work of walls and string anchors on the film (unit: J)
     double diss_normal = 0, diss_tangential = 0;  // film-wall contacts (unit: J)
@@ -42,6 +42,7 @@ struct Film : FilmNodes {
     Vec3 impulse = Vec3::Zero();  // impulse the film gave the cavity since the last sample (unit: N s)
     Vec3 ang_impulse = Vec3::Zero();  // angular impulse about the cavity reference (unit: N m s)
     FilmSelfContact self;            // film-film contacts so far (film_self.cpp)
+    std::uint64_t wall_stops = 0;    // steps at which the walls' stop held a node (film.cpp, film_wall_stops)
   } tally;
   // Sizes the film's arrays for the scene's bag (none without one), the nodes at their rest places.
   void set_up(const Scene& scene);

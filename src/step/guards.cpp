@@ -65,7 +65,7 @@ void check_guards(const GuardStage& st) {
   }
   if (film_out) {
     m << "a node of the bag's film is pressed " << 0.5 * scene.bag->film.thickness - st.film.deepest
-      << " m into a cavity wall (limit " << scene.max_overlap_fraction << " x bag.film.contact_radius = "
+      << " m into an STL wall (limit " << scene.max_overlap_fraction << " x bag.film.contact_radius = "
       << scene.max_overlap_fraction * scene.bag->contact_radius
       << " m): the film-wall contact is too soft for the load or the step too coarse. Raise "
          "bag.film.contact_radius, reduce simulation.timestep, or lower the excitation.";

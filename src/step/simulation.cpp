@@ -20,6 +20,7 @@ Particles& Simulation::particles() { return s_->particles(); }
 const std::vector<std::uint32_t>& Simulation::input_index() const { return s_->input_index(); }
 const FilmNodes& Simulation::film() const { return s_->film(); }
 FilmSelfContact Simulation::film_self_contact() const { return s_->film_self_contact(); }
+std::uint64_t Simulation::film_wall_stops() const { return s_->film_wall_stops(); }
 Vec3 Simulation::contents_relative_velocity() const { return s_->contents_relative_velocity(); }
 void Simulation::add_contents_velocity(const Vec3& dv) { s_->add_contents_velocity(dv); }
 std::vector<std::size_t> Simulation::balls_outside_bag() const { return s_->balls_outside_bag(); }

@@ -78,6 +78,7 @@ class Stepper {
   // The bag's film nodes (empty without a bag).
   const FilmNodes& film() const { return film_; }
   FilmSelfContact film_self_contact() const { return film_.tally.self; }
+  std::uint64_t film_wall_stops() const { return film_.tally.wall_stops; }
   // Ball-triangle contacts (film and STL walls) now.
   std::size_t mesh_contact_count() const;
   // Scene indices of the bag's balls whose centre lies outside the film now, ascending (generalized

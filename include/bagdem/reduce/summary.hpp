@@ -41,6 +41,8 @@ struct SummaryBag {
   // The film's self-contacts over the run (film_self_steps, film_self_pairs_max; 0 in a summary
   // written before they were counted).
   std::uint64_t self_steps = 0, self_pairs_max = 0;
+  // The steps at which the walls' stop held a film node (film_wall_stops; docs/bag.md, Guards).
+  std::uint64_t wall_stops = 0;
 };
 
 // A random force's band ("structure": band_response_rms_m, band_Hz, band_from_s).

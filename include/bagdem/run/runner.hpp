@@ -46,6 +46,7 @@ struct RunReport {
   double bag_packing = 0;              // its packing fraction when settling ended
   Vec3 bag_outer = Vec3::Zero();       // its outer length, width, height then (m)
   std::uint64_t film_self_steps = 0;   // steps at which the film met itself (summary.json's film_self_steps)
+  std::uint64_t film_wall_stops = 0;   // steps at which the walls' stop held a film node (film_wall_stops)
   std::uint64_t film_self_pairs_max = 0;  // the most node pairs touching at one step
   bool structure = false;              // the scene has a primary structure: the figures below are set
   double response_rms = 0;             // RMS displacement at x_a after release (m)

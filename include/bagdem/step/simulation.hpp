@@ -53,6 +53,7 @@ class Simulation {
   }
   const FilmNodes& film() const;  // the bag's film nodes (empty without a bag)
   FilmSelfContact film_self_contact() const;  // how often the film met itself so far
+  std::uint64_t film_wall_stops() const;       // steps at which the walls' stop held a film node so far
   // Velocity of the contents' centre of mass (balls and film nodes) relative to the cavity.
   Vec3 contents_relative_velocity() const;
   // Adds dv to the velocity of every ball and film node (a drop test's launch) (unit: m/s).

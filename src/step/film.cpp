@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "bagdem/contact/surface_law.hpp"
 #include "stepper.hpp"
@@ -46,6 +47,7 @@ void Film::set_up(const Scene& scene) {
   const std::size_t nw = scene.walls.size();
   wall_hist.assign(nn * nw, scene.models.tangential, false, scene.models.energy);
   wall_touch.assign(nn, 0);
+  wall_gap.assign(nn, std::numeric_limits<double>::infinity());
   strings.assign(bag.strings.size(), {});
   if (bag.self_radius > 0) {
     self_broad = make_broad_phase(scene.broad_phase);
@@ -204,6 +206,7 @@ void film_walls(const FilmStage& s) {
   for (std::size_t k = 0; k < nn; ++k) {
     // No wall near and none touched at the last step (nor an STL wall to look at): no force now,
     // none then (wall_force_prev is 0), nothing to add.
+    film.wall_gap[k] = std::numeric_limits<double>::infinity();
     if ((film.wall_near[k] | film.wall_touch[k]) == 0 && !stl) continue;
     const WallMotion wm = structure.tilt ? s.frame.at(film.x[k]) : rigid;
     const Vec3 &c_vel = wm.vel, &c_half = wm.half, &c_step = wm.step;
@@ -216,6 +219,7 @@ void film_walls(const FilmStage& s) {
       const Wall& wall = scene.walls[w];
       Vec3 n;
       const double d = wall_distance(wall, x_local, n);
+      film.wall_gap[k] = std::min(film.wall_gap[k], d);
       const double overlap = reach - d;
       const std::size_t h = k * nw + w;
       if (overlap <= 0) {
@@ -263,9 +267,10 @@ void film_walls(const FilmStage& s) {
 // Tallies: the force F jumps u by dv = dt F/m, so the node gains dt F.(u + dv/2) exactly; the
 // cavity gives dt F.V of it, and the rest, -dt F.(u - V + dv/2) >= 0 while the node closes in,
 // is dissipated.
-// Nodes looked at: those near a wall or touching it, and any whose step (relative to the cavity)
-// is half the allowed overlap or more (a node not near is farther than its reach from every wall:
-// find_film_walls_near).
+// Nodes looked at: those near a wall or touching it whose step (relative to the cavity, the slope's
+// share bounded by twice the cavity's half length) could take them from this step's distance
+// (film_walls: wall_gap) to the stop, and any whose step is half the allowed overlap or more (a
+// node not near is farther than its reach from every wall: find_film_walls_near).
 void film_wall_stops(const FilmStage& s) {
   const Scene& scene = s.scene;
   Film& film = s.film;
@@ -277,13 +282,20 @@ void film_wall_stops(const FilmStage& s) {
   const double allowed = scene.max_overlap_fraction * bag.contact_radius;
   const double limit = 0.5 * bag.film.thickness - allowed;  // the nearest a node's centre may end to a wall
   const std::uint32_t every_wall = nw >= 32 ? ~0u : (1u << nw) - 1;
+  // A bound on the square of a node's step relative to the walls: |a|^2, or with the slope's share
+  // b, 2 (|a|^2 + b^2) >= (|a| + b)^2.
+  const double slope_step = structure.tilt ? 2 * dt * s.frame.cavity.now.shear_rate.norm() * structure.tilt_extent : 0.0;
+  const double slope2 = slope_step * slope_step, fast2 = 0.25 * allowed * allowed;
   double diss = 0, work = 0;
   Vec3 J(0, 0, 0), L(0, 0, 0), load(0, 0, 0);
   bool stopped = false;
   for (std::size_t k = 0; k < nn; ++k) {
     Vec3 u = film.v[k] + dt * film.inv_mass[k] * film.f[k];
+    const double a2 = (dt * (u - rigid.vel)).squaredNorm(), step2 = structure.tilt ? 2 * (a2 + slope2) : a2;
     std::uint32_t walls = film.wall_near[k] | film.wall_touch[k];
-    if ((dt * (u - rigid.vel)).squaredNorm() >= 0.25 * allowed * allowed) walls = every_wall;
+    const double gap = film.wall_gap[k] - limit;
+    if (step2 >= fast2) walls = every_wall;
+    else if (gap > 0 && gap * gap > 1.002 * step2) continue;
     if (walls == 0) continue;
     const WallMotion wm = structure.tilt ? s.frame.at(film.x[k]) : rigid;
     const Vec3 x_local = film.x[k] - wm.pos;

@@ -23,6 +23,7 @@ struct Film : FilmNodes {
   ContactHistories wall_hist;               // per node per wall (no rolling: a node does not turn)
   std::vector<std::uint32_t> wall_touch;    // per node: walls touched at the last step
   std::vector<std::uint32_t> wall_near;     // per node: the walls it may touch (find_film_walls_near)
+  std::vector<double> wall_gap;             // per node: its least distance to those walls this step (+inf: none; unit: m)
   struct StringState {
     double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
     Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)

@@ -17,8 +17,11 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
       "See docs/calibrate.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep)")->required();
   c->add_option("--target", a.targets, "mode=M,reduction_db=R: the measured peak reduction of elastic mode M (repeatable: several fit one value by least squares)")
-      ->required()
       ->allow_extra_args(false);
+  c->add_option("--targets", a.targets_file,
+                "A CSV of measured peak reductions instead of --target: columns mode, reduction_db and optionally one case key "
+                "(e.g. bag.balls.mass_ratio) whose value per row is that figure's configuration; every configuration is run at "
+                "every value tried (docs/calibrate.md)");
   c->add_option("--key", a.key, "The case key to calibrate (default excitation.amplitude; e.g. primary.damping_ratio)");
   c->add_option("--bounds", a.bounds, "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4)");
   c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);

@@ -1,5 +1,6 @@
 // `bagdem calibrate` (study/calibrate.hpp): the targets and bounds read, the search's rounds run as
 // studies, the tables written.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -31,6 +32,16 @@ std::string short_number(double x) {
 struct Target {
   int mode = 0;
   double reduction_db = NAN;
+  std::size_t config = 0;  // its configuration: an index into Targets::configs (0 without them)
+};
+
+// The targets, and the configurations they were measured at: one case key and its values (none
+// when every target is of the case as it is).
+struct Targets {
+  std::vector<Target> list;
+  std::string config_key;
+  std::vector<Value> configs;
+  std::string where(const Target& t) const { return config_key.empty() ? "" : " at " + config_key + " = " + configs[t.config].given; }
 };
 
 // "mode=1,reduction_db=14.9".
@@ -59,6 +70,50 @@ Target parse_target(const std::string& text) {
   }
   if (t.mode == 0 || !std::isfinite(t.reduction_db)) bad("both mode and reduction_db are needed");
   return t;
+}
+
+// --targets FILE: a CSV whose header holds mode, reduction_db and at most one more column, a case
+// key; its cells are read as --set reads values. Rows with equal cells share a configuration.
+Targets read_targets_file(const std::string& path) {
+  const std::string hint = " (a CSV of columns mode, reduction_db and at most one case key that sets each target's configuration, "
+                           "e.g. bag.balls.mass_ratio)";
+  Table t;
+  try {
+    t = read_csv(path);
+  } catch (const std::exception& e) {
+    throw InputError(path, "", "", std::string("cannot be read: ") + e.what());
+  }
+  if (t.columns.empty() || t.rows.empty()) throw InputError(path, "", "", "holds no targets" + hint);
+  const std::size_t none = t.columns.size();
+  std::size_t c_mode = none, c_db = none, c_config = none;
+  Targets out;
+  for (std::size_t c = 0; c < t.columns.size(); ++c) {
+    const std::string& name = t.columns[c];
+    if (name == "mode") c_mode = c;
+    else if (name == "reduction_db") c_db = c;
+    else if (c_config == none && !name.empty()) c_config = c, out.config_key = name;
+    else throw InputError(path, name, "", "is a second configuration column (" + out.config_key + " is the first): one key sets the configurations" + hint);
+  }
+  if (c_mode == none || c_db == none) throw InputError(path, c_mode == none ? "mode" : "reduction_db", "", "is not a column" + hint);
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const std::vector<std::string>& row = t.rows[r];
+    const std::string line = "line " + std::to_string(r + 2);
+    if (row.size() != t.columns.size())
+      throw InputError(path, line, "", "has " + std::to_string(row.size()) + " cells where the header has " + std::to_string(t.columns.size()));
+    Target target = parse_target("mode=" + row[c_mode] + ",reduction_db=" + row[c_db]);
+    if (c_config != none) {
+      const Value v = parse_value(row[c_config]);
+      std::size_t k = 0;
+      while (k < out.configs.size() && out.configs[k].toml != v.toml) ++k;
+      if (k == out.configs.size()) out.configs.push_back(v);
+      target.config = k;
+    }
+    for (const Target& u : out.list)
+      if (u.mode == target.mode && u.config == target.config)
+        throw InputError(path, line, row[c_db], "repeats the target of mode " + std::to_string(u.mode) + out.where(u) + ": one figure per mode and configuration");
+    out.list.push_back(target);
+  }
+  return out;
 }
 
 // A value of the key in the unit the user wrote it in ("N", "mN"; "" for a plain number), with
@@ -128,7 +183,8 @@ std::vector<int> evaluated_modes(const Primary& P) {
   return modes;
 }
 
-// The reduction of each target at each value of a round's study, over the done seeds.
+// The reduction of each target at each value of a round's study, over the done seeds (the study
+// varies the key, then the targets' configuration key when they have one).
 std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector<bool>& finished, const std::vector<Target>& targets,
                                              std::size_t values) {
   std::vector<std::vector<std::vector<double>>> x(values, std::vector<std::vector<double>>(targets.size()));
@@ -146,12 +202,14 @@ std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector
     if (c_mode < none && c_db < none)
       for (const auto& row : t->rows) {
         if (row[1] != "done" || row[c_mode].empty() || row[c_db].empty()) continue;
-        const std::size_t combo = plan.points.at(std::stoul(row[0])).combination;
+        const Point& point = plan.points.at(std::stoul(row[0]));
+        const std::size_t combo = point.choice.at(0), config = point.choice.size() > 1 ? point.choice[1] : 0;
         const double mode = std::strtod(row[c_mode].c_str(), nullptr), db = std::strtod(row[c_db].c_str(), nullptr);
         const double ci = c_ci < none && !row[c_ci].empty() ? std::strtod(row[c_ci].c_str(), nullptr) : NAN;
         const bool edge = c_edge < none && row[c_edge] == "1";
         for (std::size_t k = 0; k < targets.size(); ++k)
-          if (mode == targets[k].mode && std::isfinite(db)) x[combo][k].push_back(db), own_ci[combo][k].push_back(ci), edges[combo][k] += edge;
+          if (mode == targets[k].mode && config == targets[k].config && std::isfinite(db))
+            x[combo][k].push_back(db), own_ci[combo][k].push_back(ci), edges[combo][k] += edge;
       }
   }
   // Over the starts their interval; one start has only its own, over its cycles.
@@ -170,28 +228,31 @@ std::string json_number(double x) { return std::isfinite(x) ? short_text(x) : "n
 // OUT/calibrate.csv (every value run, per target) and OUT/calibration.json (the solutions), and
 // the solutions on stdout; a warning per target whose peak lay at the band's edge. Returns whether
 // a solution matched.
-bool write_results(const std::string& out, const CalibrateArgs& args, const std::vector<Target>& targets, const Scale& scale,
+bool write_results(const std::string& out, const CalibrateArgs& args, const Targets& all, const Scale& scale,
                    const SearchOptions& opt, const SearchResult& r, bool failed) {
+  const std::vector<Target>& targets = all.list;
+  auto configuration = [&](const Target& t) { return all.config_key.empty() ? std::string() : all.config_key + "=" + all.configs[t.config].given; };
   // calibrate.csv: every value run, per target.
   const std::string unit = scale.unit.empty() ? "1" : scale.unit;
   std::ostringstream csv;
   csv << "round [1]," << args.key << "," << args.key << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
-      << "reduction_db_ci95 [dB],seeds [1],at_band_edge [1],residual_db [dB],matched [1]\n";
+      << "reduction_db_ci95 [dB],seeds [1],at_band_edge [1],residual_db [dB],matched [1],configuration\n";
   for (const Evaluation& e : r.evaluated)
     for (std::size_t k = 0; k < targets.size(); ++k) {
       const Estimate& x = e.at[k];
       const double res = x.mean - targets[k].reduction_db;
       csv << e.round << ",\"" << scale.given(e.value) << "\"," << short_text(e.value * scale.to_si) << ',' << targets[k].mode << ','
           << short_text(targets[k].reduction_db) << ',' << short_text(x.mean) << ',' << short_text(x.ci95) << ',' << x.n << ',' << x.at_band_edge << ',' << short_text(res) << ','
-          << (std::abs(res) <= allowance(x, opt.tolerance) ? 1 : 0) << '\n';
+          << (std::abs(res) <= allowance(x, opt.tolerance) ? 1 : 0) << ",\"" << configuration(targets[k]) << "\"\n";
     }
   write_atomically(fs::path(out) / "calibrate.csv", csv.str());
   for (std::size_t k = 0; k < targets.size(); ++k) {
     int edge = 0, runs = 0;
     for (const Evaluation& e : r.evaluated) edge += e.at[k].at_band_edge, runs += e.at[k].n;
     if (edge > 0)
-      std::fprintf(stderr, "warning: mode %d: the peak lay at the band's edge in %d of %d runs: their reduction is only a bound "
-                           "(widen excitation.span); calibrate.csv's at_band_edge counts them per value\n", targets[k].mode, edge, runs);
+      std::fprintf(stderr, "warning: mode %d%s: the peak lay at the band's edge in %d of %d runs: their reduction is only a bound "
+                           "(widen excitation.span); calibrate.csv's at_band_edge counts them per value\n", targets[k].mode,
+                   all.where(targets[k]).c_str(), edge, runs);
   }
 
   // calibration.json and the summary.
@@ -201,7 +262,8 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const std:
      << ",\n  \"tolerance_dB\": " << short_text(opt.tolerance) << ",\n  \"bounds\": [" << short_text(opt.lo) << ", " << short_text(opt.hi)
      << "],\n  \"targets\": [";
   for (std::size_t k = 0; k < targets.size(); ++k)
-    js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB\": " << short_text(targets[k].reduction_db) << "}";
+    js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB\": " << short_text(targets[k].reduction_db)
+       << (all.config_key.empty() ? "" : ", \"configuration\": \"" + json_escape(configuration(targets[k])) + "\"") << "}";
   js << "],\n  \"solutions\": [";
   bool matched = false;
   for (std::size_t i = 0; i < r.solutions.size(); ++i) {
@@ -215,8 +277,22 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const std:
       js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
          << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
          << ", \"residual_dB\": " << json_number(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number(s.slope[k]) << "}";
-      std::printf("  mode %d: %.2f +- %.2f dB over %d start%s against %.2f dB (residual %+.2f dB)\n", targets[k].mode, s.at[k].mean,
-                  s.at[k].ci95, s.at[k].n, s.at[k].n == 1 ? "" : "s", targets[k].reduction_db, s.residual[k]);
+      std::printf("  mode %d%s: %.2f +- %.2f dB over %d start%s against %.2f dB (residual %+.2f dB)\n", targets[k].mode,
+                  all.where(targets[k]).c_str(), s.at[k].mean, s.at[k].ci95, s.at[k].n, s.at[k].n == 1 ? "" : "s",
+                  targets[k].reduction_db, s.residual[k]);
+    }
+    // The fit per mode: the mean absolute residual over its figures.
+    js << "], \"mae_dB\": [";
+    std::vector<int> modes;
+    for (const Target& t : targets)
+      if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) modes.push_back(t.mode);
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      double sum = 0;
+      int n = 0;
+      for (std::size_t k = 0; k < targets.size(); ++k)
+        if (targets[k].mode == modes[m]) sum += std::abs(s.residual[k]), ++n;
+      js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number(sum / n) << "}";
+      if (n > 1) std::printf("  mode %d: mean absolute residual %.2f dB over %d figures\n", modes[m], sum / n, n);
     }
     js << "]}";
   }
@@ -268,7 +344,7 @@ std::vector<double> target_reductions(const Scene& s, const std::vector<Target>&
 
 int calibrate_command(const CalibrateArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<Target> targets;
+  Targets targets;
   std::vector<double> target_db;
   SearchOptions opt;
   Scale scale;
@@ -277,9 +353,14 @@ int calibrate_command(const CalibrateArgs& args) {
   std::optional<OutputLock> lock;
   if (const int code = reporting_errors([&] {
     base = calibration_spec(args);
-    for (const std::string& t : args.targets) targets.push_back(parse_target(t));
+    if (args.targets.empty() == args.targets_file.empty())
+      throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
+    if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);
+    for (const std::string& t : args.targets) targets.list.push_back(parse_target(t));
+    if (targets.config_key == args.key)
+      throw InputError(args.targets_file, args.key, "", "is the key calibrated: the targets' configuration column must be another key");
     const Scene s = load_case(base.case_dir, args.sets);
-    target_db = target_reductions(s, targets);
+    target_db = target_reductions(s, targets.list);
     const auto [lo, hi] = read_bounds(args, s, scale);
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
@@ -303,6 +384,7 @@ int calibrate_command(const CalibrateArgs& args) {
     Varied v{args.key, {}};
     for (double x : values) v.values.push_back({scale.toml(x), scale.given(x)});
     spec.vary = {v};
+    if (!targets.config_key.empty()) spec.vary.push_back({targets.config_key, targets.configs});
     Plan plan = make_plan(spec);
     for (const std::string& w : validate_plan(plan))
       if (round == 0) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -326,7 +408,7 @@ int calibrate_command(const CalibrateArgs& args) {
     for (bool f : finished) failed = failed || !f;
     merge_tables(plan, finished);
     ++round;
-    return estimates(plan, finished, targets, values.size());
+    return estimates(plan, finished, targets.list, values.size());
   };
 
   SearchResult r;

@@ -1,6 +1,8 @@
 // Calibration: `bagdem calibrate CASE --target mode=1,reduction_db=14.9 [--target ...]` finds the
 // value of one case key (the force amplitude by default) at which the ensemble's peak reduction
-// matches measured ones.
+// matches measured ones. `--targets FILE` reads them from a CSV (columns mode, reduction_db, and
+// optionally one more named by a case key: each target's configuration, such as the mass ratio of
+// each figure of a measured table); each configuration is run at every value tried.
 //
 // The search (calibrate_search.cpp) works on ensemble means, never on one start: a bed is chaotic,
 // so each value of the key is run with N seeds and gives, per target, the mean reduction and its
@@ -96,6 +98,7 @@ SearchResult calibrate_search(const std::vector<double>& targets, const SearchOp
 struct CalibrateArgs {
   std::string dir;                        // CASE_DIR
   std::vector<std::string> targets;       // "mode=1,reduction_db=14.9"
+  std::string targets_file;               // --targets: a CSV of them (mode, reduction_db[, a case key])
   std::string key = "excitation.amplitude";
   std::string bounds;                     // "lo,hi" as --set reads values; empty: the case's value / 4 and x 4
   std::vector<std::string> sets;

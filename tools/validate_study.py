@@ -25,11 +25,15 @@
 #      at the calibrated level, and again with each model choice of SLOPE_CHOICES varied alone
 #      (--seeds starts each), and slope.csv (per choice, value and mode: the reduction at each ratio,
 #      the slopes 8 - 5% and 12 - 8% with their intervals, and the runs' mean wall time).
-#      --slope alone skips steps 1-4 (it needs --damping-ratio).
+#      --slope alone skips steps 1-4 (it needs --damping-ratio);
+#   6. with --table3, the pipe's damping ratio fitted by least squares to all 20 figures of Table 3
+#      at once (cases/studies/mass-ratio/table3.csv: modes 1 and 3 at 5-14%, the mass-ratio study's
+#      bag), at the force --amplitude: calibrate-table3.csv and calibration-table3.json (each
+#      figure's residual, the mean absolute residual per mode). --table3 alone skips steps 1-5.
 #
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
 #                        [--docs DIR] [--jobs J] [--keys] [--impact-amplitude "0.2 N"]
-#                        [--clearance-amplitude "0.5 N"] [--slope]
+#                        [--clearance-amplitude "0.5 N"] [--slope] [--table3]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -86,6 +90,23 @@ def key_column(header):
 def rows(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def calibrate_table3(out, amplitude, seeds, jobs, docs):
+    """Step 6: the damping ratio on all of Table 3 (bagdem calibrate --targets), its tables into docs."""
+    cal = os.path.join(out, "calibrate-table3")
+    args = [BAGDEM, "calibrate", os.path.join(ROOT, "cases/pipe-beanbag"), "--key", "primary.damping_ratio",
+            "--targets", os.path.join(ROOT, "cases/studies/mass-ratio/table3.csv"), "--bounds", "0.002,0.006", "--scan", "5",
+            "--rounds", "3", "--seeds", str(seeds), "--out", cal, "--jobs", str(jobs), "--set", f'excitation.amplitude="{amplitude}"']
+    for m in rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml")) + MODES:
+        args += ["--set", m]
+    print("+ " + " ".join(args), flush=True)
+    code = subprocess.call(args)
+    if code not in (0, 3):
+        sys.exit(f"tools/validate-study: the calibration on Table 3 exited {code}")
+    for name in ("calibration.json", "calibrate.csv"):
+        stem, ext = os.path.splitext(name)
+        shutil.copy(os.path.join(cal, name), os.path.join(docs, f"{stem}-table3{ext}"))
 
 
 def calibrate(out, amplitude, seeds, jobs):
@@ -482,6 +503,8 @@ def main(argv):
     p.add_argument("--docs", default=os.path.join(ROOT, "docs", "validation"), help="where study.csv and the figures go")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--keys", action="store_true", help="also vary each candidate key alone (step 4) and write keys.csv")
+    p.add_argument("--table3", action="store_true",
+                   help="only step 6: the pipe's damping ratio fitted to all 20 figures of Table 3 at --amplitude, calibrate-table3.csv")
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--clearance-amplitude", default="0.5 N",
@@ -493,6 +516,9 @@ def main(argv):
         sys.exit(f"tools/validate-study: no {BAGDEM}: run tools/validate-study (it builds), not this file")
     os.makedirs(a.docs, exist_ok=True)
     zeta = a.damping_ratio
+    if a.table3:
+        calibrate_table3(a.out, a.amplitude, a.seeds, a.jobs, a.docs)
+        return 0
     if a.slope:
         if zeta is None:
             sys.exit("tools/validate-study: --slope needs --damping-ratio (the calibrated one: docs/validation/README.md)")

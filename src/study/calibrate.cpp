@@ -321,8 +321,9 @@ StudySpec calibration_spec(const CalibrateArgs& args) {
   return base;
 }
 
-// The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise).
-std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets) {
+// The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise, naming
+// `source`: --target or the targets' file).
+std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets, const std::string& source) {
   if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
   const std::vector<int> modes = evaluated_modes(*s.primary);
@@ -331,7 +332,7 @@ std::vector<double> target_reductions(const Scene& s, const std::vector<Target>&
     if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
       std::string have;
       for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
-      throw InputError("--target", "", "mode=" + std::to_string(t.mode),
+      throw InputError(source, "", "mode=" + std::to_string(t.mode),
                        "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
                            ": set excitation.around_modes to include mode " + std::to_string(t.mode));
     }
@@ -360,7 +361,7 @@ int calibrate_command(const CalibrateArgs& args) {
     if (targets.config_key == args.key)
       throw InputError(args.targets_file, args.key, "", "is the key calibrated: the targets' configuration column must be another key");
     const Scene s = load_case(base.case_dir, args.sets);
-    target_db = target_reductions(s, targets.list);
+    target_db = target_reductions(s, targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
     const auto [lo, hi] = read_bounds(args, s, scale);
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;

@@ -121,28 +121,30 @@ TEST(BagGuard, BallAcrossTheFilmInOneStepIsCaught) {
 // (src/step/film.cpp, film_wall_stops) ends a node no deeper in a wall than the guard's overlap,
 // simulation.max_overlap x bag.film.contact_radius, where the film-wall law alone would let it go.
 // Scene: guard_toml's bag (zero gravity) with its floor 1 mm below the film, of a material
-// "floor" the film touches through a soft linear spring (hooke, k = 5 N/m) and the balls as steel,
-// for 8 ms: (a) the bag launched at the floor at 2 m/s (it lands, flattens and bounces); (b) the bag
-// at rest and the cavity shaken along z at 100 Hz, 1.5 mm (the floor strikes it at up to 0.94 m/s:
-// the cavity's work on the stopped nodes counts).
+// "floor" the film touches through a soft linear spring (hooke, k = 5 N/m) and the balls as steel:
+// (a) the bag launched at the floor at 2 m/s, 40 ms (it lands, flattens, and lies with nodes held
+// by the stop for thousands of steps); (b) the bag at rest and the cavity shaken along z at 100 Hz,
+// 3 mm (120 g; the floor strikes it at up to 1.88 m/s: the cavity's work on the stopped nodes
+// counts), 8 ms.
 // Reference: the spring alone stops a node of mass m at v sqrt(m / k), several times the allowed
-// overlap; with the stop no node is ever deeper than the allowed overlap (tolerance 1e-9 of it: the
-// stop's place is exact up to the cavity's and the node's rounding), the stop acted (it counts its
-// steps), no RunError, and the energy budget (the stop's loss tallied as film-wall dissipation)
-// closes within 1e-3 of its scale. Measured: deepest = allowed in both, the stop at 3949 and 110
-// steps, balance 4.2e-4 and 4.9e-4. Without the stop a node goes 5.1x and 2.3x the allowed depth;
-// without its dissipation tallied the balance is off by 3.3e-2 and 0.22, without the cavity's
-// work on the stopped nodes by 0.95 (b).
+// overlap; with the stop no node is ever deeper than the allowed overlap, to within the cavity's
+// acceleration x dt^2 (the stop takes the wall's velocity as constant over the step) and 1e-9 of it;
+// the stop acted (it counts its steps), no RunError, and the energy budget (the stop's loss tallied
+// as film-wall dissipation, by the trapezoidal rule) closes within 5e-4 of its scale.
+// Measured: deepest = allowed in both, the stop at 11033 and 110 steps, balance 2.3e-4 and 1.5e-4.
+// Without the stop a node goes 5.1x and 2.3x the allowed depth; without its dissipation tallied the
+// balance is off by 4.7e-2 and 0.22; with the loss counted as the jump of the mid-step kinetic
+// energy (which charges a node held still against a force every step) by 8.4e-4 in (a).
 TEST(BagGuard, FilmNodesStayInsideTheCavityForAnyForce) {
   const double floor_z = -0.008;
   for (const bool shaken : {false, true}) {
-    const double v0 = shaken ? 0.0 : 2.0;
+    const double v0 = shaken ? 0.0 : 2.0, X = 0.003, w = 2 * 3.14159265358979323846 * 100;
     CaseText toml = guard_toml(0.0, 0.0)
                         .material("floor", "7800 kg/m^3", "2 GPa", "0.3")
                         .set("interactions.floor-ldpe", {{"law", "\"hooke\""}, {"stiffness", "5 N/m"}, {"restitution", 0.5}})
                         .box("floor", vec("-30 mm", "-15 mm", Value(floor_z)), vec("30 mm", "15 mm", Value(-floor_z)))
-                        .set("simulation", "duration", "8 ms");
-    if (shaken) toml.harmonic("3 mm", "100 Hz", "[0, 0, 1]");
+                        .set("simulation", "duration", shaken ? "8 ms" : "40 ms");
+    if (shaken) toml.harmonic(Value(X), "100 Hz", "[0, 0, 1]");
     LoadedCase c(toml);
     const Scene& s = c.scene;
     const double reach = 0.5 * s.bag->film.thickness, allowed = s.max_overlap_fraction * s.bag->contact_radius;
@@ -174,7 +176,7 @@ TEST(BagGuard, FilmNodesStayInsideTheCavityForAnyForce) {
     ASSERT_TRUE(error.empty()) << error;
     ASSERT_GT(spring_alone, 3 * allowed) << "the scene must press the nodes deeper than the stop allows";
     EXPECT_GT(sim.film_wall_stops(), 0u);
-    EXPECT_LE(deepest, allowed * (1 + 1e-9));
-    EXPECT_LT(b.relative(), 1e-3);
+    EXPECT_LE(deepest, allowed * (1 + 1e-9) + (shaken ? X * w * w : 0.0) * s.dt * s.dt);
+    EXPECT_LT(b.relative(), 5e-4);
   }
 }

@@ -446,7 +446,7 @@ TEST(BagStrings, SlackStringExertsNoForce) {
 // [-0.1 mm, +1 mm] (the tie must not be flung towards the anchor), and no RunError.
 // Measured (this build): c dt / m_tie = 3.5; the tie oscillates with growing amplitude, is flung
 // 6.8 mm up and the run stops at 7.5 ms ("a node of the bag's film is pressed 0.000668 m into a
-// cavity wall"): FAILS. With c = 1.0 N s/m (c dt / m_tie = 1.7) it is stable, with 1.2 (2.1) not.
+// cavity wall", a guard the walls' stop has since replaced): FAILS. With c = 1.0 N s/m (c dt / m_tie = 1.7) it is stable, with 1.2 (2.1) not.
 TEST(BagStrings, StringDampingIsStableAtTheAutoStep) {
   LoadedCase c(hanging_toml(), {"bag.strings.0.tie_radius=\"auto\"", "bag.strings.0.damping=2", "bag.film.mass_scaling=1",
                                   "simulation.duration=0.012"});

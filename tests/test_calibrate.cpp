@@ -368,7 +368,9 @@ TEST(Calibrate, RefusesBadTargetsBoundsAndModesBeforeRunning) {
       {{"--targets", (t.path / "no-db.csv").string()}, "reduction_db"},
       {{"--targets", (t.path / "two-keys.csv").string()}, "is a second configuration column"},
       {{"--targets", (t.path / "repeat.csv").string()}, "repeats the target of mode 1 at primary.damping_ratio = 0.02"},
-      {{"--targets", (t.path / "bad-mode.csv").string()}, "mode must be a whole number"},
+      {{"--targets", (t.path / "bad-mode.csv").string()}, "bad-mode.csv: key 'row 1, mode' = 1.5: must be a whole number"},
+      {{"--targets", (t.path / "bad-db.csv").string()}, "bad-db.csv: key 'row 2, reduction_db' = high: is not a number"},
+      {{"--targets", (t.path / "no-name.csv").string()}, "column 3"},
       {{"--targets", (t.path / "good.csv").string(), "--key", "primary.damping_ratio", "--bounds", "0.01,0.04"}, "is the key calibrated"},
       {{"--targets", (t.path / "bad-key.csv").string(), "--bounds", "\"0.03 N\",\"0.2 N\""}, "primary.nonsense"},
   };
@@ -377,6 +379,8 @@ TEST(Calibrate, RefusesBadTargetsBoundsAndModesBeforeRunning) {
   std::ofstream(t.path / "two-keys.csv") << "mode,reduction_db,primary.damping_ratio,primary.mass\n1,5,0.02,0.05\n";
   std::ofstream(t.path / "repeat.csv") << "mode,reduction_db,primary.damping_ratio\n1,5,0.02\n1,6,0.02\n";
   std::ofstream(t.path / "bad-mode.csv") << "mode,reduction_db\n1.5,5\n";
+  std::ofstream(t.path / "bad-db.csv") << "\xEF\xBB\xBFmode, reduction_db\r\n1,5\r\n3,high\r\n";
+  std::ofstream(t.path / "no-name.csv") << "mode,reduction_db,\n1,5,\n";
   std::ofstream(t.path / "bad-key.csv") << "mode,reduction_db,primary.nonsense\n1,5,0.02\n";
   for (const auto& [args, says] : bad) {
     std::vector<std::string> a = {"calibrate", dir.string(), "--out", out.string()};

@@ -92,18 +92,28 @@ def rows(path):
         return list(csv.DictReader(f))
 
 
+def run_calibration(cal, amplitude, seeds, jobs, targets, sets):
+    """bagdem calibrate of the pipe's damping ratio at the force `amplitude` into `cal`, with the
+    target arguments `targets` and the overrides `sets`; its calibration.json."""
+    args = [BAGDEM, "calibrate", os.path.join(ROOT, "cases/pipe-beanbag"), "--key", "primary.damping_ratio",
+            "--bounds", "0.002,0.006", "--scan", "5", "--rounds", "3", "--seeds", str(seeds), "--out", cal,
+            "--jobs", str(jobs)]
+    for m in sets + [f'excitation.amplitude="{amplitude}"'] + MODES:
+        args += ["--set", m]
+    args += targets
+    print("+ " + " ".join(args), flush=True)
+    code = subprocess.call(args)
+    if code not in (0, 3):  # 3: not every target matched: the least-squares value stands, with its residuals
+        sys.exit(f"tools/validate-study: the calibration exited {code}")
+    with open(os.path.join(cal, "calibration.json")) as f:
+        return json.load(f)
+
+
 def calibrate_table3(out, amplitude, seeds, jobs, docs):
     """Step 6: the damping ratio on all of Table 3 (bagdem calibrate --targets), its tables into docs."""
     cal = os.path.join(out, "calibrate-table3")
-    args = [BAGDEM, "calibrate", os.path.join(ROOT, "cases/pipe-beanbag"), "--key", "primary.damping_ratio",
-            "--targets", os.path.join(ROOT, "cases/studies/mass-ratio/table3.csv"), "--bounds", "0.002,0.006", "--scan", "5",
-            "--rounds", "3", "--seeds", str(seeds), "--out", cal, "--jobs", str(jobs), "--set", f'excitation.amplitude="{amplitude}"']
-    for m in rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml")) + MODES:
-        args += ["--set", m]
-    print("+ " + " ".join(args), flush=True)
-    code = subprocess.call(args)
-    if code not in (0, 3):
-        sys.exit(f"tools/validate-study: the calibration on Table 3 exited {code}")
+    run_calibration(cal, amplitude, seeds, jobs, ["--targets", os.path.join(ROOT, "cases/studies/mass-ratio/table3.csv")],
+                    rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml")))
     for name in ("calibration.json", "calibrate.csv"):
         stem, ext = os.path.splitext(name)
         shutil.copy(os.path.join(cal, name), os.path.join(docs, f"{stem}-table3{ext}"))
@@ -112,19 +122,10 @@ def calibrate_table3(out, amplitude, seeds, jobs, docs):
 def calibrate(out, amplitude, seeds, jobs):
     """The pipe's damping ratio at the given force: both Table 3 modes by least squares."""
     cal = os.path.join(out, "calibrate")
-    args = [BAGDEM, "calibrate", os.path.join(ROOT, "cases/pipe-beanbag"), "--key", "primary.damping_ratio",
-            "--bounds", "0.002,0.006", "--scan", "5", "--rounds", "3", "--seeds", str(seeds), "--out", cal,
-            "--jobs", str(jobs), "--set", "bag.balls.mass_ratio=0.05", "--set", f'excitation.amplitude="{amplitude}"']
-    for m in MODES:
-        args += ["--set", m]
+    targets = []
     for mode, db in TABLE3:
-        args += ["--target", f"mode={mode},reduction_db={db}"]
-    print("+ " + " ".join(args), flush=True)
-    code = subprocess.call(args)
-    if code not in (0, 3):  # 3: not every target matched: the least-squares value stands, with its residuals
-        sys.exit(f"tools/validate-study: the calibration exited {code}")
-    with open(os.path.join(cal, "calibration.json")) as f:
-        doc = json.load(f)
+        targets += ["--target", f"mode={mode},reduction_db={db}"]
+    doc = run_calibration(cal, amplitude, seeds, jobs, targets, ["bag.balls.mass_ratio=0.05"])
     if not doc["solutions"]:
         sys.exit(f"tools/validate-study: the calibration found no damping ratio: {doc['note']}")
     return cal, doc["solutions"][0]["value_text"]
@@ -307,21 +308,20 @@ def slope_rows(out, level, seeds, jobs):
         for m in study + (level if key != "excitation.amplitude" else level[1:]) + MODES:
             args += ["--set", m]
         run(args)
-        peaks = rows(os.path.join(d, "peaks.csv"))
+        peaks = [r for r in rows(os.path.join(d, "peaks.csv")) if r["status"] == "done" and r["reduction_dB [dB]"] != ""]
         varied = [c for c in (peaks[0] if peaks else {}) if " [" not in c and c not in ("point", "status", "seed", "bag.balls.mass_ratio")]
-        walls = {}
-        for r in peaks:
-            if r["status"] == "done":
-                with open(os.path.join(d, r["point"], "summary.json")) as f:
-                    walls.setdefault(" / ".join(r[c] for c in varied), []).append(json.load(f)["wall_time_s"])
+        walls = {}  # value -> {point: wall time [s]}
         groups = {}  # (value, mode) -> {ratio: {seed: dB}}
         for r in peaks:
-            if r["status"] == "done":
-                g = groups.setdefault((" / ".join(r[c] for c in varied), int(float(r["mode [1]"]))), {})
-                g.setdefault(float(r["bag.balls.mass_ratio"]), {})[int(r["seed"])] = float(r["reduction_dB [dB]"])
+            value = " / ".join(r[c] for c in varied)
+            if r["point"] not in walls.setdefault(value, {}):
+                with open(os.path.join(d, f"point-{int(r['point']):03d}", "summary.json")) as f:
+                    walls[value][r["point"]] = json.load(f)["wall_time_s"]
+            g = groups.setdefault((value, int(float(r["mode [1]"]))), {})
+            g.setdefault(float(r["bag.balls.mass_ratio"]), {})[int(r["seed"])] = float(r["reduction_dB [dB]"])
         for (value, mode), g in sorted(groups.items()):
             row = {"key": key, "value": value, "mode [1]": mode, "seeds [1]": min(len(g.get(x, {})) for x in SLOPE_RATIOS),
-                   "wall_s_mean [s]": f"{sum(walls[value]) / len(walls[value]):.1f}"}
+                   "wall_s_mean [s]": f"{sum(walls[value].values()) / len(walls[value]):.1f}"}
             for x in SLOPE_RATIOS:
                 m, h = mean_ci95(list(g.get(x, {}).values()))
                 row[f"reduction_db_{round(100 * x)}pct_mean [dB]"], row[f"reduction_db_{round(100 * x)}pct_ci95 [dB]"] = f"{m:.2f}", f"{h:.2f}"

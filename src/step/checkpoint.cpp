@@ -80,7 +80,7 @@ void Stepper::load_state(const std::vector<char>& image) {
   r.pod(magic);
   r.pod(n);
   if (magic != kMagic)
-    throw std::runtime_error("not a checkpoint of this bagdem version (format 7); rerun from the start");
+    throw std::runtime_error("not a checkpoint of this bagdem version (format 9); rerun from the start");
   if (n != p_.size())
     throw std::runtime_error("checkpoint holds " + std::to_string(n) + " particles, the case " +
                              std::to_string(p_.size()));

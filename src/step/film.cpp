@@ -259,14 +259,19 @@ void film_walls(const FilmStage& s) {
 // The walls' stop: however large the force on a node, it ends no deeper in a plane or cylinder wall
 // than the guard's overlap, simulation.max_overlap x bag.film.contact_radius. Once the node's whole
 // force of the step is known, so is its place after the step (x + dt u, u = v + dt F/m its mid-step
-// velocity, as Film::drift makes it), and the wall's (moving at its velocity V now). Where the node
-// would end deeper, a force along the wall's normal puts it at that depth: an inelastic stop within
-// the step (the velocity-level contact of Moreau's contact dynamics; Box2D's speculative contacts
-// likewise look one step ahead). It acts only where the film-wall law cannot hold the node, so a
-// run it never touches keeps its bits; a run it touches counts those steps (tally.wall_stops).
-// Tallies: the force F jumps u by dv = dt F/m, so the node gains dt F.(u + dv/2) exactly; the
-// cavity gives dt F.V of it, and the rest, -dt F.(u - V + dv/2) >= 0 while the node closes in,
-// is dissipated.
+// velocity, as Film::drift makes it), and the wall's (moving at its velocity V now: to first order
+// in the step, so a node may end deeper by the cavity's acceleration x dt^2, and in a cylinder by
+// the curvature's share, second order in its step). Where the node would end deeper, a force along
+// the wall's normal puts it at that depth, or holds it at its depth when it is deeper already (it
+// is never thrown out): an inelastic stop within the step (the velocity-level contact of Moreau's
+// contact dynamics; Box2D's speculative contacts likewise look one step ahead). It acts only where
+// the film-wall law cannot hold the node, so a run it never touches keeps its bits; a run it touches
+// counts those steps (tally.wall_stops). In set-up nothing moves, and it does nothing.
+// Tallies, by the trapezoidal rule the other contacts use: the force F does work F.dx on the node
+// over its displacements dx in the step before and the step after (half each), and F.dc through
+// the cavity's; the difference, minus F times the node's displacement relative to the wall, is
+// dissipated (zero for a node held still, the kinetic energy of the normal approach for a node
+// stopped from speed).
 // Nodes looked at: those near a wall or touching it whose step (relative to the cavity, the slope's
 // share bounded by twice the cavity's half length) could take them from this step's distance
 // (film_walls: wall_gap) to the stop, and any whose step is half the allowed overlap or more (a
@@ -278,6 +283,7 @@ void film_wall_stops(const FilmStage& s) {
   const Bag& bag = *scene.bag;
   const std::size_t nn = film.size(), nw = scene.walls.size();
   const double dt = s.ctx.dt;
+  if (!s.ctx.stepping()) return;
   const WallMotion rigid = s.frame.rigid();
   const double allowed = scene.max_overlap_fraction * bag.contact_radius;
   const double limit = 0.5 * bag.film.thickness - allowed;  // the nearest a node's centre may end to a wall
@@ -299,22 +305,28 @@ void film_wall_stops(const FilmStage& s) {
     if (walls == 0) continue;
     const WallMotion wm = structure.tilt ? s.frame.at(film.x[k]) : rigid;
     const Vec3 x_local = film.x[k] - wm.pos;
+    Vec3 F_node(0, 0, 0);
+    bool held = false;
     for (; walls != 0; walls &= walls - 1) {
       Vec3 n;
       const double d = wall_distance(scene.walls[static_cast<std::size_t>(std::countr_zero(walls))], x_local, n);
-      const double ahead = d + dt * (u - wm.vel).dot(n);
-      if (ahead >= limit) continue;
-      const double dv = (limit - ahead) / dt;
+      const double ahead = d + dt * (u - wm.vel).dot(n), target = std::min(limit, d);
+      if (ahead >= target) continue;
+      const double dv = (target - ahead) / dt;
       const Vec3 F = (film.mass[k] * dv / dt) * n;
-      film.f[k] += F;
-      diss -= dt * F.dot(u - wm.vel + 0.5 * dv * n);
-      work += dt * F.dot(wm.vel);
+      F_node += F;
       u += dv * n;
       J -= dt * F;
       L -= dt * (x_local - d * n - scene.cavity_reference).cross(F);
       if (structure.couple) load += s.frame.load_moments(x_local - d * n, -F);
-      stopped = true;
+      held = true;
     }
+    if (!held) continue;
+    film.f[k] += F_node;
+    const Vec3 node_moves = dt * film.v[k] + dt * u, cavity_moves = wm.step + dt * wm.vel;
+    work += 0.5 * F_node.dot(cavity_moves);
+    diss -= 0.5 * F_node.dot(node_moves - cavity_moves);
+    stopped = true;
   }
   if (!stopped) return;
   ++film.tally.wall_stops;

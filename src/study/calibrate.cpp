@@ -84,23 +84,41 @@ Targets read_targets_file(const std::string& path) {
     throw InputError(path, "", "", std::string("cannot be read: ") + e.what());
   }
   if (t.columns.empty() || t.rows.empty()) throw InputError(path, "", "", "holds no targets" + hint);
+  auto trimmed = [](std::string s) {
+    if (s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);  // a byte-order mark
+    s.erase(0, s.find_first_not_of(" \t"));
+    s.erase(s.find_last_not_of(" \t") + 1);
+    return s;
+  };
   const std::size_t none = t.columns.size();
   std::size_t c_mode = none, c_db = none, c_config = none;
   Targets out;
   for (std::size_t c = 0; c < t.columns.size(); ++c) {
-    const std::string& name = t.columns[c];
+    const std::string name = trimmed(t.columns[c]);
+    if (name.empty()) throw InputError(path, "column " + std::to_string(c + 1), "", "has no name" + hint);
     if (name == "mode") c_mode = c;
     else if (name == "reduction_db") c_db = c;
-    else if (c_config == none && !name.empty()) c_config = c, out.config_key = name;
+    else if (c_config == none) c_config = c, out.config_key = name;
     else throw InputError(path, name, "", "is a second configuration column (" + out.config_key + " is the first): one key sets the configurations" + hint);
   }
   if (c_mode == none || c_db == none) throw InputError(path, c_mode == none ? "mode" : "reduction_db", "", "is not a column" + hint);
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const std::vector<std::string>& row = t.rows[r];
-    const std::string line = "line " + std::to_string(r + 2);
+    const std::string where = "row " + std::to_string(r + 1);
     if (row.size() != t.columns.size())
-      throw InputError(path, line, "", "has " + std::to_string(row.size()) + " cells where the header has " + std::to_string(t.columns.size()));
-    Target target = parse_target("mode=" + row[c_mode] + ",reduction_db=" + row[c_db]);
+      throw InputError(path, where, "", "has " + std::to_string(row.size()) + " cells where the header has " + std::to_string(t.columns.size()));
+    auto number = [&](std::size_t c) {
+      const std::string cell = trimmed(row[c]);
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0' || !std::isfinite(v)) throw InputError(path, where + ", " + trimmed(t.columns[c]), row[c], "is not a number");
+      return v;
+    };
+    Target target;
+    const double mode = number(c_mode);
+    if (mode < 1 || mode != std::floor(mode)) throw InputError(path, where + ", mode", row[c_mode], "must be a whole number >= 1 (the mode's number among the elastic modes)");
+    target.mode = static_cast<int>(mode);
+    target.reduction_db = number(c_db);
     if (c_config != none) {
       const Value v = parse_value(row[c_config]);
       std::size_t k = 0;
@@ -110,7 +128,7 @@ Targets read_targets_file(const std::string& path) {
     }
     for (const Target& u : out.list)
       if (u.mode == target.mode && u.config == target.config)
-        throw InputError(path, line, row[c_db], "repeats the target of mode " + std::to_string(u.mode) + out.where(u) + ": one figure per mode and configuration");
+        throw InputError(path, where, row[c_db], "repeats the target of mode " + std::to_string(u.mode) + out.where(u) + ": one figure per mode and configuration");
     out.list.push_back(target);
   }
   return out;
@@ -232,6 +250,11 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
                    const SearchOptions& opt, const SearchResult& r, bool failed) {
   const std::vector<Target>& targets = all.list;
   auto configuration = [&](const Target& t) { return all.config_key.empty() ? std::string() : all.config_key + "=" + all.configs[t.config].given; };
+  auto csv_cell = [](const std::string& s) {  // RFC 4180: quoted, its quotes doubled
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  };
   // calibrate.csv: every value run, per target.
   const std::string unit = scale.unit.empty() ? "1" : scale.unit;
   std::ostringstream csv;
@@ -243,7 +266,7 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
       const double res = x.mean - targets[k].reduction_db;
       csv << e.round << ",\"" << scale.given(e.value) << "\"," << short_text(e.value * scale.to_si) << ',' << targets[k].mode << ','
           << short_text(targets[k].reduction_db) << ',' << short_text(x.mean) << ',' << short_text(x.ci95) << ',' << x.n << ',' << x.at_band_edge << ',' << short_text(res) << ','
-          << (std::abs(res) <= allowance(x, opt.tolerance) ? 1 : 0) << ",\"" << configuration(targets[k]) << "\"\n";
+          << (std::abs(res) <= allowance(x, opt.tolerance) ? 1 : 0) << ',' << csv_cell(configuration(targets[k])) << '\n';
     }
   write_atomically(fs::path(out) / "calibrate.csv", csv.str());
   for (std::size_t k = 0; k < targets.size(); ++k) {

@@ -48,6 +48,8 @@ void Film::set_up(const Scene& scene) {
   wall_hist.assign(nn * nw, scene.models.tangential, false, scene.models.energy);
   wall_touch.assign(nn, 0);
   wall_gap.assign(nn, std::numeric_limits<double>::infinity());
+  stl_gap.assign(nn, std::numeric_limits<double>::infinity());
+  stl_normal.assign(nn, Vec3::Zero());
   strings.assign(bag.strings.size(), {});
   if (bag.self_radius > 0) {
     self_broad = make_broad_phase(scene.broad_phase);
@@ -188,7 +190,7 @@ void find_film_walls_near(Film& film, const Scene& scene, const CavityFrame& fra
 
 // Film nodes against the cavity's walls (planes, cylinders): those near (film.wall_near) and
 // those touched at the last step; no other can be touched. deepest: over the STL walls (the walls'
-// stop, film_wall_stops, holds the nodes off the others).
+// stop, film_wall_stops, holds the nodes on their inner side; the guard looks for one beyond it).
 namespace {
 template <bool Tangential, bool Energy>
 void film_walls(const FilmStage& s) {
@@ -256,8 +258,11 @@ void film_walls(const FilmStage& s) {
   film.deepest = deepest;
 }
 
-// The walls' stop: however large the force on a node, it ends no deeper in a plane or cylinder wall
-// than the guard's overlap, simulation.max_overlap x bag.film.contact_radius. Once the node's whole
+// The walls' stop: however large the force on a node, it ends no deeper in a wall (plane, cylinder
+// or the deepest hit of an STL wall, film_node_stl_contacts) than the guard's overlap,
+// simulation.max_overlap x bag.film.contact_radius; in an STL wall, whose contact sees a node only
+// within its reach (half the film's thickness) of the surface, on either side, no deeper than its
+// centre on the surface when that comes first. Once the node's whole
 // force of the step is known, so is its place after the step (x + dt u, u = v + dt F/m its mid-step
 // velocity, as Film::drift makes it), and the wall's (moving at its velocity V now: to first order
 // in the step, so a node may end deeper by the cavity's acceleration x dt^2, and in a cylinder by
@@ -272,7 +277,7 @@ void film_walls(const FilmStage& s) {
 // the cavity's; the difference, minus F times the node's displacement relative to the wall, is
 // dissipated (zero for a node held still, the kinetic energy of the normal approach for a node
 // stopped from speed).
-// Nodes looked at: those near a wall or touching it whose step (relative to the cavity, the slope's
+// Nodes looked at: those near a wall or touching it (an STL wall: hit this step) whose step (relative to the cavity, the slope's
 // share bounded by twice the cavity's half length) could take them from this step's distance
 // (film_walls: wall_gap) to the stop, and any whose step is half the allowed overlap or more (a
 // node not near is farther than its reach from every wall: find_film_walls_near).
@@ -287,6 +292,7 @@ void film_wall_stops(const FilmStage& s) {
   const WallMotion rigid = s.frame.rigid();
   const double allowed = scene.max_overlap_fraction * bag.contact_radius;
   const double limit = 0.5 * bag.film.thickness - allowed;  // the nearest a node's centre may end to a wall
+  const double limit_stl = std::max(limit, 0.0);             // to an STL wall
   const std::uint32_t every_wall = nw >= 32 ? ~0u : (1u << nw) - 1;
   // A bound on the square of a node's step relative to the walls: |a|^2, or with the slope's share
   // b, 2 (|a|^2 + b^2) >= (|a| + b)^2.
@@ -299,19 +305,19 @@ void film_wall_stops(const FilmStage& s) {
     Vec3 u = film.v[k] + dt * film.inv_mass[k] * film.f[k];
     const double a2 = (dt * (u - rigid.vel)).squaredNorm(), step2 = structure.tilt ? 2 * (a2 + slope2) : a2;
     std::uint32_t walls = film.wall_near[k] | film.wall_touch[k];
-    const double gap = film.wall_gap[k] - limit;
+    const bool stl = std::isfinite(film.stl_gap[k]);
+    const double gap = std::min(film.wall_gap[k] - limit, film.stl_gap[k] - limit_stl);
     if (step2 >= fast2) walls = every_wall;
     else if (gap > 0 && gap * gap > 1.002 * step2) continue;
-    if (walls == 0) continue;
-    const WallMotion wm = structure.tilt ? s.frame.at(film.x[k]) : rigid;
+    if (walls == 0 && !stl) continue;
+    const WallMotion wm = structure.tilt || stl ? s.frame.at(film.x[k]) : rigid;
     const Vec3 x_local = film.x[k] - wm.pos;
     Vec3 F_node(0, 0, 0);
     bool held = false;
-    for (; walls != 0; walls &= walls - 1) {
-      Vec3 n;
-      const double d = wall_distance(scene.walls[static_cast<std::size_t>(std::countr_zero(walls))], x_local, n);
-      const double ahead = d + dt * (u - wm.vel).dot(n), target = std::min(limit, d);
-      if (ahead >= target) continue;
+    // The node at distance d from a wall of normal n (towards the node), held at `nearest` at least.
+    auto hold = [&](double d, const Vec3& n, double nearest) {
+      const double ahead = d + dt * (u - wm.vel).dot(n), target = std::min(nearest, d);
+      if (ahead >= target) return;
       const double dv = (target - ahead) / dt;
       const Vec3 F = (film.mass[k] * dv / dt) * n;
       F_node += F;
@@ -320,7 +326,13 @@ void film_wall_stops(const FilmStage& s) {
       L -= dt * (x_local - d * n - scene.cavity_reference).cross(F);
       if (structure.couple) load += s.frame.load_moments(x_local - d * n, -F);
       held = true;
+    };
+    for (; walls != 0; walls &= walls - 1) {
+      Vec3 n;
+      const double d = wall_distance(scene.walls[static_cast<std::size_t>(std::countr_zero(walls))], x_local, n);
+      hold(d, n, limit);
     }
+    if (stl) hold(film.stl_gap[k], film.stl_normal[k], limit_stl);
     if (!held) continue;
     film.f[k] += F_node;
     const Vec3 node_moves = dt * film.v[k] + dt * u, cavity_moves = wm.step + dt * wm.vel;

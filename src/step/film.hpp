@@ -24,6 +24,8 @@ struct Film : FilmNodes {
   std::vector<std::uint32_t> wall_touch;    // per node: walls touched at the last step
   std::vector<std::uint32_t> wall_near;     // per node: the walls it may touch (find_film_walls_near)
   std::vector<double> wall_gap;             // per node: its least distance to those walls this step (+inf: none; unit: m)
+  std::vector<double> stl_gap;              // per node: its distance to its deepest STL-wall hit this step (+inf: none; unit: m)
+  std::vector<Vec3> stl_normal;             // that hit's normal, towards the node
   struct StringState {
     double damping_prev = 0;              // damping part of the tension at the last step (unit: N)
     Vec3 pull_prev = Vec3::Zero();        // pull on the tie at the last step (unit: N)

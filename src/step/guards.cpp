@@ -25,8 +25,10 @@ void check_guards(const GuardStage& st) {
   const bool escaped = guard.min_boundary_distance < 0.0;
   constexpr std::size_t none = static_cast<std::size_t>(-1);
   const bool crossed = guard.crossed != none, crowded = guard.mesh_overflow != none;
-  const bool film_out = scene.bag && st.film.deepest < 0.5 * scene.bag->film.thickness -
-                                                       scene.max_overlap_fraction * scene.bag->contact_radius;
+  // The walls' stop (film.cpp) holds film nodes on an STL wall's inner side; a node's centre half its
+  // reach beyond the surface went past it within a step (the wall's contact sees a node only within
+  // its reach, half the film's thickness, of the surface).
+  const bool film_out = scene.bag && st.film.deepest < -0.25 * scene.bag->film.thickness;
   const bool ball_fault = balls_fail(guard.all_finite, guard.overlap_excess, guard.min_boundary_distance, st.largest_step, st.skin_step * scene.skin);
   if (!ball_fault && !crossed && !crowded && !film_out) return;
 
@@ -64,11 +66,9 @@ void check_guards(const GuardStage& st) {
     throw RunError(m.str());
   }
   if (film_out) {
-    m << "a node of the bag's film is pressed " << 0.5 * scene.bag->film.thickness - st.film.deepest
-      << " m into an STL wall (limit " << scene.max_overlap_fraction << " x bag.film.contact_radius = "
-      << scene.max_overlap_fraction * scene.bag->contact_radius
-      << " m): the film-wall contact is too soft for the load or the step too coarse. Raise "
-         "bag.film.contact_radius, reduce simulation.timestep, or lower the excitation.";
+    m << "a node of the bag's film is " << -st.film.deepest
+      << " m beyond an STL wall's surface, past the walls' stop that holds the film on the inner side: it went there "
+         "within one step. Reduce simulation.timestep, or lower the excitation.";
     throw RunError(m.str());
   }
   // A particle outside the cavity also shows as a huge wall overlap: name the escape first.

@@ -25,6 +25,7 @@
 // friction springs survive grazing motion across a triangulation as they do on a plane.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bagdem/contact/sphere_triangle.hpp"
 #include "bagdem/contact/surface_law.hpp"
@@ -370,6 +371,10 @@ void film_node_stl_contacts(const FilmStage& st, std::size_t k, Vec3& F_wall, Ve
   auto deepest_of = [&](std::uint32_t, double overlap, double, bool) { deepest = std::min(deepest, reach - overlap); };
   thread_local std::vector<EulerTerm> terms;
   const std::size_t nf = find_features<K>(mesh.surfaces, mesh.node_cand, k, view, deepest_of, [] {}, found, terms);
+  // The deepest hit, for the walls' stop (film.cpp, film_wall_stops).
+  st.film.stl_gap[k] = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < nf; ++f)
+    if (reach - found[f].overlap < st.film.stl_gap[k]) st.film.stl_gap[k] = reach - found[f].overlap, st.film.stl_normal[k] = found[f].n;
   mesh.node_elastic[k] = 0;
   MeshSlot* slot = &mesh.node_slots[k * K];
   const std::size_t n_prev = mesh.node_slot_count[k];

@@ -391,7 +391,7 @@ TEST(BagDeterminism, BallParallelPathsMatchOneThread) {
 // the box shaken from the start; stepped until the balls touch the film (4 contacts) and 1000 steps
 // more, saved, then 2000 steps.
 TEST(BagRestart, SaveLoadStateIsBitwise) {
-  LoadedCase c(bag_case(kCapsule), {"simulation.duration=0.03", "bag.centre=[0, 0, -0.0049]"});
+  LoadedCase c(bag_case(kCapsule), {"simulation.duration=0.03", "bag.centre=[0, 0, -0.0049]", "bag.film.bending_interval=\"auto\""});
   const Scene& s = c.scene;
   Simulation whole(s);
   // Until at least 4 ball-film contacts are closed, then 1000 steps more; then 2000 steps on.

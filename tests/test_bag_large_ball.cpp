@@ -5,7 +5,7 @@
 // counted per contact (one per feature, joined in patches), hits born at positive overlap in the
 // film's shallow valleys under the ball made it gain 3.3e-7 J/s; the Euler sum
 // (step/surface_features.hpp, euler_terms) counts no contacts.
-// The budget is checked with the bending on every step (bag.film.bending_interval = 1): on the
+// The budget is checked with the bending on every step (bag.film.bending_interval = 1, the default): on the
 // slower clock (measured at 8 steps; auto gives 4) the impulses of the bending every 8th step keep the settled
 // film jiggling, and the membrane damping's work on that jiggle shows as a residual of -9.8e-8 J/s
 // (6e-5 of the gravity work per second), the scheme's, not the accounting's

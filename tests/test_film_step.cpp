@@ -148,11 +148,12 @@ TEST(FilmStep, TheFilmContactsLimitIsTheStepperTrueLimit) {
 // The bending's clock (bag.film.bending_interval, bag.cpp resolve_bending_clock): "auto" takes the
 // largest N up to 4 with 10 omega_b N dt <= 0.5 (omega_b: the hinges' Gershgorin bound). The
 // flagship's bag: 4, the cap (10 omega_b 4 dt = 0.14). Its bending 30x stiffer (omega_b x 5.5): 2.
-// 100x stiffer: 1, the bending on every step. An explicit interval is taken as given.
+// 100x stiffer: 1, the bending on every step. An explicit interval is taken as given, and without
+// the key the bending runs on every step (the default: docs/bag.md, "Time step").
 TEST(FilmStep, TheBendingRunsOnASlowerClockOnlyWhereItIsSlow) {
   const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
   for (const auto& [bending, expected] : {std::pair{1.0, 4}, {30.0, 2}, {100.0, 1}}) {
-    const Scene s = load_case(pipe, {"bag.film.bending=" + std::to_string(bending)});
+    const Scene s = load_case(pipe, {"bag.film.bending=" + std::to_string(bending), "bag.film.bending_interval=\"auto\""});
     const Bag& b = *s.bag;
     const double slow = 10 * b.bending_frequency * b.bending_interval * s.dt;
     std::printf("  bending x %g: omega_b %.4g rad/s, dt %.4g s, interval %d, 10 omega_b N dt %.3f\n", bending,
@@ -162,4 +163,5 @@ TEST(FilmStep, TheBendingRunsOnASlowerClockOnlyWhereItIsSlow) {
     if (b.bending_interval < 4) EXPECT_GT(10 * b.bending_frequency * (b.bending_interval + 1) * s.dt, 0.5);
   }
   EXPECT_EQ(load_case(pipe, {"bag.film.bending_interval=3"}).bag->bending_interval, 3);
+  EXPECT_EQ(load_case(pipe).bag->bending_interval, 1);
 }

@@ -92,7 +92,7 @@ std::vector<std::string> knob_overrides(const CaseFacts& f, const std::string& k
   } else if (knob == "film") {
     if (f.triangles > 0) o.set(keys::triangles, std::max<long long>(20, std::llround(static_cast<double>(f.triangles) * factor)));
   } else if (knob == "bending") {
-    if (f.triangles > 0 && factor == 1) o.set(keys::bending_interval, 1);  // 0: the case's clock ("auto" unless set)
+    if (f.triangles > 0) o.set(TomlKey{keys::bending_interval.path}, factor == 1 ? "1" : "\"auto\"");
   } else if (knob == "tangential") {
     if (f.friction && factor == 0)
       for (const std::string& i : f.interactions) o.set(keys::friction(i), 0);
@@ -226,7 +226,7 @@ const std::vector<Knob>& knobs() {
       {"stiffness", "Young's modulus of every ball material, and the spring of every Hooke interaction, x factor (softening)",
        {1, 0.1, 0.01}},
       {"film", "bag.triangles x factor (film resolution)", {2, 1, 0.5}},
-      {"bending", "the film's bending hinges on every step (1) or on their slower clock (0: bag.film.bending_interval as the case has it, \"auto\" by default)", {1, 0}},
+      {"bending", "the film's bending hinges on every step (1) or on their slower clock (0: bag.film.bending_interval = \"auto\")", {1, 0}},
       {"tangential", "tangential model (friction) on / off", {1, 0}},
       {"rolling", "rolling resistance on / off", {1, 0}},
       {"output", "output.cavity_interval x factor (the reduction's sampling)", {1, 4}},

@@ -178,6 +178,15 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   struct Other {
     std::string set, expect;
   };
+  // characterize into that map with another damper: refused before anything runs, the map as it was.
+  {
+    std::vector<std::string> other = args;
+    other.insert(other.end(), {"--set", "particles.ball.diameter=\"8 mm\""});
+    const auto r = bagdem::testing::run_bagdem(other, t.path);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("holds the runs of another damper (particles.ball.diameter is 0.01 in the map, 0.008 in the case)"), std::string::npos) << r.err;
+    EXPECT_EQ(bagdem::testing::slurp(out / "map.csv"), before);
+  }
   for (const Other& o : {Other{"particles.ball.diameter=\"8 mm\"", "particles.ball.diameter is 0.01 in the map, 0.008 in the case"},
                          Other{"cavity.max=[\"20 mm\", \"12 mm\", \"10 mm\"]", "cavity.max is [0.02, 0.01, 0.01] in the map, [0.02, 0.012, 0.01]"},
                          Other{"interactions.default.friction=0.5", "interactions.default.friction is 0.3 in the map, 0.5 in the case"}}) {

@@ -170,7 +170,16 @@ StudySpec characterize_spec(const CharacterizeArgs& a, MapPlan& grid) {
   const Scene scene = load_case(a.dir, a.sets);
   grid = map_plan(scene, a);
   grid.damper = damper_record(scene);
-  return grid_spec(a, scene, grid);
+  StudySpec spec = grid_spec(a, scene, grid);
+  // A map already made here of another damper (or by a bagdem whose defaults made another one):
+  // its runs are not this damper's, and resuming would mix them in.
+  if (const std::optional<DamperRecord> made = read_damper_record(fs::path(spec.out_dir) / "damper.toml")) {
+    const std::vector<std::string> diff = damper_differences(*made, grid.damper);
+    if (!diff.empty())
+      throw InputError(spec.out_dir, "damper.toml", "", "holds the runs of another damper (" + diff.front() + (diff.size() > 1 ? ", ..." : "") +
+                                                            "): give a new --out, or remove the directory");
+  }
+  return spec;
 }
 
 MapOutcome write_map_of(const Plan& plan, const std::vector<bool>& finished, const MapPlan& grid) {

@@ -60,6 +60,9 @@ DamperRecord damper_record(const Scene& scene) {
   const Vec3 g = scene.gravity, e = excitation_direction(scene), d = e.norm() > 0 ? Vec3(e.normalized()) : e;
   r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
   r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";
+  // The model choices the scene resolves and the case may not name, whose defaults a bagdem can
+  // change: the film's bending clock (docs/bag.md, "Time step").
+  if (scene.bag) r["bag.film.bending_interval"] = std::to_string(scene.bag->bending_interval);
   // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
   if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
     r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);

@@ -481,7 +481,7 @@ void resolve_bending_clock(const CaseReader& in, Scene& s) {
   if (!in.has(key) || !in.is_string(key)) {
     b->bending_interval = static_cast<int>(in.integer(key, 1, 1, 64));
   } else {
-    if (in.is_string(key) && in.string(key) != "auto") in.fail(key, "must be \"auto\" or a whole number of steps from 1 to 64");
+    if (in.string(key) != "auto") in.fail(key, "must be \"auto\" or a whole number of steps from 1 to 64");
     const double slow = 0.5 / (10.0 * b->bending_frequency * s.dt);  // the largest N allowed
     b->bending_interval = b->bending_frequency > 0 ? static_cast<int>(std::clamp(std::floor(slow), 1.0, 4.0)) : 1;
   }

@@ -84,12 +84,7 @@ Targets read_targets_file(const std::string& path) {
     throw InputError(path, "", "", std::string("cannot be read: ") + e.what());
   }
   if (t.columns.empty() || t.rows.empty()) throw InputError(path, "", "", "holds no targets" + hint);
-  auto trimmed = [](std::string s) {
-    if (s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);  // a byte-order mark
-    s.erase(0, s.find_first_not_of(" \t"));
-    s.erase(s.find_last_not_of(" \t") + 1);
-    return s;
-  };
+  auto trimmed = [](const std::string& s) { return trim(s.rfind("\xEF\xBB\xBF", 0) == 0 ? s.substr(3) : s); };  // a byte-order mark too
   const std::size_t none = t.columns.size();
   std::size_t c_mode = none, c_db = none, c_config = none;
   Targets out;
@@ -250,11 +245,6 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
                    const SearchOptions& opt, const SearchResult& r, bool failed) {
   const std::vector<Target>& targets = all.list;
   auto configuration = [&](const Target& t) { return all.config_key.empty() ? std::string() : all.config_key + "=" + all.configs[t.config].given; };
-  auto csv_cell = [](const std::string& s) {  // RFC 4180: quoted, its quotes doubled
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  };
   // calibrate.csv: every value run, per target.
   const std::string unit = scale.unit.empty() ? "1" : scale.unit;
   std::ostringstream csv;

@@ -23,17 +23,17 @@
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
-namespace {
-
-// A grid larger than this is a typo (a forgotten --zip, a value list pasted twice).
-constexpr std::size_t kMaxPoints = 100000;
-
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r\n");
   if (a == std::string::npos) return "";
   const auto b = s.find_last_not_of(" \t\r\n");
   return s.substr(a, b - a + 1);
 }
+
+namespace {
+
+// A grid larger than this is a typo (a forgotten --zip, a value list pasted twice).
+constexpr std::size_t kMaxPoints = 100000;
 
 bool holds_table(const toml::node& n) {
   if (n.is_table()) return true;

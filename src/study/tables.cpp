@@ -79,18 +79,18 @@ Table read_csv(const std::string& path) {
   return t;
 }
 
+std::string csv_cell(const std::string& c) {
+  if (c.find_first_of(",\"\n\r") == std::string::npos) return c;
+  std::string o = "\"";
+  for (char ch : c) o += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return o + '"';
+}
+
 std::string csv_text(const Table& t) {
   auto put = [](std::string& o, const std::vector<std::string>& cells) {
     for (std::size_t k = 0; k < cells.size(); ++k) {
-      const std::string& c = cells[k];
       if (k) o += ',';
-      if (c.find_first_of(",\"\n\r") == std::string::npos) {
-        o += c;
-        continue;
-      }
-      o += '"';
-      for (char ch : c) o += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-      o += '"';
+      o += csv_cell(cells[k]);
     }
     o += '\n';
   };

@@ -189,6 +189,11 @@ struct Table {
 // when the file cannot be read.
 Table read_csv(const std::string& path);
 std::string csv_text(const Table& t);
+// One cell as csv_text writes it: as it is, or quoted with its quotes doubled when it holds a
+// comma, a quote or a line break.
+std::string csv_cell(const std::string& cell);
+// `s` without the spaces, tabs and line breaks at its ends.
+std::string trim(const std::string& s);
 
 // A varied value as an SI number: parse_quantity with the dimension its unit has (NaN if it is not
 // a number with an optional unit). `unit` gets the SI unit ("m", "1"), or "" for a plain number.

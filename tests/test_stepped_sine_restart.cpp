@@ -4,6 +4,7 @@
 // the end, writes the same results.h5 (every dataset, bit for bit, but the points' wall times),
 // sweep.csv and reduced.csv as the sweep uninterrupted. So does a sweep of two chains
 // (run/stepped_sine_chains.hpp), killed while both run, and it writes the same on one thread as on two.
+// A resume by a bagdem that resolves the same case to another scene (another default) is refused.
 // The CLI's SIGTERM during a sweep is in test_faults.cpp.
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 
 #include "bagdem/reduce/summary.hpp"
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
 #include "bagdem/run/stepped_sine.hpp"
 #include "results_compare.hpp"
 #include "support.hpp"
@@ -49,6 +51,23 @@ TEST(SweepRestart, KilledTwiceAndResumedIsBitwiseEqual) {
   EXPECT_TRUE(fs::exists(b / "checkpoint.bin"));
   EXPECT_TRUE(fs::exists(b / "results.h5.part"));
   EXPECT_FALSE(fs::exists(b / "results.h5"));
+  {
+    // The same case resolved by a bagdem whose time-step rule differs (its text is the same): the
+    // resume is refused, naming the line of `bagdem check` that differs, and nothing is touched.
+    bagdem::Scene other = scene;
+    other.dt *= 0.5;
+    const std::string before = bagdem::testing::slurp((b / "checkpoint.bin").string());
+    try {
+      bagdem::run_stepped_sine(other, bagdem::testing::quiet_run(b, 1, -1, true));
+      ADD_FAILURE() << "a resume by a bagdem that resolves the case to another time step was not refused";
+    } catch (const bagdem::InputError& e) {
+      std::printf("  another time step: %s\n", e.what());
+      EXPECT_NE(std::string(e.what()).find("another scene"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("was 'time step"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(bagdem::testing::slurp((b / "checkpoint.bin").string()), before);
+    EXPECT_FALSE(fs::exists(b / "results.h5"));
+  }
   EXPECT_FALSE(sweep(b, std::llround(0.55 * steps), true).complete);
   const bagdem::SteppedSineReport rb = sweep(b, -1, true);
   ASSERT_TRUE(rb.complete) << rb.message;

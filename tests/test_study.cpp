@@ -26,7 +26,10 @@
 #include <cstdlib>
 #include <map>
 #include <numbers>
+#include <fstream>
 #include <thread>
+
+#include <toml++/toml.h>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
@@ -389,6 +392,35 @@ TEST(Study, ResumesAfterAKillAndKeepsNoHalfPoint) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("the study changed"), std::string::npos);
   EXPECT_NE(r.err.find("point-002"), std::string::npos);
+
+  // A done point whose point.toml records another scene than this bagdem resolves its case to (as a
+  // bagdem with another default time step would have written): refused, naming the line, nothing
+  // run again; a point.toml without the record (an older bagdem's) is refused too.
+  const fs::path toml_path = fs::path(point_dir(whole, 1)) / "point.toml";
+  const std::string kept = bagdem::testing::slurp(toml_path.string());
+  toml::table t = toml::parse(kept);
+  toml::array& scene = *t["scene"].as_array();
+  bool changed = false;
+  for (auto& line : scene)
+    if (line.value<std::string>()->rfind("time step", 0) == 0) line.as_string()->get() = "time step   1e-06 s (auto: as an older bagdem chose it)", changed = true;
+  ASSERT_TRUE(changed) << kept;
+  std::ofstream(toml_path) << t;
+  r = sweep(d, with(plan, {"--jobs", "2", "--out", whole}));
+  std::printf("  another scene: exit %d: %s", r.code, r.err.c_str());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("point-001"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("resolves its case to another scene"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("was 'time step   1e-06 s"), std::string::npos) << r.err;
+  t.erase("scene");
+  std::ofstream(toml_path) << t;
+  r = sweep(d, with(plan, {"--jobs", "2", "--out", whole}));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("did not record the scene"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(fs::path(point_dir(whole, 1)) / "point.done"));
+  std::ofstream(toml_path) << kept;
+  r = sweep(d, with(plan, {"--jobs", "2", "--out", whole}));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("resuming: 3 of 3 points done"), std::string::npos) << r.err;
 }
 
 // A force that drives the wall into the ball makes that point's run stop (exit 3): it is reported

@@ -204,4 +204,22 @@ std::string describe_scene(const Scene& s) {
   return o.str();
 }
 
+std::vector<std::string> scene_record(const Scene& s) {
+  std::vector<std::string> lines;
+  std::istringstream in(describe_scene(s));
+  for (std::string line; std::getline(in, line);) {
+    const bool memory_or_path = line.rfind("case ", 0) == 0 || line.rfind("memory ", 0) == 0;
+    if (!memory_or_path) lines.push_back(line);
+  }
+  return lines;
+}
+
+std::string scene_difference(const std::vector<std::string>& was, const std::vector<std::string>& now) {
+  const std::size_t n = std::max(was.size(), now.size());
+  auto line = [](const std::vector<std::string>& v, std::size_t k) { return k < v.size() ? "'" + v[k] + "'" : std::string("(no line)"); };
+  for (std::size_t k = 0; k < n; ++k)
+    if (k >= was.size() || k >= now.size() || was[k] != now[k]) return "was " + line(was, k) + ", now " + line(now, k);
+  return "";
+}
+
 }  // namespace bagdem

@@ -59,6 +59,7 @@ void save_checkpoint_file(const fs::path& path, const CheckpointData& data) {
   std::string payload;
   put_block(payload, data.kind);
   put_block(payload, data.case_text);
+  put_block(payload, data.scene);
   put_u64(payload, data.blocks.size());
   for (const std::string& b : data.blocks) put_block(payload, b);
   std::string file(kMagic, sizeof kMagic);
@@ -96,7 +97,7 @@ CheckpointData load_checkpoint_file(const fs::path& path, const std::string& kin
   CheckpointData d;
   std::string count;
   std::uint64_t n = 0;
-  bool ok = in.take(d.kind) && in.take(d.case_text) && payload.size() - in.at >= sizeof n;
+  bool ok = in.take(d.kind) && in.take(d.case_text) && in.take(d.scene) && payload.size() - in.at >= sizeof n;
   if (ok) std::memcpy(&n, payload.data() + in.at, sizeof n), in.at += sizeof n;
   for (std::uint64_t k = 0; ok && k < n && n < kMaxBytes; ++k) ok = in.take(d.blocks.emplace_back());
   if (!ok || in.at != payload.size()) throw InputError(where + " is corrupt: its blocks do not fill it" + again);
@@ -105,11 +106,31 @@ CheckpointData load_checkpoint_file(const fs::path& path, const std::string& kin
   return d;
 }
 
-void require_checkpoint_case(const CheckpointData& data, const std::string& case_file, const std::string& resolved) {
-  if (data.case_text != resolved)
-    throw InputError(case_file, "", "",
-                     "the case differs from the one of the interrupted run (" + case_differences(data.case_text, resolved) +
+namespace {
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+}  // namespace
+
+CheckpointData checkpoint_of(const std::string& kind, const Scene& scene, std::vector<std::string> blocks) {
+  std::string record;
+  for (const std::string& line : scene_record(scene)) record += line + "\n";
+  return {kind, scene.resolved, record, std::move(blocks)};
+}
+
+void require_checkpoint_case(const CheckpointData& data, const Scene& scene) {
+  if (data.case_text != scene.resolved)
+    throw InputError(scene.case_file, "", "",
+                     "the case differs from the one of the interrupted run (" + case_differences(data.case_text, scene.resolved) +
                          "); resume with the same case and --set options, or run again without --resume");
+  const std::string diff = scene_difference(lines_of(data.scene), scene_record(scene));
+  if (!diff.empty())
+    throw InputError(scene.case_file, "", "",
+                     "this bagdem resolves the case to another scene than the interrupted run's (another default or rule: " + diff +
+                         "); resume with the bagdem that ran it, or run again without --resume");
 }
 
 }  // namespace bagdem

@@ -3,7 +3,7 @@
 //
 // Layout (little-endian): the magic "bagdemCK", the format number (u64), the payload's length in
 // bytes (u64) and its FNV-1a 64-bit hash (u64), then the payload: the kind ("run" or "sweep"), the
-// resolved case text and the kind's own blocks, each block a u64 length and its bytes. Any byte
+// resolved case text, the scene's record (scene_record) and the kind's own blocks, each block a u64 length and its bytes. Any byte
 // changed in the payload changes the hash; a changed header fails the magic, format or length.
 #pragma once
 #include <cstdint>
@@ -11,16 +11,24 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/scene.hpp"
+
 namespace bagdem {
 
-// 1: no header, no checksum; 2: no digest of the results file's data (SeriesLengths::digest)
-inline constexpr std::uint64_t kCheckpointFormat = 3;
+// 1: no header, no checksum; 2: no digest of the results file's data (SeriesLengths::digest);
+// 3: no scene record
+inline constexpr std::uint64_t kCheckpointFormat = 4;
 
 struct CheckpointData {
   std::string kind;                 // "run" or "sweep"
   std::string case_text;            // the resolved case (a resume with another case is refused)
+  std::string scene;                // scene_record's lines, each ended by a newline (a bagdem that
+                                    // resolves the case otherwise is refused)
   std::vector<std::string> blocks;  // the kind's own data
 };
+
+// A checkpoint of `kind` of `scene` holding `blocks`.
+CheckpointData checkpoint_of(const std::string& kind, const Scene& scene, std::vector<std::string> blocks);
 
 // FNV-1a, 64 bits.
 std::uint64_t fnv1a64(const char* data, std::size_t n);
@@ -33,8 +41,8 @@ void save_checkpoint_file(const std::filesystem::path& path, const CheckpointDat
 // missing, of another format or kind, truncated, or its checksum does not match.
 CheckpointData load_checkpoint_file(const std::filesystem::path& path, const std::string& kind);
 
-// Refuses (InputError) a resume whose case differs from the checkpoint's, naming the first
-// difference.
-void require_checkpoint_case(const CheckpointData& data, const std::string& case_file, const std::string& resolved);
+// Refuses (InputError) a resume whose case, or the scene this bagdem resolves it to, differs from
+// the checkpoint's, naming the first difference.
+void require_checkpoint_case(const CheckpointData& data, const Scene& scene);
 
 }  // namespace bagdem

@@ -79,8 +79,8 @@ static_assert(std::is_trivially_copyable_v<RunTallies> && sizeof(RunTallies) == 
 // checkpoint.bin of a run (checkpoint_file.hpp): the tallies, then the simulation's state image.
 void save_checkpoint(const fs::path& path, const Simulation& sim, const RunTallies& l) {
   const std::vector<char> state = sim.save_state();
-  save_checkpoint_file(path, {"run", sim.scene().resolved,
-                              {std::string(reinterpret_cast<const char*>(&l), sizeof l), std::string(state.begin(), state.end())}});
+  save_checkpoint_file(path, checkpoint_of("run", sim.scene(),
+                                           {std::string(reinterpret_cast<const char*>(&l), sizeof l), std::string(state.begin(), state.end())}));
 }
 
 struct Checkpoint {
@@ -90,7 +90,7 @@ struct Checkpoint {
 
 Checkpoint load_checkpoint(const fs::path& path, const Scene& scene) {
   const CheckpointData d = load_checkpoint_file(path, "run");
-  require_checkpoint_case(d, scene.case_file, scene.resolved);
+  require_checkpoint_case(d, scene);
   Checkpoint c;
   if (d.blocks.size() != 2 || d.blocks[0].size() != sizeof c.tallies)
     throw InputError("checkpoint " + path.string() + " has not the blocks of a run; run again without --resume");

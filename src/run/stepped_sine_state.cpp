@@ -78,16 +78,16 @@ static_assert(sizeof(Head) == 2 * sizeof(double) + sizeof(SeriesLengths));
 // image per chain.
 void save_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, const SteppedSineState& s) {
   const Head h{s.settled ? 1.0 : 0.0, s.clearance, s.lengths};
-  CheckpointData d{"sweep", scene.resolved,
-                   {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
-                    reduced_methods(s.reduced), bytes(s.frame_times)}};
+  CheckpointData d = checkpoint_of("sweep", scene,
+                                   {std::string(reinterpret_cast<const char*>(&h), sizeof h), bytes(s.points), reduced_numbers(s.reduced),
+                                    reduced_methods(s.reduced), bytes(s.frame_times)});
   for (const std::vector<char>& image : s.images) d.blocks.emplace_back(image.begin(), image.end());
   save_checkpoint_file(path, d);
 }
 
 void load_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, SteppedSineState& s) {
   const CheckpointData d = load_checkpoint_file(path, "sweep");
-  require_checkpoint_case(d, scene.case_file, scene.resolved);
+  require_checkpoint_case(d, scene);
   Head h;
   const bool ok = d.blocks.size() >= 6 && d.blocks[0].size() == sizeof h && from_bytes(d.blocks[1], s.points) &&
                   reduced_from(d.blocks[2], d.blocks[3], s.reduced) && from_bytes(d.blocks[4], s.frame_times) &&

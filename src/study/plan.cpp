@@ -368,6 +368,7 @@ std::vector<std::string> validate_plan(Plan& plan) {
       const Scene s = load_case(plan.spec.case_dir, p.sets);
       p.case_seed = static_cast<long long>(s.seed);
       p.case_hash = fingerprint(s.resolved);
+      p.scene = scene_record(s);
       for (const std::string& w : s.warnings) {
         if (!warned.count(w)) order.push_back(w);
         warned[w].push_back(p.name);
@@ -399,9 +400,13 @@ std::string point_toml(const Plan& plan, const Point& p) {
     vary.insert(plan.spec.vary[k].key, *parsed.get("v"));
   }
   t.insert("vary", vary);
+  toml::array scene;
+  for (const std::string& line : p.scene) scene.push_back(line);
+  t.insert("scene", scene);
   std::ostringstream s;
   s << "# bagdem sweep: " << p.name << " of " << plan.points.size() << ". Written before its run; point.done beside it\n"
-    << "# marks a run that exited 0. case_hash fingerprints the resolved case text (a changed case shows).\n"
+    << "# marks a run that exited 0. case_hash fingerprints the resolved case text (a changed case shows);\n"
+    << "# scene is what `bagdem check` says of it (a bagdem with other defaults shows).\n"
     << toml::toml_formatter(t) << "\n";
   return s.str();
 }
@@ -423,11 +428,20 @@ std::vector<bool> done_points(const Plan& plan) {
     if (const auto* a = t["set"].as_array())
       for (const auto& e : *a) sets.push_back(e.value<std::string>().value_or(""));
     const std::string hash = t["case_hash"].value<std::string>().value_or("");
-    if (sets != p.sets || hash != p.case_hash) {
-      std::string why = sets != p.sets ? "it was run with --set " + join(sets, " --set ") + ", the plan now gives --set " + join(p.sets, " --set ")
-                                       : "its case resolves differently now (the base case or a file it reads was edited)";
+    std::vector<std::string> scene;
+    if (const auto* a = t["scene"].as_array())
+      for (const auto& e : *a) scene.push_back(e.value<std::string>().value_or(""));
+    const std::string scene_diff = scene_difference(scene, p.scene);
+    if (sets != p.sets || hash != p.case_hash || !scene_diff.empty()) {
+      std::string why =
+          sets != p.sets   ? "it was run with --set " + join(sets, " --set ") + ", the plan now gives --set " + join(p.sets, " --set ")
+          : hash != p.case_hash ? "its case resolves differently now (the base case or a file it reads was edited)"
+          : scene.empty()  ? "it was run by a bagdem that did not record the scene it resolved (before point.toml's `scene`), "
+                             "so this one cannot tell whether its defaults were the same"
+                           : "this bagdem resolves its case to another scene (another default or rule): " + scene_diff;
       throw InputError("the study changed: " + (dir / "point.toml").string() + ": " + why +
-                       ". Keep the study as it was, give another --out, or delete " + dir.string() + " to run it again");
+                       ". Keep the study as it was (its case, options and bagdem), give another --out, or delete " + dir.string() +
+                       " to run it again");
     }
     done[p.index] = true;
   }

@@ -22,6 +22,15 @@ std::string case_differences(const std::string& was, const std::string& now, con
 // Human-readable report of a resolved scene (what `bagdem check` prints).
 std::string describe_scene(const Scene& s);
 
+// The lines of describe_scene but the case's path and the memory estimate: what the run will
+// compute, defaults and derived values included (the time step, the bending clock, what is
+// modelled). A sweep's point.toml and a checkpoint record it, so that a bagdem that resolves the
+// same case differently (another default) refuses to resume rather than mix its figures with the
+// earlier ones. Two records differ where scene_difference is not "": "was 'LINE', now 'LINE'" for
+// the first differing line.
+std::vector<std::string> scene_record(const Scene& s);
+std::string scene_difference(const std::vector<std::string>& was, const std::vector<std::string>& now);
+
 // Decides s.models (tangential, rolling, rotation, gravity) from the pair laws that can occur.
 void decide_models(Scene& s);
 

@@ -96,6 +96,7 @@ struct Point {
   std::string name;                      // "point-003"
   long long case_seed = 0;               // the seed the loaded case resolves to (validate_plan)
   std::string case_hash;                 // hash of the resolved case text (validate_plan)
+  std::vector<std::string> scene;        // scene_record of the loaded case (validate_plan)
 };
 
 struct Plan {
@@ -116,11 +117,12 @@ Plan make_plan(const StudySpec& spec);
 
 // Loads every point's case in-process (bagdem::load_case); the first that fails throws an
 // InputError naming the point and its overrides, then the loader's message (file, key, value).
-// Fills case_seed and case_hash. Returns the loader's warnings, each once, with the points they
+// Fills case_seed, case_hash and scene. Returns the loader's warnings, each once, with the points they
 // concern.
 std::vector<std::string> validate_plan(Plan& plan);
 
-// The text of OUT/point-NNN/point.toml: the case, the overrides, the varied values, the seed.
+// The text of OUT/point-NNN/point.toml: the case, the overrides, the varied values, the seed and
+// the scene this bagdem resolves them to (scene_record).
 std::string point_toml(const Plan& plan, const Point& p);
 
 // What OUT already holds for each point: done (point.done and a point.toml matching the plan),

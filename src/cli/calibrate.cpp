@@ -22,8 +22,20 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
                 "A CSV of measured peak reductions instead of --target: columns mode, reduction_db and optionally one case key "
                 "(e.g. bag.balls.mass_ratio) whose value per row is that figure's configuration; every configuration is run at "
                 "every value tried (docs/calibrate.md)");
-  c->add_option("--key", a.key, "The case key to calibrate (default excitation.amplitude; e.g. primary.damping_ratio)");
-  c->add_option("--bounds", a.bounds, "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4)");
+  c->add_option("--key", a.keys,
+                "The case key to calibrate (default excitation.amplitude; e.g. primary.damping_ratio). Repeatable with --maps: "
+                "several keys fitted at once; KEY@M fits the element of elastic mode M of an array key (primary.damping_ratio@3)")
+      ->allow_extra_args(false);
+  c->add_option("--bounds", a.bounds,
+                "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4); with "
+                "several --key, one --bounds per key in their order")
+      ->allow_extra_args(false);
+  c->add_option("--maps", a.maps,
+                "Effective-field maps (bagdem characterize's OUT), one per configuration of the targets, matched by their "
+                "damper.toml: fit the keys through the prediction from the maps instead of coupled DEM, in seconds (check the "
+                "answer with coupled DEM)");
+  c->add_option("--points", a.points, "With --maps: frequencies per mode's band of each prediction (default 400, as bagdem predict)")
+      ->check(CLI::Range(2, 1000000));
   c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
   c->add_option("--seeds", a.seeds, "Starts per value (simulation.seed = 1..N; default 3)")->check(CLI::Range(1, 1000));
   c->add_option("--scan", a.scan, "Values of the first round, the bounds included (default 5)")->check(CLI::Range(3, 1000));

@@ -17,173 +17,20 @@
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/study/calibrate.hpp"
 #include "bagdem/study/study.hpp"
+#include "calibrate_targets.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
 namespace {
 
+// The one key coupled DEM calibrates (--key; excitation.amplitude by default).
+std::string key_of(const CalibrateArgs& a) { return a.keys.empty() ? "excitation.amplitude" : a.keys[0]; }
+
 std::string short_number(double x) {
   char b[64];
   std::snprintf(b, sizeof b, "%.4g", x);
   return b;
-}
-
-struct Target {
-  int mode = 0;
-  double reduction_db = NAN;
-  std::size_t config = 0;  // its configuration: an index into Targets::configs (0 without them)
-};
-
-// The targets, and the configurations they were measured at: one case key and its values (none
-// when every target is of the case as it is).
-struct Targets {
-  std::vector<Target> list;
-  std::string config_key;
-  std::vector<Value> configs;
-  std::string where(const Target& t) const { return config_key.empty() ? "" : " at " + config_key + " = " + configs[t.config].given; }
-};
-
-// "mode=1,reduction_db=14.9".
-Target parse_target(const std::string& text) {
-  Target t;
-  std::istringstream in(text);
-  std::string part;
-  auto bad = [&](const std::string& why) {
-    throw InputError("--target", "", text, why + "; write --target mode=1,reduction_db=14.9 (the mode's number among the elastic modes, the measured peak reduction in dB)");
-  };
-  while (std::getline(in, part, ',')) {
-    const auto eq = part.find('=');
-    if (eq == std::string::npos) bad("'" + part + "' is not name=value");
-    const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
-    char* end = nullptr;
-    const double v = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0' || !std::isfinite(v)) bad(name + " = '" + value + "' is not a number");
-    if (name == "mode") {
-      if (v < 1 || v != std::floor(v)) bad("mode must be a whole number >= 1");
-      t.mode = static_cast<int>(v);
-    } else if (name == "reduction_db") {
-      t.reduction_db = v;
-    } else {
-      bad("unknown name '" + name + "' (allowed: mode, reduction_db)");
-    }
-  }
-  if (t.mode == 0 || !std::isfinite(t.reduction_db)) bad("both mode and reduction_db are needed");
-  return t;
-}
-
-// --targets FILE: a CSV whose header holds mode, reduction_db and at most one more column, a case
-// key; its cells are read as --set reads values. Rows with equal cells share a configuration.
-Targets read_targets_file(const std::string& path) {
-  const std::string hint = " (a CSV of columns mode, reduction_db and at most one case key that sets each target's configuration, "
-                           "e.g. bag.balls.mass_ratio)";
-  Table t;
-  try {
-    t = read_csv(path);
-  } catch (const std::exception& e) {
-    throw InputError(path, "", "", std::string("cannot be read: ") + e.what());
-  }
-  if (t.columns.empty() || t.rows.empty()) throw InputError(path, "", "", "holds no targets" + hint);
-  auto trimmed = [](const std::string& s) { return trim(s.rfind("\xEF\xBB\xBF", 0) == 0 ? s.substr(3) : s); };  // a byte-order mark too
-  const std::size_t none = t.columns.size();
-  std::size_t c_mode = none, c_db = none, c_config = none;
-  Targets out;
-  for (std::size_t c = 0; c < t.columns.size(); ++c) {
-    const std::string name = trimmed(t.columns[c]);
-    if (name.empty()) throw InputError(path, "column " + std::to_string(c + 1), "", "has no name" + hint);
-    if (name == "mode") c_mode = c;
-    else if (name == "reduction_db") c_db = c;
-    else if (c_config == none) c_config = c, out.config_key = name;
-    else throw InputError(path, name, "", "is a second configuration column (" + out.config_key + " is the first): one key sets the configurations" + hint);
-  }
-  if (c_mode == none || c_db == none) throw InputError(path, c_mode == none ? "mode" : "reduction_db", "", "is not a column" + hint);
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    const std::vector<std::string>& row = t.rows[r];
-    const std::string where = "row " + std::to_string(r + 1);
-    if (row.size() != t.columns.size())
-      throw InputError(path, where, "", "has " + std::to_string(row.size()) + " cells where the header has " + std::to_string(t.columns.size()));
-    auto number = [&](std::size_t c) {
-      const std::string cell = trimmed(row[c]);
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0' || !std::isfinite(v)) throw InputError(path, where + ", " + trimmed(t.columns[c]), row[c], "is not a number");
-      return v;
-    };
-    Target target;
-    const double mode = number(c_mode);
-    if (mode < 1 || mode != std::floor(mode)) throw InputError(path, where + ", mode", row[c_mode], "must be a whole number >= 1 (the mode's number among the elastic modes)");
-    target.mode = static_cast<int>(mode);
-    target.reduction_db = number(c_db);
-    if (c_config != none) {
-      const Value v = parse_value(row[c_config]);
-      std::size_t k = 0;
-      while (k < out.configs.size() && out.configs[k].toml != v.toml) ++k;
-      if (k == out.configs.size()) out.configs.push_back(v);
-      target.config = k;
-    }
-    for (const Target& u : out.list)
-      if (u.mode == target.mode && u.config == target.config)
-        throw InputError(path, where, row[c_db], "repeats the target of mode " + std::to_string(u.mode) + out.where(u) + ": one figure per mode and configuration");
-    out.list.push_back(target);
-  }
-  return out;
-}
-
-// A value of the key in the unit the user wrote it in ("N", "mN"; "" for a plain number), with
-// that unit's factor to SI and the SI unit the tables use.
-struct Scale {
-  std::string unit, si_unit;
-  double to_si = 1;
-  std::string toml(double v) const { return unit.empty() ? short_text(v) : "\"" + short_text(v) + " " + unit + "\""; }
-  std::string given(double v) const { return unit.empty() ? short_text(v) : short_text(v) + " " + unit; }
-};
-
-// A number with an optional unit ("0.05 N", "0.02"): the number in its own unit, and the unit into
-// `scale`. False when it is not a number with a known unit.
-bool read_value(const std::string& given, Scale& scale, double& value) {
-  const char* text = given.c_str();
-  char* end = nullptr;
-  value = std::strtod(text, &end);
-  if (end == text || !std::isfinite(value)) return false;
-  std::string unit(end);
-  unit.erase(0, unit.find_first_not_of(" \t"));
-  unit.erase(unit.find_last_not_of(" \t") + 1);
-  std::string si_unit;
-  const double one = si_number(unit.empty() ? "1" : "1 " + unit, &si_unit);
-  if (!std::isfinite(one)) return false;
-  scale = {unit, si_unit, one};
-  return true;
-}
-
-// The bounds: --bounds "lo,hi" read as --set reads values, or the case's value / 4 and x 4.
-std::pair<double, double> read_bounds(const CalibrateArgs& a, const Scene& s, Scale& scale) {
-  if (!a.bounds.empty()) {
-    const std::vector<Value> v = parse_value_list(a.bounds);
-    if (v.size() != 2) throw InputError("--bounds", "", a.bounds, "needs two values, lo,hi (e.g. --bounds '\"0.05 N\",\"2 N\"')");
-    double lo = 0, hi = 0;
-    Scale second;
-    if (!read_value(v[0].given, scale, lo) || !read_value(v[1].given, second, hi))
-      throw InputError("--bounds", "", a.bounds, "each bound must be a number, with a unit if the key has one");
-    if (second.unit != scale.unit)
-      throw InputError("--bounds", "", a.bounds, "the two bounds must be in one unit (" + (scale.unit.empty() ? "none" : scale.unit) + " and " +
-                                                     (second.unit.empty() ? "none" : second.unit) + ")");
-    if (!(lo < hi)) throw InputError("--bounds", "", a.bounds, "needs lo < hi");
-    return {lo, hi};
-  }
-  double v = NAN;
-  try {
-    const toml::table t = toml::parse(s.resolved);
-    const toml::node_view<const toml::node> n = t.at_path(a.key);
-    if (const auto str = n.value<std::string>()) {
-      if (!read_value(*str, scale, v)) v = NAN;
-    } else if (const auto x = n.value<double>()) {
-      v = *x;
-    }
-  } catch (const toml::parse_error&) {
-  }
-  if (!(v > 0))
-    throw InputError("--bounds", a.key, "", "the case gives " + a.key + " no positive value to put default bounds around (its value / 4 and x 4): give --bounds lo,hi");
-  return {v / 4, v * 4};
 }
 
 // The elastic mode numbers whose peaks the case's sweep evaluates, over its planned frequencies.
@@ -248,7 +95,7 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
   // calibrate.csv: every value run, per target.
   const std::string unit = scale.unit.empty() ? "1" : scale.unit;
   std::ostringstream csv;
-  csv << "round [1]," << args.key << "," << args.key << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
+  csv << "round [1]," << key_of(args) << "," << key_of(args) << " [" << (scale.si_unit.empty() ? "1" : scale.si_unit) << "],mode [1],target_db [dB],reduction_db_mean [dB],"
       << "reduction_db_ci95 [dB],seeds [1],at_band_edge [1],residual_db [dB],matched [1],configuration\n";
   for (const Evaluation& e : r.evaluated)
     for (std::size_t k = 0; k < targets.size(); ++k) {
@@ -270,7 +117,7 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
 
   // calibration.json and the summary.
   std::ostringstream js;
-  js << "{\n  \"key\": \"" << json_escape(args.key) << "\",\n  \"unit\": \"" << json_escape(unit) << "\",\n  \"to_si\": " << short_text(scale.to_si)
+  js << "{\n  \"key\": \"" << json_escape(key_of(args)) << "\",\n  \"unit\": \"" << json_escape(unit) << "\",\n  \"to_si\": " << short_text(scale.to_si)
      << ",\n  \"seeds\": " << args.seeds
      << ",\n  \"tolerance_dB\": " << short_text(opt.tolerance) << ",\n  \"bounds\": [" << short_text(opt.lo) << ", " << short_text(opt.hi)
      << "],\n  \"targets\": [";
@@ -284,7 +131,7 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
     matched = matched || s.matched;
     js << (i ? "," : "") << "\n    {\"value\": " << short_text(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
        << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
-    std::printf("%s %s = %s +- %s%s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", args.key.c_str(),
+    std::printf("%s %s = %s +- %s%s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", key_of(args).c_str(),
                 short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.empty() ? "" : (" " + scale.unit).c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
     for (std::size_t k = 0; k < targets.size(); ++k) {
       js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
@@ -357,6 +204,7 @@ std::vector<double> target_reductions(const Scene& s, const std::vector<Target>&
 }  // namespace
 
 int calibrate_command(const CalibrateArgs& args) {
+  if (!args.maps.empty()) return calibrate_on_maps(args);
   const auto t0 = std::chrono::steady_clock::now();
   Targets targets;
   std::vector<double> target_db;
@@ -367,15 +215,18 @@ int calibrate_command(const CalibrateArgs& args) {
   std::optional<OutputLock> lock;
   if (const int code = reporting_errors([&] {
     base = calibration_spec(args);
+    if (args.keys.size() > 1 || args.bounds.size() > 1)
+      throw InputError("--key", "", args.keys.back(), "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps "
+                                                      "(--maps, docs/calibrate.md)");
     if (args.targets.empty() == args.targets_file.empty())
       throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
     if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);
     for (const std::string& t : args.targets) targets.list.push_back(parse_target(t));
-    if (targets.config_key == args.key)
-      throw InputError(args.targets_file, args.key, "", "is the key calibrated: the targets' configuration column must be another key");
+    if (targets.config_key == key_of(args))
+      throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
     const Scene s = load_case(base.case_dir, args.sets);
     target_db = target_reductions(s, targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
-    const auto [lo, hi] = read_bounds(args, s, scale);
+    const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, scale);
     opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
     opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
     budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
@@ -384,7 +235,7 @@ int calibrate_command(const CalibrateArgs& args) {
     return code;
 
   std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s\n",
-               base.case_dir.c_str(), args.key.c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
+               base.case_dir.c_str(), key_of(args).c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
                opt.scan, args.seeds, args.seeds > 1 ? "s" : "", base.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "");
   bool failed = false;
   int round = 0;
@@ -395,7 +246,7 @@ int calibrate_command(const CalibrateArgs& args) {
     char name[32];
     std::snprintf(name, sizeof name, "round-%02d", round);
     spec.out_dir = (fs::path(base.out_dir) / name).string();
-    Varied v{args.key, {}};
+    Varied v{key_of(args), {}};
     for (double x : values) v.values.push_back({scale.toml(x), scale.given(x)});
     spec.vary = {v};
     if (!targets.config_key.empty()) spec.vary.push_back({targets.config_key, targets.configs});
@@ -410,7 +261,7 @@ int calibrate_command(const CalibrateArgs& args) {
     }
     std::string list;
     for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
-    std::fprintf(stderr, "round %d: %s = %s\n", round, args.key.c_str(), list.c_str());
+    std::fprintf(stderr, "round %d: %s = %s\n", round, key_of(args).c_str(), list.c_str());
     if (!lock) {  // one study writes a directory at a time; taken before it writes; its runs write inside it
       lock.emplace(base.out_dir);
       share_output_with_children(base.out_dir);

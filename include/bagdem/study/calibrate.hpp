@@ -99,8 +99,10 @@ struct CalibrateArgs {
   std::string dir;                        // CASE_DIR
   std::vector<std::string> targets;       // "mode=1,reduction_db=14.9"
   std::string targets_file;               // --targets: a CSV of them (mode, reduction_db[, a case key])
-  std::string key = "excitation.amplitude";
-  std::string bounds;                     // "lo,hi" as --set reads values; empty: the case's value / 4 and x 4
+  std::vector<std::string> keys;          // --key: the keys fitted (empty: excitation.amplitude); several with maps only
+  std::vector<std::string> bounds;        // --bounds per key, in order: "lo,hi" as --set reads values; none: the case's value / 4 and x 4
+  std::vector<std::string> maps;          // --maps: fit on these effective-field maps (calibrate_maps.cpp), one per configuration
+  int points = 400;                       // with maps: frequencies per mode's band of each prediction (as predict's --points)
   std::vector<std::string> sets;
   int seeds = 3, scan = 5, rounds = 6;
   double tolerance = 0.1;
@@ -114,5 +116,14 @@ struct CalibrateArgs {
 // per target), OUT/calibration.json (the solutions) and the summary on stdout. Exit codes: 0 a
 // value matches, 2 bad input (nothing run), 3 a run failed or no value matched (the note says why).
 int calibrate_command(const CalibrateArgs& args);
+
+// ---- calibrate_maps.cpp: with --maps -------------------------------------------------------------
+// The keys (several; KEY@M for mode M's element of an array key) fitted to the targets by weighted
+// least squares through the prediction from effective-field maps, one per configuration (matched by
+// its damper.toml), not coupled DEM: OUT/calibrate.csv (per target: the prediction at the fit, its
+// range, the residual) and OUT/calibration.json (the keys with their 95% intervals, the MAE per
+// mode). Exit codes: 0 fitted, 2 bad input (a configuration without its map, a key of the damper, a
+// response outside a map at every value). The method is in calibrate_maps.cpp's header.
+int calibrate_on_maps(const CalibrateArgs& args);
 
 }  // namespace bagdem::study

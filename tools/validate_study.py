@@ -30,10 +30,16 @@
 #      at once (cases/studies/mass-ratio/table3.csv: modes 1 and 3 at 5-14%, the mass-ratio study's
 #      bag), at the force --amplitude: calibrate-table3.csv and calibration-table3.json (each
 #      figure's residual, the mean absolute residual per mode). --table3 alone skips steps 1-5.
+#   7. with --table3-maps, the same 20 figures fitted on effective-field maps (bagdem calibrate
+#      --maps): a map of the study's bag at each of Table 3's mass ratios (bagdem characterize, in
+#      OUT/table3-maps/ratio-R, resumable), then the force and one damping ratio for all modes, and
+#      the force and a damping ratio per mode (primary.damping_ratio@1, @3), each fitted to all 20:
+#      calibrate-table3-maps{,-permode}.csv and calibration-table3-maps{,-permode}.json. Alone, it
+#      skips steps 1-6.
 #
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
 #                        [--docs DIR] [--jobs J] [--keys] [--impact-amplitude "0.2 N"]
-#                        [--clearance-amplitude "0.5 N"] [--slope] [--table3]
+#                        [--clearance-amplitude "0.5 N"] [--slope] [--table3] [--table3-maps]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -117,6 +123,40 @@ def calibrate_table3(out, amplitude, seeds, jobs, docs):
     for name in ("calibration.json", "calibrate.csv"):
         stem, ext = os.path.splitext(name)
         shutil.copy(os.path.join(cal, name), os.path.join(docs, f"{stem}-table3{ext}"))
+
+
+TABLE3_MAP = ["--gamma", "0.01,20", "--amplitudes", "6", "--frequencies", "4"]  # design's default grid, down to Gamma 0.01
+
+
+def calibrate_table3_maps(out, seeds, jobs, docs):
+    """Step 7: a map per mass ratio of Table 3, then bagdem calibrate --maps on all 20 figures: the force with one damping
+    ratio, and with one per mode."""
+    table3 = os.path.join(ROOT, "cases/studies/mass-ratio/table3.csv")
+    case = os.path.join(ROOT, "cases/pipe-beanbag")
+    sets = rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml")) + MODES
+    ratios = sorted({r["bag.balls.mass_ratio"] for r in rows(table3)}, key=float)
+    maps = []
+    for r in ratios:
+        d = os.path.join(out, "table3-maps", f"ratio-{r}")
+        args = [BAGDEM, "characterize", case, "--seeds", str(seeds), "--jobs", str(jobs), "--out", d] + TABLE3_MAP
+        for m in sets + [f"bag.balls.mass_ratio={r}"]:
+            args += ["--set", m]
+        run(args)
+        maps.append(d)
+    fits = [("", ["--key", "excitation.amplitude", "--key", "primary.damping_ratio", "--bounds", '"0.01 N","0.2 N"', "--bounds", "0.001,0.02"]),
+            ("-permode", ["--key", "excitation.amplitude", "--key", "primary.damping_ratio@1", "--key", "primary.damping_ratio@3",
+                          "--bounds", '"0.01 N","0.2 N"', "--bounds", "0.001,0.02", "--bounds", "0.001,0.02"])]
+    for tag, keys in fits:
+        cal = os.path.join(out, f"calibrate-table3-maps{tag}")
+        args = [BAGDEM, "calibrate", case, "--targets", table3, "--out", cal, "--maps"] + maps + keys
+        for m in sets:
+            args += ["--set", m]
+        print("+ " + " ".join(args), flush=True)
+        if subprocess.call(args) != 0:
+            sys.exit(f"tools/validate-study: the calibration on maps{tag} failed")
+        for name in ("calibration.json", "calibrate.csv"):
+            stem, ext = os.path.splitext(name)
+            shutil.copy(os.path.join(cal, name), os.path.join(docs, f"{stem}-table3-maps{tag}{ext}"))
 
 
 def calibrate(out, amplitude, seeds, jobs):
@@ -505,6 +545,8 @@ def main(argv):
     p.add_argument("--keys", action="store_true", help="also vary each candidate key alone (step 4) and write keys.csv")
     p.add_argument("--table3", action="store_true",
                    help="only step 6: the pipe's damping ratio fitted to all 20 figures of Table 3 at --amplitude, calibrate-table3.csv")
+    p.add_argument("--table3-maps", action="store_true",
+                   help="only step 7: a map per Table 3 mass ratio, then the force and damping ratios fitted on them to all 20 figures")
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--clearance-amplitude", default="0.5 N",
@@ -518,6 +560,9 @@ def main(argv):
     zeta = a.damping_ratio
     if a.table3:
         calibrate_table3(a.out, a.amplitude, a.seeds, a.jobs, a.docs)
+        return 0
+    if a.table3_maps:
+        calibrate_table3_maps(a.out, a.seeds, a.jobs, a.docs)
         return 0
     if a.slope:
         if zeta is None:

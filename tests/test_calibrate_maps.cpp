@@ -5,7 +5,8 @@
 //    damping ratio are fitted back to them (both keys within 1%, every residual below 0.01 dB). On
 //    the pipe's beam, each mode's damping ratio (KEY@M) is fitted back likewise.
 // 2. Refused with exit 2 and nothing written: a configuration without its map, a map without
-//    damper.toml, a key that changes the damper, several keys without maps.
+//    damper.toml, a key that changes the damper, several keys without maps, an OUT that holds the
+//    other method's calibration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -164,4 +165,16 @@ TEST(CalibrateMaps, RefusesWhatAMapCannotAnswer) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("several keys are fitted on effective-field maps"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(s.t.path / "d"));
+  // One OUT holds one method's calibration: rounds of coupled DEM refuse a fit on maps there, and a
+  // fit on maps refuses coupled DEM's rounds.
+  fs::create_directories(s.t.path / "dem" / "round-00");
+  r = bagdem::testing::run_bagdem(with(s.command("dem"), {"--key", "primary.damping_ratio", "--bounds", "0.005,0.08"}), s.t.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("holds a calibration by coupled DEM"), std::string::npos) << r.err;
+  fs::create_directories(s.t.path / "onmaps");
+  std::ofstream(s.t.path / "onmaps" / "calibration.json") << "{\n  \"method\": \"maps\"\n}\n";
+  r = bagdem::testing::run_bagdem({"calibrate", s.case_dir.string(), "--targets", s.targets.string(), "--out", (s.t.path / "onmaps").string()}, s.t.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("holds a calibration on maps"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.t.path / "onmaps" / "round-00"));
 }

@@ -215,6 +215,7 @@ int calibrate_command(const CalibrateArgs& args) {
   std::optional<OutputLock> lock;
   if (const int code = reporting_errors([&] {
     base = calibration_spec(args);
+    require_same_method(base.out_dir, false);
     if (args.keys.size() > 1 || args.bounds.size() > 1)
       throw InputError("--key", "", args.keys.back(), "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps "
                                                       "(--maps, docs/calibrate.md)");

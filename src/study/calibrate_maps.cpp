@@ -391,6 +391,7 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     p.configs = assign_maps(args, p.case_dir, p.targets);
     p.tolerance = args.tolerance, p.points = args.points;
     const fs::path out = fs::absolute(args.out.empty() ? fs::path(p.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal();
+    require_same_method(out.string(), true);
     OutputLock lock(out);
     std::string keys;
     for (const FitKey& k : p.keys) keys += (keys.empty() ? "" : ", ") + k.given + " in [" + k.scale.given(k.lo) + ", " + k.scale.given(k.hi) + "]" + (k.log ? " (log)" : "");

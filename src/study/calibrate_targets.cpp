@@ -2,6 +2,9 @@
 #include "calibrate_targets.hpp"
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -135,6 +138,18 @@ std::pair<double, double> read_bounds(const std::string& key, const std::string&
   if (!(v > 0))
     throw InputError("--bounds", key, "", "the case gives " + key + " no positive value to put default bounds around (its value / 4 and x 4): give --bounds lo,hi");
   return {v / 4, v * 4};
+}
+
+void require_same_method(const std::string& out, bool maps) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(out)) return;
+  const char* again = ": give another --out, or delete it";
+  if (maps && fs::exists(fs::path(out) / "round-00"))
+    throw InputError("--out", "", out, std::string("holds a calibration by coupled DEM (round-00)") + again);
+  std::ifstream f(fs::path(out) / "calibration.json");
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (!maps && text.find("\"method\": \"maps\"") != std::string::npos)
+    throw InputError("--out", "", out, std::string("holds a calibration on maps (calibration.json)") + again);
 }
 
 }  // namespace bagdem::study

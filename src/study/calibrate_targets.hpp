@@ -51,4 +51,9 @@ bool read_value(const std::string& given, Scale& scale, double& value);
 // and x 4. InputError naming --bounds otherwise.
 std::pair<double, double> read_bounds(const std::string& key, const std::string& bounds, const Scene& s, Scale& scale);
 
+// Refuses (InputError) an OUT that holds a calibration of the other method: rounds of coupled DEM
+// (OUT/round-RR) when `maps`, a calibration on maps (calibration.json's "method": "maps") when not.
+// One directory holds one calibration's tables, never the other's under its names.
+void require_same_method(const std::string& out, bool maps);
+
 }  // namespace bagdem::study

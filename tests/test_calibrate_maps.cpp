@@ -3,10 +3,13 @@
 // 1. Three configurations (the ball's diameter), each with its own map whose damping rises with the
 //    cavity's amplitude, on the SDOF of case_texts.hpp: targets predicted at a known force and
 //    damping ratio are fitted back to them (both keys within 1%, every residual below 0.01 dB). On
-//    the pipe's beam, each mode's damping ratio (KEY@M) is fitted back likewise.
+//    the pipe's beam, each mode's damping ratio (KEY@M) is fitted back likewise, and fitting one
+//    mode's keeps the others' (the list is written out to every elastic mode).
 // 2. Refused with exit 2 and nothing written: a configuration without its map, a map without
-//    damper.toml, a key that changes the damper, several keys without maps, an OUT that holds the
-//    other method's calibration.
+//    damper.toml, a key that changes the damper (found at its bounds, before anything is written),
+//    more keys than targets, a mode's element twice or of a mode the structure lacks, a target of a
+//    mode the sweep does not evaluate, several keys without maps, an OUT that holds the other
+//    method's calibration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,12 +106,13 @@ TEST(CalibrateMaps, FitsTheForceAndTheDampingRatioThatMadeTheTargets) {
 
 }
 
-// The pipe's beam (cases/pipe-beanbag), swept around modes 1 and 3, with one map: the damping ratio
-// of each mode fitted on its own (KEY@M), back to the 0.004 and 0.008 that made the targets.
+// The pipe's beam (cases/pipe-beanbag), swept around modes 1 and 3, with one map and the case's
+// damping ratios [0.004, 0.005, 0.008, 0.007] (four elastic modes): mode 1's alone fitted (KEY@1)
+// keeps the others, so both targets are met at 0.004; then modes 1 and 3 fitted each on its own.
 TEST(CalibrateMaps, FitsADampingRatioPerMode) {
   bagdem::testing::TempDir t;
   const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
-  const std::vector<std::string> sets = {"excitation.around_modes=[1, 3]"};
+  const std::vector<std::string> sets = {"excitation.around_modes=[1, 3]", "primary.damping_ratio=[0.004, 0.005, 0.008, 0.007]"};
   fs::create_directories(t.path / "map");
   {
     std::ofstream m(t.path / "map" / "map.csv");
@@ -117,21 +121,29 @@ TEST(CalibrateMaps, FitsADampingRatioPerMode) {
       for (double f : {60.0, 120.0, 400.0, 520.0}) m << 1e-4 * std::pow(10.0, 6.0 * i / 24) << ',' << f << ",0.02,0," << 0.5 + 0.2 * i / 24.0 << ",0\n";
     study::write_damper_record(t.path / "map" / "damper.toml", study::damper_record(load_case(pipe, sets)));
   }
-  const Scene truth = load_case(pipe, {sets[0], "primary.damping_ratio=[0.004, 0.005, 0.008]"});
+  const Scene truth = load_case(pipe, sets);
   const EffectiveMap map = read_effective_map(t.path / "map" / "map.csv");
-  std::vector<std::string> args = {"calibrate", pipe, "--set", sets[0], "--maps", (t.path / "map").string(), "--key", "primary.damping_ratio@1",
-                                   "--key", "primary.damping_ratio@3", "--bounds", "0.001,0.03", "--bounds", "0.001,0.03", "--scan", "3",
-                                   "--points", "60", "--out", (t.path / "out").string()};
+  std::vector<std::string> targets;
   for (const PredictedMode& m : predict_modes(*truth.primary, map, truth.primary->amplitude, truth.primary->stepped_sine->frequencies, 60, Checks::interval))
-    args.insert(args.end(), {"--target", "mode=" + std::to_string(m.mode) + ",reduction_db=" + std::to_string(m.reduction_db)});
-  ASSERT_EQ(args.size(), 24u) << "targets of modes 1 and 3";
-  const auto r = bagdem::testing::run_bagdem(args, t.path);
-  std::printf("%s", r.out.c_str());
-  ASSERT_EQ(r.code, 0) << r.err;
-  const nlohmann::json j = read_json(t.path / "out" / "calibration.json");
+    targets.insert(targets.end(), {"--target", "mode=" + std::to_string(m.mode) + ",reduction_db=" + std::to_string(m.reduction_db)});
+  ASSERT_EQ(targets.size(), 4u) << "targets of modes 1 and 3";
+  auto fit = [&](const std::string& out, const std::vector<std::string>& keys) {
+    std::vector<std::string> args = {"calibrate", pipe, "--set", sets[0], "--set", sets[1], "--maps", (t.path / "map").string(), "--scan", "3",
+                                     "--points", "60", "--out", (t.path / out).string()};
+    args.insert(args.end(), keys.begin(), keys.end());
+    args.insert(args.end(), targets.begin(), targets.end());
+    const auto r = bagdem::testing::run_bagdem(args, t.path);
+    std::printf("%s", r.out.c_str());
+    EXPECT_EQ(r.code, 0) << r.err;
+    return read_json(t.path / out / "calibration.json");
+  };
+  nlohmann::json j = fit("one", {"--key", "primary.damping_ratio@1", "--bounds", "0.001,0.03"});
+  EXPECT_NEAR(j["keys"][0]["value"].get<double>(), 0.004, 4e-5);
+  for (const auto& x : j["targets"]) EXPECT_LT(std::abs(x["residual_dB"].get<double>()), 0.02) << "mode 3 keeps its 0.008: " << x;
+  j = fit("two", {"--key", "primary.damping_ratio@1", "--key", "primary.damping_ratio@3", "--bounds", "0.001,0.03", "--bounds", "0.001,0.03"});
   EXPECT_NEAR(j["keys"][0]["value"].get<double>(), 0.004, 4e-5);
   EXPECT_NEAR(j["keys"][1]["value"].get<double>(), 0.008, 8e-5);
-  EXPECT_TRUE(j["keys"][0]["ci95_lo"].is_null()) << "two keys, two targets: determined, no interval";
+  EXPECT_TRUE(j["keys"][0]["ci95_lo"].is_null()) << "two keys, two targets: no degrees of freedom for an interval";
 }
 
 TEST(CalibrateMaps, RefusesWhatAMapCannotAnswer) {
@@ -157,8 +169,36 @@ TEST(CalibrateMaps, RefusesWhatAMapCannotAnswer) {
   std::printf("  key of the damper: exit %d: %s", r.code, r.err.c_str());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("changes the damper"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(s.t.path / "c" / "calibration.json"));
-  // Several keys by coupled DEM.
+  EXPECT_FALSE(fs::exists(s.t.path / "c"));
+  // Keys that cannot be fitted: more keys than targets, one mode's element twice, a mode the
+  // structure lacks, a key the case cannot take as a list (at its bounds): refused, nothing written.
+  for (const auto& [keys, why] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--key", "excitation.amplitude", "--key", "primary.damping_ratio", "--key", "materials.steel.youngs_modulus", "--key",
+             "primary.stiffness"},
+            "4 keys cannot be fitted to 3 targets"},
+           {{"--key", "primary.damping_ratio@01"}, "KEY@M names the element of elastic mode M (1 to 1"},
+           {{"--key", "primary.damping_ratio@2"}, "KEY@M names the element of elastic mode M (1 to 1"},
+           {{"--key", "primary.damping_ratio@1", "--bounds", "0.005,0.08"}, "key 'primary.damping_ratio@1' = 0.005,0.08: at 0.005"}}) {
+    r = bagdem::testing::run_bagdem(with(s.command("e"), keys), s.t.path);
+    std::printf("  %s: exit %d: %s", keys[1].c_str(), r.code, r.err.c_str());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s.t.path / "e"));
+  }
+  // A target of a mode the case's sweep does not evaluate: refused before the fit.
+  std::ofstream(s.t.path / "mode2.csv") << "mode,reduction_db\n2,3.0\n";
+  r = bagdem::testing::run_bagdem({"calibrate", s.case_dir.string(), "--targets", (s.t.path / "mode2.csv").string(), "--maps", (s.maps / "map-0").string(),
+                                   "--out", (s.t.path / "f").string()},
+                                  s.t.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("set excitation.around_modes to include mode 2"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.t.path / "f"));
+  // Several bounds without maps (it used to crash), several keys by coupled DEM.
+  r = bagdem::testing::run_bagdem({"calibrate", s.case_dir.string(), "--targets", s.targets.string(), "--bounds", "0.01,0.2", "--bounds", "0.01,0.03",
+                                   "--out", (s.t.path / "g").string()},
+                                  s.t.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("coupled DEM calibrates one key"), std::string::npos) << r.err;
   r = bagdem::testing::run_bagdem({"calibrate", s.case_dir.string(), "--targets", s.targets.string(), "--key", "excitation.amplitude", "--key",
                            "primary.damping_ratio", "--out", (s.t.path / "d").string()},
                           s.t.path);

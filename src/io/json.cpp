@@ -2,11 +2,19 @@
 #include "bagdem/io/json.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "bagdem/error.hpp"
 
 namespace bagdem {
+
+std::string json_number_text(double x, int digits) {
+  if (!std::isfinite(x)) return "null";
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, x);
+  return b;
+}
 
 std::string json_escape(const std::string& s) {
   std::string o;

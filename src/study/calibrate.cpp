@@ -33,16 +33,6 @@ std::string short_number(double x) {
   return b;
 }
 
-// The elastic mode numbers whose peaks the case's sweep evaluates, over its planned frequencies.
-std::vector<int> evaluated_modes(const Primary& P) {
-  const std::vector<double>& f = P.stepped_sine->frequencies;
-  if (f.empty()) return {};
-  const auto [lo, hi] = std::minmax_element(f.begin(), f.end());
-  std::vector<int> modes;
-  for (std::size_t d : P.evaluated_modes(*lo, *hi)) modes.push_back(static_cast<int>(P.elastic_mode_number(d)));
-  return modes;
-}
-
 // The reduction of each target at each value of a round's study, over the done seeds (the study
 // varies the key, then the targets' configuration key when they have one).
 std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector<bool>& finished, const std::vector<Target>& targets,
@@ -82,8 +72,6 @@ std::vector<std::vector<Estimate>> estimates(const Plan& plan, const std::vector
     }
   return out;
 }
-
-std::string json_number(double x) { return std::isfinite(x) ? short_text(x) : "null"; }
 
 // OUT/calibrate.csv (every value run, per target) and OUT/calibration.json (the solutions), and
 // the solutions on stdout; a warning per target whose peak lay at the band's edge. Returns whether
@@ -130,13 +118,13 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
     const Solution& s = r.solutions[i];
     matched = matched || s.matched;
     js << (i ? "," : "") << "\n    {\"value\": " << short_text(s.value) << ", \"value_text\": \"" << json_escape(scale.given(s.value))
-       << "\", \"half_width\": " << json_number(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
+       << "\", \"half_width\": " << json_number_text(s.half_width) << ", \"matched\": " << (s.matched ? "true" : "false") << ", \"targets\": [";
     std::printf("%s %s = %s +- %s%s (95%%)%s\n", s.matched ? "calibrated" : "closest (not matched)", key_of(args).c_str(),
                 short_number(s.value).c_str(), short_number(s.half_width).c_str(), scale.unit.empty() ? "" : (" " + scale.unit).c_str(), r.solutions.size() > 1 ? (", solution " + std::to_string(i + 1) + " of " + std::to_string(r.solutions.size())).c_str() : "");
     for (std::size_t k = 0; k < targets.size(); ++k) {
-      js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number(s.at[k].mean)
-         << ", \"reduction_dB_ci95\": " << json_number(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
-         << ", \"residual_dB\": " << json_number(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number(s.slope[k]) << "}";
+      js << (k ? ", " : "") << "{\"mode\": " << targets[k].mode << ", \"reduction_dB_mean\": " << json_number_text(s.at[k].mean)
+         << ", \"reduction_dB_ci95\": " << json_number_text(s.at[k].ci95) << ", \"seeds\": " << s.at[k].n
+         << ", \"residual_dB\": " << json_number_text(s.residual[k]) << ", \"slope_dB_per_unit\": " << json_number_text(s.slope[k]) << "}";
       std::printf("  mode %d%s: %.2f +- %.2f dB over %d start%s against %.2f dB (residual %+.2f dB)\n", targets[k].mode,
                   all.where(targets[k]).c_str(), s.at[k].mean, s.at[k].ci95, s.at[k].n, s.at[k].n == 1 ? "" : "s",
                   targets[k].reduction_db, s.residual[k]);
@@ -151,7 +139,7 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
       int n = 0;
       for (std::size_t k = 0; k < targets.size(); ++k)
         if (targets[k].mode == modes[m]) sum += std::abs(s.residual[k]), ++n;
-      js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number(sum / n) << "}";
+      js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number_text(sum / n) << "}";
       if (n > 1) std::printf("  mode %d: mean absolute residual %.2f dB over %d figures\n", modes[m], sum / n, n);
     }
     js << "]}";
@@ -181,26 +169,6 @@ StudySpec calibration_spec(const CalibrateArgs& args) {
   return base;
 }
 
-// The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise, naming
-// `source`: --target or the targets' file).
-std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets, const std::string& source) {
-  if (!s.primary || !s.primary->stepped_sine)
-    throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
-  const std::vector<int> modes = evaluated_modes(*s.primary);
-  std::vector<double> db;
-  for (const Target& t : targets) {
-    if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
-      std::string have;
-      for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
-      throw InputError(source, "", "mode=" + std::to_string(t.mode),
-                       "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
-                           ": set excitation.around_modes to include mode " + std::to_string(t.mode));
-    }
-    db.push_back(t.reduction_db);
-  }
-  return db;
-}
-
 }  // namespace
 
 int calibrate_command(const CalibrateArgs& args) {
@@ -217,8 +185,10 @@ int calibrate_command(const CalibrateArgs& args) {
     base = calibration_spec(args);
     require_same_method(base.out_dir, false);
     if (args.keys.size() > 1 || args.bounds.size() > 1)
-      throw InputError("--key", "", args.keys.back(), "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps "
-                                                      "(--maps, docs/calibrate.md)");
+      throw InputError(args.keys.size() > 1 ? "--key" : "--bounds", "", args.keys.size() > 1 ? args.keys.back() : args.bounds.back(),
+                       "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps (--maps, docs/calibrate.md)");
+    if (key_of(args).find('@') != std::string::npos)
+      throw InputError("--key", "", key_of(args), "KEY@M (one mode's element of a key) is fitted on effective-field maps (--maps); by coupled DEM, give the whole key");
     if (args.targets.empty() == args.targets_file.empty())
       throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
     if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);

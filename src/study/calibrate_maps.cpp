@@ -74,6 +74,7 @@ struct Config {
 struct Fit {
   std::vector<double> u;
   std::vector<double> db, lo, hi, weight;
+  std::vector<int> edge;  // per target: the damped peak lay at the band's edge (a bound only)
   double objective = INFINITY;
   std::string outside;
 };
@@ -94,11 +95,19 @@ double case_element(const Scene& s, const std::string& key, int mode) {
   }
 }
 
+// The structure's elastic modes (KEY@M's M runs up to this).
+std::size_t elastic_modes(const Primary& P) {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < P.size(); ++k) n = std::max(n, P.elastic_mode_number(k));
+  return n;
+}
+
 std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targets& targets) {
   std::vector<std::string> given = a.keys.empty() ? std::vector<std::string>{"excitation.amplitude"} : a.keys;
   if (a.bounds.size() > given.size())
     throw InputError("--bounds", "", a.bounds.back(), "is given " + std::to_string(a.bounds.size()) + " times for " + std::to_string(given.size()) +
                                                          " --key: one --bounds per key, in the keys' order");
+  const std::size_t modes = elastic_modes(*s.primary);
   std::vector<FitKey> keys;
   for (std::size_t i = 0; i < given.size(); ++i) {
     FitKey k;
@@ -106,18 +115,22 @@ std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targ
     const std::string bounds = i < a.bounds.size() ? a.bounds[i] : "";
     if (const auto at = k.key.find('@'); at != std::string::npos) {
       k.key = given[i].substr(0, at);
-      char* end = nullptr;
-      const long m = std::strtol(given[i].c_str() + at + 1, &end, 10);
-      if (at + 1 == given[i].size() || *end != '\0' || m < 1 || m > 1000)
-        throw InputError("--key", "", given[i], "KEY@M names the element of elastic mode M (1, 2, ...) of an array key, e.g. primary.damping_ratio@3");
-      k.mode = static_cast<int>(m);
+      const std::string m = given[i].substr(at + 1);
+      const bool digits = !m.empty() && m.size() < 5 && m[0] != '0' && std::all_of(m.begin(), m.end(), [](char c) { return c >= '0' && c <= '9'; });
+      if (k.key.empty() || !digits || std::stoul(m) > modes)
+        throw InputError("--key", "", given[i], "KEY@M names the element of elastic mode M (1 to " + std::to_string(modes) +
+                                                    ", the structure's elastic modes) of a key with one value per mode, e.g. primary.damping_ratio@3");
+      k.mode = std::stoi(m);
+      if (!std::isfinite(case_element(s, k.key, 1)))
+        throw InputError("--key", "", given[i], "KEY@M fits one element of " + k.key + ", the others keeping the case's value: the case gives " + k.key +
+                                                    " none (as a number or a list of numbers); give it one, e.g. --set " + k.key + "=0.005");
       if (bounds.empty()) {
         const double v = case_element(s, k.key, k.mode);
-        if (!(v > 0)) throw InputError("--bounds", given[i], "", "the case gives " + k.key + " no positive number at mode " + std::to_string(m) + " to put default bounds around: give --bounds lo,hi");
+        if (!(v > 0)) throw InputError("--bounds", given[i], "", "the case gives " + k.key + " no positive number at mode " + m + " to put default bounds around: give --bounds lo,hi");
         k.lo = v / 4, k.hi = v * 4;
       } else {
         std::tie(k.lo, k.hi) = read_bounds(k.key, bounds, s, k.scale);
-        if (!k.scale.unit.empty()) throw InputError("--bounds", given[i], bounds, "KEY@M takes plain numbers (an element of an array of numbers)");
+        if (!k.scale.unit.empty()) throw InputError("--bounds", given[i], bounds, "KEY@M takes plain numbers (an element of a list of numbers)");
       }
     } else {
       std::tie(k.lo, k.hi) = read_bounds(k.key, bounds, s, k.scale);
@@ -125,25 +138,29 @@ std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targ
     if (k.key == targets.config_key)
       throw InputError("--key", "", given[i], "is the targets' configuration column: the key fitted must be another");
     for (const FitKey& o : keys)
-      if (o.given == k.given || (o.key == k.key && (o.mode == 0) != (k.mode == 0)))
+      if (o.key == k.key && (o.mode == k.mode || (o.mode == 0) != (k.mode == 0)))
         throw InputError("--key", "", given[i], "is fitted twice (" + o.given + ")");
     k.log = search_in_log(k.lo, k.hi);
     keys.push_back(k);
   }
+  if (targets.list.size() < keys.size())
+    throw InputError("--key", "", given.back(), std::to_string(keys.size()) + " keys cannot be fitted to " + std::to_string(targets.list.size()) +
+                                                    " target" + (targets.list.size() == 1 ? "" : "s") + ": give at least as many targets as keys");
   return keys;
 }
 
-// The overrides that put the keys at `u` (an array key's elements gathered into one --set).
-std::vector<std::string> key_sets(const std::vector<FitKey>& keys, const std::vector<double>& u, const Scene& base) {
+// The overrides that put the keys at `u`: a key with one value per mode (KEY@M) as the list of all
+// `modes` elastic modes, the fitted elements at `u` and the others the case's.
+std::vector<std::string> key_sets(const std::vector<FitKey>& keys, const std::vector<double>& u, const Scene& base, std::size_t modes) {
   std::vector<std::string> sets;
-  std::map<std::string, std::map<int, double>> arrays;
+  std::map<std::string, std::map<int, double>> lists;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if (keys[i].mode == 0) sets.push_back(keys[i].key + "=" + keys[i].scale.toml(keys[i].value(u[i])));
-    else arrays[keys[i].key][keys[i].mode] = keys[i].value(u[i]);
+    else lists[keys[i].key][keys[i].mode] = keys[i].value(u[i]);
   }
-  for (const auto& [key, elements] : arrays) {
+  for (const auto& [key, elements] : lists) {
     std::string list;
-    for (int m = 1; m <= elements.rbegin()->first; ++m) {
+    for (int m = 1; m <= static_cast<int>(modes); ++m) {
       const auto e = elements.find(m);
       list += (m > 1 ? ", " : "") + short_text(e != elements.end() ? e->second : case_element(base, key, m));
     }
@@ -166,7 +183,7 @@ std::vector<Config> assign_maps(const CalibrateArgs& a, const std::string& case_
     if (!fs::exists(csv)) throw InputError("--maps", "", m, "holds no map.csv (bagdem characterize's OUT, or the file)");
     const std::optional<DamperRecord> d = read_damper_record(csv.parent_path() / "damper.toml");
     if (!d) throw InputError("--maps", "", m, "records no damper (no damper.toml beside map.csv, as bagdem characterize writes): calibrate cannot tell which configuration it is of");
-    maps.push_back({csv, *d});
+    maps.push_back({fs::absolute(csv).lexically_normal(), *d});
   }
   std::vector<Config> configs;
   const std::size_t n = targets.config_key.empty() ? 1 : targets.configs.size();
@@ -213,31 +230,59 @@ struct Problem {
   std::vector<Config> configs;
   double tolerance = 0.1;
   int points = 400;
+  std::size_t modes = 0;  // the structure's elastic modes
   int evaluations = 0;
+
+  // The case of configuration `c` with the keys at `u`; InputError when it does not load or its
+  // damper is not the map's.
+  Scene scene_at(const Config& c, const std::vector<double>& u) const {
+    std::vector<std::string> s = sets;
+    if (!c.set.empty()) s.push_back(c.set);
+    const std::vector<std::string> ks = key_sets(keys, u, *base, modes);
+    s.insert(s.end(), ks.begin(), ks.end());
+    Scene scene = load_case(case_dir, s);
+    if (const std::vector<std::string> diff = damper_differences(c.damper, damper_record(scene)); !diff.empty())
+      throw InputError("changes the damper (" + diff.front() + "): a map is of one damper and cannot vary it; calibrate that key by coupled DEM (without --maps)");
+    return scene;
+  }
+
+  // Before anything is written: each key at each of its bounds (the others mid-way) loads at every
+  // configuration and keeps its damper; else InputError naming the key, the bound and why.
+  void check_bounds(const std::vector<std::string>& bounds) const {
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      for (double end : {0.0, 1.0}) {
+        std::vector<double> u(keys.size(), 0.5);
+        u[i] = end;
+        for (const Config& c : configs) try {
+            scene_at(c, u);
+          } catch (const InputError& e) {
+            throw InputError("--key", keys[i].given, i < bounds.size() ? bounds[i] : "",
+                             "at " + keys[i].scale.given(keys[i].value(end)) + (c.given.empty() ? "" : " (" + c.given + ")") + ": " + e.what());
+          }
+      }
+  }
 
   Fit at(const std::vector<double>& u) {
     ++evaluations;
     Fit f;
     f.u = u;
     const std::size_t n = targets.list.size();
-    f.db.assign(n, NAN), f.lo.assign(n, NAN), f.hi.assign(n, NAN), f.weight.assign(n, NAN);
-    const std::vector<std::string> ks = key_sets(keys, u, *base);
+    f.db.assign(n, NAN), f.lo.assign(n, NAN), f.hi.assign(n, NAN), f.weight.assign(n, NAN), f.edge.assign(n, 0);
     for (const Config& c : configs) {
-      std::vector<std::string> s = sets;
-      if (!c.set.empty()) s.push_back(c.set);
-      s.insert(s.end(), ks.begin(), ks.end());
-      const Scene scene = load_case(case_dir, s);
-      if (const std::vector<std::string> diff = damper_differences(c.damper, damper_record(scene)); !diff.empty())
-        throw InputError("--key", "", ks.front(), "changes the damper (" + diff.front() + "): a map is of one damper and cannot vary it; calibrate that key by coupled DEM (without --maps)");
+      const Scene scene = scene_at(c, u);
       const Primary& P = *scene.primary;
       for (const PredictedMode& m : predict_modes(P, c.map, P.amplitude, P.stepped_sine->frequencies, points, Checks::interval))
         for (std::size_t k : c.targets) {
           if (targets.list[k].mode != static_cast<int>(m.mode)) continue;
           if (!m.outside.empty()) {
-            f.outside = "mode " + std::to_string(m.mode) + (c.given.empty() ? "" : " at " + c.given) + " (" + m.outside_why + ")";
+            const std::string why = m.outside_why == "band"    ? "a frequency outside the map's band"
+                                    : m.outside_why == "below" ? "the cavity's amplitude below the map's"
+                                    : m.outside_why == "above" ? "the cavity's amplitude above the map's"
+                                                               : "map cells without figures";
+            f.outside = "mode " + std::to_string(m.mode) + (c.given.empty() ? "" : " at " + c.given) + ": " + why;
             continue;
           }
-          f.db[k] = m.reduction_db, f.lo[k] = m.reduction_db_lo, f.hi[k] = m.reduction_db_hi;
+          f.db[k] = m.reduction_db, f.lo[k] = m.reduction_db_lo, f.hi[k] = m.reduction_db_hi, f.edge[k] = m.at_band_edge;
           f.weight[k] = std::max(0.5 * (m.reduction_db_hi - m.reduction_db_lo), tolerance);
         }
     }
@@ -247,13 +292,15 @@ struct Problem {
       J += z * z;
     }
     f.objective = std::isfinite(J) ? J : INFINITY;
-    if (f.outside.empty() && !std::isfinite(J)) f.outside = "a target's mode is not among the sweep's peaks";
     return f;
   }
 };
 
-// Scan then compass search; returns the best fit.
-Fit minimise(Problem& p, int scan) {
+// At most this many predictions in the compass search (a warning says when it stopped there).
+constexpr int kMaxSearch = 2000;
+
+// Scan then compass search; returns the best fit (`capped`: the search stopped at kMaxSearch).
+Fit minimise(Problem& p, int scan, bool& capped) {
   const std::size_t dims = p.keys.size();
   Fit best;
   std::vector<std::size_t> index(dims, 0);
@@ -268,8 +315,15 @@ Fit minimise(Problem& p, int scan) {
       else index[i] = 0;
     }
   }
+  capped = false;
   if (!std::isfinite(best.objective)) return best;
-  for (double h = 0.5 / (scan - 1); h >= 1e-3;) {
+  // A success doubles the step (up to the scan's spacing), a failure halves it.
+  const double widest = 1.0 / (scan - 1), start = p.evaluations;
+  for (double h = 0.5 * widest; h >= 1e-3;) {
+    if (p.evaluations - start >= kMaxSearch) {
+      capped = true;
+      break;
+    }
     Fit step;
     for (std::size_t i = 0; i < dims; ++i)
       for (double sign : {-1.0, 1.0}) {
@@ -279,14 +333,19 @@ Fit minimise(Problem& p, int scan) {
         Fit f = p.at(u);
         if (f.objective < best.objective && (step.u.empty() || f.objective < step.objective)) step = std::move(f);
       }
-    if (step.u.empty()) h *= 0.5;
-    else best = std::move(step);
+    if (step.u.empty()) {
+      h *= 0.5;
+    } else {
+      best = std::move(step);
+      h = std::min(2 * h, widest);
+    }
   }
   return best;
 }
 
 struct KeyInterval {
   double lo = NAN, hi = NAN;  // in the key's unit
+  bool moves = true;          // the fit's residuals change with the key at the minimum
 };
 
 // The keys' 95% intervals at the minimum (the header's recipe); NaN without degrees of freedom or
@@ -294,7 +353,6 @@ struct KeyInterval {
 std::vector<KeyInterval> key_intervals(Problem& p, const Fit& best) {
   const std::size_t n = p.targets.list.size(), dims = p.keys.size();
   std::vector<KeyInterval> out(dims);
-  if (n <= dims) return out;
   constexpr double d = 1e-3;
   Eigen::MatrixXd A(n, dims);
   for (std::size_t i = 0; i < dims; ++i) {
@@ -304,7 +362,8 @@ std::vector<KeyInterval> key_intervals(Problem& p, const Fit& best) {
     for (std::size_t k = 0; k < n; ++k)
       A(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = (a.db[k] - b.db[k]) / (up[i] - down[i]) / best.weight[k];
   }
-  if (!A.allFinite()) return out;
+  for (std::size_t i = 0; i < dims; ++i) out[i].moves = A.col(static_cast<Eigen::Index>(i)).norm() > 0;
+  if (n <= dims || !A.allFinite()) return out;
   const Eigen::MatrixXd N = A.transpose() * A;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(N);
   if (!lu.isInvertible()) return out;
@@ -312,23 +371,25 @@ std::vector<KeyInterval> key_intervals(Problem& p, const Fit& best) {
   const double t = student_t_975(n - dims);
   for (std::size_t i = 0; i < dims; ++i) {
     const double h = t * std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)));
-    out[i] = {p.keys[i].value(best.u[i] - h), p.keys[i].value(best.u[i] + h)};
+    out[i].lo = p.keys[i].value(best.u[i] - h), out[i].hi = p.keys[i].value(best.u[i] + h);
   }
   return out;
 }
-
-std::string json_number(double x) { return std::isfinite(x) ? short_text(x) : "null"; }
 
 void write_fit(const fs::path& out, const Problem& p, const Fit& best, const std::vector<KeyInterval>& iv, const std::string& note) {
   const std::vector<Target>& targets = p.targets.list;
   auto configuration = [&](const Target& t) { return p.targets.config_key.empty() ? std::string() : p.targets.config_key + "=" + p.targets.configs[t.config].given; };
   auto map_of = [&](const Target& t) { return p.configs[p.targets.config_key.empty() ? 0 : t.config].map_csv.string(); };
   std::ostringstream csv;
-  csv << "configuration,mode [1],target_db [dB],reduction_db [dB],reduction_db_lo [dB],reduction_db_hi [dB],weight_db [dB],residual_db [dB],map\n";
+  csv << "configuration,mode [1],target_db [dB],reduction_db [dB],reduction_db_lo [dB],reduction_db_hi [dB],weight_db [dB],residual_db [dB],at_band_edge [1],map\n";
   for (std::size_t k = 0; k < targets.size(); ++k)
     csv << csv_cell(configuration(targets[k])) << ',' << targets[k].mode << ',' << short_text(targets[k].reduction_db) << ',' << short_text(best.db[k])
         << ',' << short_text(best.lo[k]) << ',' << short_text(best.hi[k]) << ',' << short_text(best.weight[k]) << ','
-        << short_text(best.db[k] - targets[k].reduction_db) << ',' << csv_cell(map_of(targets[k])) << '\n';
+        << short_text(best.db[k] - targets[k].reduction_db) << ',' << best.edge[k] << ',' << csv_cell(map_of(targets[k])) << '\n';
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    if (best.edge[k])
+      std::fprintf(stderr, "warning: mode %d%s: the predicted peak lies at the band's edge: its reduction is only a bound (widen excitation.span)\n",
+                   targets[k].mode, p.targets.where(targets[k]).c_str());
   write_atomically(out / "calibrate.csv", csv.str());
 
   std::ostringstream js;
@@ -338,19 +399,20 @@ void write_fit(const fs::path& out, const Problem& p, const Fit& best, const std
     const double v = k.value(best.u[i]);
     const bool at_bound = best.u[i] <= 0 || best.u[i] >= 1;
     js << (i ? "," : "") << "\n    {\"key\": \"" << json_escape(k.given) << "\", \"value\": " << short_text(v) << ", \"value_text\": \"" << json_escape(k.scale.given(v))
-       << "\", \"ci95_lo\": " << json_number(iv[i].lo) << ", \"ci95_hi\": " << json_number(iv[i].hi) << ", \"bounds\": [" << short_text(k.lo) << ", "
-       << short_text(k.hi) << "], \"at_bound\": " << (at_bound ? "true" : "false") << "}";
+       << "\", \"ci95_lo\": " << json_number_text(iv[i].lo) << ", \"ci95_hi\": " << json_number_text(iv[i].hi) << ", \"bounds\": [" << short_text(k.lo) << ", "
+       << short_text(k.hi) << "], \"at_bound\": " << (at_bound ? "true" : "false") << ", \"moves_fit\": " << (iv[i].moves ? "true" : "false") << "}";
     const std::string range = std::isfinite(iv[i].lo) ? " (95%: " + k.scale.given(iv[i].lo) + " to " + k.scale.given(iv[i].hi) + ")" : " (no interval)";
-    std::printf("fitted %s = %s%s%s\n", k.given.c_str(), k.scale.given(v).c_str(), range.c_str(), at_bound ? " AT A BOUND: widen --bounds" : "");
+    std::printf("fitted %s = %s%s%s%s\n", k.given.c_str(), k.scale.given(v).c_str(), range.c_str(), at_bound ? " AT A BOUND: widen --bounds" : "",
+                iv[i].moves ? "" : " (THE FIT DOES NOT DEPEND ON IT: leave it out)");
   }
-  js << "\n  ],\n  \"tolerance_dB\": " << short_text(p.tolerance) << ",\n  \"objective\": " << json_number(best.objective)
+  js << "\n  ],\n  \"tolerance_dB\": " << short_text(p.tolerance) << ",\n  \"objective\": " << json_number_text(best.objective)
      << ",\n  \"degrees_of_freedom\": " << static_cast<long>(targets.size()) - static_cast<long>(p.keys.size()) << ",\n  \"predictions\": " << p.evaluations
      << ",\n  \"targets\": [";
   for (std::size_t k = 0; k < targets.size(); ++k) {
     const double r = best.db[k] - targets[k].reduction_db;
     js << (k ? "," : "") << "\n    {\"mode\": " << targets[k].mode << ", \"configuration\": \"" << json_escape(configuration(targets[k])) << "\", \"target_dB\": "
-       << short_text(targets[k].reduction_db) << ", \"reduction_dB\": " << json_number(best.db[k]) << ", \"reduction_dB_lo\": " << json_number(best.lo[k])
-       << ", \"reduction_dB_hi\": " << json_number(best.hi[k]) << ", \"residual_dB\": " << json_number(r) << "}";
+       << short_text(targets[k].reduction_db) << ", \"reduction_dB\": " << json_number_text(best.db[k]) << ", \"reduction_dB_lo\": " << json_number_text(best.lo[k])
+       << ", \"reduction_dB_hi\": " << json_number_text(best.hi[k]) << ", \"residual_dB\": " << json_number_text(r) << "}";
     std::printf("  mode %d%s: predicted %.2f dB (%.2f to %.2f) against %.2f dB (residual %+.2f dB)\n", targets[k].mode, p.targets.where(targets[k]).c_str(),
                 best.db[k], best.lo[k], best.hi[k], targets[k].reduction_db, r);
   }
@@ -363,7 +425,7 @@ void write_fit(const fs::path& out, const Problem& p, const Fit& best, const std
     int n = 0;
     for (std::size_t k = 0; k < targets.size(); ++k)
       if (targets[k].mode == modes[m]) sum += std::abs(best.db[k] - targets[k].reduction_db), ++n;
-    js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number(sum / n) << "}";
+    js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number_text(sum / n) << "}";
     std::printf("  mode %d: mean absolute residual %.2f dB over %d figure%s\n", modes[m], sum / n, n, n == 1 ? "" : "s");
   }
   js << "],\n  \"note\": \"" << json_escape(note) << "\"\n}\n";
@@ -384,26 +446,38 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     for (const std::string& t : args.targets) p.targets.list.push_back(parse_target(t));
     p.sets = args.sets;
     const Scene base = load_case(p.case_dir, args.sets);
-    if (!base.primary || !base.primary->stepped_sine)
-      throw InputError(base.case_file, "excitation.kind", "", "calibrate needs a structure and a stepped-sine sweep: its peak reductions are predicted");
     p.base = &base;
+    target_reductions(base, p.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
     p.keys = read_keys(args, base, p.targets);
+    p.modes = elastic_modes(*base.primary);
+    if (std::pow(static_cast<double>(args.scan), static_cast<double>(p.keys.size())) > 1e5)
+      throw InputError("--scan", "", std::to_string(args.scan), "gives " + std::to_string(args.scan) + "^" + std::to_string(p.keys.size()) +
+                                                                     " predictions in the scan: lower it (5 is the default)");
     p.configs = assign_maps(args, p.case_dir, p.targets);
     p.tolerance = args.tolerance, p.points = args.points;
+    p.check_bounds(args.bounds);
     const fs::path out = fs::absolute(args.out.empty() ? fs::path(p.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal();
     require_same_method(out.string(), true);
     OutputLock lock(out);
+    for (const char* name : {"calibration.json", "calibrate.csv"}) fs::remove(out / name);  // an earlier fit's tables never outlive a failed one
     std::string keys;
     for (const FitKey& k : p.keys) keys += (keys.empty() ? "" : ", ") + k.given + " in [" + k.scale.given(k.lo) + ", " + k.scale.given(k.hi) + "]" + (k.log ? " (log)" : "");
     std::fprintf(stderr, "bagdem calibrate %s on %zu map%s: %s; %zu targets -> %s\n", p.case_dir.c_str(), p.configs.size(), p.configs.size() == 1 ? "" : "s",
                  keys.c_str(), p.targets.list.size(), out.string().c_str());
-    const Fit best = minimise(p, args.scan);
+    bool capped = false;
+    const Fit best = minimise(p, args.scan, capped);
     if (!std::isfinite(best.objective))
-      throw InputError("--maps", "", "", "no value of the keys within their bounds keeps every target's response inside its map (" + best.outside +
-                                             "): narrow --bounds or extend the maps (bagdem characterize --gamma, --band)");
+      throw InputError("--maps", "", "", "at no value of the keys within their bounds does every target's response lie inside its map (" + best.outside +
+                                             "): extend that map (bagdem characterize --gamma, --band) or move the bounds");
     const std::vector<KeyInterval> iv = key_intervals(p, best);
     std::string note = "a prediction from the maps, to be checked by coupled DEM at the keys found";
-    if (p.targets.list.size() <= p.keys.size()) note += "; as many keys as targets: the keys are determined, not estimated (no interval)";
+    if (p.targets.list.size() == p.keys.size()) note += "; as many keys as targets: no degrees of freedom left for an interval";
+    if (capped) {
+      note += "; the search stopped after " + std::to_string(kMaxSearch) + " predictions, not converged";
+      std::fprintf(stderr, "warning: the search stopped after %d predictions before its step fell below 1e-3 of the bounds: the fit is not converged\n", kMaxSearch);
+    }
+    for (std::size_t i = 0; i < p.keys.size(); ++i)
+      if (!iv[i].moves) note += "; the fit does not depend on " + p.keys[i].given;
     write_fit(out, p, best, iv, note);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("calibration on maps complete: %d predictions, %.1f s wall -> %s/calibrate.csv, calibration.json\n", p.evaluations, wall, out.string().c_str());

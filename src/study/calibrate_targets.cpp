@@ -1,14 +1,14 @@
 // What `bagdem calibrate` reads (calibrate_targets.hpp): the targets, a key's unit and its bounds.
 #include "calibrate_targets.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <toml++/toml.h>
 
 #include "bagdem/error.hpp"
+#include "bagdem/io/json.hpp"
 #include "bagdem/units.hpp"
 
 namespace bagdem::study {
@@ -140,15 +140,42 @@ std::pair<double, double> read_bounds(const std::string& key, const std::string&
   return {v / 4, v * 4};
 }
 
+std::vector<int> evaluated_modes(const Primary& P) {
+  const std::vector<double>& f = P.stepped_sine->frequencies;
+  if (f.empty()) return {};
+  const auto [lo, hi] = std::minmax_element(f.begin(), f.end());
+  std::vector<int> modes;
+  for (std::size_t d : P.evaluated_modes(*lo, *hi)) modes.push_back(static_cast<int>(P.elastic_mode_number(d)));
+  return modes;
+}
+
+std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets, const std::string& source) {
+  if (!s.primary || !s.primary->stepped_sine)
+    throw InputError(s.case_file, "excitation.kind", "", "calibrate needs a coupled stepped-sine sweep (a [primary] structure and excitation.kind = \"stepped-sine\"): its peak reduction is what is matched");
+  const std::vector<int> modes = evaluated_modes(*s.primary);
+  std::vector<double> db;
+  for (const Target& t : targets) {
+    if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) {
+      std::string have;
+      for (int m : modes) have += (have.empty() ? "" : ", ") + std::to_string(m);
+      throw InputError(source, "", "mode=" + std::to_string(t.mode),
+                       "the case's sweep evaluates the peak of mode" + std::string(modes.size() == 1 ? " " : "s ") + (have.empty() ? "none" : have) +
+                           ": set excitation.around_modes to include mode " + std::to_string(t.mode));
+    }
+    db.push_back(t.reduction_db);
+  }
+  return db;
+}
+
 void require_same_method(const std::string& out, bool maps) {
   namespace fs = std::filesystem;
+  if (fs::exists(out) && !fs::is_directory(out)) throw InputError("--out", "", out, "is a file, not a directory");
   if (!fs::is_directory(out)) return;
   const char* again = ": give another --out, or delete it";
+  if (fs::exists(fs::path(out) / "map.csv")) throw InputError("--out", "", out, "holds an effective-field map (bagdem characterize's): give another --out");
   if (maps && fs::exists(fs::path(out) / "round-00"))
     throw InputError("--out", "", out, std::string("holds a calibration by coupled DEM (round-00)") + again);
-  std::ifstream f(fs::path(out) / "calibration.json");
-  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  if (!maps && text.find("\"method\": \"maps\"") != std::string::npos)
+  if (!maps && fs::exists(fs::path(out) / "calibration.json") && read_json(fs::path(out) / "calibration.json").value("method", "") == "maps")
     throw InputError("--out", "", out, std::string("holds a calibration on maps (calibration.json)") + again);
 }
 

@@ -51,6 +51,13 @@ bool read_value(const std::string& given, Scale& scale, double& value);
 // and x 4. InputError naming --bounds otherwise.
 std::pair<double, double> read_bounds(const std::string& key, const std::string& bounds, const Scene& s, Scale& scale);
 
+// The elastic mode numbers whose peaks the case's sweep evaluates, over its planned frequencies.
+std::vector<int> evaluated_modes(const Primary& P);
+
+// The targets' reductions, each of a mode the case's sweep evaluates (InputError otherwise, naming
+// `source`: --target or the targets' file; and when the case has no coupled stepped-sine sweep).
+std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets, const std::string& source);
+
 // Refuses (InputError) an OUT that holds a calibration of the other method: rounds of coupled DEM
 // (OUT/round-RR) when `maps`, a calibration on maps (calibration.json's "method": "maps") when not.
 // One directory holds one calibration's tables, never the other's under its names.

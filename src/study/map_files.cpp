@@ -20,13 +20,6 @@ namespace fs = std::filesystem;
 namespace {
 
 
-std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream s;
-  s.precision(12);
-  s << x;
-  return s.str();
-}
 
 // [[row of amplitude 0], [row of amplitude 1], ...] of a value per cell (cells Gamma-major).
 template <class F>
@@ -34,7 +27,7 @@ std::string json_rows(const MapPlan& g, const std::vector<MapCell>& cells, F val
   std::string s = "[";
   for (std::size_t i = 0; i < g.axes.gamma.size(); ++i) {
     s += i ? ", [" : "[";
-    for (std::size_t j = 0; j < g.axes.frequency.size(); ++j) s += (j ? ", " : "") + json_number(value(cells[i * g.axes.frequency.size() + j]));
+    for (std::size_t j = 0; j < g.axes.frequency.size(); ++j) s += (j ? ", " : "") + json_number_text(value(cells[i * g.axes.frequency.size() + j]), 12);
     s += "]";
   }
   return s + "]";
@@ -49,7 +42,7 @@ void write_json(const fs::path& path, const MapPlan& g, const std::vector<MapCel
   s << "  \"g\": {\"value\": " << g.axes.g << ", \"unit\": \"m/s^2\"},\n";
   auto list = [](const std::vector<double>& v) {
     std::string t = "[";
-    for (std::size_t k = 0; k < v.size(); ++k) t += (k ? ", " : "") + json_number(v[k]);
+    for (std::size_t k = 0; k < v.size(); ++k) t += (k ? ", " : "") + json_number_text(v[k], 12);
     return t + "]";
   };
   s << "  \"gamma\": {\"values\": " << list(g.axes.gamma) << ", \"unit\": \"1\"},\n";

@@ -11,6 +11,9 @@ namespace bagdem {
 // A string for a JSON document: quotes, backslashes and newlines escaped.
 std::string json_escape(const std::string& s);
 
+// A number for a JSON document, printf's %.<digits>g; "null" when it is not finite (NaN, inf).
+std::string json_number_text(double x, int digits = 10);
+
 // The JSON document in a file, its keys in the file's order; InputError naming the file when it is
 // missing or not JSON.
 nlohmann::ordered_json read_json(const std::filesystem::path& path);

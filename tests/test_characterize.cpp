@@ -17,7 +17,9 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/bag/bag.hpp"
 #include "bagdem/study/characterize.hpp"
+#include "bagdem/study/damper_record.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/study/study.hpp"
 #include "case_texts.hpp"
@@ -215,4 +217,24 @@ TEST(Characterize, RefusesACaseWithoutABandOrADirection) {
   EXPECT_EQ(r2.code, 2) << r2.err;
   EXPECT_NE(r2.err.find("direction"), std::string::npos) << r2.err;
   EXPECT_FALSE(fs::exists(t.path / "m" / "map.csv"));
+}
+
+// A map's damper.toml records what `bagdem check` says of the film and of the laws of the damper's
+// pairs (model.film.N, model.pair.A-B), so a bagdem whose film or contact defaults differ (here the
+// film's bending stiffness, as another default would make it, the case's text the same) finds the
+// map stale, naming the line.
+TEST(Characterize, TheDamperRecordHoldsTheFilmAndTheLawsAsResolved) {
+  const bagdem::Scene scene = bagdem::load_case(std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag");
+  const bagdem::study::DamperRecord made = bagdem::study::damper_record(scene);
+  ASSERT_TRUE(made.count("model.film.1") && made.count("model.pair.ldpe-steel") && made.count("model.pair.steel-steel"));
+  EXPECT_NE(made.at("model.film.2").find("bending D 3.1e-06 N m"), std::string::npos) << made.at("model.film.2");
+  EXPECT_EQ(made.count("model.pair.aluminium-aluminium"), 1u) << "the cavity's material is the damper's";
+  bagdem::Scene other = scene;
+  auto bag = std::make_shared<bagdem::Bag>(*scene.bag);
+  bag->film.bending_stiffness *= 2;
+  other.bag = bag;
+  const std::vector<std::string> diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(other));
+  ASSERT_EQ(diff.size(), 1u);
+  EXPECT_EQ(diff[0].rfind("model.film.2 is tension field on , bending D 3.1e-06 N m", 0), 0u) << diff[0];
+  EXPECT_NE(diff[0].find("bending D 6.2e-06 N m"), std::string::npos) << diff[0];
 }

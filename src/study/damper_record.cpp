@@ -1,6 +1,8 @@
 // The damper a map characterises (study/damper_record.hpp).
 #include "bagdem/study/damper_record.hpp"
 
+#include "bagdem/case/load_case.hpp"
+
 #include <toml++/toml.h>
 
 #include <cstdio>
@@ -61,8 +63,22 @@ DamperRecord damper_record(const Scene& scene) {
   r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
   r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";
   // The model choices the scene resolves and the case may not name, whose defaults a bagdem can
-  // change: the film's bending clock (docs/bag.md, "Time step").
+  // change: the film's bending clock (docs/bag.md, "Time step"), and what `bagdem check` says of
+  // the film (its block of lines, model.film.N) and of the contact law of each pair of the
+  // damper's materials (model.pair.A-B): a map made by a bagdem with other defaults shows there.
   if (scene.bag) r["bag.film.bending_interval"] = std::to_string(scene.bag->bending_interval);
+  bool in_film = false;
+  int film_line = 0;
+  for (const std::string& line : scene_record(scene)) {
+    const std::string tag = line.substr(0, line.find(' '));
+    in_film = tag == "film" || (in_film && tag.empty());
+    if (in_film) r["model.film." + std::to_string(++film_line)] = line.substr(line.find_first_not_of(' ', tag.size()));
+    if (tag == "pair") {
+      const std::size_t name = line.find_first_not_of(' ', 4), colon = line.find(':', name);
+      const std::string pair = line.substr(name, colon - name), a = pair.substr(0, pair.find('-')), b = pair.substr(pair.find('-') + 1);
+      if (used.count(a) && used.count(b)) r["model.pair." + pair] = line.substr(colon + 2);
+    }
+  }
   // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
   if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
     r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);

@@ -234,7 +234,7 @@ void place_saved_bag(const CaseReader& in, Scene& s, const SavedBagPlacement& at
   b.side = saved.side;
   b.size = saved.size;
   b.fill_fraction = saved.fill_fraction;
-  b.source = "from " + path;
+  b.source = "from " + in.string("bag.from");  // as the case gives it (relative to the case): a moved case reads the same
   // The count, mass or ratio and the seed of the saved case are not used (but are not unknown).
   for (const char* k : {"count", "mass", "mass_ratio", "primary_mass", "seed"}) in.has(std::string("bag.balls.") + k);
   for (const char* k : {"radius", "length", "size", "aspect", "exponent", "fill_fraction", "triangles", "shape", "axis", "side"})

@@ -2,7 +2,6 @@
 // how it was chosen, steps, memory estimate.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <numbers>
 #include <iomanip>
 #include <sstream>
@@ -206,19 +205,10 @@ std::string describe_scene(const Scene& s) {
 }
 
 std::vector<std::string> scene_record(const Scene& s) {
-  // Where the case directory is named (a bag read from a file in it), as given and as absolute.
-  const std::filesystem::path dir = std::filesystem::path(s.case_file).parent_path();
-  std::vector<std::string> prefixes = {std::filesystem::absolute(dir).lexically_normal().string() + "/"};
-  if (!dir.empty()) prefixes.push_back(dir.string() + "/");
-  std::sort(prefixes.begin(), prefixes.end(), [](const std::string& a, const std::string& b) { return a.size() > b.size(); });  // the longest first
   std::vector<std::string> lines;
   std::istringstream in(describe_scene(s));
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("case ", 0) == 0 || line.rfind("memory ", 0) == 0) continue;
-    for (const std::string& p : prefixes)
-      for (std::size_t at; (at = line.find(p)) != std::string::npos;) line.replace(at, p.size(), "CASE/");
-    lines.push_back(line);
-  }
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("case ", 0) != 0 && line.rfind("memory ", 0) != 0) lines.push_back(line);
   return lines;
 }
 

@@ -13,14 +13,16 @@
 // both bounds are positive and at least 3 apart (search_in_log), scaled to [0, 1] over the bounds.
 //   - A scan of `scan` values per key (the bounds included; scan^keys predictions), then a compass
 //     search from the best (Kolda, Lewis & Torczon, SIAM Review 45 (2003) 385, sec. 3): each key
-//     moved by +-h, the best improvement taken, h halved when none improves, until h < 1e-3.
+//     moved by +-h, the best improvement taken and h doubled (up to the scan's spacing), h halved
+//     when none improves, until h < 1e-3 or kMaxSearch predictions (then said not converged).
 //   - Intervals (Draper & Smith, Applied Regression Analysis, 3rd ed., 1998, sec. 24.2): with A the
 //     Jacobian of r_k / w_k in the coordinates at the minimum (central differences), the
 //     covariance s^2 (A^T A)^-1 with s^2 = J / (n - p) for n targets and p keys, and the 95%
 //     half-width t_{0.975, n-p} sqrt of its diagonal, mapped back to the key's values (asymmetric
-//     in log). None when n <= p (the keys are then determined, not estimated).
-// A key written KEY@M fits the element of elastic mode M of an array key (primary.damping_ratio@3:
-// mode 3's damping ratio), the others keeping the case's value (its last element repeating).
+//     in log). None when n = p (no degrees of freedom left); n < p is refused.
+// A key written KEY@M fits the element of elastic mode M of a key with one value per elastic mode
+// (primary.damping_ratio@3: mode 3's damping ratio), written as the list over every elastic mode,
+// the others keeping the scene's values.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -79,9 +81,16 @@ struct Fit {
   std::string outside;
 };
 
-// The case's value of `key` at elastic mode `mode` (an array's element, its last repeating; a
-// number applies to every mode): a plain number, or NaN.
+// The scene's value of `key` at elastic mode `mode`: primary.damping_ratio as the structure resolved
+// it (a default, a modal table's own, a list's last repeating); another key as the case writes it (a
+// list's element, its last repeating, or a number for every mode). NaN when there is none.
 double case_element(const Scene& s, const std::string& key, int mode) {
+  if (key == "primary.damping_ratio" && s.primary) {
+    const Primary& P = *s.primary;
+    for (std::size_t k = 0; k < P.size(); ++k)
+      if (P.elastic_mode_number(k) == static_cast<std::size_t>(mode)) return P.damping_ratio[k];
+    return NAN;
+  }
   try {
     const toml::table t = toml::parse(s.resolved);
     const toml::node_view<const toml::node> n = t.at_path(key);
@@ -102,12 +111,11 @@ std::size_t elastic_modes(const Primary& P) {
   return n;
 }
 
-std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targets& targets) {
+std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targets& targets, std::size_t modes) {
   std::vector<std::string> given = a.keys.empty() ? std::vector<std::string>{"excitation.amplitude"} : a.keys;
   if (a.bounds.size() > given.size())
     throw InputError("--bounds", "", a.bounds.back(), "is given " + std::to_string(a.bounds.size()) + " times for " + std::to_string(given.size()) +
                                                          " --key: one --bounds per key, in the keys' order");
-  const std::size_t modes = elastic_modes(*s.primary);
   std::vector<FitKey> keys;
   for (std::size_t i = 0; i < given.size(); ++i) {
     FitKey k;
@@ -123,7 +131,7 @@ std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targ
       k.mode = std::stoi(m);
       if (!std::isfinite(case_element(s, k.key, 1)))
         throw InputError("--key", "", given[i], "KEY@M fits one element of " + k.key + ", the others keeping the case's value: the case gives " + k.key +
-                                                    " none (as a number or a list of numbers); give it one, e.g. --set " + k.key + "=0.005");
+                                                    " none (as a number or a list of numbers); give it one with --set");
       if (bounds.empty()) {
         const double v = case_element(s, k.key, k.mode);
         if (!(v > 0)) throw InputError("--bounds", given[i], "", "the case gives " + k.key + " no positive number at mode " + m + " to put default bounds around: give --bounds lo,hi");
@@ -269,7 +277,14 @@ struct Problem {
     const std::size_t n = targets.list.size();
     f.db.assign(n, NAN), f.lo.assign(n, NAN), f.hi.assign(n, NAN), f.weight.assign(n, NAN), f.edge.assign(n, 0);
     for (const Config& c : configs) {
-      const Scene scene = scene_at(c, u);
+      Scene scene;
+      try {
+        scene = scene_at(c, u);
+      } catch (const InputError& e) {
+        std::string at;
+        for (std::size_t i = 0; i < keys.size(); ++i) at += (i ? ", " : "") + keys[i].given + " = " + keys[i].scale.given(keys[i].value(u[i]));
+        throw InputError("--key", "", "", "at " + at + (c.given.empty() ? "" : " (" + c.given + ")") + ": " + e.what());
+      }
       const Primary& P = *scene.primary;
       for (const PredictedMode& m : predict_modes(P, c.map, P.amplitude, P.stepped_sine->frequencies, points, Checks::interval))
         for (std::size_t k : c.targets) {
@@ -362,7 +377,12 @@ std::vector<KeyInterval> key_intervals(Problem& p, const Fit& best) {
     for (std::size_t k = 0; k < n; ++k)
       A(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = (a.db[k] - b.db[k]) / (up[i] - down[i]) / best.weight[k];
   }
-  for (std::size_t i = 0; i < dims; ++i) out[i].moves = A.col(static_cast<Eigen::Index>(i)).norm() > 0;
+  for (std::size_t i = 0; i < dims; ++i) {  // from the entries a prediction gave (a step beyond a map's edge gives none)
+    bool finite = false, moves = false;
+    for (Eigen::Index k = 0; k < A.rows(); ++k)
+      if (std::isfinite(A(k, static_cast<Eigen::Index>(i)))) finite = true, moves = moves || A(k, static_cast<Eigen::Index>(i)) != 0;
+    out[i].moves = moves || !finite;
+  }
   if (n <= dims || !A.allFinite()) return out;
   const Eigen::MatrixXd N = A.transpose() * A;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(N);
@@ -448,11 +468,11 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     const Scene base = load_case(p.case_dir, args.sets);
     p.base = &base;
     target_reductions(base, p.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
-    p.keys = read_keys(args, base, p.targets);
     p.modes = elastic_modes(*base.primary);
+    p.keys = read_keys(args, base, p.targets, p.modes);
     if (std::pow(static_cast<double>(args.scan), static_cast<double>(p.keys.size())) > 1e5)
       throw InputError("--scan", "", std::to_string(args.scan), "gives " + std::to_string(args.scan) + "^" + std::to_string(p.keys.size()) +
-                                                                     " predictions in the scan: lower it (5 is the default)");
+                                                                     " predictions in the scan: lower it (5 is the default) or fit fewer keys");
     p.configs = assign_maps(args, p.case_dir, p.targets);
     p.tolerance = args.tolerance, p.points = args.points;
     p.check_bounds(args.bounds);

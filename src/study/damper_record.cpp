@@ -1,15 +1,15 @@
 // The damper a map characterises (study/damper_record.hpp).
 #include "bagdem/study/damper_record.hpp"
 
-#include "bagdem/case/load_case.hpp"
-
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 #include <sstream>
 
 #include "bagdem/case/case_reader.hpp"
+#include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
@@ -63,22 +63,27 @@ DamperRecord damper_record(const Scene& scene) {
   r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
   r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";
   // The model choices the scene resolves and the case may not name, whose defaults a bagdem can
-  // change: the film's bending clock (docs/bag.md, "Time step"), and what `bagdem check` says of
-  // the film (its block of lines, model.film.N) and of the contact law of each pair of the
-  // damper's materials (model.pair.A-B): a map made by a bagdem with other defaults shows there.
-  if (scene.bag) r["bag.film.bending_interval"] = std::to_string(scene.bag->bending_interval);
-  bool in_film = false;
-  int film_line = 0;
-  for (const std::string& line : scene_record(scene)) {
-    const std::string tag = line.substr(0, line.find(' '));
-    in_film = tag == "film" || (in_film && tag.empty());
-    if (in_film) r["model.film." + std::to_string(++film_line)] = line.substr(line.find_first_not_of(' ', tag.size()));
-    if (tag == "pair") {
-      const std::size_t name = line.find_first_not_of(' ', 4), colon = line.find(':', name);
-      const std::string pair = line.substr(name, colon - name), a = pair.substr(0, pair.find('-')), b = pair.substr(pair.find('-') + 1);
-      if (used.count(a) && used.count(b)) r["model.pair." + pair] = line.substr(colon + 2);
-    }
+  // change (none of them depends on the seed, the structure or the time step but the clock's
+  // "auto"): the film's bending clock (docs/bag.md, "Time step") and its other resolved parameters
+  // (model.film.*), and the law of each pair of the damper's materials (model.pair.A/B).
+  if (scene.bag) {
+    const Bag& b = *scene.bag;
+    r["bag.film.bending_interval"] = std::to_string(b.bending_interval);
+    r["model.film.tension_field"] = b.film.tension_field ? "true" : "false";
+    r["model.film.bending_stiffness"] = number(b.film.bending_stiffness);
+    r["model.film.damping_ratio"] = number(b.damping_ratio);
+    r["model.film.mass_scaling"] = number(b.mass_scaling);
+    r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
+    r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
   }
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    for (std::size_t j = i; j < scene.materials.size(); ++j) {
+      if (!used.count(scene.materials[i].name) || !used.count(scene.materials[j].name)) continue;
+      const PairLaw& l = scene.laws(static_cast<int>(i), static_cast<int>(j));
+      r["model.pair." + scene.materials[i].name + "/" + scene.materials[j].name] =
+          std::string(contact_law(l.kind).name) + ", e " + number(l.restitution) + ", damping " + number(l.damping) + ", tangential ratio " +
+          number(l.tangential_ratio) + ", stiffness " + number(l.stiffness) + ", mu_s " + number(l.friction) + ", mu_r " + number(l.rolling);
+    }
   // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
   if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
     r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);
@@ -116,6 +121,9 @@ std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path
 
 std::vector<std::string> damper_differences(const DamperRecord& map, const DamperRecord& case_record) {
   std::vector<std::string> out;
+  auto models = [](const DamperRecord& r) { return std::any_of(r.begin(), r.end(), [](const auto& kv) { return kv.first.rfind("model.", 0) == 0; }); };
+  if (!models(map) && models(case_record))
+    return {"the map was made by an earlier bagdem, which did not record its resolved model choices (model.*): characterize it again"};
   std::set<std::string> keys;
   for (const auto& [k, v] : map) keys.insert(k);
   for (const auto& [k, v] : case_record) keys.insert(k);

@@ -22,8 +22,8 @@ std::string case_differences(const std::string& was, const std::string& now, con
 // Human-readable report of a resolved scene (what `bagdem check` prints).
 std::string describe_scene(const Scene& s);
 
-// The lines of describe_scene but the case's path and the memory estimate, the case directory
-// written CASE/ where a line names a file in it (a moved case is the same): what the run will
+// The lines of describe_scene but the case's path and the memory estimate (a file the case reads is
+// named as the case names it, relative to the case: a moved case is the same): what the run will
 // compute, defaults and derived values included (the time step, the bending clock, what is
 // modelled). A sweep's point.toml and a checkpoint record it, so that a bagdem that resolves the
 // same case differently (another default) refuses to resume rather than mix its figures with the

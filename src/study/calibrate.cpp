@@ -129,20 +129,8 @@ bool write_results(const std::string& out, const CalibrateArgs& args, const Targ
                   all.where(targets[k]).c_str(), s.at[k].mean, s.at[k].ci95, s.at[k].n, s.at[k].n == 1 ? "" : "s",
                   targets[k].reduction_db, s.residual[k]);
     }
-    // The fit per mode: the mean absolute residual over its figures.
-    js << "], \"mae_dB\": [";
-    std::vector<int> modes;
-    for (const Target& t : targets)
-      if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) modes.push_back(t.mode);
-    for (std::size_t m = 0; m < modes.size(); ++m) {
-      double sum = 0;
-      int n = 0;
-      for (std::size_t k = 0; k < targets.size(); ++k)
-        if (targets[k].mode == modes[m]) sum += std::abs(s.residual[k]), ++n;
-      js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number_text(sum / n) << "}";
-      if (n > 1) std::printf("  mode %d: mean absolute residual %.2f dB over %d figures\n", modes[m], sum / n, n);
-    }
-    js << "]}";
+    js << "], \"mae_dB\": " << mae_by_mode(targets, s.residual);
+    js << "}";
   }
   js << "\n  ],\n  \"note\": \"" << json_escape(r.note) << "\",\n  \"runs_failed\": " << (failed ? "true" : "false") << "\n}\n";
   write_atomically(fs::path(out) / "calibration.json", js.str());

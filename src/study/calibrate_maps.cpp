@@ -436,19 +436,10 @@ void write_fit(const fs::path& out, const Problem& p, const Fit& best, const std
     std::printf("  mode %d%s: predicted %.2f dB (%.2f to %.2f) against %.2f dB (residual %+.2f dB)\n", targets[k].mode, p.targets.where(targets[k]).c_str(),
                 best.db[k], best.lo[k], best.hi[k], targets[k].reduction_db, r);
   }
-  js << "\n  ],\n  \"mae_dB\": [";
-  std::vector<int> modes;
-  for (const Target& t : targets)
-    if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) modes.push_back(t.mode);
-  for (std::size_t m = 0; m < modes.size(); ++m) {
-    double sum = 0;
-    int n = 0;
-    for (std::size_t k = 0; k < targets.size(); ++k)
-      if (targets[k].mode == modes[m]) sum += std::abs(best.db[k] - targets[k].reduction_db), ++n;
-    js << (m ? ", " : "") << "{\"mode\": " << modes[m] << ", \"figures\": " << n << ", \"mae_dB\": " << json_number_text(sum / n) << "}";
-    std::printf("  mode %d: mean absolute residual %.2f dB over %d figure%s\n", modes[m], sum / n, n, n == 1 ? "" : "s");
-  }
-  js << "],\n  \"note\": \"" << json_escape(note) << "\"\n}\n";
+  std::vector<double> residual;
+  for (std::size_t k = 0; k < targets.size(); ++k) residual.push_back(best.db[k] - targets[k].reduction_db);
+  js << "\n  ],\n  \"mae_dB\": " << mae_by_mode(targets, residual);
+  js << ",\n  \"note\": \"" << json_escape(note) << "\"\n}\n";
   write_atomically(out / "calibration.json", js.str());
 }
 

@@ -2,6 +2,8 @@
 #include "calibrate_targets.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -165,6 +167,23 @@ std::vector<double> target_reductions(const Scene& s, const std::vector<Target>&
     db.push_back(t.reduction_db);
   }
   return db;
+}
+
+std::string mae_by_mode(const std::vector<Target>& targets, const std::vector<double>& residual) {
+  std::vector<int> modes;
+  for (const Target& t : targets)
+    if (std::find(modes.begin(), modes.end(), t.mode) == modes.end()) modes.push_back(t.mode);
+  std::string js = "[";
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k = 0; k < targets.size(); ++k)
+      if (targets[k].mode == modes[m]) sum += std::abs(residual[k]), ++n;
+    js += (m ? ", " : "") + std::string("{\"mode\": ") + std::to_string(modes[m]) + ", \"figures\": " + std::to_string(n) +
+          ", \"mae_dB\": " + json_number_text(sum / n) + "}";
+    if (n > 1) std::printf("  mode %d: mean absolute residual %.2f dB over %d figures\n", modes[m], sum / n, n);
+  }
+  return js + "]";
 }
 
 void require_same_method(const std::string& out, bool maps) {

@@ -58,6 +58,11 @@ std::vector<int> evaluated_modes(const Primary& P);
 // `source`: --target or the targets' file; and when the case has no coupled stepped-sine sweep).
 std::vector<double> target_reductions(const Scene& s, const std::vector<Target>& targets, const std::string& source);
 
+// The fit per mode: calibration.json's "mae_dB" list ({mode, figures, mae_dB} per mode, in the
+// targets' order of modes), each mode's mean absolute residual over its figures also printed
+// (where it has more than one). `residual` per target (dB).
+std::string mae_by_mode(const std::vector<Target>& targets, const std::vector<double>& residual);
+
 // Refuses (InputError) an OUT that holds a calibration of the other method: rounds of coupled DEM
 // (OUT/round-RR) when `maps`, a calibration on maps (calibration.json's "method": "maps") when not.
 // One directory holds one calibration's tables, never the other's under its names.

@@ -232,6 +232,11 @@ TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   EXPECT_NE(made.at("model.pair.ldpe/steel").find("e 0.3"), std::string::npos) << made.at("model.pair.ldpe/steel");
   EXPECT_TRUE(bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {"simulation.seed=1"}))).empty())
       << "another seed fills the bag otherwise, the damper is the same";
+  const std::vector<std::string> radius = {"bag.film.contact_radius=\"2 mm\""};
+  EXPECT_TRUE(bagdem::study::damper_differences(bagdem::study::damper_record(bagdem::load_case(pipe, radius)),
+                                                bagdem::study::damper_record(bagdem::load_case(pipe, {radius[0], "simulation.seed=1"})))
+                  .empty())
+      << "a radius the case gives in mm is the same for any seed";
   bagdem::Scene other = scene;
   auto bag = std::make_shared<bagdem::Bag>(*scene.bag);
   bag->film.bending_stiffness *= 2;

@@ -73,8 +73,10 @@ DamperRecord damper_record(const Scene& scene) {
     r["model.film.bending_stiffness"] = number(b.film.bending_stiffness);
     r["model.film.damping_ratio"] = number(b.damping_ratio);
     r["model.film.mass_scaling"] = number(b.mass_scaling);
-    r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
-    r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
+    // The radii "auto" are fractions of the mean edge, which the seed's fill moves: recorded as
+    // those fractions, and not at all where the case gives a length (its key is in the record).
+    if (!r.count("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
+    if (!r.count("bag.film.self_radius")) r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
   }
   for (std::size_t i = 0; i < scene.materials.size(); ++i)
     for (std::size_t j = i; j < scene.materials.size(); ++j) {

@@ -1,11 +1,7 @@
-// `bagdem calibrate --maps` (study/calibrate.hpp): keys of the structure and its drive fitted to
-// measured peak reductions through the prediction from effective-field maps, one map per
-// configuration of the targets, instead of coupled DEM.
-//
-// A map is the damper's alone (study/damper_record.hpp): the force, the structure and its damping
-// move the prediction without a new map, so several keys can be fitted to many figures in seconds.
-// What a map cannot vary (a key of the damper) is refused. The answer is a prediction: check it
-// with coupled DEM (bagdem sweep at the keys found), as docs/calibrate.md says.
+// `bagdem calibrate --maps` (study/calibrate.hpp): keys of the structure and its drive (a map is the
+// damper's alone, study/damper_record.hpp; a key of the damper is refused) fitted to measured peak
+// reductions through the prediction from effective-field maps, one per configuration of the
+// targets, instead of coupled DEM. The answer is a prediction, to be checked by coupled DEM.
 //
 // The fit: weighted least squares over the targets, J(v) = sum_k (r_k / w_k)^2 with r_k the
 // predicted minus the measured reduction and w_k = max(half the prediction's range over the map's
@@ -20,9 +16,8 @@
 //     covariance s^2 (A^T A)^-1 with s^2 = J / (n - p) for n targets and p keys, and the 95%
 //     half-width t_{0.975, n-p} sqrt of its diagonal, mapped back to the key's values (asymmetric
 //     in log). None when n = p (no degrees of freedom left); n < p is refused.
-// A key written KEY@M fits the element of elastic mode M of a key with one value per elastic mode
-// (primary.damping_ratio@3: mode 3's damping ratio), written as the list over every elastic mode,
-// the others keeping the scene's values.
+// KEY@M fits mode M's element of a key with one value per elastic mode (primary.damping_ratio@3),
+// written as the list over every elastic mode, the others keeping the scene's values.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -157,21 +152,28 @@ std::vector<FitKey> read_keys(const CalibrateArgs& a, const Scene& s, const Targ
   return keys;
 }
 
-// The overrides that put the keys at `u`: a key with one value per mode (KEY@M) as the list of all
-// `modes` elastic modes, the fitted elements at `u` and the others the case's.
-std::vector<std::string> key_sets(const std::vector<FitKey>& keys, const std::vector<double>& u, const Scene& base, std::size_t modes) {
+// Per key fitted by mode (KEY@M), the scene's value at each of `modes` elastic modes: the elements
+// the fit leaves alone, read once.
+std::map<std::string, std::vector<double>> base_lists(const std::vector<FitKey>& keys, const Scene& base, std::size_t modes) {
+  std::map<std::string, std::vector<double>> lists;
+  for (const FitKey& k : keys)
+    if (k.mode > 0 && !lists.count(k.key))
+      for (int m = 1; m <= static_cast<int>(modes); ++m) lists[k.key].push_back(case_element(base, k.key, m));
+  return lists;
+}
+
+// The overrides that put the keys at `u`: a key with one value per mode (KEY@M) as its whole list
+// (`lists`, base_lists), the fitted elements at `u`.
+std::vector<std::string> key_sets(const std::vector<FitKey>& keys, const std::vector<double>& u,
+                                  std::map<std::string, std::vector<double>> lists) {
   std::vector<std::string> sets;
-  std::map<std::string, std::map<int, double>> lists;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if (keys[i].mode == 0) sets.push_back(keys[i].key + "=" + keys[i].scale.toml(keys[i].value(u[i])));
-    else lists[keys[i].key][keys[i].mode] = keys[i].value(u[i]);
+    else lists[keys[i].key][static_cast<std::size_t>(keys[i].mode - 1)] = keys[i].value(u[i]);
   }
-  for (const auto& [key, elements] : lists) {
+  for (const auto& [key, values] : lists) {
     std::string list;
-    for (int m = 1; m <= static_cast<int>(modes); ++m) {
-      const auto e = elements.find(m);
-      list += (m > 1 ? ", " : "") + short_text(e != elements.end() ? e->second : case_element(base, key, m));
-    }
+    for (std::size_t m = 0; m < values.size(); ++m) list += (m ? ", " : "") + short_text(values[m]);
     sets.push_back(key + "=[" + list + "]");
   }
   return sets;
@@ -232,13 +234,12 @@ std::vector<Config> assign_maps(const CalibrateArgs& a, const std::string& case_
 struct Problem {
   std::string case_dir;
   std::vector<std::string> sets;
-  const Scene* base = nullptr;
+  std::map<std::string, std::vector<double>> lists;  // base_lists
   Targets targets;
   std::vector<FitKey> keys;
   std::vector<Config> configs;
   double tolerance = 0.1;
   int points = 400;
-  std::size_t modes = 0;  // the structure's elastic modes
   int evaluations = 0;
 
   // The case of configuration `c` with the keys at `u`; InputError when it does not load or its
@@ -246,7 +247,7 @@ struct Problem {
   Scene scene_at(const Config& c, const std::vector<double>& u) const {
     std::vector<std::string> s = sets;
     if (!c.set.empty()) s.push_back(c.set);
-    const std::vector<std::string> ks = key_sets(keys, u, *base, modes);
+    const std::vector<std::string> ks = key_sets(keys, u, lists);
     s.insert(s.end(), ks.begin(), ks.end());
     Scene scene = load_case(case_dir, s);
     if (const std::vector<std::string> diff = damper_differences(c.damper, damper_record(scene)); !diff.empty())
@@ -457,10 +458,10 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     for (const std::string& t : args.targets) p.targets.list.push_back(parse_target(t));
     p.sets = args.sets;
     const Scene base = load_case(p.case_dir, args.sets);
-    p.base = &base;
-    target_reductions(base, p.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
-    p.modes = elastic_modes(*base.primary);
-    p.keys = read_keys(args, base, p.targets, p.modes);
+    target_reductions(base, p.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);  // validates the targets' modes
+    const std::size_t modes = elastic_modes(*base.primary);
+    p.keys = read_keys(args, base, p.targets, modes);
+    p.lists = base_lists(p.keys, base, modes);
     if (std::pow(static_cast<double>(args.scan), static_cast<double>(p.keys.size())) > 1e5)
       throw InputError("--scan", "", std::to_string(args.scan), "gives " + std::to_string(args.scan) + "^" + std::to_string(p.keys.size()) +
                                                                      " predictions in the scan: lower it (5 is the default) or fit fewer keys");

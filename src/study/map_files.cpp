@@ -19,8 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
-
 // [[row of amplitude 0], [row of amplitude 1], ...] of a value per cell (cells Gamma-major).
 template <class F>
 std::string json_rows(const MapPlan& g, const std::vector<MapCell>& cells, F value) {

@@ -8,8 +8,9 @@
 // 2. Refused with exit 2 and nothing written: a configuration without its map, a map without
 //    damper.toml, a key that changes the damper (found at its bounds, before anything is written),
 //    more keys than targets, a mode's element twice or of a mode the structure lacks, a target of a
-//    mode the sweep does not evaluate, several keys without maps, an OUT that holds the other
-//    method's calibration.
+//    mode the sweep does not evaluate, several keys without maps, an option of the other method
+//    (--seeds, --rounds, --jobs with maps; --points without), an OUT that holds the other method's
+//    calibration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -205,6 +206,19 @@ TEST(CalibrateMaps, RefusesWhatAMapCannotAnswer) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("several keys are fitted on effective-field maps"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(s.t.path / "d"));
+  // Options of one method given to the other: refused, not ignored.
+  for (const auto& [extra, why] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--seeds", "2"}, "--maps excludes --seeds"}, {{"--rounds", "2"}, "--maps excludes --rounds"}, {{"--jobs", "1"}, "--maps excludes --jobs"}}) {
+    r = bagdem::testing::run_bagdem(with(s.command("h"), extra), s.t.path);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s.t.path / "h"));
+  }
+  r = bagdem::testing::run_bagdem({"calibrate", s.case_dir.string(), "--targets", s.targets.string(), "--points", "60", "--out", (s.t.path / "i").string()},
+                                  s.t.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--points requires --maps"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.t.path / "i"));
   // One OUT holds one method's calibration: rounds of coupled DEM refuse a fit on maps there, and a
   // fit on maps refuses coupled DEM's rounds.
   fs::create_directories(s.t.path / "dem" / "round-00");

@@ -334,20 +334,25 @@ def keys(out, level, zeta, seeds, jobs):
     return table
 
 
-def slope_rows(out, level, seeds, jobs):
-    """slope.csv's rows: the calibrated case and each SLOPE_CHOICES value, per mode the reduction at
-    each of SLOPE_RATIOS over the starts, the slopes between them (the per-start differences' mean and
-    95% half-width) and the runs' mean wall time [s]."""
+def slope_rows(out, level, seeds, jobs, chosen, done):
+    """slope.csv's rows: the calibrated case ("base") and each SLOPE_CHOICES value, per mode the
+    reduction at each of SLOPE_RATIOS over the starts, the slopes between them (the per-start
+    differences' mean and 95% half-width) and the runs' mean wall time [s]. Runs the choices named in
+    `chosen` (all when None) and tabulates every choice whose runs are in OUT; done(table, seeds)
+    is called after each choice with the rows so far and the per-start rows (slope-seeds.csv's)."""
     study = rows_of_set(os.path.join(ROOT, "cases/studies/mass-ratio/study.toml"))
     ratios = "bag.balls.mass_ratio=" + ",".join(f"{r:g}" for r in SLOPE_RATIOS)
-    table = []
+    table, per_start = [], []
     for key, name, vary in [("(the calibrated case)", "base", [])] + SLOPE_CHOICES:
         d = os.path.join(out, "slope", name)
         args = [BAGDEM, "sweep", os.path.join(ROOT, "cases/pipe-beanbag"), "--seeds", str(seeds), "--out", d, "--jobs", str(jobs),
                 "--vary", ratios] + vary
         for m in study + (level if key != "excitation.amplitude" else level[1:]) + MODES:
             args += ["--set", m]
-        run(args)
+        if chosen is None or name in chosen:
+            run(args)
+        elif not os.path.exists(os.path.join(d, "peaks.csv")):
+            continue
         peaks = [r for r in rows(os.path.join(d, "peaks.csv")) if r["status"] == "done" and r["reduction_dB [dB]"] != ""]
         varied = [c for c in (peaks[0] if peaks else {}) if " [" not in c and c not in ("point", "status", "seed", "bag.balls.mass_ratio")]
         walls = {}  # value -> {point: wall time [s]}
@@ -359,6 +364,9 @@ def slope_rows(out, level, seeds, jobs):
                     walls[value][r["point"]] = json.load(f)["wall_time_s"]
             g = groups.setdefault((value, int(float(r["mode [1]"]))), {})
             g.setdefault(float(r["bag.balls.mass_ratio"]), {})[int(r["seed"])] = float(r["reduction_dB [dB]"])
+            per_start.append({"key": key, "value": value, "mode [1]": r["mode [1]"], "mass_ratio [1]": r["bag.balls.mass_ratio"],
+                              "seed": r["seed"], "reduction_dB [dB]": r["reduction_dB [dB]"],
+                              "wall_s [s]": f"{walls[value][r['point']]:.1f}"})
         for (value, mode), g in sorted(groups.items()):
             row = {"key": key, "value": value, "mode [1]": mode, "seeds [1]": min(len(g.get(x, {})) for x in SLOPE_RATIOS),
                    "wall_s_mean [s]": f"{sum(walls[value].values()) / len(walls[value]):.1f}"}
@@ -371,7 +379,7 @@ def slope_rows(out, level, seeds, jobs):
                 tag = f"{round(100 * hi)}_minus_{round(100 * lo)}"
                 row[f"slope_db_{tag}_mean [dB]"], row[f"slope_db_{tag}_ci95 [dB]"] = f"{m:.2f}", f"{h:.2f}"
             table.append(row)
-    return table
+        done(table, per_start)
 
 
 def rows_of_set(study_toml):
@@ -549,6 +557,8 @@ def main(argv):
                    help="only step 7: a map per Table 3 mass ratio, then the force and damping ratios fitted on them to all 20 figures")
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
+    p.add_argument("--slope-choices", help="with --slope: only these (comma-separated: base, tightness, force, ball-stiffness, "
+                   "bag-radius, film-thickness; empty: none run); slope.csv holds every choice whose runs are in --out")
     p.add_argument("--clearance-amplitude", default="0.5 N",
                    help='the force at which the clearance study is also run, mode 1, bag radius 7-11 mm (default "0.5 N")')
     p.add_argument("--impact-amplitude", default="0.2 N",
@@ -573,7 +583,16 @@ def main(argv):
             columns += [f"reduction_db_{round(100 * x)}pct_mean [dB]", f"reduction_db_{round(100 * x)}pct_ci95 [dB]"]
         for lo, hi in zip(SLOPE_RATIOS, SLOPE_RATIOS[1:]):
             columns += [f"slope_db_{round(100 * hi)}_minus_{round(100 * lo)}_mean [dB]", f"slope_db_{round(100 * hi)}_minus_{round(100 * lo)}_ci95 [dB]"]
-        write_csv(os.path.join(a.docs, "slope.csv"), columns + ["wall_s_mean [s]"], slope_rows(a.out, level, a.seeds, a.jobs))
+        chosen = None if a.slope_choices is None else set(filter(None, a.slope_choices.split(",")))
+        names = {"base"} | {name for _, name, _ in SLOPE_CHOICES}
+        if chosen is not None and not chosen <= names:
+            sys.exit(f"tools/validate-study: --slope-choices {a.slope_choices}: allowed are {', '.join(sorted(names))}")
+
+        def done(table, per_start):  # written after each choice, so that a stopped study keeps what it measured
+            write_csv(os.path.join(a.docs, "slope.csv"), columns + ["wall_s_mean [s]"], table)
+            write_csv(os.path.join(a.docs, "slope-seeds.csv"), ["key", "value", "mode [1]", "mass_ratio [1]", "seed",
+                                                                 "reduction_dB [dB]", "wall_s [s]"], per_start)
+        slope_rows(a.out, level, a.seeds, a.jobs, chosen, done)
         return 0
     if zeta is None:
         cal, zeta = calibrate(a.out, a.amplitude, a.seeds, a.jobs)

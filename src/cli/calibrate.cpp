@@ -30,19 +30,26 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
                 "lo,hi, read as --set reads values: --bounds '\"0.05 N\",\"2 N\"' (default: the case's value / 4 and x 4); with "
                 "several --key, one --bounds per key in their order")
       ->allow_extra_args(false);
-  c->add_option("--maps", a.maps,
-                "Effective-field maps (bagdem characterize's OUT), one per configuration of the targets, matched by their "
-                "damper.toml: fit the keys through the prediction from the maps instead of coupled DEM, in seconds (check the "
-                "answer with coupled DEM)");
+  CLI::Option* maps = c->add_option(
+      "--maps", a.maps,
+      "Effective-field maps (bagdem characterize's OUT), one per configuration of the targets, matched by their "
+      "damper.toml: fit the keys through the prediction from the maps instead of coupled DEM, in minutes rather than "
+      "core-days (check the answer with coupled DEM)");
   c->add_option("--points", a.points, "With --maps: frequencies per mode's band of each prediction (default 400, as bagdem predict)")
-      ->check(CLI::Range(2, 1000000));
+      ->check(CLI::Range(2, 1000000))
+      ->needs(maps);
   c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
-  c->add_option("--seeds", a.seeds, "Starts per value (simulation.seed = 1..N; default 3)")->check(CLI::Range(1, 1000));
+  // Options of the coupled-DEM calibration only: a fit on maps runs no simulation, so they are refused with --maps
+  // rather than ignored.
+  std::vector<CLI::Option*> dem_only;
+  dem_only.push_back(c->add_option("--seeds", a.seeds, "Starts per value (simulation.seed = 1..N; default 3)")->check(CLI::Range(1, 1000)));
   c->add_option("--scan", a.scan, "Values of the first round, the bounds included (default 5)")->check(CLI::Range(3, 1000));
-  c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100));
+  dem_only.push_back(c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100)));
   c->add_option("--tolerance", a.tolerance, "dB: a value matches within max(the seeds' 95% half-width, this) (default 0.1)")
       ->check(CLI::PositiveNumber);
   add_budget_options(c, a.jobs, a.threads, a.cores, "calibration", "this machine's");
+  for (const char* name : {"--jobs", "--threads", "--cores"}) dem_only.push_back(c->get_option(name));
+  for (CLI::Option* o : dem_only) o->excludes(maps);
   c->add_option("--out", a.out, "Output directory (default CASE_DIR/calibrate)");
   return c;
 }

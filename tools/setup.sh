@@ -6,6 +6,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BAGDEM_BUILD_DIR:-$ROOT/build}"
 PACKAGES=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libnanoflann-dev
           libgtest-dev libtomlplusplus-dev libcli11-dev zlib1g-dev nlohmann-json3-dev python3-numpy python3-h5py python3-matplotlib
+          python3-pandas python3-pytest
           libopenmpi-dev openmpi-bin clang-19 libomp-19-dev)
 # The compiler: clang 19 (Debian 12's clang-19), whose code runs the step 10-12% faster than GCC 12's
 # on the PD-box beds (docs/performance.md); the results are the same bits. BAGDEM_COMPILER=gcc

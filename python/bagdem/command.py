@@ -1,0 +1,101 @@
+"""Running the bagdem binary: where it is, a command line from Python values, progress shown as it
+goes, and failures raised with bagdem's own message and exit code."""
+import os
+import subprocess
+import sys
+import threading
+
+# The repository's root (python/bagdem/ is two levels below it): a clone's build/bagdem is found
+# without installing anything.
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
+
+# bagdem's exit codes (bagdem --help).
+EXIT_MEANING = {1: "system error (I/O, a full disk)", 2: "bad input (case or command line)",
+                3: "a run went unstable or a point failed", 130: "stopped by SIGINT", 143: "stopped by SIGTERM"}
+
+
+class BagdemError(RuntimeError):
+    """A bagdem command that did not succeed: `code` is its exit code, `message` what it printed on
+    stderr (without progress lines), `args` the command line."""
+
+    def __init__(self, args, code, message):
+        self.args_run, self.code, self.message = list(args), code, message
+        meaning = EXIT_MEANING.get(code, "failed")
+        super().__init__(f"bagdem {args[1] if len(args) > 1 else ''} exited {code} ({meaning}):\n{message.rstrip()}")
+
+
+def binary():
+    """The bagdem executable: $BAGDEM if set, else the clone's build/bagdem ($BAGDEM_BUILD_DIR/bagdem
+    when that is set, as tools/ read it)."""
+    path = os.environ.get("BAGDEM") or os.path.join(os.environ.get("BAGDEM_BUILD_DIR", os.path.join(ROOT, "build")), "bagdem")
+    if not os.access(path, os.X_OK):
+        raise FileNotFoundError(f"no bagdem executable at {path}: build it (tools/test or tools/demo builds build/bagdem), "
+                                "or set BAGDEM to its path")
+    return path
+
+
+def toml_value(value):
+    """A Python value as the TOML text --set reads: "8 mm" (a quantity), 0.08, true, [1, 3],
+    ["-40 mm", "0 mm", "0 mm"]. Strings are quoted, so a unit is always kept with its number."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if hasattr(value, "item"):  # a numpy scalar
+        return toml_value(value.item())
+    raise TypeError(f"cannot write {value!r} ({type(value).__name__}) as a case value: use a number, a string "
+                    "with its unit (\"8 mm\"), a bool or a list of them")
+
+
+def option_args(options):
+    """Keyword options as command-line arguments: gamma=(0.5, 20) -> --gamma 0.5,20; seeds=3 ->
+    --seeds 3; verify=True -> --verify; a list for a repeatable option (key=[...]) -> --key each;
+    underscores become dashes (window_time -> --window-time). None and False leave an option out."""
+    out = []
+    for name, value in options.items():
+        flag = "--" + name.replace("_", "-")
+        if value is None or value is False:
+            continue
+        if value is True:
+            out.append(flag)
+        elif isinstance(value, list):
+            for v in value:
+                out += [flag, str(v)]
+        elif isinstance(value, tuple):
+            out += [flag, ",".join(str(v) for v in value)]
+        else:
+            out += [flag, str(value)]
+    return out
+
+
+def is_progress(line):
+    """bagdem's progress lines on stderr (a run's percentages, a study's counts), shown as they come
+    but not kept in an error's message."""
+    s = line.strip()
+    return (s[:1].isdigit() and "%" in s.split()[0]) or s.startswith(("sweep: ", "characterize: ", "design: ", "calibrate: "))
+
+
+def run(args, progress=True, cwd=None):
+    """Runs `bagdem ARGS...` (args without the executable) and returns its stdout. Progress on stderr
+    is passed to `progress` line by line: True prints it to sys.stderr, False drops it, a callable
+    receives each line. Raises BagdemError with the exit code and the message when it fails."""
+    cmd = [binary()] + [str(a) for a in args]
+    show = (lambda line: sys.stderr.write(line)) if progress is True else (progress or (lambda line: None))
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd, bufsize=1)
+    out = []
+    reader = threading.Thread(target=lambda: out.extend(proc.stdout))
+    reader.start()
+    kept = []
+    for line in proc.stderr:
+        show(line)
+        if not is_progress(line):
+            kept.append(line)
+    reader.join()
+    code = proc.wait()
+    if code != 0:
+        raise BagdemError(cmd, code, "".join(kept) or "".join(out[-20:]))
+    return "".join(out)

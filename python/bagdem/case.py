@@ -34,6 +34,9 @@ class Case:
         fd, part = tempfile.mkstemp(dir=path, prefix=".case.toml.")
         with os.fdopen(fd, "w") as f:
             f.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(part, 0o666 & ~umask)  # as open() would make it, not mkstemp's 0600
         os.replace(part, os.path.join(path, "case.toml"))
         return cls(path, overrides)
 
@@ -62,10 +65,11 @@ class Case:
         return command.run(["check", self.path] + self.set_args(), progress=False)
 
     def command(self, name, out, progress=True, **options):
-        """Runs `bagdem NAME CASE ... --out OUT` with the options and returns Results(OUT)."""
-        command.run([name, self.path] + self.set_args() + command.option_args(options) + ["--out", os.path.abspath(out)],
-                    progress=progress)
-        return Results(out)
+        """Runs `bagdem NAME CASE ... --out OUT` with the options and returns Results(OUT); with
+        check=True (a study's plan, nothing run) the plan bagdem printed, as text."""
+        printed = command.run([name, self.path] + self.set_args() + command.option_args(options) + ["--out", os.path.abspath(out)],
+                              progress=progress)
+        return printed if options.get("check") else Results(out)
 
     def run(self, out, progress=True, **options):
         """`bagdem run`: one run (a coupled case runs its frequency sweep)."""
@@ -114,4 +118,6 @@ def vary_args(vary):
     """{key: [values]} as --vary arguments (KEY=V1,V2,...), values written as TOML."""
     if vary is None:
         return None
-    return [f"{key}=" + ",".join(command.toml_value(v) for v in values) for key, values in vary.items()]
+    def listed(values):  # one value, or any sequence of them (a list, a numpy array)
+        return [values] if isinstance(values, str) or not hasattr(values, "__iter__") else list(values)
+    return [f"{key}=" + ",".join(command.toml_value(v) for v in listed(values)) for key, values in vary.items()]

@@ -3,6 +3,7 @@ results.h5 as numpy arrays, a study's points, and tools/plot's figures."""
 import glob
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -14,25 +15,40 @@ from .command import ROOT
 # The tables bagdem writes (docs/outputs.md), each an attribute of Results: results.peaks reads
 # peaks.csv. A study's merged tables have the same names; `<table>_ensemble` its means over seeds.
 TABLES = ("sweep", "peaks", "reduced", "compare", "bare_curve", "drop", "drop_result", "map", "predict",
-          "predict_peaks", "design", "calibrate", "trade", "export")
+          "predict_peaks", "predict_random", "design", "calibrate", "trade", "export", "modes")
+
+# How bagdem writes a missing number: nothing, or C's "nan" / "-nan" (0/0 printed with %g).
+MISSING = ["", "nan", "-nan", "NaN", "-NaN"]
 
 
 def read_table(path):
     """A bagdem CSV table as a pandas DataFrame. Columns keep their headers exactly as written
-    (`reduction_dB [dB]`, docs/outputs.md), numbers as floats (an empty cell is NaN), text as
-    strings; frame.attrs["units"] maps each header to its unit ("" for a column without one)."""
+    (`reduction_dB [dB]`, docs/outputs.md). A column with a unit holds floats (NaN where bagdem
+    wrote none); one without a unit (`status`, a study's `bag.balls.diameter` = `4 mm`) or with the
+    unit `text` holds strings, or numbers when every cell is one (`point`, `seed`).
+    frame.attrs["units"] maps each header to its unit ("" for none). A cell of a unit's column that
+    is not a number raises ValueError naming the file, column and cell, never a column of text."""
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: no such table")
-    frame = pd.read_csv(path, keep_default_na=False, na_values=[""], dtype=str)
+    try:
+        frame = pd.read_csv(path, keep_default_na=False, na_values=MISSING, dtype=str)
+    except pd.errors.EmptyDataError:
+        raise ValueError(f"{path}: empty; a bagdem table starts with a header line of `name [unit]` entries") from None
     units = {}
     for column in frame.columns:
-        name, _, rest = column.partition(" [")
+        _, _, rest = column.partition(" [")
         units[column] = rest[:-1] if rest.endswith("]") else ""
-        if units[column] != "text":
-            try:
-                frame[column] = pd.to_numeric(frame[column])
-            except (ValueError, TypeError):
-                pass
+        if units[column] in ("", "text"):
+            converted = pd.to_numeric(frame[column], errors="coerce")
+            if not (converted.isna() & frame[column].notna()).any():
+                frame[column] = converted
+            continue
+        converted = pd.to_numeric(frame[column], errors="coerce").astype(float)
+        bad = converted.isna() & frame[column].notna()
+        if bad.any():
+            row = int(bad.idxmax())
+            raise ValueError(f"{path}: column '{column}' row {row + 1}: {frame[column][row]!r} is not a number")
+        frame[column] = converted
     frame.attrs["units"] = units
     frame.attrs["path"] = os.path.abspath(path)
     return frame
@@ -53,13 +69,14 @@ class H5:
             f.visititems(lambda name, obj: self.names.append(name) if isinstance(obj, h5py.Dataset) else None)
 
     def __getitem__(self, name):
+        name = name.lstrip("/")
         if name not in self.names:
             raise KeyError(f"{self.path} has no dataset {name!r}; it has: {', '.join(self.names)}")
         with self._h5py.File(self.path, "r") as f:
             return np.asarray(f[name][()])
 
     def __contains__(self, name):
-        return name in self.names
+        return name.lstrip("/") in self.names
 
 
 class Results:
@@ -92,10 +109,15 @@ class Results:
         return read_table(path)
 
     def __getattr__(self, name):
+        # A table as an attribute; a missing one is an AttributeError (so hasattr and getattr with
+        # a default work), with the message of table().
         base = name[:-len("_ensemble")] if name.endswith("_ensemble") else name
-        if base in TABLES:
+        if base not in TABLES:
+            raise AttributeError(name)
+        try:
             return self.table(name)
-        raise AttributeError(name)
+        except FileNotFoundError as e:
+            raise AttributeError(str(e)) from None
 
     def json(self, name):
         with open(self.file(name)) as f:
@@ -120,7 +142,8 @@ class Results:
     @property
     def points(self):
         """A study's points (point-NNN, in order), each a Results."""
-        return [Results(p) for p in sorted(glob.glob(self.file("point-[0-9][0-9][0-9]")))]
+        points = [p for p in glob.glob(self.file("point-*")) if re.fullmatch(r"point-[0-9]{3,}", os.path.basename(p))]
+        return [Results(p) for p in sorted(points, key=lambda p: int(os.path.basename(p)[len("point-"):]))]
 
     def plot(self, out=None):
         """tools/plot's figures of this directory (into OUT, default the directory): their paths."""

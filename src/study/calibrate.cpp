@@ -160,7 +160,12 @@ StudySpec calibration_spec(const CalibrateArgs& args) {
 }  // namespace
 
 int calibrate_command(const CalibrateArgs& args) {
-  if (!args.maps.empty()) return calibrate_on_maps(args);
+  std::optional<Ranks> ranks;
+  if (const int code = start_ranks(ranks)) return code;
+  const bool lead = ranks->rank() == 0;
+  // The lead reports on stdout; the other ranks show their runs' progress on stderr.
+  if (!lead && !std::freopen("/dev/null", "w", stdout)) std::fprintf(stderr, "%swarning: stdout not silenced\n", rank_prefix(*ranks).c_str());
+  if (!args.maps.empty()) return ranks->broadcast(lead ? calibrate_on_maps(args) : 0);  // no runs to share
   const auto t0 = std::chrono::steady_clock::now();
   Targets targets;
   std::vector<double> target_db;
@@ -168,38 +173,43 @@ int calibrate_command(const CalibrateArgs& args) {
   Scale scale;
   StudySpec base;
   Budget budget;
-  std::optional<OutputLock> lock;
-  if (const int code = reporting_errors([&] {
-    base = calibration_spec(args);
-    require_same_method(base.out_dir, false);
-    if (args.keys.size() > 1 || args.bounds.size() > 1)
-      throw InputError(args.keys.size() > 1 ? "--key" : "--bounds", "", args.keys.size() > 1 ? args.keys.back() : args.bounds.back(),
-                       "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps (--maps, docs/calibrate.md)");
-    if (key_of(args).find('@') != std::string::npos)
-      throw InputError("--key", "", key_of(args), "KEY@M (one mode's element of a key) is fitted on effective-field maps (--maps); by coupled DEM, give the whole key");
-    if (args.targets.empty() == args.targets_file.empty())
-      throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
-    if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);
-    for (const std::string& t : args.targets) targets.list.push_back(parse_target(t));
-    if (targets.config_key == key_of(args))
-      throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
-    const Scene s = load_case(base.case_dir, args.sets);
-    target_db = target_reductions(s, targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
-    const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, scale);
-    opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
-    opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
-    budget = resolve_budget(base, machine_cores(), "the cores of this machine", "bagdem calibrate");
-    return 0;
-  }))
+  if (const int code = agreed(*ranks, [&] {
+        base = calibration_spec(args);
+        require_same_method(base.out_dir, false);
+        if (args.keys.size() > 1 || args.bounds.size() > 1)
+          throw InputError(args.keys.size() > 1 ? "--key" : "--bounds", "", args.keys.size() > 1 ? args.keys.back() : args.bounds.back(),
+                           "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps (--maps, docs/calibrate.md)");
+        if (key_of(args).find('@') != std::string::npos)
+          throw InputError("--key", "", key_of(args), "KEY@M (one mode's element of a key) is fitted on effective-field maps (--maps); by coupled DEM, give the whole key");
+        if (args.targets.empty() == args.targets_file.empty())
+          throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
+        if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);
+        for (const std::string& t : args.targets) targets.list.push_back(parse_target(t));
+        if (targets.config_key == key_of(args))
+          throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
+        const Scene s = load_case(base.case_dir, args.sets);
+        target_db = target_reductions(s, targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
+        const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, scale);
+        opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
+        opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
+        budget = resolve_budget(base, ranks->cores(), ranks->cores_from(), "bagdem calibrate");
+        return 0;
+      }))
     return code;
 
-  std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s\n",
-               base.case_dir.c_str(), key_of(args).c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
-               opt.scan, args.seeds, args.seeds > 1 ? "s" : "", base.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "");
+  if (lead)
+    std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s%s\n",
+                 base.case_dir.c_str(), key_of(args).c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
+                 opt.scan, args.seeds, args.seeds > 1 ? "s" : "", base.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "",
+                 ranks->size() > 1 ? (" on each of " + std::to_string(ranks->size()) + " ranks").c_str() : "");
   bool failed = false;
   int round = 0;
-  // One round: the values as a study in OUT/round-RR. Bad input surfaces in the first round's
-  // validation, before anything runs.
+  std::optional<OutputLock> lock;
+  struct Reported {  // an error already said (by agreed), with its exit code
+    int code;
+  };
+  // One round: the values as a study in OUT/round-RR, shared among the ranks. Bad input surfaces in
+  // the first round's validation (the same on every rank), before anything runs.
   Evaluate evaluate = [&](const std::vector<double>& values) {
     StudySpec spec = base;
     char name[32];
@@ -211,7 +221,7 @@ int calibrate_command(const CalibrateArgs& args) {
     if (!targets.config_key.empty()) spec.vary.push_back({targets.config_key, targets.configs});
     Plan plan = make_plan(spec);
     for (const std::string& w : validate_plan(plan))
-      if (round == 0) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      if (round == 0 && lead) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::vector<bool> done;
     try {
       done = done_points(plan);
@@ -220,17 +230,17 @@ int calibrate_command(const CalibrateArgs& args) {
     }
     std::string list;
     for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
-    std::fprintf(stderr, "round %d: %s = %s\n", round, key_of(args).c_str(), list.c_str());
-    if (!lock) {  // one study writes a directory at a time; taken before it writes; its runs write inside it
-      lock.emplace(base.out_dir);
-      share_output_with_children(base.out_dir);
-    }
-    fs::create_directories(spec.out_dir);
-    remove_merged_tables(plan);
-    run_share(plan, done, budget, args.executable, 0, 1, name + std::string(": "));
-    const std::vector<bool> finished = finished_points(plan);
+    if (lead) std::fprintf(stderr, "round %d: %s = %s\n", round, key_of(args).c_str(), list.c_str());
+    if (round == 0)  // one study writes a directory at a time; locked before it writes; its runs write inside it
+      if (const int code = agreed(*ranks, [&] {
+            if (lead && !lock) lock.emplace(base.out_dir);
+            share_output_with_children(base.out_dir);
+            return 0;
+          }))
+        throw Reported{code};
+    const std::vector<bool> finished =
+        run_round(plan, done, budget, args.executable, *ranks, name + std::string(": "), [&](const std::vector<bool>& f) { merge_tables(plan, f); });
     for (bool f : finished) failed = failed || !f;
-    merge_tables(plan, finished);
     ++round;
     return estimates(plan, finished, targets.list, values.size());
   };
@@ -238,26 +248,32 @@ int calibrate_command(const CalibrateArgs& args) {
   SearchResult r;
   try {
     r = calibrate_search(target_db, opt, evaluate);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return round == 0 ? kExitInputError : 1;
+  } catch (const Reported& e) {
+    return e.code;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (round == 0 && dynamic_cast<const InputError*>(&e)) {  // bad input, found alike by every rank before anything ran
+      if (lead) std::fprintf(stderr, "error: %s\n", e.what());
+      return kExitInputError;
+    }
+    std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
+    if (ranks->size() > 1) ranks->abort(1);  // the other ranks may wait for this one for ever
     return 1;
   }
 
-  try {
-    const bool matched = write_results(base.out_dir, args, targets, scale, opt, r, failed);
-    if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("calibration %s: %zu values in %d rounds, %.1f s wall -> %s/calibrate.csv, calibration.json\n",
-                failed ? "finished with failed runs" : matched ? "complete" : "found no matching value", r.evaluated.size(), round, wall,
-                base.out_dir.c_str());
-    return failed || !matched ? kExitRunError : 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+  int code = 0;
+  if (lead) try {
+      const bool matched = write_results(base.out_dir, args, targets, scale, opt, r, failed);
+      if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("calibration %s: %zu values in %d rounds, %.1f s wall -> %s/calibrate.csv, calibration.json\n",
+                  failed ? "finished with failed runs" : matched ? "complete" : "found no matching value", r.evaluated.size(), round, wall,
+                  base.out_dir.c_str());
+      code = failed || !matched ? kExitRunError : 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      code = 1;
+    }
+  return ranks->broadcast(code);
 }
 
 }  // namespace bagdem::study

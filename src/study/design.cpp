@@ -140,7 +140,7 @@ StudySpec candidate_spec(const DesignArgs& a, const fs::path& out) {
 
 // A map for a candidate: bagdem characterize's runs, in OUT/maps/map-HASH (built once).
 void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n,
-               bool& failed) {
+               const Ranks& ranks, bool& failed) {
   CharacterizeArgs m = grid_args;
   m.dir = base.case_dir, m.sets = c.sets;
   m.jobs = a.jobs, m.threads = a.threads, m.cores = a.cores;
@@ -149,16 +149,15 @@ void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const Stu
   Plan plan = make_plan(characterize_spec(m, grid));
   validate_plan(plan);
   const std::vector<bool> done = done_points(plan);
-  const Budget budget = resolve_budget(plan.spec, machine_cores(), "the cores of this machine", "bagdem design");
-  fs::create_directories(plan.spec.out_dir);
+  const Budget budget = resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design");
   char prefix[64];
   std::snprintf(prefix, sizeof prefix, "map %zu/%zu: ", k + 1, n);
   std::string v;
   for (const std::string& g : c.given) v += (v.empty() ? "" : ", ") + g;
-  std::fprintf(stderr, "%s%s: %zu runs -> %s\n", prefix, v.c_str(), plan.points.size(), plan.spec.out_dir.c_str());
-  run_share(plan, done, budget, a.executable, 0, 1, prefix);
-  const MapOutcome o = write_map_of(plan, finished_points(plan), grid);
-  failed = failed || o.missing > 0;
+  if (ranks.rank() == 0) std::fprintf(stderr, "%s%s: %zu runs -> %s\n", prefix, v.c_str(), plan.points.size(), plan.spec.out_dir.c_str());
+  run_round(plan, done, budget, a.executable, ranks, prefix, [&](const std::vector<bool>& finished) {
+    failed = write_map_of(plan, finished, grid).missing > 0 || failed;  // the lead's: its exit code is every rank's
+  });
 }
 
 // Every chosen mode's predicted reduction of a candidate at a place (its overrides `sets`).
@@ -202,7 +201,7 @@ void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets,
 
 // The best `a.verify` candidates, each at its best position, run coupled: a zip of their keys (and
 // place), seeds each. (Neighbouring positions of one bag would tell the ranking of bags nothing.)
-bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes,
+bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes, const Ranks& ranks,
                  std::vector<DesignRow>& rows) {
   std::vector<DesignRow*> best;
   for (DesignRow& r : rows)
@@ -237,11 +236,8 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   } catch (const InputError& e) {
     throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
   }
-  fs::create_directories(spec.out_dir);
-  remove_merged_tables(plan);
-  run_share(plan, done, resolve_budget(spec, machine_cores(), "the cores of this machine", "bagdem design"), a.executable, 0, 1, "verify: ");
-  const std::vector<bool> finished = finished_points(plan);
-  merge_tables(plan, finished);
+  const std::vector<bool> finished = run_round(plan, done, resolve_budget(spec, ranks.cores(), ranks.cores_from(), "bagdem design"), a.executable,
+                                               ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
   // Per pair, per start, per chosen mode: the reduction.
   std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
   if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
@@ -447,46 +443,64 @@ std::vector<DesignRow> predict_rows(Search& z) {
 
 int design_command(const DesignArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
+  std::optional<Ranks> ranks;
+  if (const int code = start_ranks(ranks)) return code;
+  const bool lead = ranks->rank() == 0;
+  // The lead reports on stdout; the other ranks show their runs' progress on stderr.
+  if (!lead && !std::freopen("/dev/null", "w", stdout)) std::fprintf(stderr, "%swarning: stdout not silenced\n", rank_prefix(*ranks).c_str());
   Search z;
-  if (const int code = reporting_errors([&] {
+  std::optional<OutputLock> lock;  // the lead's: one design writes a directory at a time; its runs write inside it
+  if (const int code = agreed(*ranks, [&] {
         z = set_up_search(a);
+        if (!a.check) {
+          if (lead) lock.emplace(z.cand.out_dir);
+          share_output_with_children(z.cand.out_dir);
+        }
         return 0;
       }))
     return code;
   print_search(a, z);
   if (a.check) return 0;
 
-  return reporting_errors([&] {
-    const OutputLock lock(z.cand.out_dir);  // one design writes a directory at a time; its runs write inside it
-    share_output_with_children(z.cand.out_dir);
+  // Every rank searches alike (the same files give the same ranking, so the same check to share);
+  // the lead alone writes the tables.
+  try {
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;
     for (const Candidate& c : z.cs) n += c.status.ranked();
     for (Candidate& c : z.cs)
       if (c.status.ranked()) try {
-          build_map(a, z.map, z.cand, c, k++, n, failed);
-        } catch (const InputError& e) {  // a run of its map does not load: the candidate is out, the search goes on
+          build_map(a, z.map, z.cand, c, k++, n, *ranks, failed);
+        } catch (const InputError& e) {  // a run of its map does not load (alike on every rank): the candidate is out, the search goes on
           c.status = {Standing::does_not_load, e.what()};
-          std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.text().c_str());
+          if (lead) std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.text().c_str());
         }
     // 2. The predictions.
     std::vector<DesignRow> rows = predict_rows(z);
     rank_rows(rows);
     // 3. The coupled check of the best.
-    if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, rows) || failed;
+    if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, rows) || failed;
     // 4. The files.
-    std::vector<std::vector<std::string>> sets;
-    for (const Candidate& c : z.cs) sets.push_back(c.sets);
-    const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
-    write_design(sum, rows);
-    const std::string chosen = write_chosen_case(sum, rows, sets);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    print_design(sum, rows);
-    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
-                chosen.empty() ? "" : (", " + chosen).c_str());
-    return failed ? kExitRunError : 0;
-  });
+    int code = 0;
+    if (lead) {
+      std::vector<std::vector<std::string>> sets;
+      for (const Candidate& c : z.cs) sets.push_back(c.sets);
+      const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
+      write_design(sum, rows);
+      const std::string chosen = write_chosen_case(sum, rows, sets);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      print_design(sum, rows);
+      std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
+                  chosen.empty() ? "" : (", " + chosen).c_str());
+      code = failed ? kExitRunError : 0;
+    }
+    return ranks->broadcast(code);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
+    if (ranks->size() > 1) ranks->abort(exit_code_of(e));  // the other ranks may wait for this one for ever
+    return exit_code_of(e);
+  }
 }
 
 }  // namespace bagdem::study

@@ -109,7 +109,7 @@ Ranks::Ranks() {
   // Several copies of a build without MPI would each run every point into the same OUT.
   const int world = std::max(env_int("OMPI_COMM_WORLD_SIZE"), env_int("PMI_SIZE"));
   if (world > 1)
-    throw InputError("bagdem sweep", "", "", "started as " + std::to_string(world) +
+    throw InputError("bagdem", "", "", "started as " + std::to_string(world) +
                                                  " MPI ranks, but this bagdem was built without MPI (BAGDEM_MPI=OFF): run it "
                                                  "without mpirun (it uses the node's cores by itself), or build with -DBAGDEM_MPI=ON");
 }

@@ -21,7 +21,9 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 #include <thread>
 
@@ -291,6 +293,31 @@ void run_share(const Plan& plan, const std::vector<bool>& done, const Budget& bu
   if (pool.done_before > 0)
     std::fprintf(stderr, "%sresuming: %zu of %zu points done by an earlier run, skipped\n", prefix.c_str(), pool.done_before, pool.total);
   run_points(plan, todo, pool);
+}
+
+std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,
+                            const Ranks& ranks, const std::string& prefix, const std::function<void(const std::vector<bool>&)>& after) {
+  const bool lead = ranks.rank() == 0;
+  // The lead's step, then every rank learns whether it failed (the others would wait for ever).
+  const auto lead_step = [&](const std::function<void()>& step) {
+    std::string message;
+    if (lead) try {
+        step();
+      } catch (const std::exception& e) {
+        message = e.what();
+      }
+    if (ranks.broadcast(message.empty() ? 0 : 1) != 0)
+      throw std::runtime_error(lead ? message : "the lead rank failed on " + plan.spec.out_dir + " (its message says why)");
+  };
+  lead_step([&] {
+    fs::create_directories(plan.spec.out_dir);
+    remove_merged_tables(plan);
+  });
+  run_share(plan, done, budget, executable, ranks.rank(), ranks.size(), rank_prefix(ranks) + prefix);
+  ranks.barrier();
+  const std::vector<bool> finished = finished_points(plan);
+  if (after) lead_step([&] { after(finished); });
+  return finished;
 }
 
 std::vector<bool> finished_points(const Plan& plan) {

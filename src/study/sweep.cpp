@@ -61,6 +61,35 @@ int reporting_errors(const std::function<int()>& body) {
   }
 }
 
+int start_ranks(std::optional<Ranks>& ranks) {
+  try {
+    ranks.emplace();
+    return 0;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitInputError;
+  }
+}
+
+std::string rank_prefix(const Ranks& ranks) {
+  return ranks.size() > 1 ? "[rank " + std::to_string(ranks.rank()) + "/" + std::to_string(ranks.size()) + "] " : "";
+}
+
+int agreed(const Ranks& ranks, const std::function<int()>& body) {
+  int failure = 0;
+  std::string message;
+  try {
+    failure = body();
+  } catch (const std::exception& e) {
+    failure = exit_code_of(e), message = e.what();
+  }
+  const bool lead = ranks.rank() == 0;
+  const int lead_failure = ranks.broadcast(failure);
+  if (!message.empty() && (lead || lead_failure == 0))
+    std::fprintf(stderr, "%serror: %s\n", lead ? "" : rank_prefix(ranks).c_str(), message.c_str());
+  return ranks.max(failure);
+}
+
 int sweep_command(const SweepArgs& args) {
   return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem sweep", nullptr);
 }
@@ -130,14 +159,9 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
                   const std::function<int(const Plan&, const std::vector<bool>&)>& after) {
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<Ranks> ranks;
-  try {
-    ranks.emplace();
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitInputError;
-  }
+  if (const int code = start_ranks(ranks)) return code;
   const bool lead = ranks->rank() == 0;
-  const std::string prefix = ranks->size() > 1 ? "[rank " + std::to_string(ranks->rank()) + "/" + std::to_string(ranks->size()) + "] " : "";
+  const std::string prefix = rank_prefix(*ranks);
 
   // 1. Read, plan, validate: the same on every rank. The ranks agree on the outcome before any
   // writes, so that none runs points while another has stopped.
@@ -146,24 +170,16 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
   std::vector<bool> done;
   std::vector<std::string> warnings;
   std::optional<OutputLock> lock;  // the lead's, on OUT: one study writes a directory at a time
-  int failure = 0;
-  std::string message;
-  try {
-    plan = make_plan(read());
-    budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
-    warnings = validate_plan(plan);
-    if (lead && !check) lock.emplace(plan.spec.out_dir);
-    if (!check) share_output_with_children(plan.spec.out_dir);  // every rank's runs write inside OUT
-    done = done_points(plan);
-  } catch (const InputError& e) {
-    failure = kExitInputError, message = e.what();
-  } catch (const std::exception& e) {
-    failure = 1, message = e.what();
-  }
-  const int lead_failure = ranks->broadcast(failure);
-  if (failure != 0 && (lead || lead_failure == 0))  // the lead speaks for all; another rank only when it alone failed
-    std::fprintf(stderr, "%serror: %s\n", lead ? "" : prefix.c_str(), message.c_str());
-  if (const int any = ranks->max(failure); any != 0) return any;
+  if (const int any = agreed(*ranks, [&] {
+        plan = make_plan(read());
+        budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
+        warnings = validate_plan(plan);
+        if (lead && !check) lock.emplace(plan.spec.out_dir);
+        if (!check) share_output_with_children(plan.spec.out_dir);  // every rank's runs write inside OUT
+        done = done_points(plan);
+        return 0;
+      }))
+    return any;
 
   try {
     // 2. This rank's points.

@@ -4,14 +4,20 @@ python3 with BAGDEM set to the built binary and PYTHONPATH to the clone's python
 1. The worked example (python/examples/design_a_damper.py) runs from a structure written in Python
    to a design: its predicted reductions match the rolling ball's analytic 2/7-mass figure within
    0.01 dB, the lighter ball ranks first, and the chosen case loads with it.
-2. Tables come back with their headers as written, numbers as floats, text as text, units kept.
-3. Overrides are written as TOML (quantities keep their units) and never change the Case they came
-   from; a case bagdem refuses raises BagdemError with exit code 2 and bagdem's message.
-4. A run's progress reaches the caller line by line; its summary and results.h5 read back.
+2. Tables come back with their headers as written, numbers as floats (bagdem's nan as NaN), text as
+   text, units kept; a unit's column holding text is refused; a missing table is an AttributeError.
+3. Overrides are written as TOML (quantities keep their units, numpy scalars their numbers) and
+   never change the Case they came from; a case bagdem refuses raises BagdemError with exit code 2
+   and bagdem's message, which survives pickling.
+4. A run's progress reaches the caller line by line; its summary and results.h5 read back. An
+   interrupt stops bagdem before it is raised.
 """
 import math
 import os
+import pickle
+import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -44,25 +50,47 @@ def test_the_example_designs_the_rolling_ball_as_the_analytic_figure(tmp_path):
 
 def test_tables_keep_their_headers_numbers_text_and_units(tmp_path):
     path = tmp_path / "peaks.csv"
-    path.write_text("mode [1],reduction_dB [dB],bag.balls.diameter,e_method [text],status\n1,14.9,4 mm,impact,done\n3,,8 mm,eq19a,failed\n")
+    path.write_text("mode [1],reduction_dB [dB],e [1],bag.balls.diameter,e_method [text],status,point\n"
+                    "1,14.9,nan,4 mm,impact,done,0\n3,,-nan,8 mm,eq19a,failed,1\n")
     frame = bagdem.read_table(str(path))
-    assert list(frame.columns) == ["mode [1]", "reduction_dB [dB]", "bag.balls.diameter", "e_method [text]", "status"]
+    assert list(frame.columns) == ["mode [1]", "reduction_dB [dB]", "e [1]", "bag.balls.diameter", "e_method [text]", "status", "point"]
     assert frame["reduction_dB [dB]"].iloc[0] == 14.9 and math.isnan(frame["reduction_dB [dB]"].iloc[1])
-    assert frame["mode [1]"].tolist() == [1, 3]
+    assert frame["e [1]"].dtype == float and frame["e [1]"].isna().all(), "bagdem's nan and -nan are NaN, not text"
+    assert frame["mode [1]"].tolist() == [1, 3] and frame["mode [1]"].dtype == float
+    assert frame["point"].tolist() == [0, 1]
     assert frame["bag.balls.diameter"].tolist() == ["4 mm", "8 mm"]
     assert frame["e_method [text]"].tolist() == ["impact", "eq19a"]
     assert frame.attrs["units"]["reduction_dB [dB]"] == "dB" and frame.attrs["units"]["status"] == ""
     results = bagdem.Results(str(tmp_path))
     assert results.peaks["mode [1]"].tolist() == [1, 3]
-    with pytest.raises(FileNotFoundError, match="has no reduced.csv; it has: peaks"):
+    with pytest.raises(AttributeError, match="has no reduced.csv; it has: peaks"):
         results.reduced
+    assert not hasattr(results, "reduced") and getattr(results, "sweep", None) is None
+    with pytest.raises(FileNotFoundError, match="has no reduced.csv"):
+        results.table("reduced")
+    # A number column holding text is refused, naming it; an empty file too.
+    (tmp_path / "sweep.csv").write_text("frequency [Hz],peak [m/N]\n80,0.1\n81,oops\n")
+    with pytest.raises(ValueError, match="column 'peak \\[m/N\\]' row 2: 'oops' is not a number"):
+        results.sweep
+    (tmp_path / "trade.csv").write_text("")
+    with pytest.raises(ValueError, match="empty"):
+        results.trade
+    # A study's points in order, past point-999.
+    for name in ("point-1000", "point-002", "point-010", "point-x"):
+        (tmp_path / name).mkdir()
+    assert [os.path.basename(p.path) for p in results.points] == ["point-002", "point-010", "point-1000"]
 
 
 def test_overrides_are_toml_and_a_refused_case_raises_with_exit_2(tmp_path):
     assert toml_value("8 mm") == '"8 mm"' and toml_value(0.08) == "0.08" and toml_value(True) == "true"
     assert toml_value(["-40 mm", 0, 1.5]) == '["-40 mm", 0, 1.5]' and toml_value(np.float64(0.5)) == "0.5"
+    assert toml_value(np.int64(3)) == "3" and toml_value(np.bool_(True)) == "true" and toml_value('a"b\nc') == '"a\\"b\\u000ac"'
     with pytest.raises(TypeError):
         toml_value({"a": 1})
+    with pytest.raises(ValueError):
+        toml_value(float("nan"))
+    assert option_args({"zip": np.bool_(True), "check": np.False_}) == ["--zip"]
+    assert bagdem.case.vary_args({"k": "6 mm", "x": np.array([0.5, 1.0])}) == ['k="6 mm"', "x=0.5,1.0"]
     assert option_args({"gamma": (0.5, 20), "seeds": 3, "verify": True, "zip": False, "key": ["a", "b"], "window_time": 0}) == [
         "--gamma", "0.5,20", "--seeds", "3", "--verify", "--key", "a", "--key", "b", "--window-time", "0"]
     base = bagdem.Case(os.path.join(ROOT, "cases", "box-damper"))
@@ -75,6 +103,12 @@ def test_overrides_are_toml_and_a_refused_case_raises_with_exit_2(tmp_path):
     assert "cavity.motion.amplitude" in refused.value.message and "2 kg" in refused.value.message
     with pytest.raises(FileNotFoundError, match="no case.toml"):
         bagdem.Case(str(tmp_path))
+    # The error survives a process pool (pickled), with its code and message.
+    again = pickle.loads(pickle.dumps(refused.value))
+    assert again.code == 2 and again.message == refused.value.message and again.command == refused.value.command
+    # A study's plan (check=True) comes back as text; nothing runs.
+    plan = base.sweep(str(tmp_path / "plan"), vary={"cavity.motion.amplitude": ["1 mm", "2 mm"]}, check=True, progress=False)
+    assert "point-000" in plan and "point-001" in plan and not (tmp_path / "plan" / "point-000").exists()
 
 
 def test_a_run_shows_its_progress_and_reads_back(tmp_path):
@@ -89,3 +123,21 @@ def test_a_run_shows_its_progress_and_reads_back(tmp_path):
     assert h5["frames/position"].shape[1:] == (100, 3)
     with pytest.raises(KeyError, match="has no dataset"):
         h5["cavity/nothing"]
+    assert np.array_equal(h5["/cavity/time"], t)
+
+
+def test_an_interrupt_stops_bagdem_before_it_is_raised(tmp_path):
+    out = tmp_path / "stopped"
+
+    def interrupt(line):
+        if "%" in line:
+            raise KeyboardInterrupt
+
+    case = bagdem.Case(os.path.join(ROOT, "cases", "box-damper"), {"simulation.duration": "2 s"})
+    started = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        case.run(str(out), progress=interrupt)
+    assert time.monotonic() - started < 60, "a 2-s run takes minutes: it was stopped"
+    running = subprocess.run(["pgrep", "-f", str(out)], capture_output=True, text=True).stdout
+    assert running == "", "no bagdem left running"
+    assert not (out / "summary.json").exists()

@@ -279,6 +279,29 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
 // exit code (error.hpp, exit_code_of: 2 bad input, 3 a run that went unstable, 1 any other).
 int reporting_errors(const std::function<int()>& body);
 
+// ---- The ranks of commands that run several studies in turn (design, calibrate) -----------------
+
+// Starts this process's ranks (MPI's when a launcher started it; else one rank): 0, or the exit code
+// after saying why on stderr (an MPI launch of a build without MPI is bad input, 2).
+int start_ranks(std::optional<Ranks>& ranks);
+
+// "[rank r/R] " under an MPI launch of several ranks, else "": the prefix of a rank's messages.
+std::string rank_prefix(const Ranks& ranks);
+
+// Runs `body` on every rank (reading and validating, the same everywhere) and agrees on the
+// outcome before anything is written: the largest exit code of the ranks (an exception's per
+// exit_code_of). The lead speaks for all; another rank only when it alone failed.
+int agreed(const Ranks& ranks, const std::function<int()>& body);
+
+// One study of a command that runs several in turn (design's maps and its check, calibrate's
+// rounds), shared among the ranks as a sweep's points are (index % ranks == rank): the lead makes
+// OUT's directory and removes its merged tables, every rank runs its share of the points not done,
+// then the lead calls `after` (if any: merging, writing a map) while the others wait. Returns the
+// points finished, the same on every rank. The lead's failure in either step is every rank's (a
+// runtime_error); `prefix` starts this study's progress lines.
+std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,
+                            const Ranks& ranks, const std::string& prefix, const std::function<void(const std::vector<bool>&)>& after);
+
 // Runs `bagdem sweep`: read, plan, validate (every rank), run this rank's points
 // (index % ranks == rank), then rank 0 merges the tables and prints the summary. Returns the exit
 // code (the same on every rank).

@@ -57,9 +57,17 @@ struct CmdResult {
 
 #ifdef BAGDEM_BINARY
 // Runs `bagdem <args...>` (each argument quoted), capturing stdout and stderr in `dir`.
-inline CmdResult run_bagdem(const std::vector<std::string>& args, const std::filesystem::path& dir) {
+// With `ranks` > 0, under `mpirun -np ranks` (a build with MPI; BAGDEM_MPIEXEC).
+inline CmdResult run_bagdem(const std::vector<std::string>& args, const std::filesystem::path& dir, [[maybe_unused]] int ranks = 0) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
   std::string cmd = shell_quote(BAGDEM_BINARY);
+#ifdef BAGDEM_MPIEXEC
+  if (ranks > 0) {
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    cmd = shell_quote(BAGDEM_MPIEXEC) + " --oversubscribe --allow-run-as-root -np " + std::to_string(ranks) + " " + cmd;
+  }
+#endif
   for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
   cmd.append(" >").append(shell_quote(out.string()));
   cmd.append(" 2>").append(shell_quote(err.string()));

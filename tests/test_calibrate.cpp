@@ -207,20 +207,6 @@ double peak_reduction(const fs::path& out) {
   return NAN;
 }
 
-// An impact damper on an SDOF primary: a 10-mm steel ball (8% of the 0.05-kg primary) with 0.2 mm
-// of clearance each side, swept over 27-33 Hz around the 30-Hz mode (damping ratio 0.02). One ball
-// placed where it starts is deterministic (the seeds change nothing). Its peak reduction falls
-// steadily from 8.3 dB at 0.03 N to 0.4 dB at 0.2 N (4.6 dB at 0.06 N); a run takes about a second.
-std::string impact_damper_sdof() {
-  return bagdem::testing::steel_ball_between_planes("0.1 s", 0.0052, "0.01")
-      .set("simulation", "settle", "2 ms")
-      .placed("ball", "steel", "0.01", "[[0.0001, 0, 0]]", "[[0.05, 0, 0]]")
-      .sdof(0.05, "1776.5287921960843", 0.02)
-      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
-      .set("excitation", {{"kind", bagdem::testing::quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[27, 29, 30, 31, 33]"},
-                          {"refine", 1}, {"min_cycles", 4}, {"reduce_cycles", 4}, {"max_cycles", 40}, {"chains", 1}});
-}
-
 std::size_t column(const Table& t, const std::string& name) {
   for (std::size_t c = 0; c < t.columns.size(); ++c)
     if (t.columns[c] == name) return c;
@@ -234,7 +220,7 @@ TEST(Calibrate, FindsTheForceOfAKnownReductionThroughTheBinary) {
   bagdem::testing::TempDir t;
   const fs::path dir = t.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << impact_damper_sdof();
+  std::ofstream(dir / "case.toml") << bagdem::testing::impact_damper_sdof();
   // The reduction at the force to be found.
   const bagdem::testing::CmdResult ref =
       bagdem::testing::run_bagdem({"run", dir.string(), "--out", (t.path / "ref").string(), "--quiet", "--set", "excitation.amplitude=\"0.06 N\""}, t.path);
@@ -303,7 +289,7 @@ TEST(Calibrate, FitsTargetsMeasuredAtSeveralConfigurations) {
   bagdem::testing::TempDir t;
   const fs::path dir = t.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << impact_damper_sdof();
+  std::ofstream(dir / "case.toml") << bagdem::testing::impact_damper_sdof();
   std::ofstream targets(t.path / "targets.csv");
   targets << "mode,reduction_db,primary.damping_ratio\n";
   double db[2];
@@ -353,7 +339,7 @@ TEST(Calibrate, RefusesBadTargetsBoundsAndModesBeforeRunning) {
   bagdem::testing::TempDir t;
   const fs::path dir = t.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << impact_damper_sdof();
+  std::ofstream(dir / "case.toml") << bagdem::testing::impact_damper_sdof();
   const fs::path out = t.path / "cal";
   const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
       {{"--target", "mode=1"}, "both mode and reduction_db are needed"},

@@ -551,16 +551,12 @@ TEST(Study, MpiRanksSharePointsAndMergeTheSerialTable) {
   CmdResult r = sweep(d, with(plan, {"--jobs", "2", "--cores", "2", "--out", serial}));
   ASSERT_EQ(r.code, 0) << r.err;
 
-  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  using bagdem::testing::shell_quote;
-  std::string cmd = shell_quote(BAGDEM_MPIEXEC) + " --oversubscribe --allow-run-as-root -np 2 " + shell_quote(BAGDEM_BINARY) + " sweep";
-  for (const auto& a : with(plan, {"--out", ranked})) cmd += " " + shell_quote(a);
-  cmd += " >" + shell_quote((d.path / "mpi_out.txt").string()) + " 2>" + shell_quote((d.path / "mpi_err.txt").string()) + " </dev/null";
-  const int st = std::system(cmd.c_str());
-  const std::string out = bagdem::testing::slurp(d.path / "mpi_out.txt"), err = bagdem::testing::slurp(d.path / "mpi_err.txt");
+  std::vector<std::string> args = {"sweep"};
+  for (const auto& a : with(plan, {"--out", ranked})) args.push_back(a);
+  const CmdResult m = bagdem::testing::run_bagdem(args, d.path, 2);
+  const std::string &out = m.out, &err = m.err;
   std::printf("  mpirun -np 2: %s", out.c_str());
-  ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << err;
+  ASSERT_EQ(m.code, 0) << err;
   for (int k = 0; k < 3; ++k) {
     const std::string done = bagdem::testing::slurp(fs::path(point_dir(ranked, k)) / "point.done");
     EXPECT_NE(done.find("rank = " + std::to_string(k % 2) + "\n"), std::string::npos) << done;

@@ -12,7 +12,7 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
       "matches measured ones: each value run with N seeds, a scan of the bounds, then every root of one target (or the "
       "least-squares value of several) refined until a value matches (|mean - target| within the seeds' 95% interval or "
       "the tolerance). Each round is a study in OUT/round-RR (resumable: the same command goes on where it stopped; "
-      "runs side by side within the cores). Writes OUT/calibrate.csv and OUT/calibration.json; tools/plot draws "
+      "runs side by side within the cores; under mpirun the ranks share each round). Writes OUT/calibrate.csv and OUT/calibration.json; tools/plot draws "
       "calibrate.png. Exit codes: 0 a value matches, 2 bad input (nothing run), 3 a run failed or no value matched. "
       "See docs/calibrate.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep)")->required();

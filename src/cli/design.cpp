@@ -13,7 +13,7 @@ CLI::App* add_design(CLI::App& app, Args& args) {
       "are reused), every candidate at every position predicted by harmonic balance (bagdem predict) and ranked by its worst "
       "mode, the best run coupled with several starts. Writes OUT/design.csv (ranked, the Pareto front of reduction against "
       "added mass marked, the coupled check beside), OUT/chosen (a ready case directory) and tools/plot draws design.png. "
-      "See docs/bag-design.md.");
+      "Resumable; under mpirun the ranks share each map's runs and the check's. See docs/bag-design.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml; a coupled stepped-sine sweep) or STUDY_DIR (holds study.toml: its [vary] "
                               "are the candidates, its set every run's)")
       ->required();

@@ -1,0 +1,120 @@
+// `bagdem design` and `bagdem calibrate` under mpirun with 2 ranks on one machine (study/pool.cpp,
+// run_round): each of their studies (design's maps and its coupled check, calibrate's rounds) is
+// shared among the ranks as a sweep's points are (rank r runs the points with index % 2 == r), the
+// lead alone writes the tables and reports, and the tables are those of a serial run, byte for byte.
+// 1. design: the rolling ball on the SDOF of tests/test_design.cpp (two maps of 12 runs, the best
+//    checked with 2 starts).
+// 2. calibrate: the impact damper of tests/test_calibrate.cpp, its force fitted to the reduction at
+//    0.06 N (rounds of 5 and more values).
+// A resumed calibration under 2 ranks runs nothing and gives the same answer.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "case_texts.hpp"
+#include "support.hpp"
+
+namespace fs = std::filesystem;
+using bagdem::testing::CmdResult;
+using bagdem::testing::run_bagdem;
+using bagdem::testing::slurp;
+
+namespace {
+
+std::vector<std::string> with_out(std::vector<std::string> args, const fs::path& out) {
+  args.push_back("--out");
+  args.push_back(out.string());
+  return args;
+}
+
+// How many of a study's points (point-NNN/point.done) each rank ran: {rank 0, rank 1}.
+std::vector<int> points_per_rank(const fs::path& study) {
+  std::vector<int> n(2, 0);
+  for (const auto& e : fs::directory_iterator(study)) {
+    const fs::path done = e.path() / "point.done";
+    if (!fs::exists(done)) continue;
+    const std::string text = slurp(done);
+    EXPECT_NE(text.find("ranks = 2\n"), std::string::npos) << done;
+    n[text.find("rank = 1\n") != std::string::npos ? 1 : 0]++;
+  }
+  return n;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(MpiCommands, DesignOnTwoRanksGivesTheSerialTable) {
+#if defined(BAGDEM_WITH_MPI) && defined(BAGDEM_MPIEXEC)
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const std::vector<std::string> args = {
+      "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\",\"8 mm\"", "--budget", "0.15", "--set", "primary.mass=\"0.02 kg\"",
+      "--set", "primary.stiffness=\"315.827 N/m\"", "--set", "excitation.amplitude=\"2 mN\"", "--gamma", "0.02,0.5", "--amplitudes", "3",
+      "--frequencies", "2", "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0", "--skip-time", "0", "--verify", "2",
+      "--verify-seeds", "2", "--jobs", "1"};
+  const CmdResult serial = run_bagdem(with_out(args, t.path / "serial"), t.path);
+  ASSERT_EQ(serial.code, 0) << serial.err;
+  const CmdResult ranked = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  std::printf("  mpirun -np 2: %s", ranked.out.c_str());
+  ASSERT_EQ(ranked.code, 0) << ranked.err;
+  EXPECT_EQ(slurp(t.path / "ranked" / "design.csv"), slurp(t.path / "serial" / "design.csv"));
+  std::string chosen = slurp(t.path / "ranked" / "chosen" / "case.toml");  // its header names its design.csv
+  chosen.replace(chosen.find("/ranked/"), 8, "/serial/");
+  EXPECT_EQ(chosen, slurp(t.path / "serial" / "chosen" / "case.toml"));
+  EXPECT_EQ(count(ranked.out, "design complete"), 1u) << "the lead alone reports";
+  // Both ranks ran points of each map and of the check.
+  std::size_t maps = 0;
+  for (const auto& m : fs::directory_iterator(t.path / "ranked" / "maps")) {
+    ++maps;
+    EXPECT_EQ(slurp(m.path() / "map.csv"), slurp(t.path / "serial" / "maps" / m.path().filename() / "map.csv"));
+    EXPECT_EQ(points_per_rank(m.path()), (std::vector<int>{6, 6})) << m.path();
+  }
+  EXPECT_EQ(maps, 2u);
+  EXPECT_EQ(points_per_rank(t.path / "ranked" / "verify"), (std::vector<int>{2, 2}));
+#else
+  GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
+#endif
+}
+
+TEST(MpiCommands, CalibrateOnTwoRanksGivesTheSerialCalibration) {
+#if defined(BAGDEM_WITH_MPI) && defined(BAGDEM_MPIEXEC)
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::impact_damper_sdof();
+  const std::vector<std::string> args = {"calibrate", dir.string(), "--target", "mode=1,reduction_db=4.6", "--bounds", "\"0.03 N\",\"0.2 N\"",
+                                         "--seeds", "1", "--jobs", "1"};
+  const CmdResult serial = run_bagdem(with_out(args, t.path / "serial"), t.path);
+  ASSERT_EQ(serial.code, 0) << serial.err << serial.out;
+  const CmdResult ranked = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  std::printf("  mpirun -np 2: %s", ranked.out.c_str());
+  ASSERT_EQ(ranked.code, 0) << ranked.err;
+  for (const char* f : {"calibrate.csv", "calibration.json"}) EXPECT_EQ(slurp(t.path / "ranked" / f), slurp(t.path / "serial" / f)) << f;
+  EXPECT_EQ(count(ranked.out, "calibration complete"), 1u) << "the lead alone reports";
+  const std::vector<int> first = points_per_rank(t.path / "ranked" / "round-00");
+  EXPECT_EQ(first, (std::vector<int>{3, 2})) << "the scan's 5 values shared";
+  // Resumed under 2 ranks: every round is done, nothing runs, the same answer.
+  const std::string before = slurp(t.path / "ranked" / "calibration.json");
+  const CmdResult again = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(slurp(t.path / "ranked" / "calibration.json"), before);
+  EXPECT_NE(again.err.find("resuming"), std::string::npos) << again.err;
+  // Bad input under 2 ranks: said once, exit 2, nothing written.
+  const CmdResult bad = run_bagdem({"calibrate", dir.string(), "--target", "mode=7,reduction_db=3", "--out", (t.path / "bad").string()}, t.path, 2);
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_EQ(count(bad.err, "error:"), 1u) << bad.err;
+  EXPECT_FALSE(fs::exists(t.path / "bad"));
+#else
+  GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
+#endif
+}

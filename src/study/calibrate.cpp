@@ -157,6 +157,40 @@ StudySpec calibration_spec(const CalibrateArgs& args) {
   return base;
 }
 
+// What coupled DEM's calibration reads before it runs (every rank alike).
+struct Setup {
+  Targets targets;
+  std::vector<double> target_db;
+  SearchOptions opt;
+  Scale scale;
+  StudySpec base;
+  Budget budget;
+};
+
+Setup read_setup(const CalibrateArgs& args, const Ranks& ranks) {
+  Setup u;
+  u.base = calibration_spec(args);
+  require_same_method(u.base.out_dir, false);
+  if (args.keys.size() > 1 || args.bounds.size() > 1)
+    throw InputError(args.keys.size() > 1 ? "--key" : "--bounds", "", args.keys.size() > 1 ? args.keys.back() : args.bounds.back(),
+                     "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps (--maps, docs/calibrate.md)");
+  if (key_of(args).find('@') != std::string::npos)
+    throw InputError("--key", "", key_of(args), "KEY@M (one mode's element of a key) is fitted on effective-field maps (--maps); by coupled DEM, give the whole key");
+  if (args.targets.empty() == args.targets_file.empty())
+    throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
+  if (!args.targets_file.empty()) u.targets = read_targets_file(args.targets_file);
+  for (const std::string& t : args.targets) u.targets.list.push_back(parse_target(t));
+  if (u.targets.config_key == key_of(args))
+    throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
+  const Scene s = load_case(u.base.case_dir, args.sets);
+  u.target_db = target_reductions(s, u.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
+  const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, u.scale);
+  u.opt.lo = lo, u.opt.hi = hi, u.opt.log = search_in_log(lo, hi);
+  u.opt.scan = args.scan, u.opt.rounds = args.rounds, u.opt.tolerance = args.tolerance;
+  u.budget = resolve_budget(u.base, ranks.cores(), ranks.cores_from(), "bagdem calibrate");
+  return u;
+}
+
 }  // namespace
 
 int calibrate_command(const CalibrateArgs& args) {
@@ -167,35 +201,13 @@ int calibrate_command(const CalibrateArgs& args) {
   if (!lead && !std::freopen("/dev/null", "w", stdout)) std::fprintf(stderr, "%swarning: stdout not silenced\n", rank_prefix(*ranks).c_str());
   if (!args.maps.empty()) return ranks->broadcast(lead ? calibrate_on_maps(args) : 0);  // no runs to share
   const auto t0 = std::chrono::steady_clock::now();
-  Targets targets;
-  std::vector<double> target_db;
-  SearchOptions opt;
-  Scale scale;
-  StudySpec base;
-  Budget budget;
+  Setup setup;
   if (const int code = agreed(*ranks, [&] {
-        base = calibration_spec(args);
-        require_same_method(base.out_dir, false);
-        if (args.keys.size() > 1 || args.bounds.size() > 1)
-          throw InputError(args.keys.size() > 1 ? "--key" : "--bounds", "", args.keys.size() > 1 ? args.keys.back() : args.bounds.back(),
-                           "coupled DEM calibrates one key (with one --bounds); several keys are fitted on effective-field maps (--maps, docs/calibrate.md)");
-        if (key_of(args).find('@') != std::string::npos)
-          throw InputError("--key", "", key_of(args), "KEY@M (one mode's element of a key) is fitted on effective-field maps (--maps); by coupled DEM, give the whole key");
-        if (args.targets.empty() == args.targets_file.empty())
-          throw InputError("--target", "", "", "give the measured peak reductions either as --target mode=M,reduction_db=R (repeatable) or as --targets FILE, one of the two");
-        if (!args.targets_file.empty()) targets = read_targets_file(args.targets_file);
-        for (const std::string& t : args.targets) targets.list.push_back(parse_target(t));
-        if (targets.config_key == key_of(args))
-          throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
-        const Scene s = load_case(base.case_dir, args.sets);
-        target_db = target_reductions(s, targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
-        const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, scale);
-        opt.lo = lo, opt.hi = hi, opt.log = search_in_log(lo, hi);
-        opt.scan = args.scan, opt.rounds = args.rounds, opt.tolerance = args.tolerance;
-        budget = resolve_budget(base, ranks->cores(), ranks->cores_from(), "bagdem calibrate");
+        setup = read_setup(args, *ranks);
         return 0;
       }))
     return code;
+  const auto& [targets, target_db, opt, scale, base, budget] = setup;
 
   if (lead)
     std::fprintf(stderr, "bagdem calibrate %s: %s from %s to %s (%s scan of %d), %d seed%s per value -> %s; %d at once with %d thread%s%s\n",

@@ -27,34 +27,6 @@
 namespace bagdem::study {
 namespace fs = std::filesystem;
 
-std::string Status::text() const {
-  switch (kind) {
-    case Standing::ranked: return "ranked";
-    case Standing::over_budget: return "over budget";
-    case Standing::does_not_load: return "does not load: " + why;
-    case Standing::no_map: return "no map (its runs failed)";
-    case Standing::other_damper: return "map of another damper (" + why + ")";
-    case Standing::outside_map: return "outside the map " + why;
-    case Standing::mode_not_in_stepped_sine: return "mode " + why + " not in the sweep at this place";
-  }
-  return why;
-}
-
-Status Status::parse(const std::string& t) {
-  auto between = [&](const std::string& head, const std::string& tail) -> std::optional<std::string> {
-    if (t.size() < head.size() + tail.size() || t.compare(0, head.size(), head) != 0 || t.compare(t.size() - tail.size(), tail.size(), tail) != 0)
-      return std::nullopt;
-    return t.substr(head.size(), t.size() - head.size() - tail.size());
-  };
-  for (Standing k : {Standing::ranked, Standing::over_budget, Standing::no_map})
-    if (t == Status{k, ""}.text()) return {k, ""};
-  if (auto w = between("does not load: ", "")) return {Standing::does_not_load, *w};
-  if (auto w = between("map of another damper (", ")")) return {Standing::other_damper, *w};
-  if (auto w = between("outside the map ", "")) return {Standing::outside_map, *w};
-  if (auto w = between("mode ", " not in the sweep at this place")) return {Standing::mode_not_in_stepped_sine, *w};
-  throw InputError("design.csv", "status", t, "is none of the statuses design writes (docs/bag-design.md)");
-}
-
 void set_objective(DesignRow& r) {
   r.objective = r.objective_lo = r.objective_hi = NAN;
   for (std::size_t k = 0; k < r.db.size(); ++k)

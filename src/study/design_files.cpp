@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "bagdem/case/overrides.hpp"
 #include "bagdem/case/case_reader.hpp"
@@ -15,6 +16,35 @@
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
+
+// A row's standing as design.csv writes it, and read back.
+std::string Status::text() const {
+  switch (kind) {
+    case Standing::ranked: return "ranked";
+    case Standing::over_budget: return "over budget";
+    case Standing::does_not_load: return "does not load: " + why;
+    case Standing::no_map: return "no map (its runs failed)";
+    case Standing::other_damper: return "map of another damper (" + why + ")";
+    case Standing::outside_map: return "outside the map " + why;
+    case Standing::mode_not_in_stepped_sine: return "mode " + why + " not in the sweep at this place";
+  }
+  return why;
+}
+
+Status Status::parse(const std::string& t) {
+  auto between = [&](const std::string& head, const std::string& tail) -> std::optional<std::string> {
+    if (t.size() < head.size() + tail.size() || t.compare(0, head.size(), head) != 0 || t.compare(t.size() - tail.size(), tail.size(), tail) != 0)
+      return std::nullopt;
+    return t.substr(head.size(), t.size() - head.size() - tail.size());
+  };
+  for (Standing k : {Standing::ranked, Standing::over_budget, Standing::no_map})
+    if (t == Status{k, ""}.text()) return {k, ""};
+  if (auto w = between("does not load: ", "")) return {Standing::does_not_load, *w};
+  if (auto w = between("map of another damper (", ")")) return {Standing::other_damper, *w};
+  if (auto w = between("outside the map ", "")) return {Standing::outside_map, *w};
+  if (auto w = between("mode ", " not in the sweep at this place")) return {Standing::mode_not_in_stepped_sine, *w};
+  throw InputError("design.csv", "status", t, "is none of the statuses design writes (docs/bag-design.md)");
+}
 
 namespace {
 std::string cell(double x) { return std::isfinite(x) ? short_text(x) : ""; }

@@ -25,7 +25,9 @@
 #      at the calibrated level, and again with each model choice of SLOPE_CHOICES varied alone
 #      (--seeds starts each), and slope.csv (per choice, value and mode: the reduction at each ratio,
 #      the slopes 8 - 5% and 12 - 8% with their intervals, and the runs' mean wall time).
-#      --slope alone skips steps 1-4 (it needs --damping-ratio);
+#      --slope alone skips steps 1-4 (it needs --damping-ratio); --slope-choices runs only those named
+#      (base, tightness, force, ball-stiffness, bag-radius, film-thickness), slope.csv and slope-seeds.csv
+#      (each start's figure) are written after each;
 #   6. with --table3, the pipe's damping ratio fitted by least squares to all 20 figures of Table 3
 #      at once (cases/studies/mass-ratio/table3.csv: modes 1 and 3 at 5-14%, the mass-ratio study's
 #      bag), at the force --amplitude: calibrate-table3.csv and calibration-table3.json (each
@@ -37,9 +39,15 @@
 #      calibrate-table3-maps{,-permode}.csv and calibration-table3-maps{,-permode}.json. Alone, it
 #      skips steps 1-6.
 #
+#   8. with --table3-check, Table 3 by coupled DEM at the keys given (--amplitude, --damping-ratio; mode 3 at
+#      --damping-ratio3, default the same), each mode its own sweep of the mass-ratio study (OUT/table3-check/mode-M),
+#      and table3-check.csv (each figure: the DEM's mean and 95% half-width, the residual) and
+#      table3-check-summary.csv (per mode: the MAE, the largest and the mean residual). Alone, it skips steps 1-7.
+#
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
 #                        [--docs DIR] [--jobs J] [--keys] [--impact-amplitude "0.2 N"]
-#                        [--clearance-amplitude "0.5 N"] [--slope] [--table3] [--table3-maps]
+#                        [--clearance-amplitude "0.5 N"] [--slope [--slope-choices C,...]] [--table3] [--table3-maps]
+#                        [--table3-check [--damping-ratio3 Z3]]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -123,6 +131,40 @@ def calibrate_table3(out, amplitude, seeds, jobs, docs):
     for name in ("calibration.json", "calibrate.csv"):
         stem, ext = os.path.splitext(name)
         shutil.copy(os.path.join(cal, name), os.path.join(docs, f"{stem}-table3{ext}"))
+
+
+def table3_check(out, amplitude, zetas, seeds, jobs, docs):
+    """Step 8: Table 3 by coupled DEM at given keys (the force --amplitude; a damping ratio per mode, `zetas`
+    {mode: ratio}), each mode its own sweep of the mass-ratio study; table3-check.csv (per figure the DEM's mean and
+    95% half-width over the starts, the residual) and table3-check-summary.csv (per mode the MAE and the largest
+    residual), both also printed."""
+    table3 = rows(os.path.join(ROOT, "cases/studies/mass-ratio/table3.csv"))
+    figures, summary = [], []
+    for mode, zeta in sorted(zetas.items()):
+        d = os.path.join(out, "table3-check", f"mode-{mode}")
+        sets = [f"excitation.around_modes=[{mode}]", f'excitation.amplitude="{amplitude}"', f"primary.damping_ratio={zeta}"]
+        if mode != 1:
+            sets.append('output.cavity_interval="0.05 ms"')  # mode 3 (508 Hz) sampled 40 times a period
+        args = [BAGDEM, "sweep", os.path.join(ROOT, "cases/studies/mass-ratio"), "--seeds", str(seeds), "--jobs", str(jobs), "--out", d]
+        for m in sets:
+            args += ["--set", m]
+        run(args)
+        dem = {float(value): per for (value, m), per in by_seed(d).items() if m == mode}
+        residuals = []
+        for t in (t for t in table3 if int(t["mode"]) == mode):
+            ratio, target = float(t["bag.balls.mass_ratio"]), float(t["reduction_db"])
+            m, h = mean_ci95(list(dem.get(ratio, {}).values()))
+            residuals.append(m - target)
+            figures.append({"mode [1]": mode, "mass_ratio [1]": f"{ratio:g}", "target_db [dB]": f"{target:g}", "reduction_db_mean [dB]": f"{m:.2f}",
+                            "reduction_db_ci95 [dB]": f"{h:.2f}", "seeds [1]": len(dem.get(ratio, {})), "residual_db [dB]": f"{m - target:+.2f}"})
+        done = [r for r in residuals if math.isfinite(r)]
+        mae = sum(abs(r) for r in done) / len(done) if done else math.nan
+        summary.append({"mode [1]": mode, "amplitude": amplitude, "damping_ratio [1]": zeta, "figures [1]": len(done),
+                        "mae_db [dB]": f"{mae:.2f}", "max_abs_residual_db [dB]": f"{max(map(abs, done)):.2f}" if done else "nan",
+                        "mean_residual_db [dB]": f"{sum(done) / len(done):+.2f}" if done else "nan"})
+        print(f"Table 3, mode {mode} at {amplitude}, damping ratio {zeta}: MAE {mae:.2f} dB over {len(done)} figures", flush=True)
+    write_csv(os.path.join(docs, "table3-check.csv"), list(figures[0].keys()), figures)
+    write_csv(os.path.join(docs, "table3-check-summary.csv"), list(summary[0].keys()), summary)
 
 
 TABLE3_MAP = ["--gamma", "0.01,20", "--amplitudes", "6", "--frequencies", "4"]  # design's default grid, down to Gamma 0.01
@@ -555,6 +597,10 @@ def main(argv):
                    help="only step 6: the pipe's damping ratio fitted to all 20 figures of Table 3 at --amplitude, calibrate-table3.csv")
     p.add_argument("--table3-maps", action="store_true",
                    help="only step 7: a map per Table 3 mass ratio, then the force and damping ratios fitted on them to all 20 figures")
+    p.add_argument("--table3-check", action="store_true",
+                   help="only step 8: Table 3 by coupled DEM at --amplitude and --damping-ratio (mode 3 at --damping-ratio3), "
+                        "table3-check.csv and table3-check-summary.csv (the MAE per mode)")
+    p.add_argument("--damping-ratio3", help="with --table3-check: mode 3's damping ratio (default --damping-ratio)")
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--slope-choices", help="with --slope: only these (comma-separated: base, tightness, force, ball-stiffness, "
@@ -570,6 +616,11 @@ def main(argv):
     zeta = a.damping_ratio
     if a.table3:
         calibrate_table3(a.out, a.amplitude, a.seeds, a.jobs, a.docs)
+        return 0
+    if a.table3_check:
+        if zeta is None:
+            sys.exit("tools/validate-study: --table3-check needs --damping-ratio (and --amplitude)")
+        table3_check(a.out, a.amplitude, {1: zeta, 3: a.damping_ratio3 or zeta}, a.seeds, a.jobs, a.docs)
         return 0
     if a.table3_maps:
         calibrate_table3_maps(a.out, a.seeds, a.jobs, a.docs)

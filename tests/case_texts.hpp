@@ -305,14 +305,19 @@ inline std::string ball_on_sdof_floor() {
 // of clearance each side, swept over 27-33 Hz around the 30-Hz mode (damping ratio 0.02). One ball
 // placed where it starts is deterministic (the seeds change nothing). Its peak reduction falls
 // steadily from 8.3 dB at 0.03 N to 0.4 dB at 0.2 N (4.6 dB at 0.06 N); a run takes about a second.
-inline std::string impact_damper_sdof() {
-  return steel_ball_between_planes("0.1 s", 0.0052, "0.01")
-      .set("simulation", "settle", "2 ms")
+// `c` is steel_ball_between_planes("0.1 s", 0.0052, "0.01") with any law set.
+inline CaseText& impact_damper_on_sdof(CaseText& c) {
+  return c.set("simulation", "settle", "2 ms")
       .placed("ball", "steel", "0.01", "[[0.0001, 0, 0]]", "[[0.05, 0, 0]]")
       .sdof(0.05, "1776.5287921960843", 0.02)
       .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
       .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[27, 29, 30, 31, 33]"},
                           {"refine", 1}, {"min_cycles", 4}, {"reduce_cycles", 4}, {"max_cycles", 40}, {"chains", 1}});
+}
+
+inline std::string impact_damper_sdof() {
+  CaseText c = steel_ball_between_planes("0.1 s", 0.0052, "0.01");
+  return impact_damper_on_sdof(c).str();
 }
 
 }  // namespace bagdem::testing

@@ -70,13 +70,7 @@ CaseText& hooke(CaseText& c) {
 // the force (deterministic: one ball placed where it starts).
 std::string impact_case() {
   CaseText c = bagdem::testing::steel_ball_between_planes("0.1 s", 0.0052, "0.01");
-  return hooke(c)
-      .set("simulation", "settle", "2 ms")
-      .placed("ball", "steel", "0.01", "[[0.0001, 0, 0]]", "[[0.05, 0, 0]]")
-      .sdof(0.05, "1776.5287921960843", 0.02)
-      .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
-      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[27, 29, 30, 31, 33]"},
-                          {"refine", 1}, {"min_cycles", 4}, {"reduce_cycles", 4}, {"max_cycles", 40}, {"chains", 1}});
+  return bagdem::testing::impact_damper_on_sdof(hooke(c)).str();
 }
 
 // A 10-mm steel ball on the floor of a 40 x 20 x 20 mm box, gravity -z, on a 0.02-kg SDOF of 20 Hz

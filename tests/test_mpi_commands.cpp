@@ -3,10 +3,13 @@
 // shared among the ranks as a sweep's points are (rank r runs the points with index % 2 == r), the
 // lead alone writes the tables and reports, and the tables are those of a serial run, byte for byte.
 // 1. design: the rolling ball on the SDOF of tests/test_design.cpp (two maps of 12 runs, the best
-//    checked with 2 starts).
+//    checked with 2 starts); again with a run of one map damaged (the candidate is out, the ranks
+//    go on alike); --check prints the plan once and runs nothing.
 // 2. calibrate: the impact damper of tests/test_calibrate.cpp, its force fitted to the reduction at
-//    0.06 N (rounds of 5 and more values).
-// A resumed calibration under 2 ranks runs nothing and gives the same answer.
+//    0.06 N (a scan of 3, then refinement rounds). Resumed under 2 ranks it runs nothing and gives
+//    the same answer; bad input is said once (exit 2); a fit on maps is refused under several ranks;
+//    a later round whose recorded runs differ is refused by the lead (exit 1) without an MPI abort.
+// The lead alone chooses each study and sends it; the other ranks run their share of what it sends.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -81,6 +84,29 @@ TEST(MpiCommands, DesignOnTwoRanksGivesTheSerialTable) {
   }
   EXPECT_EQ(maps, 2u);
   EXPECT_EQ(points_per_rank(t.path / "ranked" / "verify"), (std::vector<int>{2, 2}));
+  // A run of the 6-mm map damaged: the lead's map fails, the candidate is out, the other ranks go on
+  // to the next study the lead sends; the same table as without MPI.
+  for (const char* out : {"serial", "ranked"}) {
+    for (const auto& m : fs::directory_iterator(t.path / out / "maps"))
+      if (slurp(m.path() / "damper.toml").find("'particles.ball.diameter' = '0.006'") != std::string::npos) std::ofstream(m.path() / "point-000" / "reduced.csv") << "garbage\n";
+    fs::remove_all(t.path / out / "verify");
+  }
+  const CmdResult serial2 = run_bagdem(with_out(args, t.path / "serial"), t.path);
+  const CmdResult ranked2 = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  EXPECT_EQ(serial2.code, 0) << serial2.err;
+  EXPECT_EQ(ranked2.code, 0) << ranked2.err;
+  EXPECT_NE(ranked2.err.find("does not load"), std::string::npos) << ranked2.err;
+  std::string table = slurp(t.path / "ranked" / "design.csv");  // the damaged run's path is in its status
+  for (std::size_t at = table.find("/ranked/"); at != std::string::npos; at = table.find("/ranked/", at)) table.replace(at, 8, "/serial/");
+  EXPECT_EQ(table, slurp(t.path / "serial" / "design.csv"));
+  EXPECT_EQ(points_per_rank(t.path / "ranked" / "verify"), (std::vector<int>{1, 1})) << "the 8-mm ball checked alone";
+  // --check under 2 ranks: the plan, once; nothing run.
+  std::vector<std::string> plan_only = with_out(args, t.path / "checked");
+  plan_only.push_back("--check");
+  const CmdResult check = run_bagdem(plan_only, t.path, 2);
+  EXPECT_EQ(check.code, 0) << check.err;
+  EXPECT_EQ(count(check.out, "bagdem design"), 1u) << check.out;
+  EXPECT_FALSE(fs::exists(t.path / "checked" / "maps"));
 #else
   GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
 #endif
@@ -93,7 +119,7 @@ TEST(MpiCommands, CalibrateOnTwoRanksGivesTheSerialCalibration) {
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << bagdem::testing::impact_damper_sdof();
   const std::vector<std::string> args = {"calibrate", dir.string(), "--target", "mode=1,reduction_db=4.6", "--bounds", "\"0.03 N\",\"0.2 N\"",
-                                         "--seeds", "1", "--jobs", "1"};
+                                         "--seeds", "1", "--jobs", "1", "--scan", "3"};
   const CmdResult serial = run_bagdem(with_out(args, t.path / "serial"), t.path);
   ASSERT_EQ(serial.code, 0) << serial.err << serial.out;
   const CmdResult ranked = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
@@ -102,7 +128,7 @@ TEST(MpiCommands, CalibrateOnTwoRanksGivesTheSerialCalibration) {
   for (const char* f : {"calibrate.csv", "calibration.json"}) EXPECT_EQ(slurp(t.path / "ranked" / f), slurp(t.path / "serial" / f)) << f;
   EXPECT_EQ(count(ranked.out, "calibration complete"), 1u) << "the lead alone reports";
   const std::vector<int> first = points_per_rank(t.path / "ranked" / "round-00");
-  EXPECT_EQ(first, (std::vector<int>{3, 2})) << "the scan's 5 values shared";
+  EXPECT_EQ(first, (std::vector<int>{2, 1})) << "the scan's 3 values shared";
   // Resumed under 2 ranks: every round is done, nothing runs, the same answer.
   const std::string before = slurp(t.path / "ranked" / "calibration.json");
   const CmdResult again = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
@@ -114,6 +140,23 @@ TEST(MpiCommands, CalibrateOnTwoRanksGivesTheSerialCalibration) {
   EXPECT_EQ(bad.code, 2) << bad.err;
   EXPECT_EQ(count(bad.err, "error:"), 1u) << bad.err;
   EXPECT_FALSE(fs::exists(t.path / "bad"));
+  // A fit on maps runs no simulation: refused under several ranks, said once.
+  const CmdResult maps = run_bagdem({"calibrate", dir.string(), "--target", "mode=1,reduction_db=3", "--maps", (t.path / "serial").string(),
+                                     "--out", (t.path / "maps").string()}, t.path, 2);
+  EXPECT_EQ(maps.code, 2) << maps.err;
+  EXPECT_EQ(count(maps.err, "gains nothing from 2 MPI ranks"), 1u) << maps.err;
+  // A round after the first whose recorded runs differ (here its first point's overrides): the
+  // lead refuses it (exit 1, said once), the other rank stops with it, no MPI abort.
+  const fs::path round1 = t.path / "ranked" / "round-01" / "point-000" / "point.toml";
+  ASSERT_TRUE(fs::exists(round1)) << "a scan of 3 is refined in later rounds";
+  std::string text = slurp(round1);
+  text.replace(text.find("set = ["), 7, "set = [\"primary.damping_ratio=0.5\",");
+  std::ofstream(round1) << text;
+  const CmdResult stale = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  EXPECT_EQ(stale.code, 1) << stale.err;
+  EXPECT_EQ(count(stale.err, "error:"), 1u) << stale.err;
+  EXPECT_NE(stale.err.find("round-01"), std::string::npos) << stale.err;
+  EXPECT_EQ(stale.err.find("MPI_ABORT"), std::string::npos) << stale.err;
 #else
   GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
 #endif

@@ -193,13 +193,88 @@ Setup read_setup(const CalibrateArgs& args, const Ranks& ranks) {
 
 }  // namespace
 
+namespace {
+
+// The rounds of a calibration by coupled DEM among the ranks: each round's study, OUT taken before
+// the first writes, and the other ranks' part.
+class Rounds {
+ public:
+  Rounds(const CalibrateArgs& args, const Setup& setup, const Ranks& ranks) : args_(args), u_(setup), ranks_(ranks) {}
+
+  // A round's study (OUT/round-RR) of the values and its points done before: the same on every rank.
+  std::pair<Plan, std::vector<bool>> plan(int round, const std::vector<double>& values) const {
+    StudySpec spec = u_.base;
+    const std::string name = prefix(round).substr(0, 8);
+    spec.out_dir = (fs::path(u_.base.out_dir) / name).string();
+    Varied v{key_of(args_), {}};
+    for (double x : values) v.values.push_back({u_.scale.toml(x), u_.scale.given(x)});
+    spec.vary = {v};
+    if (!u_.targets.config_key.empty()) spec.vary.push_back({u_.targets.config_key, u_.targets.configs});
+    Plan plan = make_plan(spec);
+    const std::vector<std::string> warnings = validate_plan(plan);
+    if (round == 0 && ranks_.rank() == 0)
+      for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    try {
+      return {plan, done_points(plan)};
+    } catch (const InputError& e) {
+      throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier calibration with other targets or options: give a new --out, or remove " + name + " and the rounds after it)");
+    }
+  }
+
+  static std::string prefix(int round) {
+    char name[32];
+    std::snprintf(name, sizeof name, "round-%02d: ", round);
+    return name;
+  }
+
+  // Before the first round writes: the lead's lock on OUT (its runs write inside it); every rank.
+  int take_out() {
+    return agreed(ranks_, [&] {
+      if (ranks_.rank() == 0) lock_.emplace(u_.base.out_dir);
+      share_output_with_children(u_.base.out_dir);
+      return 0;
+    });
+  }
+
+  // A rank other than the lead: its share of each round the lead sends, until it sends none; the
+  // lead's exit code.
+  int follow() {
+    for (int round = 0;; ++round) {
+      const std::vector<double> values = ranks_.broadcast(std::vector<double>{});
+      if (values.empty()) break;
+      try {
+        const auto [plan, done] = this->plan(round, values);
+        if (round == 0 && take_out() != 0) continue;  // the lead said why; it sends no more
+        run_round(plan, done, u_.budget, args_.executable, ranks_, prefix(round), nullptr);
+      } catch (const RoundFailed&) {  // the lead's failure, said by the lead; it sends no more
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks_).c_str(), e.what());
+        ranks_.abort(1);  // the lead planned a round this rank cannot: the ranks see different files
+      }
+    }
+    return ranks_.broadcast(0);
+  }
+
+ private:
+  const CalibrateArgs& args_;
+  const Setup& u_;
+  const Ranks& ranks_;
+  std::optional<OutputLock> lock_;
+};
+
+}  // namespace
+
 int calibrate_command(const CalibrateArgs& args) {
   std::optional<Ranks> ranks;
   if (const int code = start_ranks(ranks)) return code;
   const bool lead = ranks->rank() == 0;
   // The lead reports on stdout; the other ranks show their runs' progress on stderr.
   if (!lead && !std::freopen("/dev/null", "w", stdout)) std::fprintf(stderr, "%swarning: stdout not silenced\n", rank_prefix(*ranks).c_str());
-  if (!args.maps.empty()) return ranks->broadcast(lead ? calibrate_on_maps(args) : 0);  // no runs to share
+  if (!args.maps.empty()) {  // no runs to share: the other ranks would wait doing nothing
+    if (ranks->size() == 1) return calibrate_on_maps(args);
+    if (lead) std::fprintf(stderr, "error: --maps: a fit on maps runs no simulation and gains nothing from %d MPI ranks: run it without mpirun\n", ranks->size());
+    return kExitInputError;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   Setup setup;
   if (const int code = agreed(*ranks, [&] {
@@ -214,66 +289,44 @@ int calibrate_command(const CalibrateArgs& args) {
                  base.case_dir.c_str(), key_of(args).c_str(), scale.given(opt.lo).c_str(), scale.given(opt.hi).c_str(), opt.log ? "log" : "linear",
                  opt.scan, args.seeds, args.seeds > 1 ? "s" : "", base.out_dir.c_str(), budget.jobs, budget.threads, budget.threads > 1 ? "s" : "",
                  ranks->size() > 1 ? (" on each of " + std::to_string(ranks->size()) + " ranks").c_str() : "");
+  // The lead searches and sends each round's values; the other ranks run their share of the round
+  // it sends until it sends none, so no rank chooses a round from files it may see differently.
+  Rounds rounds(args, setup, *ranks);
+  if (!lead) return rounds.follow();
   bool failed = false;
   int round = 0;
-  std::optional<OutputLock> lock;
   struct Reported {  // an error already said (by agreed), with its exit code
     int code;
   };
-  // One round: the values as a study in OUT/round-RR, shared among the ranks. Bad input surfaces in
-  // the first round's validation (the same on every rank), before anything runs.
+  // One round: its study checked, its values sent to the other ranks, its runs shared. Bad input
+  // surfaces in the first round's validation, before anything runs.
   Evaluate evaluate = [&](const std::vector<double>& values) {
-    StudySpec spec = base;
-    char name[32];
-    std::snprintf(name, sizeof name, "round-%02d", round);
-    spec.out_dir = (fs::path(base.out_dir) / name).string();
-    Varied v{key_of(args), {}};
-    for (double x : values) v.values.push_back({scale.toml(x), scale.given(x)});
-    spec.vary = {v};
-    if (!targets.config_key.empty()) spec.vary.push_back({targets.config_key, targets.configs});
-    Plan plan = make_plan(spec);
-    for (const std::string& w : validate_plan(plan))
-      if (round == 0 && lead) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    std::vector<bool> done;
-    try {
-      done = done_points(plan);
-    } catch (const InputError& e) {
-      throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier calibration with other targets or options: give a new --out, or remove " + name + " and the rounds after it)");
-    }
+    const auto [plan, done] = rounds.plan(round, values);
     std::string list;
-    for (const Value& x : v.values) list += (list.empty() ? "" : ", ") + x.given;
-    if (lead) std::fprintf(stderr, "round %d: %s = %s\n", round, key_of(args).c_str(), list.c_str());
-    if (round == 0)  // one study writes a directory at a time; locked before it writes; its runs write inside it
-      if (const int code = agreed(*ranks, [&] {
-            if (lead && !lock) lock.emplace(base.out_dir);
-            share_output_with_children(base.out_dir);
-            return 0;
-          }))
-        throw Reported{code};
-    const std::vector<bool> finished =
-        run_round(plan, done, budget, args.executable, *ranks, name + std::string(": "), [&](const std::vector<bool>& f) { merge_tables(plan, f); });
+    for (double x : values) list += (list.empty() ? "" : ", ") + scale.given(x);
+    std::fprintf(stderr, "round %d: %s = %s\n", round, key_of(args).c_str(), list.c_str());
+    ranks->broadcast(values);
+    if (round == 0)
+      if (const int code = rounds.take_out()) throw Reported{code};
+    const std::vector<bool> finished = run_round(plan, done, budget, args.executable, *ranks, Rounds::prefix(round),
+                                                 [&](const std::vector<bool>& f) { merge_tables(plan, f); });
     for (bool f : finished) failed = failed || !f;
     ++round;
     return estimates(plan, finished, targets.list, values.size());
   };
 
+  int code = 0;
   SearchResult r;
   try {
     r = calibrate_search(target_db, opt, evaluate);
   } catch (const Reported& e) {
-    return e.code;
+    code = e.code;
   } catch (const std::exception& e) {
-    if (round == 0 && dynamic_cast<const InputError*>(&e)) {  // bad input, found alike by every rank before anything ran
-      if (lead) std::fprintf(stderr, "error: %s\n", e.what());
-      return kExitInputError;
-    }
-    std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
-    if (ranks->size() > 1) ranks->abort(1);  // the other ranks may wait for this one for ever
-    return 1;
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = round == 0 && dynamic_cast<const InputError*>(&e) ? kExitInputError : 1;  // bad input: nothing ran
   }
-
-  int code = 0;
-  if (lead) try {
+  ranks->broadcast(std::vector<double>{});  // no more rounds
+  if (code == 0) try {
       const bool matched = write_results(base.out_dir, args, targets, scale, opt, r, failed);
       if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

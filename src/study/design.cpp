@@ -110,77 +110,48 @@ StudySpec candidate_spec(const DesignArgs& a, const fs::path& out) {
 }
 
 
-// A map for a candidate: bagdem characterize's runs, in OUT/maps/map-HASH (built once).
-void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, Candidate& c, std::size_t k, std::size_t n,
-               const Ranks& ranks, bool& failed) {
+// A candidate's map study: bagdem characterize's runs, in OUT/maps/map-HASH (built once), with its
+// points done before and its core budget. The same on every rank.
+struct MapStudy {
+  MapPlan grid;
+  Plan plan;
+  std::vector<bool> done;
+  Budget budget;
+};
+
+MapStudy map_study(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, const Candidate& c, const Ranks& ranks) {
   CharacterizeArgs m = grid_args;
   m.dir = base.case_dir, m.sets = c.sets;
   m.jobs = a.jobs, m.threads = a.threads, m.cores = a.cores;
   m.out = c.map;
-  MapPlan grid;
-  Plan plan = make_plan(characterize_spec(m, grid));
-  validate_plan(plan);
-  const std::vector<bool> done = done_points(plan);
-  const Budget budget = resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design");
-  char prefix[64];
-  std::snprintf(prefix, sizeof prefix, "map %zu/%zu: ", k + 1, n);
+  MapStudy s;
+  s.plan = make_plan(characterize_spec(m, s.grid));
+  validate_plan(s.plan);
+  s.done = done_points(s.plan);
+  s.budget = resolve_budget(s.plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design");
+  return s;
+}
+
+std::string map_prefix(std::size_t k, std::size_t n) { return "map " + std::to_string(k + 1) + "/" + std::to_string(n) + ": "; }
+
+// The lead's map of candidate i (the k-th of n to build): its study checked, sent to the other
+// ranks, its runs shared, the map written.
+void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const StudySpec& base, const std::vector<Candidate>& cs, std::size_t i,
+               std::size_t k, std::size_t n, const Ranks& ranks, bool& failed) {
+  const MapStudy s = map_study(a, grid_args, base, cs[i], ranks);
   std::string v;
-  for (const std::string& g : c.given) v += (v.empty() ? "" : ", ") + g;
-  if (ranks.rank() == 0) std::fprintf(stderr, "%s%s: %zu runs -> %s\n", prefix, v.c_str(), plan.points.size(), plan.spec.out_dir.c_str());
-  run_round(plan, done, budget, a.executable, ranks, prefix, [&](const std::vector<bool>& finished) {
-    failed = write_map_of(plan, finished, grid).missing > 0 || failed;  // the lead's: its exit code is every rank's
+  for (const std::string& g : cs[i].given) v += (v.empty() ? "" : ", ") + g;
+  std::fprintf(stderr, "%s%s: %zu runs -> %s\n", map_prefix(k, n).c_str(), v.c_str(), s.plan.points.size(), s.plan.spec.out_dir.c_str());
+  ranks.broadcast(std::vector<double>{1, static_cast<double>(i), static_cast<double>(k), static_cast<double>(n)});
+  run_round(s.plan, s.done, s.budget, a.executable, ranks, map_prefix(k, n), [&](const std::vector<bool>& finished) {
+    failed = write_map_of(s.plan, finished, s.grid).missing > 0 || failed;
   });
 }
 
-// Every chosen mode's predicted reduction of a candidate at a place (its overrides `sets`).
-void predict_row(const fs::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map, const std::vector<int>& modes,
-                 DesignRow& r) {
-  const Scene s = load_case(case_dir.string(), sets);
-  const Primary& P = *s.primary;
-  r.attach = P.attach;
-  if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band
-    const RandomPredictionRange p = predict_random_range(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
-    if (!p.mean.outside.empty() || !p.mean.converged) {
-      r.status = {Standing::outside_map, "(" + (p.mean.outside.empty() ? std::string("no convergence") : p.mean.outside) + ")"};
-      return;
-    }
-    r.bare_rms = p.mean.bare_response_rms;
-    r.db[0] = 20 * std::log10(r.bare_rms / p.mean.response_rms);
-    r.db_lo[0] = 20 * std::log10(r.bare_rms / p.response_rms_hi), r.db_hi[0] = 20 * std::log10(r.bare_rms / p.response_rms_lo);
-    set_objective(r);
-    return;
-  }
-  r.interpolation_db = 0;
-  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.stepped_sine->frequencies)) {
-    const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
-    if (k == modes.end()) continue;
-    const std::size_t i = static_cast<std::size_t>(k - modes.begin());
-    if (!m.outside.empty()) {
-      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")"};
-      return;
-    }
-    r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
-    r.at_band_edge += m.at_band_edge ? 1 : 0;
-    r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);  // NaN stays NaN
-  }
-  for (std::size_t i = 0; i < modes.size(); ++i)
-    if (!std::isfinite(r.db[i])) {
-      r.status = {Standing::mode_not_in_stepped_sine, std::to_string(modes[i])};
-      return;
-    }
-  set_objective(r);
-}
-
-// The best `a.verify` candidates, each at its best position, run coupled: a zip of their keys (and
-// place), seeds each. (Neighbouring positions of one bag would tell the ranking of bags nothing.)
-bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes, const Ranks& ranks,
-                 std::vector<DesignRow>& rows) {
-  std::vector<DesignRow*> best;
-  for (DesignRow& r : rows)
-    if (r.status.ranked() && static_cast<int>(best.size()) < a.verify &&
-        std::none_of(best.begin(), best.end(), [&](const DesignRow* b) { return b->candidate == r.candidate; }))
-      best.push_back(&r);  // the rows are ranked: a candidate's first is its best position
-  if (best.empty()) return false;
+// The coupled check of the best: a zip of their keys (and place, x/L), seeds each; its points done
+// before. The same on every rank.
+std::pair<Plan, std::vector<bool>> verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, double length,
+                                                const std::vector<std::pair<std::size_t, double>>& best) {
   StudySpec spec = cand;
   spec.out_dir = (fs::path(cand.out_dir) / "verify").string();
   spec.source = "bagdem design";
@@ -192,24 +163,44 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
   const Plan grid = make_plan(cand);
   for (std::size_t k = 0; k < cand.vary.size(); ++k) {
     Varied z{cand.vary[k].key, {}};
-    for (const DesignRow* r : best) z.values.push_back(cand.vary[k].values.at(grid.points.at(r->candidate).choice.at(k)));
+    for (const auto& [candidate, x] : best) z.values.push_back(cand.vary[k].values.at(grid.points.at(candidate).choice.at(k)));
     spec.vary.push_back(z);
   }
   if (beam) {
-    Varied x{"primary.attach", {}};
-    for (const DesignRow* r : best) x.values.push_back({"\"" + short_text(r->position * length) + " m\"", short_text(r->position * length) + " m"});
-    spec.vary.push_back(x);
+    Varied at{"primary.attach", {}};
+    for (const auto& [candidate, x] : best) at.values.push_back({"\"" + short_text(x * length) + " m\"", short_text(x * length) + " m"});
+    spec.vary.push_back(at);
   }
   Plan plan = make_plan(spec);
   validate_plan(plan);
-  std::vector<bool> done;
   try {
-    done = done_points(plan);
+    std::vector<bool> done = done_points(plan);
+    return {plan, done};
   } catch (const InputError& e) {
     throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
   }
-  const std::vector<bool> finished = run_round(plan, done, resolve_budget(spec, ranks.cores(), ranks.cores_from(), "bagdem design"), a.executable,
-                                               ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
+}
+
+// The best `a.verify` candidates, each at its best position, run coupled (the lead's; the other
+// ranks are sent the pairs). Neighbouring positions of one bag would tell the ranking of bags nothing.
+bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes, const Ranks& ranks,
+                 std::vector<DesignRow>& rows) {
+  std::vector<DesignRow*> best;
+  for (DesignRow& r : rows)
+    if (r.status.ranked() && static_cast<int>(best.size()) < a.verify &&
+        std::none_of(best.begin(), best.end(), [&](const DesignRow* b) { return b->candidate == r.candidate; }))
+      best.push_back(&r);  // the rows are ranked: a candidate's first is its best position
+  if (best.empty()) return false;
+  std::vector<std::pair<std::size_t, double>> pairs;
+  std::vector<double> task = {2};
+  for (const DesignRow* r : best) {
+    pairs.emplace_back(r->candidate, r->position);
+    task.push_back(static_cast<double>(r->candidate)), task.push_back(r->position);
+  }
+  const auto [plan, done] = verify_study(a, cand, beam, length, pairs);
+  ranks.broadcast(task);
+  const std::vector<bool> finished = run_round(plan, done, resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design"),
+                                               a.executable, ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
   // Per pair, per start, per chosen mode: the reduction.
   std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
   if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
@@ -434,19 +425,44 @@ int design_command(const DesignArgs& a) {
   print_search(a, z);
   if (a.check) return 0;
 
-  // Every rank searches alike (the same files give the same ranking, so the same check to share);
-  // the lead alone writes the tables.
+  // The other ranks run their share of each study the lead sends (a candidate's map: {1, i, k, n};
+  // the check: {2, candidate, x/L, ...}) until it sends none: the search is the lead's alone.
+  if (!lead) {
+    for (;;) {
+      const std::vector<double> task = ranks->broadcast(std::vector<double>{});
+      if (task.empty()) break;
+      try {
+        if (task[0] == 1) {
+          const auto i = static_cast<std::size_t>(task[1]), k = static_cast<std::size_t>(task[2]), n = static_cast<std::size_t>(task[3]);
+          const MapStudy s = map_study(a, z.map, z.cand, z.cs.at(i), *ranks);
+          run_round(s.plan, s.done, s.budget, a.executable, *ranks, map_prefix(k, n), nullptr);
+        } else {
+          std::vector<std::pair<std::size_t, double>> pairs;
+          for (std::size_t j = 1; j + 1 < task.size(); j += 2) pairs.emplace_back(static_cast<std::size_t>(task[j]), task[j + 1]);
+          const auto [plan, done] = verify_study(a, z.cand, z.beam, z.length, pairs);
+          run_round(plan, done, resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), "bagdem design"), a.executable, *ranks,
+                    "verify: ", nullptr);
+        }
+      } catch (const RoundFailed&) {  // the lead's failure, said by the lead
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
+        ranks->abort(1);  // the lead sent a study this rank cannot plan: the ranks see different files
+      }
+    }
+    return ranks->broadcast(0);
+  }
+  int code = 0;
   try {
     bool failed = false;
     // 1. The maps.
     std::size_t n = 0, k = 0;
     for (const Candidate& c : z.cs) n += c.status.ranked();
-    for (Candidate& c : z.cs)
-      if (c.status.ranked()) try {
-          build_map(a, z.map, z.cand, c, k++, n, *ranks, failed);
-        } catch (const InputError& e) {  // a run of its map does not load (alike on every rank): the candidate is out, the search goes on
-          c.status = {Standing::does_not_load, e.what()};
-          if (lead) std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, c.status.text().c_str());
+    for (std::size_t i = 0; i < z.cs.size(); ++i)
+      if (z.cs[i].status.ranked()) try {
+          build_map(a, z.map, z.cand, z.cs, i, k++, n, *ranks, failed);
+        } catch (const InputError& e) {  // a run of its map does not load, or its runs give no map: the candidate is out, the search goes on
+          z.cs[i].status = {Standing::does_not_load, e.what()};
+          std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, z.cs[i].status.text().c_str());
         }
     // 2. The predictions.
     std::vector<DesignRow> rows = predict_rows(z);
@@ -454,25 +470,22 @@ int design_command(const DesignArgs& a) {
     // 3. The coupled check of the best.
     if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, rows) || failed;
     // 4. The files.
-    int code = 0;
-    if (lead) {
-      std::vector<std::vector<std::string>> sets;
-      for (const Candidate& c : z.cs) sets.push_back(c.sets);
-      const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
-      write_design(sum, rows);
-      const std::string chosen = write_chosen_case(sum, rows, sets);
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      print_design(sum, rows);
-      std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
-                  chosen.empty() ? "" : (", " + chosen).c_str());
-      code = failed ? kExitRunError : 0;
-    }
-    return ranks->broadcast(code);
+    std::vector<std::vector<std::string>> sets;
+    for (const Candidate& c : z.cs) sets.push_back(c.sets);
+    const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
+    write_design(sum, rows);
+    const std::string chosen = write_chosen_case(sum, rows, sets);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    print_design(sum, rows);
+    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
+                chosen.empty() ? "" : (", " + chosen).c_str());
+    code = failed ? kExitRunError : 0;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
-    if (ranks->size() > 1) ranks->abort(exit_code_of(e));  // the other ranks may wait for this one for ever
-    return exit_code_of(e);
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = exit_code_of(e);
   }
+  ranks->broadcast(std::vector<double>{});  // no more studies
+  return ranks->broadcast(code);
 }
 
 }  // namespace bagdem::study

@@ -83,6 +83,15 @@ int Ranks::broadcast(int value) const {
   return value;
 }
 
+std::vector<double> Ranks::broadcast(std::vector<double> values) const {
+  if (!initialised_) return values;
+  int n = static_cast<int>(values.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  values.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(values.data(), n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  return values;
+}
+
 int Ranks::max(int value) const {
   int largest = value;
   if (initialised_) MPI_Allreduce(&value, &largest, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
@@ -117,6 +126,7 @@ Ranks::Ranks() {
 Ranks::~Ranks() = default;
 void Ranks::barrier() const {}
 int Ranks::broadcast(int value) const { return value; }
+std::vector<double> Ranks::broadcast(std::vector<double> values) const { return values; }
 int Ranks::max(int value) const { return value; }
 void Ranks::abort(int code) const { std::exit(code); }
 

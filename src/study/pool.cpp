@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -300,23 +301,32 @@ std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, con
   const bool lead = ranks.rank() == 0;
   // The lead's step, then every rank learns whether it failed (the others would wait for ever).
   const auto lead_step = [&](const std::function<void()>& step) {
-    std::string message;
+    std::exception_ptr error;
     if (lead) try {
         step();
-      } catch (const std::exception& e) {
-        message = e.what();
+      } catch (...) {
+        error = std::current_exception();
       }
-    if (ranks.broadcast(message.empty() ? 0 : 1) != 0)
-      throw std::runtime_error(lead ? message : "the lead rank failed on " + plan.spec.out_dir + " (its message says why)");
+    if (ranks.broadcast(error ? 1 : 0) == 0) return;
+    if (lead) std::rethrow_exception(error);
+    throw RoundFailed("the lead rank failed on " + plan.spec.out_dir + " (its message says why)");
   };
   lead_step([&] {
     fs::create_directories(plan.spec.out_dir);
     remove_merged_tables(plan);
   });
-  run_share(plan, done, budget, executable, ranks.rank(), ranks.size(), rank_prefix(ranks) + prefix);
+  try {
+    run_share(plan, done, budget, executable, ranks.rank(), ranks.size(), rank_prefix(ranks) + prefix);
+  } catch (const std::exception& e) {
+    if (ranks.size() == 1) throw;
+    std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks).c_str(), e.what());
+    ranks.abort(1);
+  }
   ranks.barrier();
   const std::vector<bool> finished = finished_points(plan);
-  if (after) lead_step([&] { after(finished); });
+  lead_step([&] {  // on every rank, whether its `after` is given or not: the ranks' broadcasts pair up
+    if (after) after(finished);
+  });
   return finished;
 }
 

@@ -23,10 +23,15 @@
 //      verified pair (the DEM's objective; the prediction's when nothing was verified).
 // docs/bag-design.md has the columns, the defaults and the run time.
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "bagdem/study/characterize.hpp"
+
+namespace bagdem {
+struct EffectiveMap;  // reduce/predict.hpp
+}
 
 namespace bagdem::study {
 
@@ -103,5 +108,10 @@ std::vector<double> default_diameters(double diameter);
 
 // 0 done, 2 bad input (nothing run), 3 a run failed (the design is written from what finished).
 int design_command(const DesignArgs& args);
+
+// Every chosen mode's predicted reduction of a candidate at a place (the case with its overrides
+// `sets`) from its map, into r (its status when it cannot be predicted; design_predict.cpp).
+void predict_row(const std::filesystem::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map,
+                 const std::vector<int>& modes, DesignRow& r);
 
 }  // namespace bagdem::study

@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -252,6 +253,7 @@ class Ranks {
   const std::string& cores_from() const { return cores_from_; }
   void barrier() const;
   int broadcast(int value) const;  // rank 0's value on every rank
+  std::vector<double> broadcast(std::vector<double> values) const;  // rank 0's list on every rank
   int max(int value) const;        // the largest value of all ranks, on every rank
   [[noreturn]] void abort(int code) const;  // ends every rank (a rank failed after the start)
 
@@ -293,12 +295,19 @@ std::string rank_prefix(const Ranks& ranks);
 // exit_code_of). The lead speaks for all; another rank only when it alone failed.
 int agreed(const Ranks& ranks, const std::function<int()>& body);
 
+// A failure of the lead rank's, on the other ranks (run_round).
+struct RoundFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // One study of a command that runs several in turn (design's maps and its check, calibrate's
 // rounds), shared among the ranks as a sweep's points are (index % ranks == rank): the lead makes
 // OUT's directory and removes its merged tables, every rank runs its share of the points not done,
 // then the lead calls `after` (if any: merging, writing a map) while the others wait. Returns the
-// points finished, the same on every rank. The lead's failure in either step is every rank's (a
-// runtime_error); `prefix` starts this study's progress lines.
+// points finished. Whatever it throws, every rank throws: the lead its own exception, the others
+// RoundFailed; a rank whose runs cannot start ends every rank (the others would wait for ever).
+// `prefix` starts this study's progress lines. The lead alone decides what the next study is and
+// sends it (the other ranks never choose from files they may see differently).
 std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,
                             const Ranks& ranks, const std::string& prefix, const std::function<void(const std::vector<bool>&)>& after);
 

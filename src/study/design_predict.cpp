@@ -1,0 +1,51 @@
+// A design's candidate predicted at a place from its map (study/design.hpp, predict_row).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/reduce/predict.hpp"
+#include "bagdem/study/design.hpp"
+
+namespace bagdem::study {
+
+// Every chosen mode's predicted reduction of a candidate at a place (its overrides `sets`).
+void predict_row(const std::filesystem::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map, const std::vector<int>& modes,
+                 DesignRow& r) {
+  const Scene s = load_case(case_dir.string(), sets);
+  const Primary& P = *s.primary;
+  r.attach = P.attach;
+  if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band
+    const RandomPredictionRange p = predict_random_range(P, map, P.random_rms, P.random_lo, P.random_hi, P.random_lines);
+    if (!p.mean.outside.empty() || !p.mean.converged) {
+      r.status = {Standing::outside_map, "(" + (p.mean.outside.empty() ? std::string("no convergence") : p.mean.outside) + ")"};
+      return;
+    }
+    r.bare_rms = p.mean.bare_response_rms;
+    r.db[0] = 20 * std::log10(r.bare_rms / p.mean.response_rms);
+    r.db_lo[0] = 20 * std::log10(r.bare_rms / p.response_rms_hi), r.db_hi[0] = 20 * std::log10(r.bare_rms / p.response_rms_lo);
+    set_objective(r);
+    return;
+  }
+  r.interpolation_db = 0;
+  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.stepped_sine->frequencies)) {
+    const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
+    if (k == modes.end()) continue;
+    const std::size_t i = static_cast<std::size_t>(k - modes.begin());
+    if (!m.outside.empty()) {
+      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")"};
+      return;
+    }
+    r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
+    r.at_band_edge += m.at_band_edge ? 1 : 0;
+    r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);  // NaN stays NaN
+  }
+  for (std::size_t i = 0; i < modes.size(); ++i)
+    if (!std::isfinite(r.db[i])) {
+      r.status = {Standing::mode_not_in_stepped_sine, std::to_string(modes[i])};
+      return;
+    }
+  set_objective(r);
+}
+
+}  // namespace bagdem::study

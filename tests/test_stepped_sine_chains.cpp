@@ -3,6 +3,8 @@
 // The sweeps themselves, on one thread and on two, killed and resumed, are in test_stepped_sine_restart.cpp.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include <cmath>
 #include <complex>
 #include <filesystem>
@@ -135,4 +137,37 @@ TEST(SweepChains, BarePeakIsSearchedOverTheModesWholeBandWhenPointsAreLeftOut) {
   EXPECT_NEAR(peaks[0].bare_peak, std::abs(P.bare_receptance(2 * std::numbers::pi * f_peak)), 1e-6 * peaks[0].bare_peak);
   EXPECT_EQ(peaks[0].unsteady_points, 4u);
   EXPECT_GT(peaks[0].reduction_db, 10.45) << "at least the damper's 10.5 dB: the steady points miss the damped peak too";
+}
+
+TEST(SweepChains, ThePeakIsNotRefinedAcrossAPointLeftOut) {
+  // A pipe sweep (mode 1, 6% of 4-mm balls at 0.125 N) whose points at 82.7, 84.6 and 88.4 Hz did
+  // not settle: the steady ones beside the largest (85.57 Hz) are 83.67 and 91.26 Hz, with 84.6 Hz
+  // left out between them. A parabola through those three read a peak of 4.5e-3 m/N, 11 times the
+  // largest simulated and above the bare pipe's (a reduction of -0.36 dB). The largest simulated
+  // stands instead; with every point steady, the refinement is as before.
+  const bagdem::Scene s = bagdem::load_case(std::string(BAGDEM_CASES_DIR) + "/pipe-beanbag", {"primary.damping_ratio=0.00126"});
+  ASSERT_TRUE(s.primary);
+  const std::vector<std::tuple<double, double, bool>> measured = {
+      {77.007036, 8.630162e-05, true},  {79.860916, 1.135149e-04, true}, {82.710895, 1.927864e-04, false},
+      {83.666780, 2.610453e-04, true},  {84.611670, 4.434691e-04, false}, {85.566782, 4.074965e-04, true},
+      {88.420182, 8.924891e-05, false}, {91.263154, 4.528711e-05, true}, {94.115961, 3.102634e-05, true}};
+  std::vector<bagdem::SteppedSinePoint> pts;
+  for (const auto& [f, h, steady] : measured) {
+    bagdem::SteppedSinePoint p;
+    p.frequency = f, p.receptance = h, p.steady = steady;
+    pts.push_back(p);
+  }
+  std::vector<bagdem::ModePeak> peaks = bagdem::sweep_peaks(*s.primary, pts);
+  ASSERT_EQ(peaks.size(), 1u);
+  EXPECT_EQ(peaks[0].peak, 4.074965e-04);
+  EXPECT_EQ(peaks[0].frequency, 85.566782);
+  EXPECT_NEAR(peaks[0].reduction_db, 20 * std::log10(peaks[0].bare_peak / 4.074965e-04), 1e-12);
+  EXPECT_GT(peaks[0].reduction_db, 20.0);
+  EXPECT_NE(bagdem::describe_peak(peaks[0]).find("not refined across them"), std::string::npos);
+  // Every point steady: refined through 84.6, 85.6 and 83.7 Hz, above the largest simulated.
+  for (auto& p : pts) p.steady = true;
+  peaks = bagdem::sweep_peaks(*s.primary, pts);
+  EXPECT_GT(peaks[0].peak, 4.434691e-04);
+  EXPECT_LT(peaks[0].peak, 2 * 4.434691e-04);
+  EXPECT_EQ(bagdem::describe_peak(peaks[0]).find("not refined"), std::string::npos);
 }

@@ -86,9 +86,17 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SteppedSin
     ModePeak mp;
     mp.name = P.dof_names[all.dof];
     mp.mode = P.elastic_mode_number(all.dof);
-    const Peak damped = find_peak(f, mag, f.front(), f.back());
-    const Peak bare = bare_peak(P, all.points.front()->frequency, all.points.back()->frequency);
     const std::size_t top = static_cast<std::size_t>(std::max_element(mag.begin(), mag.end()) - mag.begin());
+    // The peak is refined through the largest and its steady neighbours, which is exact for one
+    // mode; a point left out between them (it did not settle) leaves the three to span a stretch
+    // the response was not measured on, and a damper's response there need not be one mode's (a
+    // refinement across such a gap once read 11 times the largest response). The largest simulated
+    // stands then: the warning of the left-out points says so.
+    const bool gap = top > 0 && top + 1 < f.size() && std::any_of(all.points.begin(), all.points.end(), [&](const SteppedSinePoint* p) {
+                       return !p->steady && p->frequency > f[top - 1] && p->frequency < f[top + 1];
+                     });
+    const Peak damped = gap ? Peak{f[top], mag[top]} : find_peak(f, mag, f.front(), f.back());
+    const Peak bare = bare_peak(P, all.points.front()->frequency, all.points.back()->frequency);
     mp.frequency = damped.frequency, mp.peak = damped.magnitude;
     mp.simulated_frequency = f[top], mp.simulated_peak = mag[top];
     mp.peak_ci95 = steady[top]->receptance_ci95;
@@ -152,7 +160,10 @@ std::string describe_peak(const ModePeak& m) {
     << std::setprecision(4) << m.bare_peak << " m/N at " << std::setprecision(5) << m.bare_frequency << " Hz): reduction "
     << (m.at_band_edge ? "at most " : "") << std::fixed << std::setprecision(2) << m.reduction_db << " +- " << m.reduction_db_ci95
     << " dB = " << std::setprecision(1) << m.reduction_percent << "%";
-  if (m.unsteady_points > 0) o << " (" << m.unsteady_points << " unsteady point" << (m.unsteady_points > 1 ? "s" : "") << " left out)";
+  if (m.unsteady_points > 0)
+    o << " (" << m.unsteady_points << " unsteady point" << (m.unsteady_points > 1 ? "s" : "") << " left out"
+      << (m.frequency == m.simulated_frequency && m.peak == m.simulated_peak ? "; the peak is the largest simulated, not refined across them" : "")
+      << ")";
   return o.str();
 }
 

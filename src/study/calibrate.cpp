@@ -191,10 +191,6 @@ Setup read_setup(const CalibrateArgs& args, const Ranks& ranks) {
   return u;
 }
 
-}  // namespace
-
-namespace {
-
 // The rounds of a calibration by coupled DEM among the ranks: each round's study, OUT taken before
 // the first writes, and the other ranks' part.
 class Rounds {

@@ -44,7 +44,9 @@ def toml_value(value):
     """A Python value as the TOML text --set reads: "8 mm" (a quantity), 0.08, true, [1, 3],
     ["-40 mm", "0 mm", "0 mm"]. Strings are quoted, so a unit is always kept with its number;
     numpy scalars are written as the Python numbers they hold."""
-    if hasattr(value, "item") and not isinstance(value, (list, tuple, str)):  # a numpy scalar
+    if getattr(value, "ndim", 0) > 0:  # a numpy array: its elements, as a list
+        value = value.tolist()
+    elif hasattr(value, "item") and not isinstance(value, (list, tuple, str)):  # a numpy scalar
         value = value.item()
     if isinstance(value, bool):
         return "true" if value else "false"

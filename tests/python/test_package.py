@@ -84,6 +84,7 @@ def test_tables_keep_their_headers_numbers_text_and_units(tmp_path):
 def test_overrides_are_toml_and_a_refused_case_raises_with_exit_2(tmp_path):
     assert toml_value("8 mm") == '"8 mm"' and toml_value(0.08) == "0.08" and toml_value(True) == "true"
     assert toml_value(["-40 mm", 0, 1.5]) == '["-40 mm", 0, 1.5]' and toml_value(np.float64(0.5)) == "0.5"
+    assert toml_value(np.array([-0.04, 0.0, 0.0])) == "[-0.04, 0.0, 0.0]"
     assert toml_value(np.int64(3)) == "3" and toml_value(np.bool_(True)) == "true" and toml_value('a"b\nc') == '"a\\"b\\u000ac"'
     with pytest.raises(TypeError):
         toml_value({"a": 1})

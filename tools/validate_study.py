@@ -318,7 +318,7 @@ SLOPE_CHOICES = [  # run in this order (the likeliest first)
     ("bag.fill_fraction", "tightness", ["--vary", "bag.fill_fraction=0.65"]),
     ("excitation.amplitude", "force", ["--vary", 'excitation.amplitude="0.03 N","0.05 N"']),
     ("materials.steel.youngs_modulus", "ball-stiffness", ["--vary", 'materials.steel.youngs_modulus="20 GPa"']),
-    ("bag.radius", "bag-radius", ["--vary", 'bag.radius="8 mm","10.5 mm"']),
+    ("bag.radius", "bag-radius", ["--vary", 'bag.radius="8.5 mm","10.5 mm"']),  # at 8 mm the 12% bag is longer than the 80-mm bore section
     ("bag.film.thickness", "film-thickness", ["--vary", 'bag.film.thickness="100 um"']),
 ]
 

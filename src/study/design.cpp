@@ -149,9 +149,15 @@ void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const Stu
 }
 
 // The coupled check of the best: a zip of their keys (and place, x/L), seeds each; its points done
-// before. The same on every rank.
-std::pair<Plan, std::vector<bool>> verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, double length,
-                                                const std::vector<std::pair<std::size_t, double>>& best) {
+// before and its core budget. The same on every rank.
+struct VerifyStudy {
+  Plan plan;
+  std::vector<bool> done;
+  Budget budget;
+};
+
+VerifyStudy verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, double length,
+                         const std::vector<std::pair<std::size_t, double>>& best, const Ranks& ranks) {
   StudySpec spec = cand;
   spec.out_dir = (fs::path(cand.out_dir) / "verify").string();
   spec.source = "bagdem design";
@@ -175,7 +181,7 @@ std::pair<Plan, std::vector<bool>> verify_study(const DesignArgs& a, const Study
   validate_plan(plan);
   try {
     std::vector<bool> done = done_points(plan);
-    return {plan, done};
+    return {plan, done, resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design")};
   } catch (const InputError& e) {
     throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
   }
@@ -197,10 +203,11 @@ bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double l
     pairs.emplace_back(r->candidate, r->position);
     task.push_back(static_cast<double>(r->candidate)), task.push_back(r->position);
   }
-  const auto [plan, done] = verify_study(a, cand, beam, length, pairs);
+  const VerifyStudy v = verify_study(a, cand, beam, length, pairs, ranks);
+  const Plan& plan = v.plan;
   ranks.broadcast(task);
-  const std::vector<bool> finished = run_round(plan, done, resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design"),
-                                               a.executable, ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
+  const std::vector<bool> finished =
+      run_round(plan, v.done, v.budget, a.executable, ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
   // Per pair, per start, per chosen mode: the reduction.
   std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
   if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
@@ -439,9 +446,8 @@ int design_command(const DesignArgs& a) {
         } else {
           std::vector<std::pair<std::size_t, double>> pairs;
           for (std::size_t j = 1; j + 1 < task.size(); j += 2) pairs.emplace_back(static_cast<std::size_t>(task[j]), task[j + 1]);
-          const auto [plan, done] = verify_study(a, z.cand, z.beam, z.length, pairs);
-          run_round(plan, done, resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), "bagdem design"), a.executable, *ranks,
-                    "verify: ", nullptr);
+          const VerifyStudy v = verify_study(a, z.cand, z.beam, z.length, pairs, *ranks);
+          run_round(v.plan, v.done, v.budget, a.executable, *ranks, "verify: ", nullptr);
         }
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead
       } catch (const std::exception& e) {

@@ -27,46 +27,19 @@
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/modes.hpp"
 #include "bagdem/structure/response.hpp"
+#include "structure_cases.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
 using bagdem::testing::TempDir;
+using namespace bagdem::testing::structure_cases;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// A case with soft balls in a box; `sections` adds [primary], [excitation], [particles...].
-std::string case_text(const std::string& sections, const std::string& simulation = "duration = \"0.1 s\"") {
-  std::ostringstream s;
-  s << "[simulation]\n" << simulation << "\ngravity = [0, 0, \"-9.81 m/s^2\"]\n\n"
-    << "[materials.soft]\ndensity = \"7800 kg/m^3\"\nyoungs_modulus = \"10 MPa\"\npoisson_ratio = 0.3\n\n"
-    << "[interactions.default]\nrestitution = 0.5\nfriction = 0.3\n\n"
-    << "[cavity]\nkind = \"box\"\nmaterial = \"soft\"\nmin = [\"-20 mm\", \"-20 mm\", \"-20 mm\"]\n"
-    << "max = [\"20 mm\", \"20 mm\", \"20 mm\"]\n\n"
-    << sections << "\n[output]\nenergy = true\n";
-  return s.str();
-}
-
-// One ball at the centre, no gravity: it never touches a wall while the box moves less than 15 mm.
-const char* kLoneBall = "[particles.ball]\nmaterial = \"soft\"\ndiameter = \"5 mm\"\npositions = [[0, 0, 0]]\n";
-
-Scene load(const TempDir& d, const std::string& text, const std::vector<std::string>& sets = {}) {
-  d.write("case.toml", text);
-  return load_case(d.str(), sets);
-}
-
 // Run options writing to d/out, without progress output, on every core.
 RunOptions quiet_in(const TempDir& d) { return bagdem::testing::quiet_run(d.path / "out", 0); }
-
-std::string input_error(const TempDir& d, const std::string& text) {
-  try {
-    load(d, text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(accepted)";
-}
 
 }  // namespace
 
@@ -216,19 +189,6 @@ TEST(StructureSdof, SteadyAmplitudesWithContentsAreThoseOfTheStructureWithThem) 
   }
 }
 
-namespace {
-
-// A pinned-pinned beam of 1 m, 1 kg/m, EI = 10.13 N m^2: modes at 5, 20, 45 Hz.
-std::string beam_keys(double attach, const std::string& more = "") {
-  std::ostringstream b;
-  b << "[primary]\nkind = \"beam\"\nlength = \"1 m\"\nyoungs_modulus = 10.1321\nsecond_moment = 1\n"
-    << "line_density = \"1 kg/m\"\nends = \"pinned-pinned\"\nmodes = 6\nattach = " << attach << "\n"
-    << "force_at = 0.13\nresponse_at = 0.13\n" << more;
-  return b.str();
-}
-
-}  // namespace
-
 // Free decay from a displacement in mode 1: the fitted damping ratio is the modal one.
 TEST(StructureBeam, FreeDecayOfOneModeGivesItsDampingRatio) {
   TempDir d;
@@ -284,13 +244,6 @@ TEST(StructureBeam, CavityMassShiftsTheFrequenciesAsTheExactLumpedMass) {
   std::printf("  simulated ring-down: %.5f Hz against exact %.5f Hz\n", f.damped_frequency, exact[0] / (2 * kPi));
   EXPECT_NEAR(f.damped_frequency, exact[0] / (2 * kPi), 2e-3 * exact[0] / (2 * kPi));
 }
-
-namespace {
-
-// 12 soft 8-mm balls lying on the floor of the box (clearance 16 mm across e = y).
-const char* kBalls = "[particles.balls]\nmaterial = \"soft\"\ndiameter = \"8 mm\"\ncount = 12\nfill = \"lattice\"\n";
-
-}  // namespace
 
 // Two-way coupling closes the energy balance: the external force's work per steady cycle goes into
 // the structure's damping and the contents' dissipation.

@@ -42,6 +42,17 @@ struct OutputSettings {
   double skip_cycles = 1;          // start-up cycles after settling left out of per-cycle figures
 };
 
+struct Scene;
+
+// A damper besides the case's own on the same structure (case key [[dampers]], src/case/dampers.cpp):
+// the whole case resolved again with the damper's keys changed (its cavity, contents and where it is
+// attached). Its scene shares the structure (the same modes, force and masses: its Primary differs
+// only in where the cavity is attached), the step, settle, duration and output settings.
+struct Damper {
+  std::string name;
+  std::shared_ptr<const Scene> scene;
+};
+
 struct Scene {
   std::string case_dir;   // directory of the case
   std::string case_file;  // path of case.toml, for messages
@@ -81,6 +92,11 @@ struct Scene {
   double max_energy_error = 0.05;      // run stops when the energy budget is off by this fraction of its scale (0: never)
   std::uint64_t seed = 0;              // random seed (particle generation)
   OutputSettings output;
+
+  // Several dampers on one structure: this scene's name among them and the others, in the case's
+  // order (empty: the case's own damper alone). Only with a primary structure.
+  std::string damper_name = "1";
+  std::vector<Damper> more_dampers;
 
   std::uint64_t total_steps() const;   // ceil((settle + duration) / dt)
 };

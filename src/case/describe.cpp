@@ -160,6 +160,25 @@ void describe_memory(std::ostream& o, const Scene& s) {
     << " MiB\n";
 }
 
+// The damper's contents and cavity: its balls, cavity, bag and STL walls.
+void describe_contents(std::ostream& o, const Scene& s) {
+  double rmin = 1e300, rmax = 0, mass = 0;
+  for (const auto& p : s.particles) {
+    rmin = std::min(rmin, p.radius);
+    rmax = std::max(rmax, p.radius);
+    mass += sphere_mass(s.materials[static_cast<std::size_t>(p.material)].density, p.radius);
+  }
+  const std::size_t n = s.particles.size();
+  o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "
+    << mass << " kg\n";
+  o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
+    << "] .. [" << s.cavity_hi.transpose() << "] m\n";
+  if (s.bag) describe_bag(o, s, rmin);
+  if (!s.mesh_walls.empty())
+    for (const MeshWall& w : s.mesh_walls)
+      o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
+}
+
 }  // namespace
 
 std::string describe_scene(const Scene& s) {
@@ -181,21 +200,17 @@ std::string describe_scene(const Scene& s) {
         o << " (clamped-law |beta| " << l.damping / (2 * std::sqrt(5.0 / 6.0)) << "), mu_s " << l.friction << ", mu_r "
           << l.rolling << ", E* " << l.E_star << " Pa, G* " << l.G_star << " Pa\n";
     }
-  double rmin = 1e300, rmax = 0, mass = 0;
-  for (const auto& p : s.particles) {
-    rmin = std::min(rmin, p.radius);
-    rmax = std::max(rmax, p.radius);
-    mass += sphere_mass(s.materials[static_cast<std::size_t>(p.material)].density, p.radius);
+  describe_contents(o, s);
+  if (!s.more_dampers.empty()) {
+    o << "dampers     " << 1 + s.more_dampers.size() << " on the structure ([[dampers]]): " << s.damper_name << " (the case's own), attached at "
+      << s.primary->attach << " m, cavity mass " << s.primary->cavity_mass << " kg; the others below\n";
+    for (const Damper& d : s.more_dampers) {
+      const Primary& P = *d.scene->primary;
+      o << "damper      " << d.name << ": attached at " << P.attach << " m, cavity mass " << P.cavity_mass << " kg, axis [" << P.axis.transpose()
+        << "], direction [" << P.direction.transpose() << "]" << (P.follow_slope ? ", turns with the slope" : "") << "\n";
+      describe_contents(o, *d.scene);
+    }
   }
-  const std::size_t n = s.particles.size();
-  o << "particles   N = " << n << ", diameter " << 2 * rmin << " .. " << 2 * rmax << " m, total mass "
-    << mass << " kg\n";
-  o << "cavity      " << s.cavity_kind << " (" << s.walls.size() << " walls), bounds [" << s.cavity_lo.transpose()
-    << "] .. [" << s.cavity_hi.transpose() << "] m\n";
-  if (s.bag) describe_bag(o, s, rmin);
-  if (!s.mesh_walls.empty())
-    for (const MeshWall& w : s.mesh_walls)
-      o << "stl wall    " << w.name << ": " << w.mesh.triangles.size() << " triangles, " << (w.mesh.closed() ? "closed" : "open") << "\n";
   if (s.primary) describe_primary(o, s);
   else o << "motion      " << s.motion->describe() << (s.settle > 0 ? " (starts after settling)" : "") << "\n";
   o << "gravity     [" << s.gravity.transpose() << "] m/s^2\n";

@@ -203,7 +203,9 @@ std::uint64_t Scene::total_steps() const {
   return static_cast<std::uint64_t>(std::ceil((settle + duration) / dt - 1e-9));
 }
 
-Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides) {
+namespace {
+// The case as one damper; the other dampers' keys ([[dampers]]) into *dampers when asked for.
+Scene load_one(const std::string& case_dir, const std::vector<std::string>& overrides, std::vector<DamperKeys>* dampers) {
   namespace fs = std::filesystem;
   const fs::path file = fs::path(case_dir) / "case.toml";
   if (!fs::is_regular_file(file))
@@ -253,8 +255,47 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   resolve_bending_clock(in, s);
   refuse_impossible_run(in, s);
   resolve_output(in, s);
+  const std::vector<DamperKeys> more = read_dampers(in);
+  s.damper_name = in.string("damper.name", "1");
+  if (dampers) *dampers = more;
   in.reject_unknown_keys();
   s.resolved = in.text();
+  return s;
+}
+}  // namespace
+
+Scene load_case(const std::string& case_dir, const std::vector<std::string>& overrides) {
+  std::vector<DamperKeys> keys;
+  Scene s = load_one(case_dir, overrides, &keys);
+  if (keys.empty()) return s;
+  if (!s.primary)
+    throw InputError(s.case_file, "dampers", "", "several dampers share one structure: give the case a [primary] structure, or run "
+                                                  "each damper as its own case under prescribed motion");
+  // Each damper: the case with its keys changed; an error there names the damper.
+  auto load_damper = [&](std::size_t k, const std::vector<std::string>& extra) {
+    std::vector<std::string> o = overrides;
+    o.insert(o.end(), keys[k].set.begin(), keys[k].set.end());
+    o.insert(o.end(), extra.begin(), extra.end());
+    try {
+      return load_one(case_dir, o, nullptr);
+    } catch (const InputError& e) {
+      throw InputError(std::string("damper '") + keys[k].name + "' (dampers." + std::to_string(k) + ".set): " + e.what());
+    }
+  };
+  std::vector<Scene> others;
+  for (std::size_t k = 0; k < keys.size(); ++k) others.push_back(load_damper(k, {}));
+  // One step for all: the smallest; resolved again at it where a damper's own differs.
+  double dt = s.dt;
+  for (const Scene& d : others) dt = std::min(dt, d.dt);
+  const std::vector<std::string> at_dt = {"simulation.timestep=" + exact_text(dt)};
+  if (s.dt != dt) {
+    std::vector<std::string> o = overrides;
+    o.insert(o.end(), at_dt.begin(), at_dt.end());
+    s = load_one(case_dir, o, nullptr);
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    if (others[k].dt != dt) others[k] = load_damper(k, at_dt);
+  join_dampers(s, others, keys);
   return s;
 }
 

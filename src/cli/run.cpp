@@ -13,7 +13,9 @@ CLI::App* add_run(CLI::App& app, Args& a) {
                                       "A case with a primary structure ([primary]: sdof, beam, fe-beam) driven by a stepped-sine "
                                       "[excitation] runs a frequency sweep instead: sweep.csv, the table /sweep in results.h5, and "
                                       "each mode's peak reduction (dB, %) against the bare structure in summary.json. A run that goes "
-                                      "unstable leaves its record as results.failed.h5 and an earlier complete results.h5 as it was.");
+                                      "unstable leaves its record as results.failed.h5 and an earlier complete results.h5 as it was. A case of several "
+                                      "dampers on its structure ([[dampers]], not in a stepped-sine sweep) writes each other damper's record "
+                                      "(results.h5, summary.json) in OUT/dampers/NAME.");
   run->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
   run->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
   run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; a stepped-sine sweep runs its chains, excitation.chains, side by side on them)")->check(CLI::Range(1, 1024));
@@ -83,6 +85,7 @@ int run_case(const Args& a, const Scene& s, const RunOptions& o) {
     std::printf("bag: the walls' stop held a film node at %llu steps (the film-wall contact alone would have let it go deeper "
                 "than simulation.max_overlap x bag.film.contact_radius; docs/bag.md, Guards)\n",
                 static_cast<unsigned long long>(r.film_wall_stops));
+  for (const RunReport::DamperOutput& d : r.dampers) std::printf("damper %s: its results.h5 and summary.json in %s\n", d.name.c_str(), d.dir.c_str());
   if (r.structure) {
     std::printf("structure: RMS response %.4e m, RMS acceleration %.4e m/s^2 at response_at\n", r.response_rms,
                 r.acceleration_rms);

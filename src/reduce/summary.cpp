@@ -171,6 +171,7 @@ ModePeak peak_of(const Keys& k, const Json& j) {
 
 Json summary_json(const Summary& s) {
   Json j = {{"status", "complete"}, {"case", s.case_file}, {"kind", kind_name(s.kind)}, {"particles", s.particles}};
+  if (!s.damper.empty()) j["damper"] = s.damper;
   if (s.kind == SummaryKind::run) {
     j["steps"] = s.steps, j["dt"] = s.dt, j["dt_reason"] = s.dt_reason, j["threads"] = s.threads;
     j["wall_time_s"] = s.wall_time, j["particle_steps_per_second"] = s.particle_steps_per_second;
@@ -199,6 +200,7 @@ Summary summary_of(const Keys& k, const Json& j) {
   if (kind != "run" && kind != "stepped-sine") throw InputError(k.file, "kind", kind, "is not \"run\" or \"stepped-sine\"");
   s.kind = kind == "run" ? SummaryKind::run : SummaryKind::stepped_sine;
   s.case_file = k.text(j, "case"), s.particles = k.count<std::size_t>(j, "particles");
+  if (j.contains("damper")) s.damper = k.text(j, "damper");
   s.dt = k.number(j, "dt"), s.threads = k.count<int>(j, "threads"), s.wall_time = k.number(j, "wall_time_s");
   if (s.kind == SummaryKind::run) {
     s.steps = k.count<std::uint64_t>(j, "steps"), s.dt_reason = k.text(j, "dt_reason");

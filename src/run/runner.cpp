@@ -1,16 +1,13 @@
 #include "bagdem/run/runner.hpp"
 
 #include <omp.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -24,12 +21,12 @@
 #include "bagdem/run/bag_report.hpp"
 #include "bagdem/run/clearance.hpp"
 #include "bagdem/run/drop_fallback.hpp"
-#include "bagdem/reduce/summary.hpp"
+#include "bagdem/step/dampers.hpp"
 #include "bagdem/step/simulation.hpp"
-#include "bagdem/structure/response.hpp"
 #include "checkpoint_file.hpp"
 #include "interrupt.hpp"
 #include "output_files.hpp"
+#include "run_summary.hpp"
 
 namespace bagdem {
 namespace fs = std::filesystem;
@@ -99,80 +96,6 @@ Checkpoint load_checkpoint(const fs::path& path, const Scene& scene) {
   return c;
 }
 
-// Progress on stderr: on a terminal one line rewritten in place every second; in a log (stderr not
-// a terminal) a line of its own at every tenth of the run.
-class Progress {
- public:
-  Progress(bool quiet, std::uint64_t first_step)
-      : quiet_(quiet), terminal_(isatty(fileno(stderr)) != 0), first_(first_step), start_(clock::now()), last_(start_) {}
-  void update(std::uint64_t step, std::uint64_t total, double t) {
-    if (quiet_ || (step % 1024 != 0 && step != total)) return;  // the clock is read now and then
-    const auto now = clock::now();
-    const double frac = static_cast<double>(step) / static_cast<double>(total);
-    if (terminal_ ? now - last_ < std::chrono::seconds(1) && step != total : std::floor(10 * frac) <= tenths_) return;
-    last_ = now;
-    tenths_ = std::floor(10 * frac);
-    const double el = std::chrono::duration<double>(now - start_).count();
-    // ETA from this session's pace (a resumed run started at first_).
-    const double done = static_cast<double>(step - first_), left = static_cast<double>(total - step);
-    const double eta = done > 0 ? el * left / done : 0;
-    std::fprintf(stderr, "%s  %5.1f%%  t = %.5g s  elapsed %.0f s  ETA %.0f s%s", terminal_ ? "\r" : "", 100 * frac, t, el, eta,
-                 terminal_ ? "   " : "\n");
-    if (terminal_ && step == total) std::fprintf(stderr, "\n");
-  }
-
- private:
-  using clock = std::chrono::steady_clock;
-  bool quiet_, terminal_;
-  std::uint64_t first_;
-  clock::time_point start_, last_;
-  double tenths_ = 0;  // the last tenth printed in a log
-};
-
-// summary.json of a complete run: rep's headline figures (the structure's are set here), `psteps`
-// the particle-steps of this session, `response` and `response_acc` the structure's response at x_a
-// after release, sampled every ds (s).
-Summary run_summary(const Scene& scene, const Simulation& sim, RunReport& rep, double psteps, const std::vector<double>& response,
-                    const std::vector<double>& response_acc, double ds) {
-  Summary s;
-  s.case_file = scene.case_file, s.particles = sim.particles().size(), s.steps = scene.total_steps();
-  s.dt = scene.dt, s.dt_reason = scene.dt_reason, s.threads = omp_get_max_threads();
-  s.wall_time = rep.wall_seconds, s.particle_steps_per_second = rep.wall_seconds > 0 ? psteps / rep.wall_seconds : 0;
-  s.ns_per_particle_step = rep.ns_per_particle_step, s.neighbour_builds = sim.neighbour_builds();
-  if (scene.models.energy) s.energy = sim.energy(), s.energy_balance_error = rep.energy_balance_error;
-  if (rep.bag) {
-    const FilmSelfContact c = sim.film_self_contact();
-    rep.film_self_steps = c.steps, rep.film_self_pairs_max = c.most, rep.film_wall_stops = sim.film_wall_stops();
-    s.bag = SummaryBag{scene.bag->balls, scene.bag->rest.triangles.size(), rep.bag_packing, rep.bag_outer, c.steps, c.most,
-                       rep.film_wall_stops};
-  }
-  if (scene.primary) {
-    const Primary& P = *scene.primary;
-    const auto& S = sim.structure().scalars;
-    rep.structure = true;
-    rep.response_rms = rms(response, ds, 0.0);
-    rep.acceleration_rms = rms(response_acc, ds, 0.0);
-    SummaryStructure st;
-    st.kind = P.kind, st.response_at = P.response_at, st.response_rms = rep.response_rms, st.acceleration_rms = rep.acceleration_rms;
-    if (P.random_hi > 0) {
-      rep.band_response_rms = band_rms(response, ds, P.random_lo, P.random_hi, P.random_skip);
-      st.band = SummaryBand{rep.band_response_rms, P.random_lo, P.random_hi, P.random_skip};
-    }
-    st.work_external = S.work_external, st.work_contents = S.work_contents, st.dissipated = S.dissipated;
-    st.energy = sim.structure_energy();
-    if (!P.harmonic && response.size() > 8) {
-      // Free decay or a blow: the decay of the response (structure/response.hpp, fit_decay).
-      st.decay = fit_decay(response, ds);
-      rep.decay_time = st.decay->decay_time;
-      rep.decay_zeta = st.decay->zeta;
-    }
-    s.structure = std::move(st);
-  }
-  s.cycles_measured = rep.cycles;
-  if (rep.cycles > 0) s.dissipated_per_cycle = rep.dissipated_per_cycle;
-  return s;
-}
-
 // When a run records, checks and reports, in steps.
 struct RunSchedule {
   std::uint64_t total, n_frame, n_cavity, n_energy, n_ckpt;
@@ -199,23 +122,54 @@ RunSchedule schedule_of(const Scene& scene) {
 
 double total_dissipation(const EnergySample& e) { return e.dissipated(); }
 
-// One run of a scene: its simulation, its results file and what it records on the way.
+// What a run steps: one damper's simulation, or several dampers on one structure (Dampers).
+struct Stepped {
+  Simulation* one = nullptr;
+  Dampers* many = nullptr;
+  void advance(std::uint64_t n) { one ? one->advance(n) : many->advance(n); }
+  std::uint64_t done() const { return one ? one->steps_done() : many->steps_done(); }
+  double time() const { return one ? one->time() : many->time(); }
+};
+
+// One damper's record of a run: its results file and what it records on the way, in its output
+// directory; the structure's table with the case's own damper only. The simulation is stepped by
+// step_all.
 class RunLoop {
  public:
-  RunLoop(const Scene& scene, const RunOptions& opt)
-      : scene_(scene), opt_(opt), out_(opt.out_dir), sim_(scene), at_(schedule_of(scene)) {}
+  RunLoop(const Scene& scene, const RunOptions& opt, Simulation& sim, fs::path out, bool structure)
+      : scene_(scene), opt_(opt), out_(std::move(out)), sim_(sim), at_(schedule_of(scene)), structure_(structure) {}
 
   // Restores an interrupted run (--resume) or starts a new one: results.h5.part open.
   void open() {
     if (opt_.resume) resume();
     else start();
   }
-  // Runs the steps; false when the run stopped early (a signal, a failure, the testing aid), with
-  // the report as it stands.
-  bool step_all();
-  // The headline figures, results.h5 in place, summary.json and the reduction of a complete run.
-  void finish();
+  // What is due at step s (just done).
+  void record(std::uint64_t s);
+  // The next step after s at which something is recorded or checked.
+  std::uint64_t next_event(std::uint64_t s) const;
+  // This session's steps start at `first` (the testing aid counts from it).
+  void begin(std::uint64_t first) { first_step_ = first; }
+  // When settling ended before the first step (simulation.settle = 0).
+  void settled_at_start() {
+    if (scene_.bag) bag_settled();
+    record_clearance();
+  }
+  // A signal stopped the run: the state as a checkpoint, results.h5.part kept.
+  void interrupted(int sig);
+  // The simulated kill of the testing aid: nothing finalised.
+  void killed() { file_->flush(); }
+  // The run went unstable: results.failed.h5, no checkpoint.
+  void failed(const RunError& e) {
+    rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
+    fs::remove(ckpt());  // a failed run is not continued: resuming it would fail again
+  }
+  // The headline figures, results.h5 in place, summary.json and the reduction of a complete run
+  // (wall: the seconds the steps took from first_step on).
+  // particles: the run's, every damper's.
+  void finish(double wall, std::uint64_t first_step, std::size_t particles);
   RunReport& report() { return rep_; }
+  const RunSchedule& schedule() const { return at_; }
 
  private:
   void resume();
@@ -225,8 +179,6 @@ class RunLoop {
     if (excitation_.norm() > 0) file_->set_attribute("clearance", contents_clearance(scene_, sim_, excitation_));
   }
   void structure_row();
-  std::uint64_t next_event(std::uint64_t s) const;
-  void record(std::uint64_t s);
   void check_bag(double t) const;
   void check_energy(double t, const EnergySample& e);
   void save() {
@@ -234,7 +186,6 @@ class RunLoop {
     run_.lengths = file_->lengths();
     save_checkpoint(ckpt(), sim_, run_);
   }
-  void interrupted(int sig);
   fs::path close_results(const std::string& status, bool complete) {
     return close_results_file(*file_, out_, status, complete, frame_times_,
                               {sim_.particles().size(), sim_.film().size(), scene_.bag ? scene_.bag->rest.triangles.size() : 0});
@@ -245,8 +196,9 @@ class RunLoop {
   const Scene& scene_;
   const RunOptions& opt_;
   const fs::path out_;
-  Simulation sim_;
+  Simulation& sim_;
   const RunSchedule at_;
+  const bool structure_;  // this damper writes the structure's table
   RunReport rep_;
   RunTallies run_;
   double energy_scale_ = 0;  // the largest scale of the energy budget so far (check_energy; unit: J)
@@ -256,8 +208,7 @@ class RunLoop {
   std::optional<ResultsFile> file_;
   // The contents' free travel along the excitation when settling ends (reduce/reduce.hpp: d/X).
   const Vec3 excitation_ = excitation_direction(scene_);
-  std::uint64_t first_step_ = 0;
-  double wall_ = 0;
+  std::uint64_t first_step_ = 0;  // where this session's steps started (the testing aid counts from it)
 };
 
 // When settling ends: the bag's packing and size, and the settled bag saved for reuse (bag.from).
@@ -280,7 +231,7 @@ void RunLoop::bag_settled() {
 
 // The primary structure at each cavity sample (instantaneous values at the sample's end).
 void RunLoop::structure_row() {
-  if (!scene_.primary) return;
+  if (!scene_.primary || !structure_) return;
   const StructureResponse r = sim_.structure_response();
   const auto& S = sim_.structure().scalars;
   file_->append_table_row("structure", kStructureColumns,
@@ -306,7 +257,7 @@ void RunLoop::resume() {
   remove_derived_tables(out_);  // a run in progress is not complete
   file_.emplace(reopen_results(part(), run_.lengths));
   write_run_attributes(*file_, scene_);
-  if (scene_.primary && run_.lengths.structure > 0) {
+  if (scene_.primary && structure_ && run_.lengths.structure > 0) {
     // The response before the interruption, for the summary's RMS and decay over the whole run:
     // the rows after release (the structure is released at the start of the step after settling).
     const std::vector<double> t = file_->read_series("/structure/time");
@@ -418,44 +369,13 @@ void RunLoop::interrupted(int sig) {
   rep_.message = m.str();
 }
 
-bool RunLoop::step_all() {
-  if (at_.settle_step == 0 && sim_.steps_done() == 0) {
-    if (scene_.bag) bag_settled();
-    record_clearance();
-  }
-  Progress progress(opt_.quiet, sim_.steps_done());
-  const auto t0 = std::chrono::steady_clock::now();
-  first_step_ = sim_.steps_done();
-  try {
-    while (sim_.steps_done() < at_.total) {
-      if (const int sig = pending_interrupt()) {
-        interrupted(sig);
-        return false;
-      }
-      if (opt_.stop_after_steps >= 0 && sim_.steps_done() - first_step_ >= static_cast<std::uint64_t>(opt_.stop_after_steps)) {
-        file_->flush();
-        return false;  // simulated kill: nothing finalised
-      }
-      sim_.advance(next_event(sim_.steps_done()) - sim_.steps_done());
-      record(sim_.steps_done());
-      progress.update(sim_.steps_done(), at_.total, sim_.time());
-    }
-  } catch (const RunError& e) {
-    rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
-    fs::remove(ckpt());  // a failed run is not continued: resuming it would fail again
-    return false;
-  }
-  wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return true;
-}
-
-void RunLoop::finish() {
+void RunLoop::finish(double wall, std::uint64_t first_step, std::size_t particles) {
   // Headline numbers.
   const EnergySample e = sim_.energy();
   rep_.complete = true;
-  rep_.wall_seconds = wall_;
-  const double psteps = static_cast<double>(sim_.particles().size()) * static_cast<double>(at_.total - first_step_);
-  rep_.ns_per_particle_step = psteps > 0 ? 1e9 * wall_ / psteps : 0;
+  rep_.wall_seconds = wall;
+  const double psteps = static_cast<double>(particles) * static_cast<double>(at_.total - first_step);
+  rep_.ns_per_particle_step = psteps > 0 ? 1e9 * wall / psteps : 0;
   const double cycles = at_.f_drive > 0 && at_.total > at_.measure_step
                             ? static_cast<double>(at_.total - at_.measure_step) * scene_.dt * at_.f_drive : 0.0;
   if (scene_.models.energy) {
@@ -469,7 +389,7 @@ void RunLoop::finish() {
   fs::remove(ckpt());
 
   const double ds = static_cast<double>(at_.n_cavity) * scene_.dt;
-  write_summary(out_ / "summary.json", run_summary(scene_, sim_, rep_, psteps, response_, response_acc_, ds));
+  write_summary(out_ / "summary.json", run_summary(scene_, sim_, rep_, psteps, response_, response_acc_, ds, structure_));
   // Harmonic cavity motion: the effective parameters of the contents (reduced.csv).
   if (!scene_.primary && at_.f_drive > 0 && cycles >= 2) {  // with or without the energy tallies
     try {
@@ -483,16 +403,95 @@ void RunLoop::finish() {
   }
 }
 
+
+// Steps the run to its end, each damper's loop recording what is due (the same schedule for all);
+// false when it stopped early (a signal, a failure, the testing aid), with the reports as they stand.
+bool step_all(Stepped steps, std::vector<std::unique_ptr<RunLoop>>& loops, const RunOptions& opt, double& wall, std::uint64_t& first) {
+  RunLoop& lead = *loops.front();
+  const std::uint64_t total = lead.schedule().total;
+  if (lead.schedule().settle_step == 0 && steps.done() == 0)
+    for (auto& l : loops) l->settled_at_start();
+  Progress progress(opt.quiet, steps.done());
+  const auto t0 = std::chrono::steady_clock::now();
+  first = steps.done();
+  for (auto& l : loops) l->begin(first);
+  try {
+    while (steps.done() < total) {
+      if (const int sig = pending_interrupt()) {
+        for (auto& l : loops) l->interrupted(sig);
+        return false;
+      }
+      if (opt.stop_after_steps >= 0 && steps.done() - first >= static_cast<std::uint64_t>(opt.stop_after_steps)) {
+        for (auto& l : loops) l->killed();
+        return false;
+      }
+      steps.advance(lead.next_event(steps.done()) - steps.done());
+      for (auto& l : loops) l->record(steps.done());
+      progress.update(steps.done(), total, steps.time());
+    }
+  } catch (const RunError& e) {
+    for (auto& l : loops) l->failed(e);
+    return false;
+  }
+  wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return true;
+}
+
+// Several dampers: each one's directory under OUT/dampers; an earlier run's dampers that this case
+// has not are removed with the rest of its tables (a fresh run), kept on --resume.
+fs::path damper_dir(const RunOptions& opt, const std::string& name) { return fs::path(opt.out_dir) / "dampers" / name; }
+
+void clear_other_dampers(const RunOptions& opt, const Scene& scene) {
+  const fs::path all = fs::path(opt.out_dir) / "dampers";
+  if (opt.resume || !fs::is_directory(all)) return;
+  for (const auto& entry : fs::directory_iterator(all)) {
+    const std::string name = entry.path().filename().string();
+    if (std::none_of(scene.more_dampers.begin(), scene.more_dampers.end(), [&](const Damper& d) { return d.name == name; }))
+      fs::remove_all(entry.path());
+  }
+  if (scene.more_dampers.empty()) fs::remove(all);
+}
+
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const OutputLock lock(opt.out_dir);  // creates the directory
-  RunLoop run(scene, opt);
-  run.open();
-  if (run.step_all()) run.finish();
-  return run.report();
+  clear_other_dampers(opt, scene);
+  std::optional<Simulation> one;
+  std::optional<Dampers> many;
+  std::vector<std::unique_ptr<RunLoop>> loops;
+  Stepped steps;
+  if (scene.more_dampers.empty()) {
+    one.emplace(scene);
+    steps.one = &*one;
+    loops.push_back(std::make_unique<RunLoop>(scene, opt, *one, fs::path(opt.out_dir), true));
+  } else {
+    many.emplace(scene);
+    steps.many = &*many;
+    loops.push_back(std::make_unique<RunLoop>(scene, opt, (*many)[0], fs::path(opt.out_dir), true));
+    for (std::size_t k = 1; k < many->size(); ++k) {
+      const fs::path dir = damper_dir(opt, many->name(k));
+      fs::create_directories(dir);
+      loops.push_back(std::make_unique<RunLoop>(*scene.more_dampers[k - 1].scene, opt, (*many)[k], dir, false));
+    }
+  }
+  for (auto& l : loops) l->open();
+  if (many) many->restored();
+  double wall = 0;
+  std::uint64_t first = 0;
+  std::size_t particles = scene.particles.size();
+  for (const Damper& d : scene.more_dampers) particles += d.scene->particles.size();
+  if (step_all(steps, loops, opt, wall, first))
+    for (auto& l : loops) l->finish(wall, first, particles);
+  RunReport report = loops.front()->report();
+  for (std::size_t k = 1; k < loops.size(); ++k) {
+    const RunReport& r = loops[k]->report();
+    if (report.message.empty() && !r.message.empty()) report.message = "damper " + many->name(k) + ": " + r.message;
+    report.dampers.push_back({many->name(k), damper_dir(opt, many->name(k)).string()});
+  }
+  return report;
 }
 
 }  // namespace bagdem

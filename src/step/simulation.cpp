@@ -1,11 +1,19 @@
 // Simulation: the public face of the stepper (stepper.hpp), one call through to it each.
 #include "bagdem/step/simulation.hpp"
 
+#include "bagdem/error.hpp"
 #include "stepper.hpp"
 
 namespace bagdem {
 
-Simulation::Simulation(const Scene& scene) : s_(std::make_unique<Stepper>(scene)) {}
+Simulation::Simulation(const Scene& scene) {
+  if (!scene.more_dampers.empty())
+    throw InputError(scene.case_file, "dampers", "", "the case holds " + std::to_string(1 + scene.more_dampers.size()) +
+                                                         " dampers ([[dampers]]); this command runs one damper (several run with `bagdem run` under a harmonic, decay, "
+                                                         "impulse, random or no excitation; not yet in a stepped-sine sweep): run each damper as its own case");
+  s_ = std::make_unique<Stepper>(scene);
+}
+Simulation::Simulation(const Scene& scene, OneOfSeveral) : s_(std::make_unique<Stepper>(scene)) {}
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;

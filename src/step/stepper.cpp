@@ -121,6 +121,24 @@ std::uint64_t Stepper::run_table(bool last, std::uint64_t most) {
   return schedule == Schedule::pipelined ? pipe_.region_done : 1;
 }
 
+void Stepper::run_rows(Stage from, Stage to) {
+  for (const StageEntry& s : stages())
+    if (s.stage >= from && s.stage < to) (this->*s.run)();
+}
+
+void Stepper::step_contents(bool last) {
+  begin_step(last);
+  run_rows(Stage::kick_drift, Stage::structure);
+}
+
+void Stepper::step_structure() {
+  run_rows(Stage::structure, static_cast<Stage>(static_cast<int>(Stage::guards) + 1));
+}
+
+void Stepper::restart_structure() {
+  if (structure_.couple && structure_.scalars.released) structure_.restart_acceleration(*scene_.primary, since_release(false));
+}
+
 void Stepper::pair_stage() { pair_contacts(); }
 void Stepper::structure_stage() {
   if (structure_.couple) bagdem::structure_stage(ctx_, *scene_.primary, since_release(ctx_.stepping()), structure_);

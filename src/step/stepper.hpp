@@ -140,6 +140,17 @@ class Stepper {
   // (rigid-body modes move to the new steady state). Call it at a whole cycle of the drive.
   void set_drive_frequency(double hz);
   void jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b);
+  // Several dampers on one structure (step/dampers.hpp) step together, staged: each its rows before
+  // the structure stage (step_contents; last as advance's last step), then, the load of them all
+  // shared (share_load: it stays read from there), each its rows from the structure stage on
+  // (step_structure). Every damper integrates the same structure with the same load, so each holds
+  // the same bits of it.
+  void step_contents(bool last);
+  const Eigen::VectorXd& contents_load() { return structure_.damper_load(*scene_.primary); }
+  void share_load(const Eigen::VectorXd* all) { structure_.all_load = all; }
+  void step_structure();
+  // The structure's acceleration from the shared load now (after set-up: each damper's set-up saw its own load).
+  void restart_structure();
   // Checkpoint support: the complete dynamic state as a flat byte image, and its inverse.
   std::vector<char> save_state() const;
   void load_state(const std::vector<char>& image);
@@ -165,6 +176,8 @@ class Stepper {
   // How run_table runs the rows: one step staged or fused, or a pipelined region of several.
   enum class Schedule { staged, fused, pipelined };
   std::uint64_t run_table(bool last, std::uint64_t most);
+  // The staged rows of stages [from, to) (step_contents, step_structure).
+  void run_rows(Stage from, Stage to);
   // The rows' functions: each hands its stage's work (a function of its views, or the pair
   // schedule's) to the executor.
   void kick_drift() { kick_drift_stage({ctx_, scene_, p_, balance_, nb_, film_, mesh_, structure_, guard_}); }

@@ -39,7 +39,8 @@ void release_state(const Primary& P, double w, Eigen::VectorXd& q, Eigen::Vector
   if (P.start_steady) {
     P.bare_steady_state(P.amplitude, w, qs, vs);
     // u_b(theta) = Re(U e^{i theta}), U = phi_b . Q, Q = q(0) + i Im Q with Im Q = -v(0)/w.
-    const std::complex<double> U(P.at_cavity.dot(qs), -P.at_cavity.dot(vs) / w);
+    const Eigen::VectorXd& at = P.start_at.size() ? P.start_at : P.at_cavity;
+    const std::complex<double> U(at.dot(qs), -at.dot(vs) / w);
     phase = std::abs(U) > 0 ? 0.5 * std::numbers::pi - std::arg(U) : 0.0;
     bare_state_at(P, phase, w, q, v);
   } else {
@@ -172,6 +173,7 @@ void StructureCoupling::forces(const Primary& P, const StepContext& ctx, double 
   Eigen::VectorXd &Qc = scratch.load, &fd = scratch.damping, &Q = scratch.total;
   Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
   Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
+  if (all_load) Qc = *all_load;  // several dampers: the load of them all
   const double f = external_force(P, S, t);
   fd = P.damping.cwiseProduct(v_);
   Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q_) - fd;
@@ -188,6 +190,13 @@ void StructureCoupling::forces(const Primary& P, const StepContext& ctx, double 
   fd_prev = fd;
   Qc_prev = Qc;
   S.load_now = m;
+}
+
+const Eigen::VectorXd& StructureCoupling::damper_load(const Primary& P) {
+  Vec3 m = film_load_moments;  // as forces sums them
+  for (std::size_t p = 0; p < cavity_load.size(); ++p) m += cavity_load[p];
+  own_load.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
+  return own_load;
 }
 
 void StructureCoupling::kick(double dt) {

@@ -27,6 +27,10 @@ struct StructureCoupling : StructureState {
   std::vector<Vec3> cavity_load;            // per ball: load moments on the cavity this step
   Vec3 film_load_moments = Vec3::Zero();    // the film's (walls and strings) this step
   std::uint64_t release_step = 0;           // the step at which settling ends
+  // Several dampers on the structure (step/dampers.hpp): the generalized load of them all this step,
+  // which the structure feels instead of this damper's alone (null: one damper); and this damper's.
+  const Eigen::VectorXd* all_load = nullptr;
+  Eigen::VectorXd own_load;
 
   // Sizes the state for P (`balls` load slots), held where it is released from.
   void set_up(const Primary& P, std::size_t balls);
@@ -35,6 +39,8 @@ struct StructureCoupling : StructureState {
   // kick_drift's part: v += dt/2 a, q += dt v, v_pred = v + dt/2 a. kick's: v += dt/2 a.
   void drift(double dt);
   void kick(double dt);
+  // This damper's generalized load G m of the load moments of this step, into own_load.
+  const Eigen::VectorXd& damper_load(const Primary& P);
   // The cavity's state on the structure (move_cavity).
   CavityState cavity(const Primary& P) const;
   // The structure stage's work: the contents' load of this step (the balls' and the film's), the

@@ -48,6 +48,19 @@ void resolve_bag(const CaseReader& in, Scene& s, const std::vector<std::string>&
 // bag.cpp, after the step is known: the film's bending clock (Bag::bending_interval).
 void resolve_bending_clock(const CaseReader& in, Scene& s);
 
+// dampers.cpp: [[dampers]] -> the other dampers' names and the keys each changes ("KEY=VALUE"
+// overrides), checked: a damper may change its cavity, contents, materials and attachment only.
+struct DamperKeys {
+  std::string name;
+  std::vector<std::string> set;
+};
+std::vector<DamperKeys> read_dampers(const CaseReader& in);
+// dampers.cpp: the case's own damper s and the others (resolved at one step) made one structure:
+// each Primary's mass matrix carries every cavity's mass; s.more_dampers takes the others.
+void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys);
+// A number as TOML text that reads back to the same double (%.17g).
+std::string exact_text(double x);
+
 // timestep.cpp: the time step (auto or explicit, checked against the critical step).
 void resolve_timestep(const CaseReader& in, Scene& s);
 

@@ -65,6 +65,7 @@ struct SummaryStructure {
 struct Summary {
   SummaryKind kind = SummaryKind::run;
   std::string case_file;
+  std::string damper;              // which of several dampers ([[dampers]]); "" for a case of one
   std::size_t particles = 0;
   double dt = 0;                   // (unit: s)
   int threads = 0;

@@ -12,6 +12,8 @@
 //   reduced.csv     harmonic cavity motion: the contents' effective parameters (reduce/reduce.hpp)
 //   checkpoint.bin  the latest checkpoint (output.checkpoint_interval > 0, and on SIGINT/SIGTERM),
 //                   checksummed; --resume continues it
+//   dampers/NAME/   several dampers on the structure (case key [[dampers]]): each damper but the
+//                   case's own, its results.h5 (without /structure), summary.json and checkpoint.bin
 // SIGINT or SIGTERM stops the run after the step in progress: a checkpoint is written, results.h5.part
 // gets status "interrupted" and is closed, and the report's `signal` is set (`bagdem run` exits with
 // 128 + the signal).
@@ -56,6 +58,12 @@ struct RunReport {
   double decay_zeta = 0;               // their fitted damping ratio
   std::vector<ReducedRow> reduced;     // harmonic cavity motion: the effective parameters (reduced.csv)
   std::string reduce_message;          // why the reduction was not possible, or (with rows) why e has no estimate
+  // Several dampers ([[dampers]]): the others' names and output directories (OUT/dampers/NAME, each
+  // with its results.h5 and summary.json; the structure's table is the case's own damper's, in OUT).
+  struct DamperOutput {
+    std::string name, dir;
+  };
+  std::vector<DamperOutput> dampers;
 };
 
 // Runs the scene; throws InputError for unusable options, returns the report otherwise (a run that

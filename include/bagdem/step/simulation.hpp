@@ -112,6 +112,9 @@ class Simulation {
   const SpanBalance& balance() const;
 
  private:
+  friend class Dampers;  // steps several simulations together (step/dampers.hpp)
+  struct OneOfSeveral {};
+  Simulation(const Scene& scene, OneOfSeveral);  // one damper of several (Dampers)
   std::unique_ptr<Stepper> s_;
 };
 

@@ -81,6 +81,8 @@ struct Primary {
   double amplitude = 0;              // harmonic force amplitude (unit: N)
   double drive_frequency = 0;        // harmonic: the (first) drive frequency (unit: Hz)
   bool start_steady = false;         // harmonic: start in the bare structure's steady state
+  Eigen::VectorXd start_at;          // ... at the phase at which the displacement of start_at . q is
+                                     // zero (empty: at_cavity; several dampers: the case's own one's)
   Eigen::VectorXd q0, v0;            // initial state when settling ends (decay, or zero)
   double force_time_scale = 0;       // shortest time the force varies over (a blow's duration, the
                                      // period of the highest random line), 0 if none (unit: s)

@@ -1,0 +1,106 @@
+// [[dampers]]: several dampers on one structure. The case's own damper is the case as written; each
+// entry of [[dampers]] is another, written as the keys it changes:
+//
+//   [damper]                        # the case's own damper (optional)
+//   name = "tip"
+//   [[dampers]]
+//   name = "mid"                    # default: its place, "2", "3", ...
+//   set = ['primary.attach = "0.335 m"', 'bag.balls.mass_ratio = 0.03']
+//
+// A damper may change its cavity, its contents and materials, where and how it is attached
+// (DAMPER_KEYS); the structure, its excitation, the run and its output are the case's. Each damper
+// is the whole case resolved again with its keys (load_case), so every key means there what it
+// means in a case. The resolved dampers then share one structure: each one's Primary carries the
+// mass of every cavity (primary.cavity_mass at each attach point) in its mass matrix, and one step
+// (the smallest of theirs; a case that resolves different steps is resolved again at that one).
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/error.hpp"
+
+namespace bagdem {
+namespace {
+
+// What a damper may change: keys under these (or these keys themselves).
+constexpr const char* kDamperKeys[] = {"cavity",         "bag",           "particles",       "materials",
+                                       "interactions",   "primary.attach", "primary.cavity_mass",
+                                       "primary.direction", "primary.axis", "primary.follow_slope", "simulation.gravity"};
+
+bool damper_may_change(const std::string& key) {
+  return std::any_of(std::begin(kDamperKeys), std::end(kDamperKeys), [&](const char* k) {
+    const std::string p = k;
+    return key == p || key.rfind(p + ".", 0) == 0;
+  });
+}
+
+std::string damper_keys_text() {
+  std::string t;
+  for (const char* k : kDamperKeys) t += (t.empty() ? "" : ", ") + std::string(k);
+  return t;
+}
+
+std::string trimmed(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+}  // namespace
+
+std::vector<DamperKeys> read_dampers(const CaseReader& in) {
+  std::vector<DamperKeys> out;
+  std::set<std::string> names{in.string("damper.name", "1")};
+  const std::size_t n = in.array_size("dampers");
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string at = "dampers." + std::to_string(k);
+    DamperKeys d;
+    d.name = in.string(at + ".name", std::to_string(k + 2));
+    if (d.name.empty() || d.name.find_first_of("/\\ \t\"") != std::string::npos)
+      in.fail(at + ".name", "must be a non-empty word without spaces, quotes or slashes (it names the damper's outputs)");
+    if (!names.insert(d.name).second) in.fail(at + ".name", "is the name of another damper: each damper's name must be its own");
+    const std::size_t sets = in.array_size(at + ".set");
+    if (sets == 0) in.fail(at + ".set", "must list the keys this damper changes, e.g. ['primary.attach = \"0.3 m\"'] (a damper like the case's own would sit on it)");
+    for (std::size_t j = 0; j < sets; ++j) {
+      const std::string key = at + ".set." + std::to_string(j);
+      const std::string text = in.string(key);
+      const auto eq = text.find('=');
+      const std::string changed = eq == std::string::npos ? "" : trimmed(text.substr(0, eq));
+      if (changed.empty()) in.fail(key, "must be KEY = VALUE (TOML), e.g. 'primary.attach = \"0.3 m\"'");
+      if (!damper_may_change(changed))
+        in.fail(key, "changes " + changed + ", which the dampers share (the structure, its excitation, the run and its output); "
+                         "a damper may change the keys under " + damper_keys_text());
+      d.set.push_back(changed + "=" + trimmed(text.substr(eq + 1)));
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys) {
+  // One structure: every cavity's mass in the mass matrix of each.
+  Eigen::MatrixXd M = s.primary->mass;  // the case's own cavity's mass in it already
+  for (const Scene& d : others) M += d.primary->cavity_mass * d.primary->at_cavity * d.primary->at_cavity.transpose();
+  const Eigen::MatrixXd M_inverse = M.inverse();
+  auto shared = [&](const Scene& d) {
+    auto P = std::make_shared<Primary>(*d.primary);
+    P->mass = M, P->mass_inverse = M_inverse;
+    P->start_at = s.primary->at_cavity;  // one steady start for all: the case's own damper's
+    return P;
+  };
+  s.primary = shared(s);
+  for (std::size_t k = 0; k < others.size(); ++k) {
+    others[k].primary = shared(others[k]);
+    others[k].output = s.output;  // the case's: one set of samples for the structure and every damper
+    others[k].damper_name = keys[k].name;
+    s.more_dampers.push_back({keys[k].name, std::make_shared<const Scene>(std::move(others[k]))});
+  }
+}
+
+std::string exact_text(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
+}
+
+}  // namespace bagdem

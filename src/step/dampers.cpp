@@ -1,0 +1,65 @@
+// Several dampers on one structure (step/dampers.hpp).
+#include "bagdem/step/dampers.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "stepper.hpp"
+
+namespace bagdem {
+
+Dampers::Dampers(const Scene& scene) {
+  if (!scene.primary) throw std::logic_error("Dampers: several dampers need a primary structure");
+  sims_.push_back(Simulation(scene, Simulation::OneOfSeveral{}));
+  names_.push_back(scene.damper_name);
+  for (const Damper& d : scene.more_dampers) {
+    sims_.push_back(Simulation(*d.scene, Simulation::OneOfSeveral{}));
+    names_.push_back(d.name);
+  }
+  gather_load();
+  for (Simulation& s : sims_) s.s_->restart_structure();  // a released structure's acceleration with every damper's load
+}
+
+void Dampers::gather_load() {
+  load_ = sims_[0].s_->contents_load();
+  for (std::size_t k = 1; k < sims_.size(); ++k) load_ += sims_[k].s_->contents_load();
+  for (Simulation& s : sims_) s.s_->share_load(&load_);
+}
+
+void Dampers::advance(std::uint64_t steps) {
+  const int n = static_cast<int>(sims_.size());
+  const int threads = std::min(n, omp_get_max_threads());
+  for (std::uint64_t k = 0; k < steps; ++k) {
+    const bool last = k + 1 == steps;
+#pragma omp parallel for schedule(static, 1) num_threads(threads)
+    for (int d = 0; d < n; ++d) sims_[static_cast<std::size_t>(d)].s_->step_contents(last);
+    load_ = sims_[0].s_->contents_load();
+    for (std::size_t d = 1; d < sims_.size(); ++d) load_ += sims_[d].s_->contents_load();
+#pragma omp parallel for schedule(static, 1) num_threads(threads)
+    for (int d = 0; d < n; ++d) sims_[static_cast<std::size_t>(d)].s_->step_structure();
+  }
+}
+
+void Dampers::set_drive_frequency(double hz) {
+  for (Simulation& s : sims_) s.set_drive_frequency(hz);
+}
+
+void Dampers::jump_harmonic(const Eigen::VectorXcd& A, double w_a, const Eigen::VectorXcd& B, double w_b) {
+  for (Simulation& s : sims_) s.jump_harmonic(A, w_a, B, w_b);
+}
+
+std::vector<std::vector<char>> Dampers::save_state() const {
+  std::vector<std::vector<char>> images;
+  for (const Simulation& s : sims_) images.push_back(s.save_state());
+  return images;
+}
+
+void Dampers::load_state(const std::vector<std::vector<char>>& images) {
+  if (images.size() != sims_.size()) throw std::runtime_error("a checkpoint of " + std::to_string(images.size()) + " dampers for " + std::to_string(sims_.size()));
+  for (std::size_t k = 0; k < sims_.size(); ++k) sims_[k].load_state(images[k]);
+  gather_load();
+}
+
+}  // namespace bagdem

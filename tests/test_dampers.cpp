@@ -1,0 +1,155 @@
+// Several dampers on one structure (case key [[dampers]], src/case/dampers.cpp, step/dampers.hpp):
+//  - the keys, and the refusals of a damper that would change what the dampers share;
+//  - one structure: each damper's mass matrix carries every cavity's mass (two cavities at one point
+//    weigh as one with both masses);
+//  - two-way coupling with every damper: the work the contents' load does on the beam is the work
+//    all the dampers' walls do on their contents (exact for cavities that translate), and each
+//    damper's share is large;
+//  - the same bits on 1 and 2 threads, and twin dampers at one point stay twins bit for bit.
+// The structure suite's soft balls in a box on a pinned-pinned beam (structure_cases.hpp).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "bagdem/run/runner.hpp"
+#include "bagdem/step/dampers.hpp"
+#include "structure_cases.hpp"
+
+using namespace bagdem;
+using bagdem::testing::TempDir;
+using namespace bagdem::testing::structure_cases;
+
+namespace {
+
+// The beam driven near mode 1 (5 Hz) from its bare steady state, its first damper at x_b = 0.5 m;
+// `dampers`: [[dampers]] tables.
+std::string two_dampers(const std::string& dampers, const std::string& primary_more = "follow_slope = false\n") {
+  const std::string p = beam_keys(0.5, "damping_ratio = 0.05\n" + primary_more) +
+                        "\n[excitation]\nkind = \"harmonic\"\namplitude = \"3 N\"\nfrequency = \"5 Hz\"\nstart = \"steady\"\n" + kBalls + "\n" + dampers;
+  return case_text(p, "duration = \"0.3 s\"\nsettle = \"0.1 s\"");
+}
+
+const char* kSecondAt03 = "[[dampers]]\nset = ['primary.attach = 0.3']\n";
+
+}  // namespace
+
+TEST(DampersCase, KeysAreReadAndWhatTheDampersShareIsRefused) {
+  TempDir d;
+  const Scene s = load(d, two_dampers("[damper]\nname = \"middle\"\n\n[[dampers]]\nname = \"side\"\nset = ['primary.attach = 0.3', "
+                                      "'primary.cavity_mass = \"0.1 kg\"']\n"));
+  ASSERT_EQ(s.more_dampers.size(), 1u);
+  EXPECT_EQ(s.damper_name, "middle");
+  EXPECT_EQ(s.more_dampers[0].name, "side");
+  const Primary &a = *s.primary, &b = *s.more_dampers[0].scene->primary;
+  EXPECT_DOUBLE_EQ(a.attach, 0.5);
+  EXPECT_DOUBLE_EQ(b.attach, 0.3);
+  EXPECT_TRUE(a.mass == b.mass);  // one structure
+  EXPECT_EQ(s.more_dampers[0].scene->dt, s.dt);
+  EXPECT_NE(describe_scene(s).find("damper      side: attached at 0.3 m"), std::string::npos) << describe_scene(s);
+
+  auto refused = [&](const std::string& text, const std::string& part) {
+    const std::string e = input_error(d, text);
+    EXPECT_NE(e.find(part), std::string::npos) << e;
+  };
+  refused(two_dampers("[[dampers]]\nset = ['excitation.amplitude = \"1 N\"']\n"), "which the dampers share");
+  refused(two_dampers("[[dampers]]\nset = ['simulation.timestep = 1e-5']\n"), "dampers.0.set.0");
+  refused(two_dampers("[[dampers]]\nset = []\n"), "dampers.0.set");
+  refused(two_dampers("[[dampers]]\nset = ['primary.attach']\n"), "KEY = VALUE");
+  refused(two_dampers("[[dampers]]\nname = \"1\"\nset = ['primary.attach = 0.3']\n"), "the name of another damper");
+  refused(two_dampers("[[dampers]]\nname = \"a b\"\nset = ['primary.attach = 0.3']\n"), "without spaces");
+  refused(two_dampers("[[dampers]]\nset = ['primary.attach = 2']\n"), "damper '2' (dampers.0.set): ");
+  refused(two_dampers("[[dampers]]\nset = ['primary.attach = 0.3']\nsize = 3\n"), "dampers.0.size");
+  // Prescribed motion: nothing to share.
+  refused(case_text(std::string("[cavity.motion]\nkind = \"harmonic\"\namplitude = \"1 mm\"\nfrequency = \"5 Hz\"\n") + kBalls + kSecondAt03),
+          "several dampers share one structure");
+}
+
+// Two cavities at one point weigh on the structure as one carrying both masses.
+TEST(DampersCase, EveryCavitysMassIsInTheStructure) {
+  TempDir d;
+  const Scene two = load(d, two_dampers("[[dampers]]\nset = ['primary.cavity_mass = \"0.2 kg\"']\n", "cavity_mass = \"0.1 kg\"\n"));
+  const Scene one = load(d, two_dampers("", "cavity_mass = \"0.3 kg\"\n"));
+  EXPECT_LT((two.primary->mass - one.primary->mass).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((two.more_dampers[0].scene->primary->mass - one.primary->mass).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_GT((two.primary->mass - Eigen::MatrixXd::Identity(6, 6)).cwiseAbs().maxCoeff(), 0.1);  // the masses are there
+}
+
+// The work of the contents' load on the beam is that of every damper's walls on its contents: the
+// cavities translate (follow_slope = false), so the two match to the rounding (one damper alone:
+// test_structure.cpp, WallsWorkMatchesTheLoadsProjection). Leaving the second damper's load out
+// would miss its share, which is a third or more here.
+TEST(DampersCoupled, TheStructureFeelsEveryDamper) {
+  TempDir d;
+  const Scene s = load(d, two_dampers(kSecondAt03));
+  Dampers sim(s);
+  sim.advance(s.total_steps());
+  const double load = sim[0].structure().scalars.work_contents;
+  const double w0 = sim[0].energy().work_cavity, w1 = sim[1].energy().work_cavity;
+  std::printf("  work of the walls on the contents: damper 1 %.6e J, damper 2 %.6e J; of the load on the beam %.6e J\n", w0, w1, load);
+  EXPECT_LT(std::abs(load + w0 + w1), 1e-6 * (std::abs(w0) + std::abs(w1)));
+  EXPECT_GT(std::abs(w1), 0.3 * std::abs(w0));
+  EXPECT_TRUE(sim[0].structure().q == sim[1].structure().q);  // one structure, the same bits in each
+}
+
+// The same bits on 1 and 2 threads; twin dampers (the same contents at the same point) stay twins.
+TEST(DampersCoupled, SameBitsOnAnyThreadsAndTwinsStayTwins) {
+  TempDir d;
+  const Scene s = load(d, two_dampers("[[dampers]]\nset = ['primary.attach = 0.5']\n"));
+  auto run = [&](int threads) {
+    const int was = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    Dampers sim(s);
+    sim.advance(s.total_steps() / 2);
+    sim.advance(s.total_steps() - s.total_steps() / 2);
+    omp_set_num_threads(was);
+    return sim.save_state();
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_TRUE(one == two);
+  EXPECT_TRUE(one[0] == one[1]);
+}
+
+// `bagdem run` of two dampers: the case's own in OUT with the structure's table, the other in
+// OUT/dampers/NAME with its own record; a run killed half way and resumed ends with the same
+// figures for both as one that was not; a later run of one damper takes the other's directory away.
+TEST(DampersRun, EachDamperIsRecordedAndAResumeEndsTheSame) {
+  TempDir d;
+  const Scene s = load(d, two_dampers("[[dampers]]\nname = \"side\"\nset = ['primary.attach = 0.3']\n"), {"output.checkpoint_interval=0.05"});
+  const RunReport a = run_scene(s, bagdem::testing::quiet_run(d.path / "whole", 2));
+  ASSERT_TRUE(a.complete) << a.message;
+  ASSERT_EQ(a.dampers.size(), 1u);
+  EXPECT_EQ(a.dampers[0].name, "side");
+  const auto whole = [&](const std::string& f) { return bagdem::testing::slurp(d.path / "whole" / f); };
+  const auto side = [&](const std::string& f) { return bagdem::testing::slurp(d.path / "whole" / "dampers" / "side" / f); };
+  EXPECT_NE(whole("summary.json").find("\"structure\""), std::string::npos);
+  EXPECT_EQ(side("summary.json").find("\"structure\""), std::string::npos);  // the structure once
+  EXPECT_NE(side("summary.json").find("\"damper\": \"side\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(d.path / "whole" / "dampers" / "side" / "results.h5"));
+
+  const Scene one = load(d, two_dampers(""));
+  RunOptions cut = bagdem::testing::quiet_run(d.path / "cut", 1, static_cast<long long>(0.25 / s.dt));
+  EXPECT_FALSE(run_scene(s, cut).complete);
+  cut.stop_after_steps = -1, cut.resume = true;
+  const RunReport b = run_scene(s, cut);
+  ASSERT_TRUE(b.complete) << b.message;
+  // The energy figures of both dampers and the structure's, digit for digit (summary.json's "energy" and "structure").
+  auto figures = [](const std::string& json) { return json.substr(json.find("\"energy\": {"), json.find("\"cycles_measured\"") - json.find("\"energy\": {")); };
+  const auto cut_file = [&](const std::string& f) { return bagdem::testing::slurp(d.path / "cut" / f); };
+  EXPECT_EQ(figures(cut_file("summary.json")), figures(whole("summary.json")));
+  EXPECT_EQ(figures(cut_file("dampers/side/summary.json")), figures(side("summary.json")));
+
+  ASSERT_TRUE(run_scene(one, bagdem::testing::quiet_run(d.path / "whole", 1)).complete);
+  EXPECT_FALSE(std::filesystem::exists(d.path / "whole" / "dampers"));
+}
+
+// Commands that run one damper refuse a case of several, saying which do (exit 2).
+TEST(DampersRun, AStudyOfOneDamperRefusesSeveral) {
+  TempDir d;
+  d.write("case.toml", two_dampers(kSecondAt03));
+  const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--set", "excitation={kind=\"stepped-sine\", amplitude=\"3 N\", frequencies=[4, 5, 6]}",
+                                              "--out", (d.path / "out").string(), "--quiet"}, d.path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("this command runs one damper"), std::string::npos) << r.err;
+}

@@ -72,6 +72,23 @@ inline void remove_derived_tables(const std::filesystem::path& out) {
   for (const char* name : kDerivedTables) std::filesystem::remove(out / name);
 }
 
+// Several dampers ([[dampers]]): each but the case's own writes in OUT/dampers/NAME. A fresh run
+// removes the directories of an earlier run's dampers that the case has not (and OUT/dampers for a
+// case of one); a resumed run keeps them.
+inline std::filesystem::path damper_dir(const std::filesystem::path& out, const std::string& name) { return out / "dampers" / name; }
+
+inline void clear_other_dampers(const std::filesystem::path& out, const Scene& scene, bool resume) {
+  const std::filesystem::path all = out / "dampers";
+  if (resume || !std::filesystem::is_directory(all)) return;
+  for (const auto& entry : std::filesystem::directory_iterator(all)) {
+    const std::string name = entry.path().filename().string();
+    bool kept = false;
+    for (const Damper& d : scene.more_dampers) kept = kept || d.name == name;
+    if (!kept) std::filesystem::remove_all(entry.path());
+  }
+  if (scene.more_dampers.empty()) std::filesystem::remove(all);
+}
+
 // What the XDMF index of a results file needs besides its frames' times: the balls, and the film's
 // nodes and triangles (0 without a bag).
 struct XdmfShape {

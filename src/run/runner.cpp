@@ -437,28 +437,13 @@ bool step_all(Stepped steps, std::vector<std::unique_ptr<RunLoop>>& loops, const
   return true;
 }
 
-// Several dampers: each one's directory under OUT/dampers; an earlier run's dampers that this case
-// has not are removed with the rest of its tables (a fresh run), kept on --resume.
-fs::path damper_dir(const RunOptions& opt, const std::string& name) { return fs::path(opt.out_dir) / "dampers" / name; }
-
-void clear_other_dampers(const RunOptions& opt, const Scene& scene) {
-  const fs::path all = fs::path(opt.out_dir) / "dampers";
-  if (opt.resume || !fs::is_directory(all)) return;
-  for (const auto& entry : fs::directory_iterator(all)) {
-    const std::string name = entry.path().filename().string();
-    if (std::none_of(scene.more_dampers.begin(), scene.more_dampers.end(), [&](const Damper& d) { return d.name == name; }))
-      fs::remove_all(entry.path());
-  }
-  if (scene.more_dampers.empty()) fs::remove(all);
-}
-
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const OutputLock lock(opt.out_dir);  // creates the directory
-  clear_other_dampers(opt, scene);
+  clear_other_dampers(opt.out_dir, scene, opt.resume);
   std::optional<Simulation> one;
   std::optional<Dampers> many;
   std::vector<std::unique_ptr<RunLoop>> loops;
@@ -472,7 +457,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     steps.many = &*many;
     loops.push_back(std::make_unique<RunLoop>(scene, opt, (*many)[0], fs::path(opt.out_dir), true));
     for (std::size_t k = 1; k < many->size(); ++k) {
-      const fs::path dir = damper_dir(opt, many->name(k));
+      const fs::path dir = damper_dir(opt.out_dir, many->name(k));
       fs::create_directories(dir);
       loops.push_back(std::make_unique<RunLoop>(*scene.more_dampers[k - 1].scene, opt, (*many)[k], dir, false));
     }
@@ -489,7 +474,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   for (std::size_t k = 1; k < loops.size(); ++k) {
     const RunReport& r = loops[k]->report();
     if (report.message.empty() && !r.message.empty()) report.message = "damper " + many->name(k) + ": " + r.message;
-    report.dampers.push_back({many->name(k), damper_dir(opt, many->name(k)).string()});
+    report.dampers.push_back({many->name(k), damper_dir(opt.out_dir, many->name(k)).string()});
   }
   return report;
 }

@@ -27,6 +27,7 @@
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/clearance.hpp"
 #include "bagdem/run/drop_fallback.hpp"
+#include "bagdem/step/dampers.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
 #include "interrupt.hpp"
@@ -49,11 +50,12 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// A chain of the stepped sine (stepped_sine_chains.hpp): its simulation, and where its steps are counted from
-// (the testing aid RunOptions::stop_after_steps).
+// A chain of the stepped sine (stepped_sine_chains.hpp): its simulation (several dampers' on one
+// structure, step/dampers.hpp; one damper's is its Simulation alone), and where its steps are
+// counted from (the testing aid RunOptions::stop_after_steps).
 struct Chain {
-  explicit Chain(const Scene& scene) : sim(scene) {}
-  Simulation sim;
+  explicit Chain(const Scene& scene) : d(scene) {}
+  Dampers d;
   std::uint64_t first_step = 0;
 };
 
@@ -62,6 +64,7 @@ struct Chain {
 struct DonePoint {
   SteppedSinePoint pt;
   ReducedRow reduced;
+  std::vector<ReducedRow> more_reduced;  // the other dampers' (several dampers)
   Frame frame;
   std::vector<char> image;  // its chain's state after it (the checkpoint's)
   std::uint64_t step = 0;   // its chain's steps then
@@ -74,8 +77,10 @@ class SteppedSineRun {
   SteppedSineRun(const Scene& scene, const RunOptions& opt)
       : scene_(scene), opt_(opt), P_(*scene.primary), plan_(*P_.stepped_sine), out_(opt.out_dir) {
     chains_.push_back(std::make_unique<Chain>(scene));
+    dampers_ = chains_.front()->d.size();
     // The state of an interrupted stepped sine (stepped_sine_state.hpp), or a fresh start.
-    start_stepped_sine_state(out_, opt_.resume, sim0(), state_);
+    start_stepped_sine_state(out_, opt_.resume, chains_.front()->d, state_);
+    for (std::size_t k = 1; k < dampers_; ++k) remove_derived_tables(more_out(k));
     t_start_ = std::chrono::steady_clock::now();
   }
   // results.h5.part open, and the points done before an interruption written again.
@@ -87,8 +92,15 @@ class SteppedSineRun {
   SteppedSineReport finish();
 
  private:
-  // The first chain's simulation: it settles the contents, and the other chains start from it.
-  Simulation& sim0() { return chains_.front()->sim; }
+  // The first chain: it settles the contents, and the other chains start from it; its case's damper.
+  Dampers& first() { return chains_.front()->d; }
+  Simulation& sim0() { return first()[0]; }
+  // Several dampers: damper k's directory (k > 0) and scene.
+  fs::path more_out(std::size_t k) const { return damper_dir(out_, scene_.more_dampers[k - 1].name); }
+  const Scene& more_scene(std::size_t k) const { return *scene_.more_dampers[k - 1].scene; }
+  void write_more_reduced() {
+    for (std::size_t k = 1; k < dampers_; ++k) write_reduced_csv(more_out(k) / "reduced.csv", state_.more_reduced[k - 1]);
+  }
   void frame(const Frame& f) {
     append_frame(*file_, f);
     state_.frame_times.push_back(f.t);
@@ -97,7 +109,7 @@ class SteppedSineRun {
   void halt_if_asked(const Chain& c) const {
     if (const int sig = pending_interrupt()) throw SteppedSineHalt{sig};
     if (stop_.load(std::memory_order_relaxed)) throw SteppedSineHalt{0};
-    if (opt_.stop_after_steps >= 0 && c.sim.steps_done() - c.first_step >= static_cast<std::uint64_t>(opt_.stop_after_steps))
+    if (opt_.stop_after_steps >= 0 && c.d.steps_done() - c.first_step >= static_cast<std::uint64_t>(opt_.stop_after_steps))
       throw SteppedSineHalt{0};
   }
   // A checkpoint of the stepped sine as it stands: the points written and each chain's state after its
@@ -116,7 +128,7 @@ class SteppedSineRun {
   void run_tasks(const std::vector<ChainTask>& tasks);
   void run_chain(Chain& c, std::size_t k, const std::vector<ChainTask>& tasks);
   DonePoint run_point(Chain& c, const ChainTask& task, const SteppedSinePoint* from, const SteppedSinePoint* to);
-  void drive_cycles(Chain& c, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
+  void drive_cycles(Chain& c, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady, std::vector<PointWindow>& win,
                     std::size_t i) const;
   void finished(std::size_t index, DonePoint&& d);
   void write_point(DonePoint& d);
@@ -136,6 +148,8 @@ class SteppedSineRun {
   std::vector<SteppedSinePoint> done_points_;
   std::vector<ReducedRow> done_reduced_;
   ReductionContext context_;
+  std::vector<ReductionContext> more_context_;  // several dampers: the others' (index k - 1)
+  std::size_t dampers_ = 1;
   std::size_t npts_ = 0;        // the points planned (for the progress lines)
   bool terminal_ = false;       // stderr is a terminal
   std::size_t K_ = 0, window_ = 0, least_ = 0;
@@ -167,22 +181,28 @@ void SteppedSineRun::open() {
   for (const SteppedSinePoint& p : done_points_) file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(p));
   if (!done_points_.empty()) write_stepped_sine_csv(csv, done_points_), write_reduced_csv(out_ / "reduced.csv", done_reduced_);
   rep_.points = done_points_, rep_.reduced = done_reduced_;
-  chains_.front()->first_step = sim0().steps_done();
+  state_.more_reduced.resize(dampers_ - 1);
+  if (!done_points_.empty()) write_more_reduced();
+  chains_.front()->first_step = first().steps_done();
   context_ = reduction_context(scene_, P_.direction);
+  for (std::size_t k = 1; k < dampers_; ++k) more_context_.push_back(reduction_context(more_scene(k), P_.direction));
 }
 
 // Settling, the structure held.
 void SteppedSineRun::settle() {
   const auto settle_steps = static_cast<std::uint64_t>(std::llround(scene_.settle / scene_.dt));
   if (!state_.settled) {
-    while (sim0().steps_done() < settle_steps) halt_if_asked(*chains_.front()), sim0().step();
+    while (first().steps_done() < settle_steps) halt_if_asked(*chains_.front()), first().advance(1);
     if (settle_steps > 0 && !opt_.quiet) std::fprintf(stderr, "settled for %.4g s (%.0f s)\n", scene_.settle, since(t_start_));
     state_.clearance = contents_clearance(scene_, sim0(), P_.direction.normalized());
+    state_.more_clearance.clear();
+    for (std::size_t k = 1; k < dampers_; ++k) state_.more_clearance.push_back(contents_clearance(more_scene(k), first()[k], P_.direction.normalized()));
     state_.settled = true;
-    state_.images = {sim0().save_state()};
+    state_.images = {first().image()};
     checkpoint();
   }
   context_.clearance = state_.clearance;
+  for (std::size_t k = 1; k < dampers_; ++k) more_context_[k - 1].clearance = state_.more_clearance[k - 1];
 }
 
 // The other chains, from the settled contents (or, resumed, from their own state at the
@@ -192,10 +212,10 @@ void SteppedSineRun::start_chains() {
   if (state_.images.size() != n) state_.images.assign(n, state_.images.front());
   for (std::size_t k = 1; k < n; ++k) {
     auto& c = chains_.emplace_back(std::make_unique<Chain>(scene_));
-    c->sim.load_state(state_.images[k]);
-    c->first_step = c->sim.steps_done();
+    c->d.load_image(state_.images[k]);
+    c->first_step = c->d.steps_done();
   }
-  for (const auto& c : chains_) image_step_.push_back(c->sim.steps_done());
+  for (const auto& c : chains_) image_step_.push_back(c->d.steps_done());
   last_.assign(n, std::nullopt), last_index_.assign(n, ChainTask::none);
 }
 
@@ -305,29 +325,45 @@ DonePoint SteppedSineRun::run_point(Chain& c, const ChainTask& task, const Stepp
   pt.requested = task.frequency;
   const std::size_t N = steps_per_cycle(pt.requested, scene_.dt);
   pt.frequency = 1.0 / (static_cast<double>(N) * scene_.dt);
-  c.sim.set_drive_frequency(pt.frequency);
+  c.d.set_drive_frequency(pt.frequency);
   const double w = kTwoPi * pt.frequency;
   // The predicted start (excitation.predict): the structure's state moves from the steady state of
   // the chain's last point (`from`, with its contents as measured there) to the one at this
   // frequency with the model's contents (`to`), the rest of the state (the decaying part, the static
   // one) kept (stepped_sine_chains.hpp).
-  if (plan_.predict && from && to) {
+  if (plan_.predict && from && to && dampers_ == 1) {  // one damper's impedance (several: not yet)
     const double w_a = kTwoPi * from->frequency;
     const Complex Za = contents_stiffness(*from, w_a), Zb = contents_stiffness(*to, w);
     Eigen::VectorXcd A = P_.steady_amplitudes(P_.amplitude, w_a, Za), B = P_.steady_amplitudes(P_.amplitude, w, Zb);
     for (std::size_t k = 0; k < P_.size(); ++k)  // set_drive_frequency moved the rigid-body modes
       if (P_.rigid_body[k]) A[static_cast<Eigen::Index>(k)] = B[static_cast<Eigen::Index>(k)] = 0;
-    if (std::isfinite(A.norm()) && std::isfinite(B.norm())) c.sim.jump_harmonic(A, w_a, B, w);
+    if (std::isfinite(A.norm()) && std::isfinite(B.norm())) c.d.jump_harmonic(A, w_a, B, w);
   }
   SteadyStateDetector steady(K_, plan_.tolerance);
-  PointWindow win;
+  std::vector<PointWindow> win(dampers_);
   drive_cycles(c, pt, N, steady, win, task.index);
-  measure_window(c.sim, P_, win, steady, w, pt);
-  d.reduced = reduce_window(win, scene_, context_, pt);
+  measure_window(ledger(c.d), P_, win[0], steady, w, pt);
+  if (dampers_ == 1) {
+    d.reduced = reduce_window(win[0], scene_, context_, pt);
+  } else {
+    // Each damper's reduction over the window with its own contents' dissipation per cycle (the
+    // point's is every damper's); the point is steady when every damper's is.
+    bool steady_all = true;
+    for (std::size_t k = 0; k < dampers_; ++k) {
+      const std::deque<Ledger>& starts = k == 0 ? win[0].own : win[k].starts;
+      SteppedSinePoint mine = pt;
+      mine.dissipated_contents = (ledger(c.d[k]).dissipated_contents - starts.front().dissipated_contents) / static_cast<double>(win[k].ys.size());
+      ReducedRow row = reduce_window(win[k], k == 0 ? scene_ : more_scene(k), k == 0 ? context_ : more_context_[k - 1], mine);
+      steady_all = steady_all && mine.steady;
+      if (k == 0) d.reduced = std::move(row);
+      else d.more_reduced.push_back(std::move(row));
+    }
+    pt.steady = steady_all;
+  }
   pt.wall_seconds = since(t_point);
-  d.frame = frame_of(c.sim, c.sim.time());
-  d.image = c.sim.save_state();
-  d.step = c.sim.steps_done();
+  d.frame = frame_of(c.d[0], c.d.time());
+  d.image = c.d.image();
+  d.step = c.d.steps_done();
   return d;
 }
 
@@ -352,44 +388,68 @@ void SteppedSineRun::finished(std::size_t index, DonePoint&& d) {
 void SteppedSineRun::write_point(DonePoint& d) {
   rep_.points.push_back(d.pt);
   rep_.reduced.push_back(d.reduced);
+  for (std::size_t k = 1; k < dampers_; ++k) state_.more_reduced[k - 1].push_back(d.more_reduced[k - 1]);
   file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(d.pt));
   frame(d.frame);
   write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
   write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
+  write_more_reduced();
   // The chain's latest state among its points written (steps_done grows along a chain).
   if (d.step > image_step_[d.chain]) state_.images[d.chain] = std::move(d.image), image_step_[d.chain] = d.step;
 }
 
 // The drive's cycles at the point's N steps each, until the window is steady or max_cycles.
-void SteppedSineRun::drive_cycles(Chain& ch, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady, PointWindow& win,
-                                  std::size_t i) const {
-  Simulation& sim = ch.sim;
-  // The response and the cavity with their slow drift taken out (CycleHarmonic), the cavity's
-  // samples for the reduction too; the point's first cycle as projected.
+void SteppedSineRun::drive_cycles(Chain& ch, SteppedSinePoint& pt, std::size_t N, SteadyStateDetector& steady,
+                                  std::vector<PointWindow>& win, std::size_t i) const {
+  Dampers& d = ch.d;
+  // The response and each cavity with their slow drift taken out (CycleHarmonic), the cavities'
+  // samples for the reduction too; the point's first cycle as projected. Window 0 is the case's
+  // own damper's, its ledger every damper's (the energy balance of the whole); window k > 0 damper
+  // k's, with its own ledger (and window 0's `own` the case's own damper's, with several).
   constexpr double none = std::numeric_limits<double>::quiet_NaN();
-  double y1 = none, y2 = none, u1 = none, u2 = none;  // the means of the cycle before and the one before that
+  double y1 = none, y2 = none;                                    // the means of the cycle before and the one before that
+  std::vector<double> u1(dampers_, none), u2(dampers_, none);
+  std::vector<CycleHarmonic> Uc(dampers_), Lc(dampers_);
+  std::vector<CavitySeries*> series(dampers_);
   for (std::size_t c = 0; c < plan_.max_cycles; ++c) {
-    win.starts.push_back(ledger(sim));
-    CycleHarmonic Yc, Uc, Lc;
-    if (win.recent.size() == window_)
-      win.recent.pop_front(), win.starts.pop_front(), win.ys.pop_front(), win.cav.pop_front(), win.load.pop_front();
-    CavitySeries& series = win.recent.emplace_back();
-    for (auto* v : {&series.t, &series.x, &series.force, &series.v_rel}) v->reserve(N);  // no growth inside the steps
+    for (std::size_t k = 0; k < dampers_; ++k) {
+      PointWindow& w = win[k];
+      w.starts.push_back(k == 0 ? ledger(d) : ledger(d[k]));
+      if (k == 0 && dampers_ > 1) w.own.push_back(ledger(d[0]));
+      if (w.recent.size() == window_) {
+        w.recent.pop_front(), w.starts.pop_front(), w.ys.pop_front(), w.cav.pop_front(), w.load.pop_front();
+        if (!w.own.empty()) w.own.pop_front();
+      }
+      series[k] = &w.recent.emplace_back();
+      for (auto* v : {&series[k]->t, &series[k]->x, &series[k]->force, &series[k]->v_rel}) v->reserve(N);  // no growth inside the steps
+      Uc[k] = CycleHarmonic(), Lc[k] = CycleHarmonic();
+    }
+    CycleHarmonic Yc;
     for (std::size_t n = 0; n < N; ++n) {
       halt_if_asked(ch);
-      sim.step();
-      const StructureResponse r = sim.structure_response();
+      d.advance(1);
+      const StructureResponse r = d[0].structure_response();
       const Complex e = std::polar(1.0, -r.phase);
-      Yc.add(r.displacement, e), Uc.add(r.cavity, e), Lc.add(r.load, e);
-      series.t.push_back(sim.time()), series.x.push_back(r.cavity), series.force.push_back(r.load);
-      series.v_rel.push_back(sim.contents_relative_velocity().dot(P_.direction));
+      Yc.add(r.displacement, e);
+      for (std::size_t k = 0; k < dampers_; ++k) {
+        const StructureResponse rk = k == 0 ? r : d[k].structure_response();  // its cavity and load
+        Uc[k].add(rk.cavity, e), Lc[k].add(rk.load, e);
+        CavitySeries& sk = *series[k];
+        sk.t.push_back(d.time()), sk.x.push_back(rk.cavity), sk.force.push_back(rk.load);
+        sk.v_rel.push_back(d[k].contents_relative_velocity().dot(P_.direction));
+      }
     }
-    const CycleHarmonic::Drift dy = Yc.drift(y1, y2), du = Uc.drift(u1, u2);
-    const Complex Y = Yc.harmonic(dy), U = Uc.harmonic(du), L = Lc.harmonic({});
-    for (std::size_t n = 0; n < N; ++n) series.x[n] -= du.at(n + 1, N);
-    y2 = y1, y1 = Yc.mean(), u2 = u1, u1 = Uc.mean();
+    const CycleHarmonic::Drift dy = Yc.drift(y1, y2);
+    const Complex Y = Yc.harmonic(dy);
+    y2 = y1, y1 = Yc.mean();
+    for (std::size_t k = 0; k < dampers_; ++k) {
+      const CycleHarmonic::Drift du = Uc[k].drift(u1[k], u2[k]);
+      const Complex U = Uc[k].harmonic(du), L = Lc[k].harmonic({});
+      for (std::size_t n = 0; n < N; ++n) series[k]->x[n] -= du.at(n + 1, N);
+      u2[k] = u1[k], u1[k] = Uc[k].mean();
+      win[k].ys.push_back(Y), win[k].cav.push_back(U), win[k].load.push_back(L);
+    }
     steady.add(Y);
-    win.ys.push_back(Y), win.cav.push_back(U), win.load.push_back(L);
     pt.cycles = c + 1;
     pt.change = steady.last_change();
     if (!opt_.quiet && terminal_)
@@ -397,7 +457,7 @@ void SteppedSineRun::drive_cycles(Chain& ch, SteppedSinePoint& pt, std::size_t N
                    c + 1, std::abs(Y), 100 * pt.change);
     // Settled: the response (SteadyStateDetector) and the window's energy (as judge_steady will
     // judge it: a window that does not balance holds a transient; run on).
-    if (pt.cycles >= least_ && steady.steady() && (!scene_.models.energy || balances(window_balance(win, sim)))) {
+    if (pt.cycles >= least_ && steady.steady() && (!scene_.models.energy || balances(window_balance(win[0], ledger(d))))) {
       pt.settled = true;
       break;
     }
@@ -431,7 +491,7 @@ void SteppedSineRun::report_point(const SteppedSinePoint& pt, std::size_t i, std
 SteppedSineReport SteppedSineRun::halted(const SteppedSineHalt& h) {
   file_->flush();
   if (h.signal == 0) return rep_;  // the testing aid: as if killed
-  if (!state_.settled) state_.images = {sim0().save_state()}, checkpoint();  // during settling; else the last point's stands
+  if (!state_.settled) state_.images = {first().image()}, checkpoint();  // during settling; else the last point's stands
   file_->set_attribute("status", "interrupted");
   file_->close();
   rep_.signal = h.signal;
@@ -443,6 +503,8 @@ SteppedSineReport SteppedSineRun::failed(const RunError& e) {
   // The points done are this failed stepped sine's: their tables carry its name too, beside its record.
   for (const char* t : {"sweep", "reduced"})
     if (fs::exists(out_ / (std::string(t) + ".csv"))) fs::rename(out_ / (std::string(t) + ".csv"), out_ / (std::string(t) + ".failed.csv"));
+  for (std::size_t k = 1; k < dampers_; ++k)
+    if (fs::exists(more_out(k) / "reduced.csv")) fs::rename(more_out(k) / "reduced.csv", more_out(k) / "reduced.failed.csv");
   rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
   fs::remove(out_ / "checkpoint.bin");  // a failed sweep is not continued: resuming it would fail again
   return rep_;
@@ -457,11 +519,23 @@ SteppedSineReport SteppedSineRun::finish() {
 
   const Summary summary = stepped_sine_summary(scene_, rep_, sim0().particles().size(), chains_.size());
   write_peaks_csv(out_ / "peaks.csv", rep_.peaks);
-  if (const std::string why = drop_where_no_restitution(scene_, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
+  Scene own = scene_;  // the case's own damper alone (its drop test)
+  own.more_dampers.clear();
+  if (const std::string why = drop_where_no_restitution(own, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
   write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
-  rep_.compare = compare_with_continuum(P_, P_.amplitude, rep_.reduced);
-  write_compare_csv(out_ / "compare.csv", rep_.compare);
+  for (std::size_t k = 1; k < dampers_; ++k) {
+    std::vector<ReducedRow>& rows = state_.more_reduced[k - 1];
+    if (const std::string why = drop_where_no_restitution(more_scene(k), rows, more_out(k), true); !why.empty() && !opt_.quiet)
+      std::fprintf(stderr, "damper %s: no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n",
+                   scene_.more_dampers[k - 1].name.c_str(), why.c_str());
+    write_reduced_csv(more_out(k) / "reduced.csv", rows);
+  }
+  // The continuum model with the contents' C_b and M_b: one damper's (several: not yet).
+  if (dampers_ == 1) {
+    rep_.compare = compare_with_continuum(P_, P_.amplitude, rep_.reduced);
+    write_compare_csv(out_ / "compare.csv", rep_.compare);
+  }
   write_bare_curve(out_ / "bare_curve.csv", P_, rep_.points);
   write_summary(out_ / "summary.json", summary);
   return rep_;
@@ -475,6 +549,8 @@ SteppedSineReport run_stepped_sine(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const OutputLock lock(opt.out_dir);  // creates the directory
+  clear_other_dampers(opt.out_dir, scene, opt.resume);
+  for (const Damper& d : scene.more_dampers) fs::create_directories(damper_dir(opt.out_dir, d.name));
   SteppedSineRun sweep(scene, opt);
   sweep.open();
   try {

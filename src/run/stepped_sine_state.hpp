@@ -11,7 +11,7 @@
 #include "bagdem/io/results_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/stepped_sine.hpp"
-#include "bagdem/step/simulation.hpp"
+#include "bagdem/step/dampers.hpp"
 
 namespace bagdem {
 
@@ -32,15 +32,18 @@ struct SteppedSineState {
   std::vector<ReducedRow> reduced;    // their reduction
   std::vector<double> frame_times;    // times of the frames written (results.xmf)
   std::vector<std::vector<char>> images;  // per chain, its simulation's state after its last point
-                                          // written (Simulation::save_state); one, the settled
-                                          // state, before the chains start
+                                          // written (Dampers::image); one, the settled state,
+                                          // before the chains start
+  // Several dampers: per damper but the case's own, its clearance and its reduced rows.
+  std::vector<double> more_clearance;
+  std::vector<std::vector<ReducedRow>> more_reduced;
 };
 
 // Readies `out` for a stepped sine: with `resume`, the state from out/checkpoint.bin and the first chain's
 // simulation state in `sim` (InputError when it or results.h5.part is missing or unusable);
 // otherwise a fresh state and no checkpoint. Either way the earlier run's tables go
 // (output_files.hpp).
-void start_stepped_sine_state(const std::filesystem::path& out, bool resume, Simulation& sim, SteppedSineState& state);
+void start_stepped_sine_state(const std::filesystem::path& out, bool resume, Dampers& sim, SteppedSineState& state);
 
 // Writes out the state, its images included.
 void save_stepped_sine_checkpoint(const std::filesystem::path& path, const Scene& scene, const SteppedSineState& state);

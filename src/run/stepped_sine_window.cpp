@@ -24,8 +24,23 @@ Ledger ledger(const Simulation& sim) {
   return l;
 }
 
-WindowBalance window_balance(const PointWindow& win, const Simulation& sim) {
-  const Ledger end = ledger(sim), &from = win.starts.front();
+Ledger ledger(const Dampers& dampers) {
+  Ledger l;
+  const auto& S = dampers[0].structure().scalars;
+  l.work_external = S.work_external;
+  l.dissipated_structure = S.dissipated;
+  for (std::size_t k = 0; k < dampers.size(); ++k) {
+    if (!dampers.scene(k).models.energy) continue;
+    const EnergySample e = dampers[k].energy();
+    l.dissipated_contents += e.dissipated();
+    l.stored += e.kinetic + e.elastic - e.work_gravity;
+  }
+  l.stored += dampers[0].structure_energy();
+  return l;
+}
+
+WindowBalance window_balance(const PointWindow& win, const Ledger& end) {
+  const Ledger& from = win.starts.front();
   const double cycles = static_cast<double>(win.ys.size());
   WindowBalance b;
   b.work_external = (end.work_external - from.work_external) / cycles;
@@ -41,7 +56,7 @@ bool balances(const WindowBalance& b) {
 }
 
 // Response, energy and first harmonics over the window.
-void measure_window(const Simulation& sim, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
+void measure_window(const Ledger& now, const Primary& P, const PointWindow& win, const SteadyStateDetector& steady, double w,
                     SteppedSinePoint& pt) {
   const double F = P.amplitude;
   const double cycles = static_cast<double>(win.ys.size());
@@ -52,7 +67,7 @@ void measure_window(const Simulation& sim, const Primary& P, const PointWindow& 
     magnitude.push_back(std::abs(win.ys[c]) / F);
   }
   pt.receptance_ci95 = batch_means_interval(magnitude).ci95;
-  const WindowBalance b = window_balance(win, sim);
+  const WindowBalance b = window_balance(win, now);
   pt.work_external = b.work_external, pt.dissipated_structure = b.dissipated_structure;
   pt.dissipated_contents = b.dissipated_contents, pt.balance = b.balance;
   pt.receptance = pt.response / std::complex<double>(0, -F);

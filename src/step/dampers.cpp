@@ -4,6 +4,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 
 #include "stepper.hpp"
@@ -11,26 +13,33 @@
 namespace bagdem {
 
 Dampers::Dampers(const Scene& scene) {
-  if (!scene.primary) throw std::logic_error("Dampers: several dampers need a primary structure");
+  if (!scene.primary && !scene.more_dampers.empty()) throw std::logic_error("Dampers: several dampers need a primary structure");
   sims_.push_back(Simulation(scene, Simulation::OneOfSeveral{}));
   names_.push_back(scene.damper_name);
   for (const Damper& d : scene.more_dampers) {
     sims_.push_back(Simulation(*d.scene, Simulation::OneOfSeveral{}));
     names_.push_back(d.name);
   }
+  if (sims_.size() == 1) return;
+  // Side by side on the threads only when each damper's step is worth a fork and a join.
+  std::size_t least = SIZE_MAX;
+  for (const Simulation& s : sims_) least = std::min(least, s.particles().size() + s.film().size());
+  parallel_ = least >= kParallelDamper;
   gather_load();
   for (Simulation& s : sims_) s.s_->restart_structure();  // a released structure's acceleration with every damper's load
 }
 
 void Dampers::gather_load() {
+  if (sims_.size() == 1) return;
   load_ = sims_[0].s_->contents_load();
   for (std::size_t k = 1; k < sims_.size(); ++k) load_ += sims_[k].s_->contents_load();
   for (Simulation& s : sims_) s.s_->share_load(&load_);
 }
 
 void Dampers::advance(std::uint64_t steps) {
+  if (sims_.size() == 1) return sims_[0].advance(steps);
   const int n = static_cast<int>(sims_.size());
-  const int threads = std::min(n, omp_get_max_threads());
+  const int threads = parallel_ ? std::min(n, omp_get_max_threads()) : 1;
   for (std::uint64_t k = 0; k < steps; ++k) {
     const bool last = k + 1 == steps;
 #pragma omp parallel for schedule(static, 1) num_threads(threads)
@@ -60,6 +69,38 @@ void Dampers::load_state(const std::vector<std::vector<char>>& images) {
   if (images.size() != sims_.size()) throw std::runtime_error("a checkpoint of " + std::to_string(images.size()) + " dampers for " + std::to_string(sims_.size()));
   for (std::size_t k = 0; k < sims_.size(); ++k) sims_[k].load_state(images[k]);
   gather_load();
+}
+
+// Several: the count, each image's length, then the images.
+std::vector<char> Dampers::image() const {
+  if (sims_.size() == 1) return sims_[0].save_state();
+  std::vector<std::vector<char>> images = save_state();
+  std::vector<std::uint64_t> head{images.size()};
+  for (const auto& i : images) head.push_back(i.size());
+  std::vector<char> out(reinterpret_cast<const char*>(head.data()), reinterpret_cast<const char*>(head.data() + head.size()));
+  for (const auto& i : images) out.insert(out.end(), i.begin(), i.end());
+  return out;
+}
+
+void Dampers::load_image(const std::vector<char>& image) {
+  if (sims_.size() == 1) return sims_[0].load_state(image);
+  const auto word = [&](std::size_t k) {
+    std::uint64_t v = 0;
+    if ((k + 1) * sizeof v > image.size()) throw std::runtime_error("a state image of several dampers is cut short");
+    std::memcpy(&v, image.data() + k * sizeof v, sizeof v);
+    return v;
+  };
+  const std::uint64_t n = word(0);
+  if (n != sims_.size()) throw std::runtime_error("a state image of " + std::to_string(n) + " dampers for " + std::to_string(sims_.size()));
+  std::vector<std::vector<char>> images;
+  std::size_t at = (n + 1) * sizeof(std::uint64_t);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t len = word(k + 1);
+    if (at + len > image.size()) throw std::runtime_error("a state image of several dampers is cut short");
+    images.emplace_back(image.begin() + static_cast<std::ptrdiff_t>(at), image.begin() + static_cast<std::ptrdiff_t>(at + len));
+    at += len;
+  }
+  load_state(images);
 }
 
 }  // namespace bagdem

@@ -9,8 +9,8 @@ namespace bagdem {
 Simulation::Simulation(const Scene& scene) {
   if (!scene.more_dampers.empty())
     throw InputError(scene.case_file, "dampers", "", "the case holds " + std::to_string(1 + scene.more_dampers.size()) +
-                                                         " dampers ([[dampers]]); this command runs one damper (several run with `bagdem run` under a harmonic, decay, "
-                                                         "impulse, random or no excitation; not yet in a stepped-sine sweep): run each damper as its own case");
+                                                         " dampers ([[dampers]]); this command runs one damper (several run with `bagdem run`, and `bagdem sweep` "
+                                                         "of such runs): run each damper as its own case");
   s_ = std::make_unique<Stepper>(scene);
 }
 Simulation::Simulation(const Scene& scene, OneOfSeveral) : s_(std::make_unique<Stepper>(scene)) {}

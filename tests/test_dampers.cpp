@@ -57,14 +57,23 @@ TEST(DampersCase, KeysAreReadAndWhatTheDampersShareIsRefused) {
     const std::string e = input_error(d, text);
     EXPECT_NE(e.find(part), std::string::npos) << e;
   };
-  refused(two_dampers("[[dampers]]\nset = ['excitation.amplitude = \"1 N\"']\n"), "which the dampers share");
+  refused(two_dampers("[[dampers]]\nset = ['excitation.amplitude = \"1 N\"']\n"), "are the case's, shared");
   refused(two_dampers("[[dampers]]\nset = ['simulation.timestep = 1e-5']\n"), "dampers.0.set.0");
   refused(two_dampers("[[dampers]]\nset = []\n"), "dampers.0.set");
   refused(two_dampers("[[dampers]]\nset = ['primary.attach']\n"), "KEY = VALUE");
   refused(two_dampers("[[dampers]]\nname = \"1\"\nset = ['primary.attach = 0.3']\n"), "the name of another damper");
-  refused(two_dampers("[[dampers]]\nname = \"a b\"\nset = ['primary.attach = 0.3']\n"), "without spaces");
+  refused(two_dampers("[[dampers]]\nname = \"a b\"\nset = ['primary.attach = 0.3']\n"), "OUT/dampers/NAME");
   refused(two_dampers("[[dampers]]\nset = ['primary.attach = 2']\n"), "damper '2' (dampers.0.set): ");
   refused(two_dampers("[[dampers]]\nset = ['primary.attach = 0.3']\nsize = 3\n"), "dampers.0.size");
+  // Names name directories: no "..", no odd characters, not too long, the case's own too.
+  for (const std::string& bad : {std::string(".."), std::string("."), std::string("a*b"), std::string("a/b"), std::string(65, 'n')})
+    refused(two_dampers("[[dampers]]\nname = \"" + bad + "\"\nset = ['primary.attach = 0.3']\n"), "OUT/dampers/NAME");
+  refused(two_dampers("[damper]\nname = \"a b\"\n" + std::string(kSecondAt03)), "damper.name");
+  refused(two_dampers("[damper]\nname = \"2\"\n" + std::string(kSecondAt03)), "its default, \"2\" (its place), is another damper's name");
+  // An orientation turns the structure's directions and gravity together.
+  refused(two_dampers("[[dampers]]\nset = ['primary.direction = [0, 0, 1]']\n"), "are not the case's turned");
+  EXPECT_EQ(input_error(d, two_dampers("[[dampers]]\nset = ['primary.direction = [0, 0, 1]', 'simulation.gravity = [0, \"9.81 m/s^2\", 0]']\n")),
+            "(accepted)");
   // Prescribed motion: nothing to share.
   refused(case_text(std::string("[cavity.motion]\nkind = \"harmonic\"\namplitude = \"1 mm\"\nfrequency = \"5 Hz\"\n") + kBalls + kSecondAt03),
           "several dampers share one structure");
@@ -146,8 +155,45 @@ TEST(DampersRun, EachDamperIsRecordedAndAResumeEndsTheSame) {
   EXPECT_EQ(figures(cut_file("summary.json")), figures(whole("summary.json")));
   EXPECT_EQ(figures(cut_file("dampers/side/summary.json")), figures(side("summary.json")));
 
+  // A later run of one damper takes away what bagdem wrote for the other, and nothing else.
+  std::filesystem::create_directories(d.path / "whole" / "dampers" / "mine");
+  d.write("whole/dampers/mine/notes.txt", "kept");
   ASSERT_TRUE(run_scene(one, bagdem::testing::quiet_run(d.path / "whole", 1)).complete);
-  EXPECT_FALSE(std::filesystem::exists(d.path / "whole" / "dampers"));
+  EXPECT_FALSE(std::filesystem::exists(d.path / "whole" / "dampers" / "side"));
+  EXPECT_EQ(bagdem::testing::slurp(d.path / "whole" / "dampers" / "mine" / "notes.txt"), "kept");
+}
+
+// Each damper's checkpoint is its own file: dampers checkpointed at different steps (a run stopped
+// between two writes) are refused, not run on as one run.
+TEST(DampersRun, CheckpointsOfDifferentStepsAreRefused) {
+  TempDir d;
+  const Scene s = load(d, two_dampers("[[dampers]]\nname = \"side\"\nset = ['primary.attach = 0.3']\n"), {"output.checkpoint_interval=0.05"});
+  RunOptions o = bagdem::testing::quiet_run(d.path / "out", 1, static_cast<long long>(0.12 / s.dt));
+  ASSERT_FALSE(run_scene(s, o).complete);
+  const auto side = d.path / "out" / "dampers" / "side" / "checkpoint.bin";
+  std::filesystem::copy_file(side, d.path / "older.bin");
+  o.resume = true, o.stop_after_steps = static_cast<long long>(0.12 / s.dt);
+  ASSERT_FALSE(run_scene(s, o).complete);
+  std::filesystem::copy_file(d.path / "older.bin", side, std::filesystem::copy_options::overwrite_existing);
+  o.stop_after_steps = -1;
+  try {
+    run_scene(s, o);
+    ADD_FAILURE() << "resumed dampers of different steps";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("damper side's checkpoint is of step"), std::string::npos) << e.what();
+  }
+}
+
+// A guard that stops one damper's run stops the run, naming the damper; each damper's record is
+// kept as results.failed.h5 (exit code 3 for `bagdem run`).
+TEST(DampersRun, AFailingDamperStopsTheRunAndIsNamed) {
+  TempDir d;
+  d.write("case.toml", two_dampers("[[dampers]]\nname = \"limp\"\nset = ['materials.soft.youngs_modulus = \"2 kPa\"']\n"));
+  const auto r = bagdem::testing::run_bagdem({"run", d.str(), "--out", (d.path / "out").string(), "--quiet", "--threads", "2"}, d.path);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("damper limp: "), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(d.path / "out" / "results.failed.h5"));
+  EXPECT_TRUE(std::filesystem::exists(d.path / "out" / "dampers" / "limp" / "results.failed.h5"));
 }
 
 // Commands that run one damper refuse a case of several, saying which do (exit 2).

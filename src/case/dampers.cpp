@@ -14,8 +14,10 @@
 // mass of every cavity (primary.cavity_mass at each attach point) in its mass matrix, and one step
 // (the smallest of theirs; a case that resolves different steps is resolved again at that one).
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <set>
+#include <sstream>
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
@@ -41,6 +43,16 @@ std::string damper_keys_text() {
   return t;
 }
 
+// A damper's name names its directory (OUT/dampers/NAME): letters, digits, '_', '-' and '.', at
+// most 64, not "." or "..".
+constexpr std::size_t kMaxNameLength = 64;
+bool name_ok(const std::string& n) {
+  if (n.empty() || n.size() > kMaxNameLength || n == "." || n == "..") return false;
+  return std::all_of(n.begin(), n.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; });
+}
+const char* kNameRule = "must be a name of 1 to 64 letters, digits, '_', '-' or '.' (not \".\" or \"..\"): it names the damper's outputs, "
+                        "OUT/dampers/NAME";
+
 std::string trimmed(const std::string& s) {
   const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
@@ -50,15 +62,19 @@ std::string trimmed(const std::string& s) {
 
 std::vector<DamperKeys> read_dampers(const CaseReader& in) {
   std::vector<DamperKeys> out;
-  std::set<std::string> names{in.string("damper.name", "1")};
+  const std::string own = in.string("damper.name", "1");
+  if (!name_ok(own)) in.fail("damper.name", kNameRule);
+  std::set<std::string> names{own};
   const std::size_t n = in.array_size("dampers");
   for (std::size_t k = 0; k < n; ++k) {
     const std::string at = "dampers." + std::to_string(k);
     DamperKeys d;
+    const bool named = in.has(at + ".name");
     d.name = in.string(at + ".name", std::to_string(k + 2));
-    if (d.name.empty() || d.name.find_first_of("/\\ \t\"") != std::string::npos)
-      in.fail(at + ".name", "must be a non-empty word without spaces, quotes or slashes (it names the damper's outputs)");
-    if (!names.insert(d.name).second) in.fail(at + ".name", "is the name of another damper: each damper's name must be its own");
+    if (!name_ok(d.name)) in.fail(at + ".name", kNameRule);
+    if (!names.insert(d.name).second)
+      in.fail(at + ".name", named ? "is the name of another damper: each damper's name must be its own"
+                                  : "is not given, and its default, \"" + d.name + "\" (its place), is another damper's name: give it one");
     const std::size_t sets = in.array_size(at + ".set");
     if (sets == 0) in.fail(at + ".set", "must list the keys this damper changes, e.g. ['primary.attach = \"0.3 m\"'] (a damper like the case's own would sit on it)");
     for (std::size_t j = 0; j < sets; ++j) {
@@ -68,8 +84,8 @@ std::vector<DamperKeys> read_dampers(const CaseReader& in) {
       const std::string changed = eq == std::string::npos ? "" : trimmed(text.substr(0, eq));
       if (changed.empty()) in.fail(key, "must be KEY = VALUE (TOML), e.g. 'primary.attach = \"0.3 m\"'");
       if (!damper_may_change(changed))
-        in.fail(key, "changes " + changed + ", which the dampers share (the structure, its excitation, the run and its output); "
-                         "a damper may change the keys under " + damper_keys_text());
+        in.fail(key, "changes " + changed + ": a damper may change only the keys under " + damper_keys_text() +
+                         " (written as dotted keys, unquoted); the structure, its excitation, the run and its output are the case's, shared");
       d.set.push_back(changed + "=" + trimmed(text.substr(eq + 1)));
     }
     out.push_back(std::move(d));
@@ -77,7 +93,30 @@ std::vector<DamperKeys> read_dampers(const CaseReader& in) {
   return out;
 }
 
+namespace {
+// A damper's orientation is its cavity's frame turned: the structure's direction and axis and
+// gravity, written in it, must relate to one another as the case's do (gravity's components along
+// the direction, the axis and their normal the same).
+void require_a_rotation(const Scene& s, const Scene& d, const std::string& name) {
+  auto components = [](const Scene& x) {
+    const Vec3 e = x.primary->direction.normalized(), a = x.primary->axis.normalized();
+    return Vec3(x.gravity.dot(e), x.gravity.dot(a), x.gravity.dot(e.cross(a)));
+  };
+  const Vec3 c0 = components(s), c = components(d);
+  if ((c - c0).norm() <= 1e-9 * std::max(1.0, s.gravity.norm())) return;
+  std::ostringstream m;
+  m << "damper '" << name << "': its primary.direction, primary.axis and simulation.gravity are not the case's turned (gravity along "
+    << "the direction, the axis and their normal: [" << c.transpose() << "] m/s^2 against the case's [" << c0.transpose()
+    << "]): a damper's orientation turns all three together; give them so, or leave them the case's";
+  throw InputError(s.case_file, "dampers", "", m.str());
+}
+}  // namespace
+
 void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys) {
+  for (std::size_t k = 0; k < others.size(); ++k) {
+    require_a_rotation(s, others[k], keys[k].name);
+    for (const std::string& w : others[k].warnings) s.warnings.push_back("damper " + keys[k].name + ": " + w);
+  }
   // One structure: every cavity's mass in the mass matrix of each.
   Eigen::MatrixXd M = s.primary->mass;  // the case's own cavity's mass in it already
   for (const Scene& d : others) M += d.primary->cavity_mass * d.primary->at_cavity * d.primary->at_cavity.transpose();
@@ -95,6 +134,13 @@ void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<Damper
     others[k].damper_name = keys[k].name;
     s.more_dampers.push_back({keys[k].name, std::make_shared<const Scene>(std::move(others[k]))});
   }
+}
+
+void refuse_several_dampers(const Scene& s, const std::string& command, const std::string& what) {
+  if (s.more_dampers.empty()) return;
+  throw InputError(s.case_file, "dampers", "", "the case holds " + std::to_string(1 + s.more_dampers.size()) + " dampers ([[dampers]]); " +
+                                                   command + " " + what + ": give it each damper as its own case (`bagdem run` and "
+                                                   "`bagdem sweep` run several on the structure)");
 }
 
 std::string exact_text(double x) {

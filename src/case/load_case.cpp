@@ -269,8 +269,9 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   Scene s = load_one(case_dir, overrides, &keys);
   if (keys.empty()) return s;
   if (!s.primary)
-    throw InputError(s.case_file, "dampers", "", "several dampers share one structure: give the case a [primary] structure, or run "
-                                                  "each damper as its own case under prescribed motion");
+    throw InputError(s.case_file, "dampers", "", "several dampers share one structure ([primary]); under prescribed motion (a case "
+                                                  "without [primary], or a command that shakes the cavity itself: characterize, drop) "
+                                                  "give each damper as its own case");
   // Each damper: the case with its keys changed; an error there names the damper.
   auto load_damper = [&](std::size_t k, const std::vector<std::string>& extra) {
     std::vector<std::string> o = overrides;
@@ -284,17 +285,27 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   };
   std::vector<Scene> others;
   for (std::size_t k = 0; k < keys.size(); ++k) others.push_back(load_damper(k, {}));
-  // One step for all: the smallest; resolved again at it where a damper's own differs.
+  // One step for all: the smallest; resolved again at it where a damper's own differs, and each
+  // says whose it is.
   double dt = s.dt;
-  for (const Scene& d : others) dt = std::min(dt, d.dt);
+  std::string whose = s.damper_name + ": " + s.dt_reason;
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    if (others[k].dt < dt) dt = others[k].dt, whose = keys[k].name + ": " + others[k].dt_reason;
   const std::vector<std::string> at_dt = {"simulation.timestep=" + exact_text(dt)};
+  bool differ = false;
   if (s.dt != dt) {
     std::vector<std::string> o = overrides;
     o.insert(o.end(), at_dt.begin(), at_dt.end());
     s = load_one(case_dir, o, nullptr);
+    differ = true;
   }
   for (std::size_t k = 0; k < keys.size(); ++k)
-    if (others[k].dt != dt) others[k] = load_damper(k, at_dt);
+    if (others[k].dt != dt) others[k] = load_damper(k, at_dt), differ = true;
+  if (differ) {
+    const std::string reason = "the smallest of the dampers' steps, damper " + whose;
+    s.dt_reason = reason;
+    for (Scene& d : others) d.dt_reason = reason;
+  }
   join_dampers(s, others, keys);
   return s;
 }

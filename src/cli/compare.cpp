@@ -21,6 +21,7 @@ CLI::App* add_compare(CLI::App& app, Args& a) {
 int run_compare(Args& a) {
   apply_fidelity(a);
   const Scene s = load_case(a.case_dir, a.sets);
+  refuse_several_dampers(s, "bagdem compare", "compares with the continuum model of one damper");
   if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "compare needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
   const continuum::Form f = a.form == "printed" ? continuum::Form::printed : continuum::Form::consistent;

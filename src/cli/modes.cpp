@@ -21,6 +21,7 @@ CLI::App* add_modes(CLI::App& app, Args& a) {
 int run_modes(Args& a) {
 
   const Scene s = load_case(a.case_dir, a.sets);
+  refuse_several_dampers(s, "bagdem modes", "writes the structure's table without its one cavity's mass");
   if (!s.primary) throw InputError(s.case_file, "primary.kind", "", "modes needs a primary structure (sdof, beam, fe-beam or modal)");
   const std::filesystem::path to = a.export_to.empty() ? std::filesystem::path(a.out()) / "modes.csv" : std::filesystem::path(a.export_to);
   if (to.has_parent_path()) std::filesystem::create_directories(to.parent_path());

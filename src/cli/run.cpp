@@ -14,8 +14,8 @@ CLI::App* add_run(CLI::App& app, Args& a) {
                                       "[excitation] runs a frequency sweep instead: sweep.csv, the table /sweep in results.h5, and "
                                       "each mode's peak reduction (dB, %) against the bare structure in summary.json. A run that goes "
                                       "unstable leaves its record as results.failed.h5 and an earlier complete results.h5 as it was. A case of several "
-                                      "dampers on its structure ([[dampers]], not in a stepped-sine sweep) writes each other damper's record "
-                                      "(results.h5, summary.json) in OUT/dampers/NAME.");
+                                      "dampers on its structure ([[dampers]]) writes each other damper's record in OUT/dampers/NAME "
+                                      "(a run's results.h5 and summary.json, a sweep's reduced.csv).");
   run->add_option("case_dir", a.case_dir, "Case directory (holds case.toml)")->required();
   run->add_option("--out", a.out_dir, "Output directory (default CASE_DIR/out)");
   run->add_option("--threads", a.threads, "OpenMP threads (default: all cores; results are identical for any count; the balls' stages use several threads from 2048 balls, below that one (the fork and join would cost more than they save), and each thread's share of the balls follows its measured speed; a stepped-sine sweep runs its chains, excitation.chains, side by side on them)")->check(CLI::Range(1, 1024));
@@ -32,6 +32,13 @@ CLI::App* add_run(CLI::App& app, Args& a) {
 }
 
 namespace {
+
+// The balls of every damper.
+std::size_t balls(const Scene& s) {
+  std::size_t n = s.particles.size();
+  for (const Damper& d : s.more_dampers) n += d.scene->particles.size();
+  return n;
+}
 
 // A run that did not finish: its message and exit code (128 + the signal that stopped it, or the
 // run error's); 0 for a finished run.
@@ -50,7 +57,7 @@ int unfinished(bool complete, int signal, const std::string& message) {
 // `bagdem run` of a case with a stepped-sine excitation: the frequency sweep.
 int stepped_sine_case(const Args& a, const Scene& s, const RunOptions& o) {
   if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": stepped-sine sweep, " << s.primary->stepped_sine->frequencies.size()
-                        << " frequencies, N = " << s.particles.size() << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
+                        << " frequencies, N = " << balls(s) << ", dt = " << s.dt << " s -> " << o.out_dir << "\n";
   const SteppedSineReport r = run_stepped_sine(s, o);
   if (const int code = unfinished(r.complete, r.signal, r.message)) return code;
   std::printf("sweep complete: %zu frequencies, %.1f s wall\n", r.points.size(), r.wall_seconds);
@@ -65,7 +72,7 @@ int stepped_sine_case(const Args& a, const Scene& s, const RunOptions& o) {
 
 // `bagdem run` of any other case.
 int run_case(const Args& a, const Scene& s, const RunOptions& o) {
-  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": N = " << s.particles.size() << ", dt = " << s.dt
+  if (!a.quiet) std::cerr << "bagdem run " << a.case_dir << ": N = " << balls(s) << ", dt = " << s.dt
                         << " s, " << s.total_steps() << " steps -> " << o.out_dir << "\n";
   const RunReport r = run_scene(s, o);
   if (const int code = unfinished(r.complete, r.signal, r.message)) return code;

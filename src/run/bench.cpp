@@ -405,6 +405,7 @@ int run_bag_bench(const BenchOptions& opt) {
   std::map<int, std::vector<std::pair<double, double>>> fits;  // threads -> (film nodes, film us/step)
   for (int tri : opt.film_triangles) {
     const Scene scene = load_case(case_dir, Overrides().set(keys::triangles, tri).sets());
+    refuse_several_dampers(scene, "bagdem bench --bag", "times one bag");
     const long long steps = std::max(100LL, static_cast<long long>(20000 * opt.step_scale));
     Scene sc = scene;
     sc.models.energy = opt.energy;

@@ -73,20 +73,25 @@ inline void remove_derived_tables(const std::filesystem::path& out) {
 }
 
 // Several dampers ([[dampers]]): each but the case's own writes in OUT/dampers/NAME. A fresh run
-// removes the directories of an earlier run's dampers that the case has not (and OUT/dampers for a
-// case of one); a resumed run keeps them.
+// removes what bagdem wrote for an earlier run's dampers that the case has not (the derived tables,
+// results.h5 and its kin, bag.h5, checkpoint.bin; a directory left empty goes too, other files
+// stay); a resumed run keeps them.
 inline std::filesystem::path damper_dir(const std::filesystem::path& out, const std::string& name) { return out / "dampers" / name; }
 
 inline void clear_other_dampers(const std::filesystem::path& out, const Scene& scene, bool resume) {
-  const std::filesystem::path all = out / "dampers";
-  if (resume || !std::filesystem::is_directory(all)) return;
-  for (const auto& entry : std::filesystem::directory_iterator(all)) {
+  namespace fs = std::filesystem;
+  const fs::path all = out / "dampers";
+  if (resume || !fs::is_directory(all)) return;
+  for (const auto& entry : fs::directory_iterator(all)) {
     const std::string name = entry.path().filename().string();
     bool kept = false;
     for (const Damper& d : scene.more_dampers) kept = kept || d.name == name;
-    if (!kept) std::filesystem::remove_all(entry.path());
+    if (kept || !entry.is_directory()) continue;
+    remove_derived_tables(entry.path());
+    for (const char* f : {"results.h5", "results.xmf", "results.h5.part", "bag.h5", "checkpoint.bin"}) fs::remove(entry.path() / f);
+    if (fs::is_empty(entry.path())) fs::remove(entry.path());
   }
-  if (scene.more_dampers.empty()) std::filesystem::remove(all);
+  if (fs::is_empty(all)) fs::remove(all);
 }
 
 // What the XDMF index of a results file needs besides its frames' times: the balls, and the film's

@@ -136,8 +136,9 @@ struct Stepped {
 // step_all.
 class RunLoop {
  public:
-  RunLoop(const Scene& scene, const RunOptions& opt, Simulation& sim, fs::path out, bool structure)
-      : scene_(scene), opt_(opt), out_(std::move(out)), sim_(sim), at_(schedule_of(scene)), structure_(structure) {}
+  // who: "" for a case of one damper, else "damper NAME: " (its messages start with it).
+  RunLoop(const Scene& scene, const RunOptions& opt, Simulation& sim, fs::path out, bool structure, std::string who = "")
+      : scene_(scene), opt_(opt), out_(std::move(out)), sim_(sim), at_(schedule_of(scene)), structure_(structure), who_(std::move(who)) {}
 
   // Restores an interrupted run (--resume) or starts a new one: results.h5.part open.
   void open() {
@@ -199,6 +200,7 @@ class RunLoop {
   Simulation& sim_;
   const RunSchedule at_;
   const bool structure_;  // this damper writes the structure's table
+  const std::string who_;
   RunReport rep_;
   RunTallies run_;
   double energy_scale_ = 0;  // the largest scale of the energy budget so far (check_energy; unit: J)
@@ -273,6 +275,7 @@ void RunLoop::resume() {
 }
 
 void RunLoop::start() {
+  fs::create_directories(out_);  // a damper's own (OUT/dampers/NAME)
   // The tables of an earlier run go; its results.h5 stays until this run's replaces it.
   remove_derived_tables(out_);
   fs::remove(ckpt());
@@ -305,7 +308,7 @@ void RunLoop::check_bag(double t) const {
   if (!scene_.bag) return;
   const std::vector<std::size_t> out_of_bag = sim_.balls_outside_bag();
   if (!out_of_bag.empty())
-    throw RunError("run stopped at t = " + std::to_string(t) + " s: " + std::to_string(out_of_bag.size()) +
+    throw RunError(who_ + "run stopped at t = " + std::to_string(t) + " s: " + std::to_string(out_of_bag.size()) +
                    " ball(s) of the bag (first: " + std::to_string(out_of_bag.front()) +
                    ") are outside its film. The film let them through: raise the film material's "
                    "youngs_modulus, refine the film (bag.triangles), or reduce simulation.timestep.");
@@ -322,7 +325,7 @@ void RunLoop::check_energy(double t, const EnergySample& e) {
   energy_scale_ = std::max(energy_scale_, c.scale);
   if (std::abs(c.residual) <= limit * energy_scale_) return;
   std::ostringstream m;
-  m << "run stopped at t = " << t << " s: the energy budget broke: the stored energy and the dissipation differ from the work "
+  m << who_ << "run stopped at t = " << t << " s: the energy budget broke: the stored energy and the dissipation differ from the work "
     << "put in by " << c.residual << " J, " << std::abs(c.residual) / energy_scale_ << " of its scale (limit "
     << limit << ", key simulation.max_energy_error). Something went unstable within a few steps: a contact too stiff "
     << "for the step, or the film crushed finer than its triangles resolve. Reduce simulation.timestep (or simulation.timestep_safety), "
@@ -455,15 +458,24 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   } else {
     many.emplace(scene);
     steps.many = &*many;
-    loops.push_back(std::make_unique<RunLoop>(scene, opt, (*many)[0], fs::path(opt.out_dir), true));
+    loops.push_back(std::make_unique<RunLoop>(scene, opt, (*many)[0], fs::path(opt.out_dir), true, "damper " + many->name(0) + ": "));
     for (std::size_t k = 1; k < many->size(); ++k) {
-      const fs::path dir = damper_dir(opt.out_dir, many->name(k));
-      fs::create_directories(dir);
-      loops.push_back(std::make_unique<RunLoop>(*scene.more_dampers[k - 1].scene, opt, (*many)[k], dir, false));
+      loops.push_back(std::make_unique<RunLoop>(*scene.more_dampers[k - 1].scene, opt, (*many)[k], damper_dir(opt.out_dir, many->name(k)),
+                                                false, "damper " + many->name(k) + ": "));
     }
   }
   for (auto& l : loops) l->open();
-  if (many) many->restored();
+  if (many) {
+    // Each damper's checkpoint is its own file: a run stopped between two of them left them at
+    // different steps, which cannot go on as one run.
+    for (std::size_t k = 1; k < many->size(); ++k)
+      if ((*many)[k].steps_done() != (*many)[0].steps_done())
+        throw InputError((damper_dir(opt.out_dir, many->name(k)) / "checkpoint.bin").string(), "", "",
+                         "damper " + many->name(k) + "'s checkpoint is of step " + std::to_string((*many)[k].steps_done()) + ", the case's own " +
+                             "damper's of step " + std::to_string((*many)[0].steps_done()) + ": the run stopped while they were written; run again "
+                             "without --resume");
+    many->restored();
+  }
   double wall = 0;
   std::uint64_t first = 0;
   std::size_t particles = scene.particles.size();

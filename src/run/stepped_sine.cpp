@@ -7,6 +7,7 @@ namespace bagdem {
 namespace stepped_sine_run {
 
 void SteppedSineRun::open() {
+  for (std::size_t k = 1; k < dampers_; ++k) fs::create_directories(more_out(k));
   const fs::path part = out_ / "results.h5.part", csv = out_ / "sweep.csv";
   std::vector<std::string> mats;
   for (const auto& m : scene_.materials) mats.push_back(m.name);
@@ -206,7 +207,6 @@ SteppedSineReport run_stepped_sine(const Scene& scene, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const OutputLock lock(opt.out_dir);  // creates the directory
   clear_other_dampers(opt.out_dir, scene, opt.resume);
-  for (const Damper& d : scene.more_dampers) std::filesystem::create_directories(damper_dir(opt.out_dir, d.name));
   stepped_sine_run::SteppedSineRun sweep(scene, opt);
   sweep.open();
   try {

@@ -4,10 +4,12 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <exception>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
 
+#include "bagdem/error.hpp"
 #include "stepper.hpp"
 
 namespace bagdem {
@@ -40,14 +42,33 @@ void Dampers::advance(std::uint64_t steps) {
   if (sims_.size() == 1) return sims_[0].advance(steps);
   const int n = static_cast<int>(sims_.size());
   const int threads = parallel_ ? std::min(n, omp_get_max_threads()) : 1;
+  // A damper's failure (a guard's RunError) cannot leave the parallel region: each damper's is kept
+  // and the first, in the dampers' order, is thrown after it, naming the damper.
+  std::vector<std::exception_ptr> errors(sims_.size());
+  auto each = [&](auto&& part) {
+#pragma omp parallel for schedule(static, 1) num_threads(threads)
+    for (int d = 0; d < n; ++d) {
+      try {
+        part(*sims_[static_cast<std::size_t>(d)].s_);
+      } catch (...) {
+        errors[static_cast<std::size_t>(d)] = std::current_exception();
+      }
+    }
+    for (std::size_t d = 0; d < errors.size(); ++d) {
+      if (!errors[d]) continue;
+      try {
+        std::rethrow_exception(errors[d]);
+      } catch (const RunError& e) {
+        throw RunError("damper " + names_[d] + ": " + e.what());
+      }
+    }
+  };
   for (std::uint64_t k = 0; k < steps; ++k) {
     const bool last = k + 1 == steps;
-#pragma omp parallel for schedule(static, 1) num_threads(threads)
-    for (int d = 0; d < n; ++d) sims_[static_cast<std::size_t>(d)].s_->step_contents(last);
+    each([last](Stepper& s) { s.step_contents(last); });
     load_ = sims_[0].s_->contents_load();
     for (std::size_t d = 1; d < sims_.size(); ++d) load_ += sims_[d].s_->contents_load();
-#pragma omp parallel for schedule(static, 1) num_threads(threads)
-    for (int d = 0; d < n; ++d) sims_[static_cast<std::size_t>(d)].s_->step_structure();
+    each([](Stepper& s) { s.step_structure(); });
   }
 }
 

@@ -168,6 +168,7 @@ StudySpec characterize_spec(const CharacterizeArgs& a, MapPlan& grid) {
   if (!fs::exists(fs::path(a.dir) / "case.toml"))
     throw InputError(a.dir, "", "", "holds no case.toml (bagdem characterize takes a case directory)");
   const Scene scene = load_case(a.dir, a.sets);
+  refuse_several_dampers(scene, "bagdem characterize", "maps one damper");
   grid = map_plan(scene, a);
   grid.damper = damper_record(scene);
   StudySpec spec = grid_spec(a, scene, grid);

@@ -345,6 +345,7 @@ Search set_up_search(const DesignArgs& a) {
   const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
   z.cand = candidate_spec(a, fs::absolute(out).lexically_normal());
   const Scene s = load_case(z.cand.case_dir, z.cand.sets);
+  refuse_several_dampers(s, "bagdem design", "places one damper");
   if (!s.primary || (!s.primary->stepped_sine && !(s.primary->random_hi > 0)))
     throw InputError(s.case_file, "excitation.kind", "",
                      "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "

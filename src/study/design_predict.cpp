@@ -13,6 +13,7 @@ namespace bagdem::study {
 void predict_row(const std::filesystem::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map, const std::vector<int>& modes,
                  DesignRow& r) {
   const Scene s = load_case(case_dir.string(), sets);
+  refuse_several_dampers(s, "bagdem design", "places one damper");
   const Primary& P = *s.primary;
   r.attach = P.attach;
   if (modes == std::vector<int>{0}) {  // a random force: its RMS in the band

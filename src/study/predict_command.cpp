@@ -123,6 +123,7 @@ int predict_command(const PredictArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   return reporting_errors([&] {
     const Scene scene = load_case(a.dir, a.sets);
+    refuse_several_dampers(scene, "bagdem predict", "predicts with one damper's map");
     if (!a.random.empty()) return predict_random_command(a, scene);
     if (!scene.primary || !scene.primary->stepped_sine)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");

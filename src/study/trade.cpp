@@ -44,6 +44,7 @@ struct CaseFacts {
 
 CaseFacts case_facts(const std::string& case_dir, const std::vector<std::string>& sets) {
   const Scene s = load_case(case_dir, sets);
+  refuse_several_dampers(s, "bagdem trade", "measures the trade on one damper");
   CaseFacts f;
   f.case_dir = case_dir;
   f.explicit_step = s.dt_reason.rfind("auto", 0) != 0;

@@ -58,6 +58,9 @@ std::vector<DamperKeys> read_dampers(const CaseReader& in);
 // dampers.cpp: the case's own damper s and the others (resolved at one step) made one structure:
 // each Primary's mass matrix carries every cavity's mass; s.more_dampers takes the others.
 void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys);
+// A command that handles one damper refuses a case of several (InputError naming `dampers`, exit
+// 2): `what` says what it does with one ("predicts with one damper's map").
+void refuse_several_dampers(const Scene& s, const std::string& command, const std::string& what);
 // A number as TOML text that reads back to the same double (%.17g).
 std::string exact_text(double x);
 

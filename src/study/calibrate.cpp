@@ -267,7 +267,10 @@ int calibrate_command(const CalibrateArgs& args) {
   // The lead reports on stdout; the other ranks show their runs' progress on stderr.
   if (!lead && !std::freopen("/dev/null", "w", stdout)) std::fprintf(stderr, "%swarning: stdout not silenced\n", rank_prefix(*ranks).c_str());
   if (!args.maps.empty()) {  // no runs to share: the other ranks would wait doing nothing
-    if (ranks->size() == 1) return calibrate_on_maps(args);
+    if (ranks->size() == 1) {
+      refuse_several_dampers(load_case(args.dir, args.sets), "bagdem calibrate --maps", "predicts with one damper's map");
+      return calibrate_on_maps(args);
+    }
     if (lead) std::fprintf(stderr, "error: --maps: a fit on maps runs no simulation and gains nothing from %d MPI ranks: run it without mpirun\n", ranks->size());
     return kExitInputError;
   }

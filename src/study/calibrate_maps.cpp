@@ -458,7 +458,6 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     for (const std::string& t : args.targets) p.targets.list.push_back(parse_target(t));
     p.sets = args.sets;
     const Scene base = load_case(p.case_dir, args.sets);
-    refuse_several_dampers(base, "bagdem calibrate --maps", "predicts with one damper's map");
     target_reductions(base, p.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);  // validates the targets' modes
     const std::size_t modes = elastic_modes(*base.primary);
     p.keys = read_keys(args, base, p.targets, modes);

@@ -121,9 +121,17 @@ void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<Damper
   Eigen::MatrixXd M = s.primary->mass;  // the case's own cavity's mass in it already
   for (const Scene& d : others) M += d.primary->cavity_mass * d.primary->at_cavity * d.primary->at_cavity.transpose();
   const Eigen::MatrixXd M_inverse = M.inverse();
+  // A sweep's predicted start (excitation.predict) models one damper's contents: off with several.
+  std::shared_ptr<const Primary::SteppedSine> sweep;
+  if (s.primary->stepped_sine) {
+    auto plan = std::make_shared<Primary::SteppedSine>(*s.primary->stepped_sine);
+    plan->predict = false;
+    sweep = plan;
+  }
   auto shared = [&](const Scene& d) {
     auto P = std::make_shared<Primary>(*d.primary);
     P->mass = M, P->mass_inverse = M_inverse;
+    if (sweep) P->stepped_sine = sweep;
     P->start_at = s.primary->at_cavity;  // one steady start for all: the case's own damper's
     return P;
   };

@@ -241,3 +241,12 @@ TEST(DampersSweep, TheBalanceClosesOverEveryDamperAndEachIsReduced) {
   EXPECT_EQ(table("t1", "dampers/two/reduced.csv"), two);
   EXPECT_EQ(table("t1", "peaks.csv"), table("t2", "peaks.csv"));
 }
+
+// The shipped case of two bags resolves: both listed, the sweep without a predicted start.
+TEST(DampersCase, TheShippedPairChecks) {
+  TempDir d;
+  const auto r = bagdem::testing::run_bagdem({"check", std::string(BAGDEM_CASES_DIR) + "/stepped-beam-pair"}, d.path);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("damper      mid: attached at 0.335 m"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("predicted with the contents"), std::string::npos) << r.out;
+}

@@ -2,10 +2,10 @@
 // damper, each its own cavity, contents and film stepping in its own frame, stepped together. At
 // each step every damper runs its stages up to the structure's (side by side on the threads, one
 // damper to a thread, when they are large enough to be worth it); then the structure feels the load
-// of them all, G_d m_d summed in the case's order of the dampers; then each runs the rest of the step. Each damper's simulation integrates
-// the structure with that same load, so they all hold the same bits of it, and the results are the
-// same bits for any number of threads. A scene of one damper is its Simulation alone, stepped as
-// Simulation steps it (the same bits).
+// of them all, G_d m_d summed in the case's order of the dampers; then each runs the rest of the
+// step. Each damper's simulation integrates the structure with that same load, so they all hold the
+// same bits of it, and the results are the same bits for any number of threads. A scene of one
+// damper is its Simulation alone, stepped as Simulation steps it (the same bits).
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -21,6 +21,8 @@ class Dampers {
  public:
   // scene: the case's own damper, with the others in scene.more_dampers (it outlives this).
   explicit Dampers(const Scene& scene);
+  Dampers(const Dampers&) = delete;  // each simulation reads load_ where it is
+  Dampers& operator=(const Dampers&) = delete;
   // The scene of damper k (0: the case's).
   const Scene& scene(std::size_t k) const { return sims_[k].scene(); }
 

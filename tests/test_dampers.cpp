@@ -16,6 +16,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "bagdem/reduce/compare.hpp"
 #include "bagdem/run/runner.hpp"
 #include "bagdem/run/stepped_sine.hpp"
 #include "bagdem/step/dampers.hpp"
@@ -232,6 +233,18 @@ TEST(DampersSweep, TheBalanceClosesOverEveryDamperAndEachIsReduced) {
     EXPECT_GT(own, 0.2 * pt.dissipated_contents);
     EXPECT_NEAR(pt.work_external, pt.dissipated_structure + pt.dissipated_contents, 0.03 * pt.work_external);
   }
+  // The modal model with both dampers' measured impedances (compare.csv) follows the DEM; with the
+  // first damper's alone it does not.
+  const std::vector<CompareRow> alone = compare_with_continuum(*s.primary, s.primary->amplitude, r.reduced);
+  ASSERT_EQ(r.compare.size(), r.points.size());
+  double both = 0, first = 0;
+  for (std::size_t i = 0; i < r.compare.size(); ++i) {
+    std::printf("  %.3f Hz: DEM %.4e m, modal model with both dampers %.4e m (%+.1f%%), with the first alone %+.1f%%\n", r.compare[i].frequency,
+                r.compare[i].dem_response, r.compare[i].model_response, 100 * r.compare[i].model_error, 100 * alone[i].model_error);
+    both = std::max(both, std::abs(r.compare[i].model_error)), first = std::max(first, std::abs(alone[i].model_error));
+  }
+  EXPECT_LT(both, 0.05);
+  EXPECT_GT(first, 3 * both);
   const auto table = [&](const std::string& run, const std::string& f) { return bagdem::testing::slurp(d.path / run / f); };
   const std::string two = table("t2", "dampers/two/reduced.csv"), own = table("t2", "reduced.csv");
   EXPECT_EQ(std::count(two.begin(), two.end(), '\n'), std::count(own.begin(), own.end(), '\n'));
@@ -249,4 +262,20 @@ TEST(DampersCase, TheShippedPairChecks) {
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("damper      mid: attached at 0.335 m"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("predicted with the contents"), std::string::npos) << r.out;
+}
+
+// The modal model's bags: two at one place are one with both masses and dashpots (to rounding).
+TEST(DampersModel, TwoBagsAtOnePlaceAreOneWithBoth) {
+  continuum::ModalModel m;
+  m.omega = Eigen::Vector2d(2 * std::numbers::pi * 10, 2 * std::numbers::pi * 31);
+  m.zeta = Eigen::Vector2d(0.01, 0.02);
+  m.shape_at_force = Eigen::Vector2d(0.7, -0.4), m.shape_at_response = Eigen::Vector2d(0.9, 0.3);
+  m.shape_at_bag = Eigen::Vector2d(0.5, 0.8);
+  for (const double hz : {8.0, 10.0, 12.5, 31.0}) {
+    const double w = 2 * std::numbers::pi * hz;
+    const std::complex<double> one = continuum::modal_receptance(m, 0.3, 2.0, w);
+    const std::complex<double> two = continuum::modal_receptance(m, {{m.shape_at_bag, 0.1, 0.5}, {m.shape_at_bag, 0.2, 1.5}}, w);
+    EXPECT_LT(std::abs(two - one), 1e-12 * std::abs(one)) << hz << " Hz";
+    EXPECT_EQ(continuum::modal_receptance(m, {{m.shape_at_bag, 0.3, 2.0}}, w), one);  // one bag: the same bits
+  }
 }

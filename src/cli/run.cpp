@@ -64,7 +64,7 @@ int stepped_sine_case(const Args& a, const Scene& s, const RunOptions& o) {
   for (const ModePeak& m : r.peaks) std::printf("%s\n", describe_peak(m).c_str());
   for (const std::string& why : missing_peaks(*s.primary, r.points)) std::printf("%s\n", why.c_str());
   std::printf("the bag's effective parameters per frequency (reduced.csv):\n%s", describe_reduced(r.reduced).c_str());
-  if (s.more_dampers.empty()) std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
+  std::printf("%s", describe_compare(r.compare, continuum::Form::consistent).c_str());
   for (const Damper& d : s.more_dampers)
     std::printf("damper %s: its effective parameters per frequency in %s/dampers/%s/reduced.csv\n", d.name.c_str(), o.out_dir.c_str(), d.name.c_str());
   return 0;

@@ -31,6 +31,31 @@ double relative(double model, double dem) { return dem != 0 ? (model - dem) / de
 
 }  // namespace
 
+std::vector<CompareRow> compare_with_dampers(const std::vector<const Primary*>& primaries, double F,
+                                             const std::vector<std::vector<ReducedRow>>& rows) {
+  const Primary& P = *primaries.front();
+  const continuum::ModalModel model = modal_model(P);
+  std::vector<CompareRow> out;
+  for (std::size_t i = 0; i < rows.front().size(); ++i) {
+    const ReducedRow& r = rows.front()[i];
+    CompareRow c;
+    c.frequency = r.frequency;
+    const double w = 2 * std::numbers::pi * r.frequency;
+    c.dem_response = r.response_amplitude;
+    c.bare_response = std::abs(P.bare_receptance(w)) * F;
+    std::vector<continuum::BagAt> bags;
+    for (std::size_t d = 0; d < primaries.size(); ++d) bags.push_back({primaries[d]->at_cavity, rows[d][i].M_eff, rows[d][i].C_eff});
+    c.model_response = std::abs(continuum::modal_receptance(model, bags, w)) * F;
+    c.model_error = relative(c.model_response, c.dem_response);
+    std::size_t number = 0;
+    P.nearest_elastic_mode(r.frequency, &number);
+    c.mode = static_cast<double>(number);
+    c.eq7_response = c.eq7_error = c.eq20_response = c.eq20_error = kNaN;
+    out.push_back(c);
+  }
+  return out;
+}
+
 std::vector<CompareRow> compare_with_continuum(const Primary& P, double F, const std::vector<ReducedRow>& rows,
                                                continuum::Form form) {
   const continuum::ModalModel model = modal_model(P);

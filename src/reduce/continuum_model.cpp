@@ -202,9 +202,9 @@ ModalSdof modal_sdof(double omega, double zeta, double shape_at_bag, double shap
   return m;
 }
 
-std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, double bag_damping,
-                                      double w) {
-  const char* fn = "modal_receptance";
+namespace {
+// The modal model's own figures, checked (the bags' and w by the callers).
+void require_model(const ModalModel& model, const char* fn) {
   const Eigen::Index n = model.omega.size();
   require(n > 0, fn, "modes", static_cast<double>(n), "at least 1");
   require(model.zeta.size() == n, fn, "zeta.size()", static_cast<double>(model.zeta.size()), "omega.size()");
@@ -212,8 +212,6 @@ std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, 
           static_cast<double>(model.shape_at_force.size()), "omega.size()");
   require(model.shape_at_response.size() == n, fn, "shape_at_response.size()",
           static_cast<double>(model.shape_at_response.size()), "omega.size()");
-  require(model.shape_at_bag.size() == n, fn, "shape_at_bag.size()", static_cast<double>(model.shape_at_bag.size()),
-          "omega.size()");
   const bool full_mass = model.mass.size() > 0;
   if (full_mass)
     require(model.mass.rows() == n && model.mass.cols() == n, fn, "mass.rows()", static_cast<double>(model.mass.rows()),
@@ -222,17 +220,38 @@ std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, 
           "finite and >= 0 (unit: rad/s)");
   require(model.zeta.allFinite() && (model.zeta.array() >= 0).all(), fn, "zeta", model.zeta.minCoeff(),
           "finite and >= 0");
-  require(model.shape_at_force.allFinite() && model.shape_at_response.allFinite() && model.shape_at_bag.allFinite() &&
-              (!full_mass || model.mass.allFinite()),
-          fn, "shapes/mass", std::numeric_limits<double>::quiet_NaN(), "finite");
+  require(model.shape_at_force.allFinite() && model.shape_at_response.allFinite() && (!full_mass || model.mass.allFinite()), fn,
+          "shapes/mass", std::numeric_limits<double>::quiet_NaN(), "finite");
+}
+}  // namespace
+
+std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, double bag_damping,
+                                      double w) {
+  const char* fn = "modal_receptance";
+  require_model(model, fn);
+  const Eigen::Index n = model.omega.size();
+  require(model.shape_at_bag.size() == n && model.shape_at_bag.allFinite(), fn, "shape_at_bag.size()",
+          static_cast<double>(model.shape_at_bag.size()), "omega.size(), finite");
   // A measured impedance (reduce/compare.hpp) may have a negative effective mass (the contents moving
   // against the cavity) or a slightly negative damping (scatter): only finiteness is required.
   require_finite(fn, "bag_mass", bag_mass);
   require_finite(fn, "bag_damping", bag_damping);
+  return modal_receptance(model, std::vector<BagAt>{{model.shape_at_bag, bag_mass, bag_damping}}, w);
+}
+
+std::complex<double> modal_receptance(const ModalModel& model, const std::vector<BagAt>& bags, double w) {
+  const char* fn = "modal_receptance";
+  require_model(model, fn);
+  const Eigen::Index n = model.omega.size();
+  const bool full_mass = model.mass.size() > 0;
+  for (const BagAt& b : bags) {
+    require(b.shape.size() == n && b.shape.allFinite(), fn, "a bag's shape.size()", static_cast<double>(b.shape.size()), "omega.size(), finite");
+    require_finite(fn, "a bag's mass", b.mass);
+    require_finite(fn, "a bag's damping", b.damping);
+  }
   require_non_negative(fn, "w", w);
 
-  // Dynamic stiffness in modal coordinates: K - w^2 M + i w C, then the bag's rank-one terms.
-  const Eigen::VectorXd& phi_b = model.shape_at_bag;
+  // Dynamic stiffness in modal coordinates: K - w^2 M + i w C, then each bag's rank-one terms.
   Eigen::MatrixXd real_part = full_mass ? Eigen::MatrixXd(model.mass) : Eigen::MatrixXd::Identity(n, n);
   real_part *= -w * w;
   Eigen::MatrixXd imag_part = Eigen::MatrixXd::Zero(n, n);
@@ -240,9 +259,11 @@ std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, 
     real_part(r, r) += model.omega(r) * model.omega(r);
     imag_part(r, r) += w * 2 * model.zeta(r) * model.omega(r);
   }
-  const Eigen::MatrixXd bag_outer = phi_b * phi_b.transpose();
-  real_part -= (w * w * bag_mass) * bag_outer;
-  imag_part += (w * bag_damping) * bag_outer;
+  for (const BagAt& b : bags) {
+    const Eigen::MatrixXd bag_outer = b.shape * b.shape.transpose();
+    real_part -= (w * w * b.mass) * bag_outer;
+    imag_part += (w * b.damping) * bag_outer;
+  }
 
   Eigen::MatrixXcd dynamic_stiffness(n, n);
   dynamic_stiffness.real() = real_part;

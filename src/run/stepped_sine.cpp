@@ -188,11 +188,17 @@ SteppedSineReport SteppedSineRun::finish() {
                    scene_.more_dampers[k - 1].name.c_str(), why.c_str());
     write_reduced_csv(more_out(k) / "reduced.csv", rows);
   }
-  // The continuum model with the contents' C_b and M_b: one damper's (several: not yet).
+  // The continuum model with the contents' C_b and M_b (several dampers: the modal model with each
+  // at its place).
   if (dampers_ == 1) {
     rep_.compare = compare_with_continuum(P_, P_.amplitude, rep_.reduced);
-    write_compare_csv(out_ / "compare.csv", rep_.compare);
+  } else {
+    std::vector<const Primary*> primaries{&P_};
+    std::vector<std::vector<ReducedRow>> rows{rep_.reduced};
+    for (std::size_t k = 1; k < dampers_; ++k) primaries.push_back(more_scene(k).primary.get()), rows.push_back(state_.more_reduced[k - 1]);
+    rep_.compare = compare_with_dampers(primaries, P_.amplitude, rows);
   }
+  write_compare_csv(out_ / "compare.csv", rep_.compare);
   write_bare_curve(out_ / "bare_curve.csv", P_, rep_.points);
   write_summary(out_ / "summary.json", summary);
   return rep_;

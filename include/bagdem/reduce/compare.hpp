@@ -36,6 +36,13 @@ struct CompareRow {
 std::vector<CompareRow> compare_with_continuum(const Primary& primary, double force, const std::vector<ReducedRow>& rows,
                                                continuum::Form form = continuum::Form::consistent);
 
+// Several dampers on the structure ([[dampers]]): the modal model with every damper's M_eff and
+// C_eff at its own place (continuum::modal_receptance with several bags); the SDOF models (eq7,
+// eq20) hold one damper and are left NaN. primaries: each damper's (the case's own first; they share
+// the structure), rows: each damper's reduced rows, the same frequencies in the same order.
+std::vector<CompareRow> compare_with_dampers(const std::vector<const Primary*>& primaries, double force,
+                                             const std::vector<std::vector<ReducedRow>>& rows);
+
 // compare.csv (atomically) and a terminal table that names the form used.
 void write_compare_csv(const std::filesystem::path& path, const std::vector<CompareRow>& rows);
 std::string describe_compare(const std::vector<CompareRow>& rows, continuum::Form form);

@@ -40,6 +40,7 @@
 // programming errors: std::invalid_argument.
 #pragma once
 #include <complex>
+#include <vector>
 #include <optional>
 
 #include <Eigen/Core>
@@ -172,5 +173,13 @@ struct ModalModel {
 // resonance, a rigid mode at w = 0) throws std::domain_error.
 std::complex<double> modal_receptance(const ModalModel& model, double bag_mass, double bag_damping,
                                       double w);
+// The same with several bags, each a point mass and dashpot at its own place (shape: phi_r there,
+// unit: 1/sqrt(kg)): H(w) = phi_a^T (K - w^2 M + i w C + sum_d (-w^2 M_d + i w C_d) phi_d phi_d^T)^-1
+// phi_f (model.shape_at_bag unused). One bag at model.shape_at_bag gives modal_receptance's bits.
+struct BagAt {
+  Eigen::VectorXd shape;
+  double mass = 0, damping = 0;  // (unit: kg, N s/m)
+};
+std::complex<double> modal_receptance(const ModalModel& model, const std::vector<BagAt>& bags, double w);
 
 }  // namespace bagdem::continuum

@@ -42,7 +42,7 @@ def binary():
 
 def toml_value(value):
     """A Python value as the TOML text --set reads: "8 mm" (a quantity), 0.08, true, [1, 3],
-    ["-40 mm", "0 mm", "0 mm"]. Strings are quoted, so a unit is always kept with its number;
+    ["-40 mm", "0 mm", "0 mm"], a dict as an inline table. Strings are quoted, so a unit is always kept with its number;
     numpy scalars are written as the Python numbers they hold."""
     if getattr(value, "ndim", 0) > 0:  # a numpy array: its elements, as a list
         value = value.tolist()
@@ -62,8 +62,13 @@ def toml_value(value):
         return '"' + escaped + '"'
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):  # an inline table: {kind = "harmonic", ...}, a [[dampers]] entry
+        for k in value:
+            if not isinstance(k, str) or not k or not all(c.isalnum() or c in "_-" for c in k):
+                raise ValueError(f"{k!r} is not a key a case table can have (letters, digits, '_', '-')")
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
     raise TypeError(f"cannot write {value!r} ({type(value).__name__}) as a case value: use a number, a string "
-                    "with its unit (\"8 mm\"), a bool or a list of them")
+                    "with its unit (\"8 mm\"), a bool, a dict (a table) or a list of them")
 
 
 def option_args(options):

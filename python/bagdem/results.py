@@ -145,6 +145,14 @@ class Results:
         points = [p for p in glob.glob(self.file("point-*")) if re.fullmatch(r"point-[0-9]{3,}", os.path.basename(p))]
         return [Results(p) for p in sorted(points, key=lambda p: int(os.path.basename(p)[len("point-"):]))]
 
+    @property
+    def dampers(self):
+        """A case of several dampers ([[dampers]]): each damper's but the case's own (this directory's)
+        results, by name (OUT/dampers/NAME), each a Results; {} for a case of one."""
+        root = self.file("dampers")
+        names = sorted(n for n in os.listdir(root) if os.path.isdir(os.path.join(root, n))) if os.path.isdir(root) else []
+        return {n: Results(os.path.join(root, n)) for n in names}
+
     def plot(self, out=None):
         """tools/plot's figures of this directory (into OUT, default the directory): their paths."""
         args = [sys.executable, os.path.join(ROOT, "tools", "plot"), self.path] + (["--out", os.path.abspath(out)] if out else [])

@@ -11,6 +11,8 @@ python3 with BAGDEM set to the built binary and PYTHONPATH to the clone's python
    and bagdem's message, which survives pickling.
 4. A run's progress reaches the caller line by line; its summary and results.h5 read back. An
    interrupt stops bagdem before it is raised.
+5. A case of several dampers (a dict per [[dampers]] entry) runs, and each damper's record reads
+   back by its name (Results.dampers).
 """
 import math
 import os
@@ -86,8 +88,9 @@ def test_overrides_are_toml_and_a_refused_case_raises_with_exit_2(tmp_path):
     assert toml_value(["-40 mm", 0, 1.5]) == '["-40 mm", 0, 1.5]' and toml_value(np.float64(0.5)) == "0.5"
     assert toml_value(np.array([-0.04, 0.0, 0.0])) == "[-0.04, 0.0, 0.0]"
     assert toml_value(np.int64(3)) == "3" and toml_value(np.bool_(True)) == "true" and toml_value('a"b\nc') == '"a\\"b\\u000ac"'
+    assert toml_value({"kind": "harmonic", "amplitude": "1 N"}) == '{kind = "harmonic", amplitude = "1 N"}'
     with pytest.raises(TypeError):
-        toml_value({"a": 1})
+        toml_value(object())
     with pytest.raises(ValueError):
         toml_value(float("nan"))
     assert option_args({"zip": np.bool_(True), "check": np.False_}) == ["--zip"]
@@ -125,6 +128,24 @@ def test_a_run_shows_its_progress_and_reads_back(tmp_path):
     with pytest.raises(KeyError, match="has no dataset"):
         h5["cavity/nothing"]
     assert np.array_equal(h5["/cavity/time"], t)
+
+
+def test_several_dampers_are_written_and_read_per_damper(tmp_path):
+    # A second damper given from Python ([[dampers]] as a list of dicts), run, and each damper's
+    # record read back by its name; the structure's figures are the case's own damper's.
+    case = bagdem.Case(os.path.join(ROOT, "cases", "stepped-beam"), {
+        "excitation": {"kind": "harmonic", "amplitude": "0.05 N", "frequency": "70 Hz", "start": "steady"},
+        "simulation.duration": "0.004 s", "simulation.settle": "0.004 s",
+        "dampers": [{"name": "mid", "set": ['primary.attach = "0.335 m"']}]})
+    out = case.run(str(tmp_path / "run"))
+    assert list(out.dampers) == ["mid"]
+    mid = out.dampers["mid"]
+    assert mid.summary["damper"] == "mid" and "structure" not in mid.summary
+    assert out.summary["damper"] == "1" and "structure" in out.summary
+    assert mid.h5["cavity/time"].shape == out.h5["cavity/time"].shape
+    assert bagdem.Results(str(tmp_path / "run")).dampers.keys() == {"mid"}
+    with pytest.raises(ValueError, match="not a key"):
+        toml_value({"a b": 1})
 
 
 def test_an_interrupt_stops_bagdem_before_it_is_raised(tmp_path):

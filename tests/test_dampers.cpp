@@ -253,6 +253,20 @@ TEST(DampersSweep, TheBalanceClosesOverEveryDamperAndEachIsReduced) {
   EXPECT_EQ(table("t1", "reduced.csv"), table("t2", "reduced.csv"));
   EXPECT_EQ(table("t1", "dampers/two/reduced.csv"), two);
   EXPECT_EQ(table("t1", "peaks.csv"), table("t2", "peaks.csv"));
+  // One chain killed in its second point and resumed: the same tables as that chain run whole (the
+  // other damper's rows and clearance come back from the checkpoint's block of them).
+  const Scene chain = load(d, case_text(p.str(), "duration = \"1 s\"\nsettle = \"0.2 s\""), {"excitation.chains=1"});
+  const SteppedSineReport whole = run_stepped_sine(chain, bagdem::testing::quiet_run(d.path / "t4", 1));
+  ASSERT_TRUE(whole.complete) << whole.message;
+  const double into = chain.settle + whole.points[0].cycles / whole.points[0].frequency + 0.5 * whole.points[1].cycles / whole.points[1].frequency;
+  RunOptions cut = bagdem::testing::quiet_run(d.path / "t3", 1, static_cast<long long>(into / chain.dt));
+  ASSERT_FALSE(run_stepped_sine(chain, cut).complete);
+  ASSERT_TRUE(std::filesystem::exists(d.path / "t3" / "dampers" / "two" / "reduced.csv"));  // the first point was written
+  cut.stop_after_steps = -1, cut.resume = true;
+  ASSERT_TRUE(run_stepped_sine(chain, cut).complete);
+  EXPECT_EQ(table("t3", "reduced.csv"), table("t4", "reduced.csv"));
+  EXPECT_EQ(table("t3", "dampers/two/reduced.csv"), table("t4", "dampers/two/reduced.csv"));
+  EXPECT_EQ(table("t3", "peaks.csv"), table("t4", "peaks.csv"));
 }
 
 // The shipped case of two bags resolves: both listed, the sweep without a predicted start.

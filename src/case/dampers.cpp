@@ -8,7 +8,7 @@
 //   set = ['primary.attach = "0.335 m"', 'bag.balls.mass_ratio = 0.03']
 //
 // A damper may change its cavity, its contents and materials, where and how it is attached
-// (DAMPER_KEYS); the structure, its excitation, the run and its output are the case's. Each damper
+// (kDamperKeys); the structure, its excitation, the run and its output are the case's. Each damper
 // is the whole case resolved again with its keys (load_case), so every key means there what it
 // means in a case. The resolved dampers then share one structure: each one's Primary carries the
 // mass of every cavity (primary.cavity_mass at each attach point) in its mass matrix, and one step
@@ -58,6 +58,23 @@ std::string trimmed(const std::string& s) {
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
+// A damper's orientation is its cavity's frame turned: the structure's direction and axis and
+// gravity, written in it, must relate to one another as the case's do (gravity's components along
+// the direction, the axis and their normal the same).
+void require_a_rotation(const Scene& s, const Scene& d, const std::string& name) {
+  auto components = [](const Scene& x) {
+    const Vec3 e = x.primary->direction.normalized(), a = x.primary->axis.normalized();
+    return Vec3(x.gravity.dot(e), x.gravity.dot(a), x.gravity.dot(e.cross(a)));
+  };
+  const Vec3 c0 = components(s), c = components(d);
+  if ((c - c0).norm() <= 1e-9 * std::max(1.0, s.gravity.norm())) return;
+  std::ostringstream m;
+  m << "damper '" << name << "': its primary.direction, primary.axis and simulation.gravity are not the case's turned (gravity along "
+    << "the direction, the axis and their normal: [" << c.transpose() << "] m/s^2 against the case's [" << c0.transpose()
+    << "]): a damper's orientation turns all three together; give them so, or leave them the case's";
+  throw InputError(s.case_file, "dampers", "", m.str());
+}
+
 }  // namespace
 
 std::vector<DamperKeys> read_dampers(const CaseReader& in) {
@@ -93,24 +110,6 @@ std::vector<DamperKeys> read_dampers(const CaseReader& in) {
   return out;
 }
 
-namespace {
-// A damper's orientation is its cavity's frame turned: the structure's direction and axis and
-// gravity, written in it, must relate to one another as the case's do (gravity's components along
-// the direction, the axis and their normal the same).
-void require_a_rotation(const Scene& s, const Scene& d, const std::string& name) {
-  auto components = [](const Scene& x) {
-    const Vec3 e = x.primary->direction.normalized(), a = x.primary->axis.normalized();
-    return Vec3(x.gravity.dot(e), x.gravity.dot(a), x.gravity.dot(e.cross(a)));
-  };
-  const Vec3 c0 = components(s), c = components(d);
-  if ((c - c0).norm() <= 1e-9 * std::max(1.0, s.gravity.norm())) return;
-  std::ostringstream m;
-  m << "damper '" << name << "': its primary.direction, primary.axis and simulation.gravity are not the case's turned (gravity along "
-    << "the direction, the axis and their normal: [" << c.transpose() << "] m/s^2 against the case's [" << c0.transpose()
-    << "]): a damper's orientation turns all three together; give them so, or leave them the case's";
-  throw InputError(s.case_file, "dampers", "", m.str());
-}
-}  // namespace
 
 void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys) {
   for (std::size_t k = 0; k < others.size(); ++k) {

@@ -44,7 +44,8 @@ void Dampers::advance(std::uint64_t steps) {
   const int threads = parallel_ ? std::min(n, omp_get_max_threads()) : 1;
   // A damper's failure (a guard's RunError) cannot leave the parallel region: each damper's is kept
   // and the first, in the dampers' order, is thrown after it, naming the damper.
-  std::vector<std::exception_ptr> errors(sims_.size());
+  std::vector<std::exception_ptr>& errors = errors_;  // sized once (a sweep advances one step at a time)
+  errors.assign(sims_.size(), nullptr);
   auto each = [&](auto&& part) {
 #pragma omp parallel for schedule(static, 1) num_threads(threads)
     for (int d = 0; d < n; ++d) {

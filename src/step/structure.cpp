@@ -172,8 +172,8 @@ void StructureCoupling::forces(const Primary& P, const StepContext& ctx, double 
   // Scratch sized once (no allocation in the step); fd and Qc become this step's "previous".
   Eigen::VectorXd &Qc = scratch.load, &fd = scratch.damping, &Q = scratch.total;
   Qc.resize(static_cast<Eigen::Index>(n)), fd.resize(static_cast<Eigen::Index>(n)), Q.resize(static_cast<Eigen::Index>(n));
-  Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
-  if (all_load) Qc = *all_load;  // several dampers: the load of them all
+  if (all_load) Qc = *all_load;  // several dampers: the load of them all (step/dampers.hpp)
+  else Qc.noalias() = P.load_fit * Eigen::Vector3d(m.x(), m.y(), m.z());
   const double f = external_force(P, S, t);
   fd = P.damping.cwiseProduct(v_);
   Q = P.at_force * f + Qc - P.stiffness.cwiseProduct(q_) - fd;

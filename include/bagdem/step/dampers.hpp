@@ -9,6 +9,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,7 @@ class Dampers {
   // nodes (a bag's step, tens of microseconds); smaller ones step one after another (the same bits).
   static constexpr std::size_t kParallelDamper = 64;
   bool parallel_ = false;
+  std::vector<std::exception_ptr> errors_;  // advance's: each damper's failure in a step
 };
 
 }  // namespace bagdem

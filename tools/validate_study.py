@@ -26,7 +26,7 @@
 #      (--seeds starts each), and slope.csv (per choice, value and mode: the reduction at each ratio,
 #      the slopes 8 - 5% and 12 - 8% with their intervals, and the runs' mean wall time).
 #      --slope alone skips steps 1-4 (it needs --damping-ratio); --slope-choices runs only those named
-#      (base, tightness, force, ball-stiffness, bag-radius, film-thickness), slope.csv and slope-seeds.csv
+#      (base, tightness, force, ball-stiffness, bag-radius, film-thickness, bag-length), slope.csv and slope-seeds.csv
 #      (each start's figure) are written after each;
 #   6. with --table3, the pipe's damping ratio fitted by least squares to all 20 figures of Table 3
 #      at once (cases/studies/mass-ratio/table3.csv: modes 1 and 3 at 5-14%, the mass-ratio study's
@@ -320,6 +320,9 @@ SLOPE_CHOICES = [  # run in this order (the likeliest first)
     ("materials.steel.youngs_modulus", "ball-stiffness", ["--vary", 'materials.steel.youngs_modulus="20 GPa"']),
     ("bag.radius", "bag-radius", ["--vary", 'bag.radius="8.5 mm","10.5 mm"']),  # at 8 mm the 12% bag is longer than the 80-mm bore section
     ("bag.film.thickness", "film-thickness", ["--vary", 'bag.film.thickness="100 um"']),
+    # One bag for every ratio (the 12% bag's length at the base's lattice fill): it tightens as it fills,
+    # fill fraction 0.17 at 5%, 0.26 at 8%, 0.39 at 12%, where the base's bag grows to keep about 0.39.
+    ("bag.length", "bag-length", ["--vary", 'bag.length="60 mm"']),
 ]
 
 
@@ -604,7 +607,7 @@ def main(argv):
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--slope-choices", help="with --slope: only these (comma-separated: base, tightness, force, ball-stiffness, "
-                   "bag-radius, film-thickness; empty: none run); slope.csv holds every choice whose runs are in --out")
+                   "bag-radius, film-thickness, bag-length; empty: none run); slope.csv holds every choice whose runs are in --out")
     p.add_argument("--clearance-amplitude", default="0.5 N",
                    help='the force at which the clearance study is also run, mode 1, bag radius 7-11 mm (default "0.5 N")')
     p.add_argument("--impact-amplitude", default="0.2 N",

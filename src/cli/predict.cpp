@@ -14,9 +14,14 @@ CLI::App* add_predict(CLI::App& app, Args& args) {
       "structure in dB and %, with its range over the map's 95% intervals, a peak at the band's edge marked, and the map's "
       "interpolation error at the answer (a warning when the map is too coarse for it). Writes OUT/predict.csv and OUT/predict_peaks.csv. "
       "The map must be of the case's damper (its damper.toml; another damper is refused, naming the keys). "
+      "A case of several dampers ([[dampers]]) takes a map per damper and solves their balances together. "
       "A response outside the map is refused (exit 2) with the characterize command that would cover it. See docs/characterize.md.");
   c->add_option("dir", a.dir, "CASE_DIR (holds case.toml): the structure and its sweep's band")->required();
-  c->add_option("--map", a.map, "The map: a directory holding map.csv (bagdem characterize's OUT), or the file")->required();
+  c->add_option("--map", a.maps,
+                "The map: a directory holding map.csv (bagdem characterize's OUT), or the file; with several dampers NAME=DIR for "
+                "damper NAME (repeatable), DIR alone for every damper not named")
+      ->required()
+      ->allow_extra_args(false);
   c->add_option("--amplitude", a.amplitudes, "Force amplitude, e.g. \"0.2 N\" (repeatable; default the case's excitation.amplitude)")
       ->allow_extra_args(false);
   c->add_option("--points", a.points, "Frequencies per mode's band (default 400)")->check(CLI::Range(2, 1000000));

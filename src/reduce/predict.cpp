@@ -195,7 +195,7 @@ FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double
     }
     const double root = std::sqrt(a * b);
     if (const auto Q = amplitudes(root))
-      out.solutions.push_back({root, std::abs(p.at_response.cast<std::complex<double>>().dot(*Q))});
+      out.solutions.push_back({root, std::abs(p.at_response.cast<std::complex<double>>().dot(*Q)), {}});
   }
   if (out.solutions.empty()) out.outside = any_positive && !any_negative ? "above" : any_negative && !any_positive ? "below" : "gap";
   return out;
@@ -203,6 +203,11 @@ FrequencyPrediction predict_at(const Primary& p, const EffectiveMap& map, double
 
 std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& map, double F, const std::vector<double>& frequencies,
                                          int points, Checks checks) {
+  return predict_modes(p, std::vector<MappedDamper>{{&map, p.at_cavity, ""}}, F, frequencies, points, checks);
+}
+
+std::vector<PredictedMode> predict_modes(const Primary& p, const std::vector<MappedDamper>& dampers, double F,
+                                         const std::vector<double>& frequencies, int points, Checks checks) {
   std::vector<PredictedMode> out;
   if (frequencies.empty()) return out;
   const auto [f_lo, f_hi] = std::minmax_element(frequencies.begin(), frequencies.end());
@@ -220,13 +225,16 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
     double corner_peak[5] = {};
     int peak_k = -1;  // where the means' peak lies among the frequencies
     const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
+    std::vector<HarmonicSolution> last[5];  // several dampers: each corner's solutions at the frequency before
     for (int k = 0; k < points; ++k) {
       const double f = points > 1 ? m.lo + (m.hi - m.lo) * k / (points - 1) : m.lo;
       for (int c = 0; c < (checks == Checks::none ? 1 : 5); ++c) {
-        FrequencyPrediction fp = predict_at(p, map, F, f, signs[c][0], signs[c][1]);
+        FrequencyPrediction fp = dampers.size() == 1 ? predict_at(p, *dampers[0].map, F, f, signs[c][0], signs[c][1])
+                                                     : predict_at(p, dampers, F, f, signs[c][0], signs[c][1], &last[c]);
+        last[c] = fp.solutions;
         if (!fp.outside.empty()) {
           if (c == 0) {
-            if (m.outside.empty()) m.outside_why = fp.outside;
+            if (m.outside.empty()) m.outside_why = fp.outside, m.outside_damper = fp.outside_damper;
             m.outside.push_back(f);
           }
           continue;
@@ -236,7 +244,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
             corner_peak[c] = h.response;
             if (c == 0) {
               m.peak_frequency = f, peak_k = k;
-              m.peak_cavity_gamma = h.cavity_amplitude * std::pow(2 * std::numbers::pi * f, 2) / map.g;
+              m.peak_cavity_gamma = h.cavity_amplitude * std::pow(2 * std::numbers::pi * f, 2) / dampers[0].map->g;
             }
           }
         if (c == 0) {
@@ -260,7 +268,11 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const EffectiveMap& m
   }
   if (checks != Checks::all) return out;
   // The resolution check: the interpolation's bounds to the four corners, as the interval's.
-  for (const PredictedMode& b : predict_modes(p, map.interpolation_bounds(), F, frequencies, points, Checks::interval))
+  std::vector<EffectiveMap> bounds;
+  bounds.reserve(dampers.size());
+  std::vector<MappedDamper> bounded = dampers;
+  for (std::size_t k = 0; k < dampers.size(); ++k) bounded[k].map = &bounds.emplace_back(dampers[k].map->interpolation_bounds());
+  for (const PredictedMode& b : predict_modes(p, bounded, F, frequencies, points, Checks::interval))
     for (PredictedMode& m : out)
       if (m.mode == b.mode && b.outside.empty() && b.corners == 4)
         m.interpolation_db = std::max(m.reduction_db - b.reduction_db_lo, b.reduction_db_hi - m.reduction_db);

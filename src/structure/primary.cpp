@@ -65,6 +65,16 @@ Eigen::VectorXcd Primary::steady_amplitudes(double F, double w, std::complex<dou
   return D.partialPivLu().solve(at_force.cast<std::complex<double>>()) * std::complex<double>(0, -F);
 }
 
+Eigen::VectorXcd Primary::steady_amplitudes(double F, double w, const std::vector<Eigen::VectorXd>& at,
+                                            const std::vector<std::complex<double>>& Z) const {
+  Eigen::MatrixXcd D = dynamic_stiffness(*this, w);
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    const Eigen::VectorXcd b = at[k].cast<std::complex<double>>();
+    D += Z[k] * b * b.transpose();
+  }
+  return D.partialPivLu().solve(at_force.cast<std::complex<double>>()) * std::complex<double>(0, -F);
+}
+
 double Primary::bare_cavity_amplitude_max(double F, const std::vector<double>& f, double& w_at) const {
   double best = 0;
   w_at = 0;

@@ -3,6 +3,7 @@
 // levels. Writes OUT/predict.csv (every solution at every frequency) and OUT/predict_peaks.csv (per
 // level and mode the bare and damped peaks and the reduction with its interval), each to a
 // temporary name and renamed.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,10 +35,10 @@ double force_of(const std::string& option, const std::string& text) {
   return *F;
 }
 
-fs::path map_file(const PredictArgs& a) {
-  fs::path map_csv = a.map;
+fs::path map_file(const std::string& given, const std::string& case_dir) {
+  fs::path map_csv = given;
   if (fs::is_directory(map_csv)) map_csv /= "map.csv";
-  if (!fs::exists(map_csv)) throw InputError("--map", "", a.map, "holds no map.csv: run bagdem characterize " + a.dir + " first");
+  if (!fs::exists(map_csv)) throw InputError("--map", "", given, "holds no map.csv: run bagdem characterize " + case_dir + " first");
   return map_csv;
 }
 
@@ -81,22 +82,63 @@ void report_resolution(const PredictedMode& m, double F) {
                  where.c_str(), m.interpolation_db, kInterpolationWarning, m.peak_cavity_gamma, m.peak_frequency);
 }
 
+// The case's dampers with their maps, its own first (reduce/predict.hpp's MappedDamper): `--map DIR`
+// serves every damper not named, `--map NAME=DIR` the damper NAME; each map is checked against its
+// damper. `maps` holds the maps the result points into.
+std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, std::vector<EffectiveMap>& maps) {
+  std::vector<const Scene*> scenes{&scene};
+  std::vector<std::string> names{scene.damper_name};
+  for (const Damper& d : scene.more_dampers) scenes.push_back(d.scene.get()), names.push_back(d.name);
+  std::string all;
+  for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+  std::vector<std::string> given(names.size());
+  std::string every;
+  for (const std::string& m : a.maps) {
+    const std::size_t eq = m.find('=');
+    const auto named = eq == std::string::npos ? names.end() : std::find(names.begin(), names.end(), m.substr(0, eq));
+    if (named == names.end() && eq != std::string::npos && !fs::exists(m) && names.size() > 1)
+      throw InputError("--map", "", m, "names no damper of the case (its dampers: " + all + "): give NAME=DIR or a map's directory");
+    std::string& slot = named == names.end() ? every : given[static_cast<std::size_t>(named - names.begin())];
+    if (!slot.empty())
+      throw InputError("--map", "", m, named == names.end() ? "is a second map for every damper: give one --map DIR, and NAME=DIR for a damper with its own"
+                                                            : "is a second map for damper " + *named);
+    slot = named == names.end() ? m : m.substr(eq + 1);
+  }
+  maps.clear();
+  maps.reserve(names.size());
+  std::vector<MappedDamper> out;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& dir = given[k].empty() ? every : given[k];
+    if (dir.empty())
+      throw InputError("--map", "", "", "damper " + names[k] + " has no map: give --map " + names[k] + "=DIR (or one --map DIR for every damper)");
+    const fs::path map_csv = map_file(dir, a.dir);
+    maps.push_back(read_effective_map(map_csv));
+    require_same_damper(map_csv, *scenes[k], a.dir);
+    out.push_back({&maps.back(), scenes[k]->primary->at_cavity, names[k]});
+  }
+  return out;
+}
+
 // --random: the RMS response to each level, with its range over the map's interval corners;
 // OUT/predict_random.csv.
 int predict_random_command(const PredictArgs& a, const Scene& scene) {
   if (!scene.primary) throw InputError(scene.case_file, "primary", "", "predict needs a structure ([primary])");
   if (a.band.size() != 2 || !(a.band[0] > 0) || !(a.band[1] > a.band[0]))
     throw InputError("--band", "", "", "--random needs the force's band lo,hi in Hz with 0 < lo < hi");
-  const fs::path map_csv = map_file(a);
-  const EffectiveMap map = read_effective_map(map_csv);
-  require_same_damper(map_csv, scene, a.dir);
+  if (!scene.more_dampers.empty())
+    throw InputError("--random", "", "", "predicts the random response with one damper; the case holds " +
+                                             std::to_string(1 + scene.more_dampers.size()) + ": predict their stepped sine without --random");
+  std::vector<EffectiveMap> maps;
+  damper_maps(a, scene, maps);
+  const EffectiveMap& map = maps.front();
+  const std::string map_csv = map.source;
   std::vector<std::vector<double>> rows;
   for (const std::string& t : a.random) {
     const double F = force_of("--random", t);
     const RandomPredictionRange range = predict_random_range(*scene.primary, map, F, a.band[0], a.band[1], a.lines);
     const RandomPrediction& r = range.mean;
     if (!r.outside.empty() || !r.converged)
-      throw InputError("--map", "", map_csv.string(),
+      throw InputError("--map", "", map_csv,
                        "does not cover the random response at " + short_force(F) + " RMS (" +
                            (r.outside.empty() ? std::string("the iteration did not converge") : r.outside) +
                            "). Extend the map: bagdem characterize " + a.dir + " with --band covering the force's and --gamma covering "
@@ -123,21 +165,20 @@ int predict_command(const PredictArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   return reporting_errors([&] {
     const Scene scene = load_case(a.dir, a.sets);
-    refuse_several_dampers(scene, "bagdem predict", "predicts with one damper's map");
     if (!a.random.empty()) return predict_random_command(a, scene);
     if (!scene.primary || !scene.primary->stepped_sine)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");
     const Primary& P = *scene.primary;
-    const fs::path map_csv = map_file(a);
-    const EffectiveMap map = read_effective_map(map_csv);
-    require_same_damper(map_csv, scene, a.dir);
+    std::vector<EffectiveMap> maps;
+    const std::vector<MappedDamper> dampers = damper_maps(a, scene, maps);
+    const bool several = dampers.size() > 1;
     std::vector<double> forces;
     for (const std::string& t : a.amplitudes) forces.push_back(force_of("--amplitude", t));
     if (forces.empty()) forces.push_back(P.amplitude);
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
     std::vector<std::vector<double>> rows, peaks;
     for (double F : forces) {
-      const std::vector<PredictedMode> modes = predict_modes(P, map, F, P.stepped_sine->frequencies, a.points);
+      const std::vector<PredictedMode> modes = predict_modes(P, dampers, F, P.stepped_sine->frequencies, a.points);
       if (modes.empty())
         throw InputError(scene.case_file, "excitation", "",
                          "the sweep's band holds no natural frequency of the structure (bagdem check lists them): no peak to predict; set "
@@ -146,15 +187,17 @@ int predict_command(const PredictArgs& a) {
         if (!m.outside.empty()) {
           char range[200];
           std::snprintf(range, sizeof range, "%.6g-%.6g Hz", m.outside.front(), m.outside.back());
-          const std::string why = m.outside_why == "band"    ? "the frequency is outside the map's band"
-                                  : m.outside_why == "below" ? "the cavity's amplitude is below the map's"
-                                  : m.outside_why == "above" ? "the cavity's amplitude is above the map's"
-                                                             : "the map's cells there have no figures (no steady start)";
+          const MappedDamper& d = dampers[m.outside_damper];
+          const std::string whose = several ? "damper " + d.name + "'s " : "the ";
+          const std::string why = m.outside_why == "band"    ? "the frequency is outside " + whose + "map's band"
+                                  : m.outside_why == "below" ? whose + "cavity's amplitude is below its map's"
+                                  : m.outside_why == "above" ? whose + "cavity's amplitude is above its map's"
+                                                             : whose + "map's cells there have no figures (no steady start)";
           const std::string hint = m.outside_why == "band"    ? "--band covering " + std::string(range)
                                    : m.outside_why == "below" ? "--gamma with a smaller lower end"
                                    : m.outside_why == "above" ? "--gamma with a larger upper end"
                                                               : "more --cycles or --skip (or --seeds)";
-          throw InputError("--map", "", map_csv.string(),
+          throw InputError("--map", "", d.map->source,
                            "does not cover the response of mode " + std::to_string(m.mode) + " at " + short_force(F) + ": at " +
                                std::to_string(m.outside.size()) + " of its frequencies (" + range + ") " + why +
                                ". Extend the map: bagdem characterize " + a.dir + " " + hint + " (nothing is extrapolated)");
@@ -163,6 +206,7 @@ int predict_command(const PredictArgs& a) {
           for (std::size_t b = 0; b < m.points[k].solutions.size(); ++b) {
             const HarmonicSolution& h = m.points[k].solutions[b];
             rows.push_back({F, double(m.mode), m.points[k].frequency, double(b), h.cavity_amplitude, h.response, m.bare[k]});
+            for (std::size_t d = 1; d < h.cavities.size(); ++d) rows.back().push_back(h.cavities[d]);
           }
         const double pct = reduction_percent(m.reduction_db);
         peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
@@ -179,10 +223,12 @@ int predict_command(const PredictArgs& a) {
       }
     }
     fs::create_directories(out);
-    write_table_csv(out / "predict.csv",
-                    {{"force", "N"}, {"mode", "1"}, {"frequency", "Hz"}, {"branch", "1"}, {"cavity_amplitude", "m"}, {"response", "m"},
-                     {"bare_response", "m"}},
-                    rows);
+    std::vector<TableColumn> columns = {{"force", "N"},           {"mode", "1"},     {"frequency", "Hz"},     {"branch", "1"},
+                                        {"cavity_amplitude", "m"}, {"response", "m"}, {"bare_response", "m"}};
+    std::vector<std::string> names;  // TableColumn holds the names' characters
+    for (std::size_t d = 1; d < dampers.size(); ++d) names.push_back("cavity_amplitude_" + dampers[d].name);
+    for (const std::string& n : names) columns.push_back({n.c_str(), "m"});
+    write_table_csv(out / "predict.csv", columns, rows);
     write_table_csv(out / "predict_peaks.csv",
                     {{"force", "N"}, {"mode", "1"}, {"bare_frequency", "Hz"}, {"bare_peak", "m"}, {"frequency", "Hz"}, {"peak", "m"},
                      {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"},

@@ -78,6 +78,16 @@ EffectiveMap read_effective_map(const std::filesystem::path& map_csv);
 struct HarmonicSolution {
   double cavity_amplitude = 0;  // X (unit: m)
   double response = 0;          // |Y| at x_a (unit: m)
+  std::vector<double> cavities;  // several dampers: every cavity's X in their order (the first is
+                                 // cavity_amplitude); empty with one (unit: m)
+};
+
+// One damper of a structure that carries several (a case's [[dampers]]): its map and the shapes'
+// values at its cavity, phi(x_b) (Primary::at_cavity of its own scene).
+struct MappedDamper {
+  const EffectiveMap* map = nullptr;
+  Eigen::VectorXd at_cavity;
+  std::string name;
 };
 
 // The solutions at one frequency. `outside` says why there is none: "" (solutions found), "below"
@@ -87,10 +97,24 @@ struct FrequencyPrediction {
   double frequency = 0;  // (unit: Hz)
   std::vector<HarmonicSolution> solutions;
   std::string outside;
+  std::size_t outside_damper = 0;  // several dampers: whose map the response left (its index)
 };
 
 FrequencyPrediction predict_at(const Primary& primary, const EffectiveMap& map, double force, double frequency, int m_sign = 0,
                                int c_sign = 0);
+
+// Several dampers (reduce/predict_several.cpp): each contents' impedance read from its own map at
+// its own cavity's amplitude, so the cavities' amplitudes X_k solve together
+//     X_k = |phi_k . Q(F, w, Z_1(X_1, w), ..., Z_n(X_n, w))|,   k = 1..n,
+// (Primary::steady_amplitudes with several cavities), n equations in log X solved by Newton's
+// method with a difference Jacobian and a halving line search, from the solutions at the
+// frequency before (`near`: the branches continued), from the bare structure's amplitudes and from
+// them scaled by 2, 1/2, ..., 1/256 (the damped response lies below the bare one): distinct roots are
+// the branches. One damper takes predict_at above (the same bits). A frequency with no root says
+// "above" or "below" when a start ended against that end of a map's range, else "gap", and
+// `outside_damper` which damper's map.
+FrequencyPrediction predict_at(const Primary& primary, const std::vector<MappedDamper>& dampers, double force, double frequency,
+                               int m_sign = 0, int c_sign = 0, const std::vector<HarmonicSolution>* near = nullptr);
 
 // Band-limited random force (excitation.kind = "random": a multisine of `lines` equal lines evenly
 // over [lo, hi], its ends included, RMS F_rms): the equivalent-linear response. The contents' impedance is read at one
@@ -138,6 +162,7 @@ struct PredictedMode {
   double interpolation_db = NAN;
   std::vector<double> outside;            // frequencies the map does not cover (the prediction is then refused)
   std::string outside_why;                // the first one's reason: below, above, band
+  std::size_t outside_damper = 0;         // several dampers: whose map it is (index)
 };
 
 // An estimated interpolation error above this is "a map too coarse for the answer" (unit: dB): a
@@ -149,6 +174,11 @@ enum class Checks { none, interval, all };
 // The case's evaluated modes (Primary::evaluated_modes over `frequencies`, each band the span of
 // the frequencies nearest its mode), `points` evenly spaced frequencies per band.
 std::vector<PredictedMode> predict_modes(const Primary& primary, const EffectiveMap& map, double force,
+                                         const std::vector<double>& frequencies, int points = 400, Checks checks = Checks::all);
+// The same with several dampers, every map shifted to the same corner of its interval together
+// (and to its interpolation bounds together); `primary` the case's own damper's (its mass matrix
+// holds every cavity's mass). One damper gives the bits of the call above.
+std::vector<PredictedMode> predict_modes(const Primary& primary, const std::vector<MappedDamper>& dampers, double force,
                                          const std::vector<double>& frequencies, int points = 400, Checks checks = Checks::all);
 
 }  // namespace bagdem

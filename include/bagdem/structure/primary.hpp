@@ -131,6 +131,10 @@ struct Primary {
   // contents of dynamic stiffness Z at the cavity (their force on it Re(-Z U e^{iwt}), U the
   // cavity's amplitude; Z = -w^2 m for a rigid mass m, i w c for a dashpot c).
   Eigen::VectorXcd steady_amplitudes(double F, double w, std::complex<double> Z) const;
+  // The same with several cavities (a case's [[dampers]]): contents of dynamic stiffness Z[k] at
+  // the cavity of shape at[k] (phi at its x_b), each force Re(-Z[k] U_k e^{iwt}), U_k = at[k] . Q.
+  Eigen::VectorXcd steady_amplitudes(double F, double w, const std::vector<Eigen::VectorXd>& at,
+                                     const std::vector<std::complex<double>>& Z) const;
   // Amplitude of the cavity's displacement in that steady state (unit: m).
   double bare_cavity_amplitude(double F, double w) const;
   // Its largest value over [f_lo, f_hi] (Hz): the given frequencies and a fine logarithmic scan

@@ -92,7 +92,7 @@ void write_map(const std::string& out_dir, const MapPlan& grid, const std::vecto
 // structure with the map's damper, without DEM.
 struct PredictArgs {
   std::string dir;                       // CASE_DIR
-  std::string map;                       // a directory holding map.csv, or the file
+  std::vector<std::string> maps;         // --map: a directory holding map.csv (or the file) for every damper, or NAME=DIR for one
   std::vector<std::string> amplitudes;   // force levels as written ("0.2 N"); default the case's
   int points = 400;                      // frequencies per mode's band
   std::vector<std::string> random;       // --random: RMS force levels of a band-limited random force ("0.05 N")

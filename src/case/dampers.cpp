@@ -117,9 +117,10 @@ void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<Damper
     for (const std::string& w : others[k].warnings) s.warnings.push_back("damper " + keys[k].name + ": " + w);
   }
   // One structure: every cavity's mass in the mass matrix of each.
-  Eigen::MatrixXd M = s.primary->mass;  // the case's own cavity's mass in it already
-  for (const Scene& d : others) M += d.primary->cavity_mass * d.primary->at_cavity * d.primary->at_cavity.transpose();
-  const Eigen::MatrixXd M_inverse = M.inverse();
+  Primary all = *s.primary;  // the case's own cavity's mass in it already
+  for (const Scene& d : others) all.carry_cavity(d.primary->cavity_mass, d.primary->at_cavity);
+  const Eigen::MatrixXd& M = all.mass;
+  const Eigen::MatrixXd& M_inverse = all.mass_inverse;
   // A sweep's predicted start (excitation.predict) models one damper's contents: off with several.
   std::shared_ptr<const Primary::SteppedSine> sweep;
   if (s.primary->stepped_sine) {

@@ -34,6 +34,10 @@ CLI::App* add_design(CLI::App& app, Args& args) {
   c->add_option("--skip", a.map.skip, "The maps' runs: start-up cycles left out, at least (default 5)")->check(CLI::Range(0, 100000));
   c->add_option("--window-time", a.map.window_time, "The maps' runs: seconds reduced, at least (default 0.25)")->check(CLI::Range(0.0, 1e4));
   c->add_option("--skip-time", a.map.skip_time, "The maps' runs: seconds of start-up left out, at least (default 0.1)")->check(CLI::Range(0.0, 1e4));
+  c->add_option("--dampers", a.dampers,
+                "1: place one bag; 2: also a pair of bags at two places of a beam, their added masses together within --budget, "
+                "the worst chosen mode maximized (OUT/design-pairs.csv, OUT/chosen-pair; --verify checks the best pairs too)")
+      ->check(CLI::Range(1, 2));
   c->add_option("--verify", a.verify, "Candidates run coupled, each at its best position, best first (default 3; 0: none)")->check(CLI::Range(0, 1000));
   c->add_option("--verify-seeds", a.verify_seeds, "Starts of each coupled check (default 3)")->check(CLI::Range(1, 1000));
   add_budget_options(c, a.jobs, a.threads, a.cores, "design", "this machine's");

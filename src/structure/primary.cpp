@@ -65,6 +65,11 @@ Eigen::VectorXcd Primary::steady_amplitudes(double F, double w, std::complex<dou
   return D.partialPivLu().solve(at_force.cast<std::complex<double>>()) * std::complex<double>(0, -F);
 }
 
+void Primary::carry_cavity(double m, const Eigen::VectorXd& at) {
+  mass += m * at * at.transpose();
+  mass_inverse = mass.inverse();
+}
+
 Eigen::VectorXcd Primary::steady_amplitudes(double F, double w, const std::vector<Eigen::VectorXd>& at,
                                             const std::vector<std::complex<double>>& Z) const {
   Eigen::MatrixXcd D = dynamic_stiffness(*this, w);

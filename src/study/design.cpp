@@ -23,6 +23,7 @@
 #include "bagdem/study/design_files.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
+#include "design_verify.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
@@ -148,115 +149,6 @@ void build_map(const DesignArgs& a, const CharacterizeArgs& grid_args, const Stu
   });
 }
 
-// The coupled check of the best: a zip of their keys (and place, x/L), seeds each; its points done
-// before and its core budget. The same on every rank.
-struct VerifyStudy {
-  Plan plan;
-  std::vector<bool> done;
-  Budget budget;
-};
-
-VerifyStudy verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, double length,
-                         const std::vector<std::pair<std::size_t, double>>& best, const Ranks& ranks) {
-  StudySpec spec = cand;
-  spec.out_dir = (fs::path(cand.out_dir) / "verify").string();
-  spec.source = "bagdem design";
-  spec.command = "design";
-  spec.combine = Combine::zip;
-  spec.seeds = a.verify_seeds;
-  spec.tables = {"peaks", "reduced"};
-  spec.vary.clear();
-  const Plan grid = make_plan(cand);
-  for (std::size_t k = 0; k < cand.vary.size(); ++k) {
-    Varied z{cand.vary[k].key, {}};
-    for (const auto& [candidate, x] : best) z.values.push_back(cand.vary[k].values.at(grid.points.at(candidate).choice.at(k)));
-    spec.vary.push_back(z);
-  }
-  if (beam) {
-    Varied at{"primary.attach", {}};
-    for (const auto& [candidate, x] : best) at.values.push_back({"\"" + short_text(x * length) + " m\"", short_text(x * length) + " m"});
-    spec.vary.push_back(at);
-  }
-  Plan plan = make_plan(spec);
-  validate_plan(plan);
-  try {
-    std::vector<bool> done = done_points(plan);
-    return {plan, done, resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design")};
-  } catch (const InputError& e) {
-    throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
-  }
-}
-
-// The best `a.verify` candidates, each at its best position, run coupled (the lead's; the other
-// ranks are sent the pairs). Neighbouring positions of one bag would tell the ranking of bags nothing.
-bool verify_rows(const DesignArgs& a, const StudySpec& cand, bool beam, double length, const std::vector<int>& modes, const Ranks& ranks,
-                 std::vector<DesignRow>& rows) {
-  std::vector<DesignRow*> best;
-  for (DesignRow& r : rows)
-    if (r.status.ranked() && static_cast<int>(best.size()) < a.verify &&
-        std::none_of(best.begin(), best.end(), [&](const DesignRow* b) { return b->candidate == r.candidate; }))
-      best.push_back(&r);  // the rows are ranked: a candidate's first is its best position
-  if (best.empty()) return false;
-  std::vector<std::pair<std::size_t, double>> pairs;
-  std::vector<double> task = {2};
-  for (const DesignRow* r : best) {
-    pairs.emplace_back(r->candidate, r->position);
-    task.push_back(static_cast<double>(r->candidate)), task.push_back(r->position);
-  }
-  const VerifyStudy v = verify_study(a, cand, beam, length, pairs, ranks);
-  const Plan& plan = v.plan;
-  ranks.broadcast(task);
-  const std::vector<bool> finished =
-      run_round(plan, v.done, v.budget, a.executable, ranks, "verify: ", [&](const std::vector<bool>& f) { merge_tables(plan, f); });
-  // Per pair, per start, per chosen mode: the reduction.
-  std::vector<std::map<std::size_t, std::vector<double>>> x(best.size());
-  if (modes == std::vector<int>{0}) {  // a random force: each start's in-band RMS against the bare structure's
-    for (const Point& p : plan.points)
-      if (finished[p.index]) {
-        const Summary run = read_summary(fs::path(plan.point_dir(p)) / "summary.json");
-        const double rms = run.structure && run.structure->band ? run.structure->band->response_rms : NAN;
-        x[p.combination][p.index] = {20 * std::log10(best[p.combination]->bare_rms / rms)};
-      }
-  } else if (const std::optional<Table> t = merge_table(plan, finished, "peaks")) {
-    const auto col = [&](const std::string& name) {
-      return static_cast<std::size_t>(std::find(t->columns.begin(), t->columns.end(), name) - t->columns.begin());
-    };
-    const std::size_t c_mode = col("mode [1]"), c_db = col("reduction_dB [dB]");
-    for (const auto& row : t->rows) {
-      if (row[1] != "done" || c_mode >= row.size() || c_db >= row.size() || row[c_db].empty()) continue;
-      const Point& p = plan.points.at(std::stoul(row[0]));
-      const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(std::strtod(row[c_mode].c_str(), nullptr)));
-      if (k == modes.end()) continue;
-      auto& start = x[p.combination][p.index];
-      start.resize(modes.size(), NAN);
-      start[static_cast<std::size_t>(k - modes.begin())] = std::strtod(row[c_db].c_str(), nullptr);
-    }
-  }
-  bool failed = false;
-  for (bool f : finished) failed = failed || !f;
-  for (std::size_t p = 0; p < best.size(); ++p) {
-    DesignRow& r = *best[p];
-    r.dem_db.assign(modes.size(), NAN), r.dem_db_ci95.assign(modes.size(), NAN);
-    // Each mode over the starts; the objective as each start saw it (its worst mode), over the starts.
-    std::vector<double> worst;
-    for (std::size_t k = 0; k < modes.size(); ++k) {
-      std::vector<double> v;
-      for (const auto& [point, db] : x[p])
-        if (std::isfinite(db[k])) v.push_back(db[k]);
-      const Interval in = independent_interval(v);
-      r.dem_db[k] = in.mean, r.dem_db_ci95[k] = in.ci95;
-    }
-    for (const auto& [point, db] : x[p]) {
-      const double w = *std::min_element(db.begin(), db.end());
-      if (std::all_of(db.begin(), db.end(), [](double d) { return std::isfinite(d); })) worst.push_back(w);
-    }
-    r.dem_seeds = static_cast<int>(worst.size());
-    const Interval in = independent_interval(worst);
-    r.dem_objective = in.mean, r.dem_objective_ci95 = in.ci95;
-  }
-  return failed;
-}
-
 // A ranked candidate's map, if its runs gave one; a map of another damper than the candidate's (a
 // map directory from elsewhere) takes the candidate out, saying why.
 std::optional<EffectiveMap> candidate_map(const StudySpec& cand, Candidate& c) {
@@ -284,6 +176,7 @@ struct Search {
   std::vector<double> positions;   // x/L (NaN: not a beam)
   double structure_mass = 0, length = 0;
   bool beam = false;
+  std::vector<std::optional<EffectiveMap>> maps;  // per candidate, once built (predict_rows)
 };
 
 // The modes whose worst reduction is maximized: the case's, or --modes among them; {0} for a
@@ -345,7 +238,7 @@ Search set_up_search(const DesignArgs& a) {
   const fs::path out = a.out.empty() ? fs::path(a.dir) / "design" : fs::path(a.out);
   z.cand = candidate_spec(a, fs::absolute(out).lexically_normal());
   const Scene s = load_case(z.cand.case_dir, z.cand.sets);
-  refuse_several_dampers(s, "bagdem design", "places one damper");
+  refuse_several_dampers(s, "bagdem design", "places one damper, or a pair with --dampers 2");
   if (!s.primary || (!s.primary->stepped_sine && !(s.primary->random_hi > 0)))
     throw InputError(s.case_file, "excitation.kind", "",
                      "design needs a structure ([primary]) and a stepped-sine sweep (its modes' peaks are reduced) or a random force "
@@ -355,6 +248,9 @@ Search set_up_search(const DesignArgs& a) {
   z.beam = P.kind == "beam" || P.kind == "fe-beam";
   z.length = P.length;
   z.modes = chosen_modes(a, s, z.map);
+  if (a.dampers == 2 && (!z.beam || z.modes == std::vector<int>{0}))
+    throw InputError("--dampers", "", "2", "places a pair of bags along a beam ([primary] kind beam or fe-beam) under a stepped sine; " +
+                                               std::string(z.beam ? "this case's force is random" : "this case's structure is no beam"));
   if (z.positions.empty() && z.beam)
     for (int k = 1; k <= 19; ++k) z.positions.push_back(0.05 * k);
   if (!z.beam) z.positions = {NAN};
@@ -385,7 +281,7 @@ std::vector<DesignRow> predict_rows(Search& z) {
   std::vector<DesignRow> rows;
   for (std::size_t i = 0; i < z.cs.size(); ++i) {
     Candidate& c = z.cs[i];
-    const std::optional<EffectiveMap> effective = candidate_map(z.cand, c);
+    const std::optional<EffectiveMap>& effective = z.maps.emplace_back(candidate_map(z.cand, c));
     for (double x : z.positions) {
       DesignRow r;
       r.candidate = i, r.given = c.given, r.position = x, r.added_mass = c.added_mass, r.mass_ratio = c.added_mass / z.structure_mass;
@@ -445,9 +341,7 @@ int design_command(const DesignArgs& a) {
           const MapStudy s = map_study(a, z.map, z.cand, z.cs.at(i), *ranks);
           run_round(s.plan, s.done, s.budget, a.executable, *ranks, map_prefix(k, n), nullptr);
         } else {
-          std::vector<std::pair<std::size_t, double>> pairs;
-          for (std::size_t j = 1; j + 1 < task.size(); j += 2) pairs.emplace_back(static_cast<std::size_t>(task[j]), task[j + 1]);
-          const VerifyStudy v = verify_study(a, z.cand, z.beam, z.length, pairs, *ranks);
+          const VerifyStudy v = verify_study(a, z.cand, z.beam, z.length, verify_task_rows(task), *ranks);
           run_round(v.plan, v.done, v.budget, a.executable, *ranks, "verify: ", nullptr);
         }
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead
@@ -476,16 +370,29 @@ int design_command(const DesignArgs& a) {
     rank_rows(rows);
     // 3. The coupled check of the best.
     if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, rows) || failed;
-    // 4. The files.
     std::vector<std::vector<std::string>> sets;
-    for (const Candidate& c : z.cs) sets.push_back(c.sets);
+    std::vector<const EffectiveMap*> maps;
+    for (std::size_t i = 0; i < z.cs.size(); ++i) sets.push_back(z.cs[i].sets), maps.push_back(z.maps[i] ? &*z.maps[i] : nullptr);
+    // 4. Pairs of bags: predicted, the best checked.
+    std::vector<DesignRow> pairs;
+    if (a.dampers == 2) {
+      pairs = predict_pairs(z.cand.case_dir, sets, maps, rows, z.modes, a.budget * z.structure_mass);
+      if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, pairs) || failed;
+    }
+    // 5. The files.
     const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
     write_design(sum, rows);
-    const std::string chosen = write_chosen_case(sum, rows, sets);
+    std::string chosen = write_chosen_case(sum, rows, sets);
+    if (a.dampers == 2) {
+      write_design(sum, pairs, true);
+      const std::string pair = write_chosen_case(sum, pairs, sets);
+      if (!pair.empty()) chosen += (chosen.empty() ? "" : ", ") + pair;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     print_design(sum, rows);
-    std::printf("design %s: %.1f s wall -> %s/design.csv%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
-                chosen.empty() ? "" : (", " + chosen).c_str());
+    if (a.dampers == 2) print_design(sum, pairs);
+    std::printf("design %s: %.1f s wall -> %s/design.csv%s%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
+                a.dampers == 2 ? ", design-pairs.csv" : "", chosen.empty() ? "" : (", " + chosen).c_str());
     code = failed ? kExitRunError : 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -49,20 +49,35 @@ Status Status::parse(const std::string& t) {
 namespace {
 std::string cell(double x) { return std::isfinite(x) ? short_text(x) : ""; }
 
-// The overrides that make a row's case: its candidate's, then its place on a beam.
+// The overrides that make a row's case: its candidate's, then its place on a beam, then a pair's
+// second bag.
 std::vector<std::string> row_sets(const DesignSummary& s, const DesignRow& r, const std::vector<std::vector<std::string>>& sets) {
   Overrides o(sets.at(r.candidate));
   if (s.beam) o.set(keys::attach, r.position * s.length);
-  return std::move(o).sets();
+  std::vector<std::string> out = std::move(o).sets();
+  if (r.pair) out.push_back("dampers=" + second_damper(candidate_keys(s.candidates, r.candidate2), r.attach2));
+  return out;
 }
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> candidate_keys(const StudySpec& cand, std::size_t c) {
+  const Plan grid = make_plan(cand);
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (std::size_t k = 0; k < cand.vary.size(); ++k) keys.emplace_back(cand.vary[k].key, cand.vary[k].values.at(grid.points.at(c).choice.at(k)).toml);
+  return keys;
+}
 
 namespace {
 // The columns of design.csv, in order, for the chosen modes and the varied keys.
 std::vector<std::string> design_columns(const DesignTable& t) {
   std::vector<std::string> head = {"rank [1]", "status"};
   for (const std::string& v : t.varied) head.push_back(v);
-  for (const char* c : {"position_xL [1]", "attach [m]", "added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
+  for (const char* c : {"position_xL [1]", "attach [m]"}) head.push_back(c);
+  if (t.pairs) {
+    for (const std::string& v : t.varied) head.push_back(v + "_2");
+    for (const char* c : {"position_xL_2 [1]", "attach_2 [m]"}) head.push_back(c);
+  }
+  for (const char* c : {"added_mass [kg]", "mass_ratio [1]"}) head.push_back(c);
   for (int m : t.modes)
     for (const char* c : {"reduction_dB", "reduction_dB_lo", "reduction_dB_hi"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
   for (const char* c : {"objective_dB [dB]", "objective_dB_lo [dB]", "objective_dB_hi [dB]", "at_band_edge [1]", "interpolation_dB [dB]",
@@ -71,6 +86,7 @@ std::vector<std::string> design_columns(const DesignTable& t) {
   for (int m : t.modes)
     for (const char* c : {"dem_reduction_dB", "dem_reduction_dB_ci95"}) head.push_back(std::string(c) + "_" + mode_label(m) + " [dB]");
   for (const char* c : {"dem_objective_dB [dB]", "dem_objective_dB_ci95 [dB]", "map"}) head.push_back(c);
+  if (t.pairs) head.push_back("map_2");
   return head;
 }
 
@@ -78,7 +94,12 @@ std::vector<std::string> design_columns(const DesignTable& t) {
 std::vector<std::string> design_cells(const DesignTable& t, const DesignRow& r) {
   std::vector<std::string> c = {r.rank ? std::to_string(r.rank) : "", r.status.text()};
   c.insert(c.end(), r.given.begin(), r.given.end());
-  for (double x : {r.position, r.attach, r.added_mass, r.mass_ratio}) c.push_back(cell(x));
+  for (double x : {r.position, r.attach}) c.push_back(cell(x));
+  if (t.pairs) {
+    c.insert(c.end(), r.given2.begin(), r.given2.end());
+    for (double x : {r.position2, r.attach2}) c.push_back(cell(x));
+  }
+  for (double x : {r.added_mass, r.mass_ratio}) c.push_back(cell(x));
   for (std::size_t k = 0; k < t.modes.size(); ++k)
     for (double x : {r.db[k], r.db_lo[k], r.db_hi[k]}) c.push_back(cell(x));
   for (double x : {r.objective, r.objective_lo, r.objective_hi}) c.push_back(cell(x));
@@ -91,6 +112,7 @@ std::vector<std::string> design_cells(const DesignTable& t, const DesignRow& r) 
   c.push_back(cell(r.dem_objective));
   c.push_back(cell(r.dem_objective_ci95));
   c.push_back(fs::path(r.map).filename().string());
+  if (t.pairs) c.push_back(fs::path(r.map2).filename().string());
   return c;
 }
 
@@ -149,6 +171,7 @@ DesignTable read_design_csv(const fs::path& path) {
   if (t.find("rank") != 0 || status != 1 || position >= t.names.size())
     throw InputError(t.path, "", "", "is not a design.csv: its columns do not start rank, status, the varied keys, position_xL");
   d.varied.assign(t.names.begin() + 2, t.names.begin() + static_cast<std::ptrdiff_t>(position));
+  d.pairs = t.find("position_xL_2") < t.names.size();
   for (std::size_t k = 0; k < t.names.size(); ++k) {
     const std::string& n = t.names[k];
     const std::string prefix = "reduction_dB_";
@@ -172,7 +195,12 @@ DesignTable read_design_csv(const fs::path& path) {
       c.refuse(status, "is none of the statuses design writes (docs/bag-design.md)");
     }
     for (std::size_t k = 0; k < d.varied.size(); ++k) r.given.push_back(c.next());
-    r.position = c.number(), r.attach = c.number(), r.added_mass = c.number(), r.mass_ratio = c.number();
+    r.position = c.number(), r.attach = c.number();
+    if ((r.pair = d.pairs)) {
+      for (std::size_t k = 0; k < d.varied.size(); ++k) r.given2.push_back(c.next());
+      r.position2 = c.number(), r.attach2 = c.number();
+    }
+    r.added_mass = c.number(), r.mass_ratio = c.number();
     for (std::size_t k = 0; k < d.modes.size(); ++k) r.db.push_back(c.number()), r.db_lo.push_back(c.number()), r.db_hi.push_back(c.number());
     r.objective = c.number(), r.objective_lo = c.number(), r.objective_hi = c.number();
     r.at_band_edge = c.count();
@@ -182,15 +210,16 @@ DesignTable read_design_csv(const fs::path& path) {
     for (std::size_t k = 0; k < d.modes.size(); ++k) r.dem_db.push_back(c.number()), r.dem_db_ci95.push_back(c.number());
     r.dem_objective = c.number(), r.dem_objective_ci95 = c.number();
     r.map = c.next();
+    if (d.pairs) r.map2 = c.next();
     d.rows.push_back(std::move(r));
   }
   return d;
 }
 
-void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
-  DesignTable t{{}, s.modes, rows};
+void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows, bool pairs) {
+  DesignTable t{{}, s.modes, rows, pairs};
   for (const Varied& v : s.candidates.vary) t.varied.push_back(v.key);
-  write_design_csv(fs::path(s.candidates.out_dir) / "design.csv", t);
+  write_design_csv(fs::path(s.candidates.out_dir) / (pairs ? "design-pairs.csv" : "design.csv"), t);
 }
 
 const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {
@@ -206,14 +235,16 @@ const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {
 std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows, const std::vector<std::vector<std::string>>& sets) {
   const DesignRow* r = chosen_row(rows);
   if (!r) return "";
-  const fs::path from = s.candidates.case_dir, to = fs::path(s.candidates.out_dir) / "chosen", part = to.string() + ".part";
+  const fs::path from = s.candidates.case_dir, to = fs::path(s.candidates.out_dir) / (r->pair ? "chosen-pair" : "chosen"),
+                 part = to.string() + ".part";
   fs::remove_all(part);
   fs::create_directories(part);
   for (const fs::directory_entry& e : fs::directory_iterator(from))
     if (e.is_regular_file() && e.path().filename() != "case.toml") fs::copy_file(e.path(), part / e.path().filename());
   const std::vector<std::string> o = row_sets(s, *r, sets);
-  std::string header = "# The bag chosen by bagdem design (" + s.candidates.out_dir + "/design.csv, rank " + std::to_string(r->rank) + "): " +
-                       from.string() + "/case.toml with\n";
+  std::string header = std::string(r->pair ? "# The pair of bags" : "# The bag") + " chosen by bagdem design (" + s.candidates.out_dir +
+                       (r->pair ? "/design-pairs.csv" : "/design.csv") + ", rank " + std::to_string(r->rank) + "): " + from.string() +
+                       "/case.toml with\n";
   for (const std::string& x : o) header += "#   " + x + "\n";
   char figures[240];
   std::snprintf(figures, sizeof figures, "# Predicted worst-mode reduction %.2f dB (%.2f to %.2f)", r->objective, r->objective_lo, r->objective_hi);
@@ -231,18 +262,25 @@ std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRo
 }
 
 void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
-  std::printf("rank  %-44s %9s %8s  %-26s %s\n", "candidate", "x/L", "mass", "worst mode, predicted [dB]", "coupled DEM [dB]");
+  const bool pairs = !rows.empty() && rows.front().pair;
+  std::printf("rank  %-44s %9s %8s  %-26s %s\n", pairs ? "pair of bags (candidate @ x/L + candidate @ x/L)" : "candidate", "x/L", "mass",
+              "worst mode, predicted [dB]", "coupled DEM [dB]");
   int shown = 0;
   for (const DesignRow& r : rows) {
     if (!r.status.ranked() || (shown >= 10 && !r.pareto && !std::isfinite(r.dem_objective))) continue;
     ++shown;
     std::string v;
     for (std::size_t k = 0; k < r.given.size(); ++k) v += (k ? ", " : "") + r.given[k];
+    if (r.pair) {  // both bags, each at its place
+      v += " @ " + short_text(r.position) + " +";
+      for (std::size_t k = 0; k < r.given2.size(); ++k) v += (k ? ", " : " ") + r.given2[k];
+      v += " @ " + short_text(r.position2);
+    }
     char pred[64], dem[64] = "";
     std::snprintf(pred, sizeof pred, "%s%6.2f (%.2f to %.2f)%s", r.at_band_edge ? "<=" : "", r.objective, r.objective_lo, r.objective_hi,
                   r.pareto ? " P" : "");
     if (std::isfinite(r.dem_objective)) std::snprintf(dem, sizeof dem, "%.2f +- %.2f (%d)", r.dem_objective, r.dem_objective_ci95, r.dem_seeds);
-    std::printf("%4d  %-44s %9s %7.2f%%  %-26s %s\n", r.rank, v.c_str(), s.beam ? short_text(r.position).c_str() : "-", 100 * r.mass_ratio, pred, dem);
+    std::printf("%4d  %-44s %9s %7.2f%%  %-26s %s\n", r.rank, v.c_str(), s.beam && !r.pair ? short_text(r.position).c_str() : "-", 100 * r.mass_ratio, pred, dem);
   }
   std::printf("(P: on the Pareto front of reduction against added mass)\n");
   int edge = 0;

@@ -131,6 +131,8 @@ struct Primary {
   // contents of dynamic stiffness Z at the cavity (their force on it Re(-Z U e^{iwt}), U the
   // cavity's amplitude; Z = -w^2 m for a rigid mass m, i w c for a dashpot c).
   Eigen::VectorXcd steady_amplitudes(double F, double w, std::complex<double> Z) const;
+  // Another cavity's rigid mass carried too (a case's [[dampers]]): M += mass at at^T, and M^-1.
+  void carry_cavity(double mass, const Eigen::VectorXd& at);
   // The same with several cavities (a case's [[dampers]]): contents of dynamic stiffness Z[k] at
   // the cavity of shape at[k] (phi at its x_b), each force Re(-Z[k] U_k e^{iwt}), U_k = at[k] . Q.
   Eigen::VectorXcd steady_amplitudes(double F, double w, const std::vector<Eigen::VectorXd>& at,

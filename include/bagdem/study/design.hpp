@@ -49,7 +49,9 @@ struct DesignArgs {
     m.gamma = {0.02, 20}, m.amplitudes = 6, m.frequencies = 4, m.seeds = 3;
     return m;
   }();
-  int verify = 3;                        // --verify: candidates run coupled (each at its best position)
+  int dampers = 1;                       // --dampers: 1 places one bag; 2 also searches pairs of bags (design_pairs.cpp)
+  int verify = 3;                        // --verify: candidates run coupled (each at its best position); with
+                                         // --dampers 2 also the best pairs
   int verify_seeds = 3;                  // --verify-seeds: starts each
   int jobs = 0, threads = 0, cores = 0;
   std::string out;                       // default CASE_DIR/design
@@ -86,6 +88,13 @@ struct DesignRow {
   bool pareto = false;                   // on the front of (objective up, added mass down) among the ranked
   int rank = 0;                          // 1 = best predicted objective (0: not ranked)
   std::string map;                       // its map's directory
+  // A pair of bags (--dampers 2): the second bag's candidate, values, place and map (the first's are
+  // the fields above; added_mass and mass_ratio are the pair's).
+  bool pair = false;
+  std::size_t candidate2 = 0;
+  std::vector<std::string> given2;
+  double position2 = NAN, attach2 = NAN;
+  std::string map2;
   // The coupled check (NaN where not verified), per chosen mode and the worst: mean and 95% half-width.
   std::vector<double> dem_db, dem_db_ci95;
   double dem_objective = NAN, dem_objective_ci95 = NAN;
@@ -108,6 +117,21 @@ std::vector<double> default_diameters(double diameter);
 
 // 0 done, 2 bad input (nothing run), 3 a run failed (the design is written from what finished).
 int design_command(const DesignArgs& args);
+
+// --dampers 2 (design_pairs.cpp): every two ranked single rows at different places whose added
+// masses together are within `budget_mass`, predicted together (reduce/predict.hpp, several
+// dampers; the structure's mass matrix carrying both cavities' masses), the objective as a single
+// row's. Every pair is screened at kPairScreenPoints frequencies a band without the interval; the
+// best kPairsChecked are predicted again at 400 with the interval and the resolution check.
+// `sets[c]` are candidate c's overrides and `maps[c]` its map (null: none). Returns the pairs ranked.
+inline constexpr int kPairScreenPoints = 100;
+inline constexpr std::size_t kPairsChecked = 20;
+std::vector<DesignRow> predict_pairs(const std::filesystem::path& case_dir, const std::vector<std::vector<std::string>>& sets,
+                                     const std::vector<const EffectiveMap*>& maps, const std::vector<DesignRow>& singles,
+                                     const std::vector<int>& modes, double budget_mass);
+// The value of `dampers` that puts a pair's second bag on the structure (a [[dampers]] entry named
+// "2", as TOML): its candidate's varied keys (`keys` with their TOML values) and its place x_b (m).
+std::string second_damper(const std::vector<std::pair<std::string, std::string>>& keys, double attach);
 
 // Every chosen mode's predicted reduction of a candidate at a place (the case with its overrides
 // `sets`) from its map, into r (its status when it cannot be predicted; design_predict.cpp).

@@ -26,14 +26,19 @@ struct DesignTable {
   std::vector<std::string> varied;  // the candidates' keys, the columns after status
   std::vector<int> modes;           // the chosen modes (0: a random force's band)
   std::vector<DesignRow> rows;
+  bool pairs = false;               // design-pairs.csv: after attach, the second bag's keys (KEY_2),
+                                    // position_xL_2 and attach_2; its map's directory last (map_2)
 };
 // To a temporary name, then renamed.
 void write_design_csv(const std::filesystem::path& path, const DesignTable& table);
 // InputError naming the file, the column and the cell when a column is missing or a cell is not
 // what the column holds (a number, a count, a status design writes).
 DesignTable read_design_csv(const std::filesystem::path& path);
-// OUT/design.csv of a design.
-void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows);
+// OUT/design.csv of a design, or OUT/design-pairs.csv of its pairs (rows[k].pair).
+void write_design(const DesignSummary& s, const std::vector<DesignRow>& rows, bool pairs = false);
+
+// Candidate c's varied keys with their TOML values, in the candidates' order.
+std::vector<std::pair<std::string, std::string>> candidate_keys(const StudySpec& candidates, std::size_t c);
 
 // The row chosen: the verified one with the best coupled objective, else the best predicted; null
 // when nothing is ranked.
@@ -41,8 +46,9 @@ const DesignRow* chosen_row(const std::vector<DesignRow>& rows);
 
 // OUT/chosen: the case directory of the chosen row (the case's own files beside case.toml copied;
 // case.toml its text with every override applied: the run's, the candidate's `sets[candidate]`
-// and its place), written as OUT/chosen.part and renamed, then loaded to show it is ready.
-// Returns its path ("" when nothing is ranked).
+// and its place; a pair's second bag as a [[dampers]] entry), written as OUT/chosen.part and
+// renamed, then loaded to show it is ready. A pair's is OUT/chosen-pair. Returns its path ("" when
+// nothing is ranked).
 std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows,
                               const std::vector<std::vector<std::string>>& sets);
 

@@ -1,0 +1,123 @@
+// `bagdem design --dampers 2` (study/design.hpp, predict_pairs), through the binary, on an analytic
+// reference: a 6-mm steel ball rolling without slip on the floor of a box adds (2/7) m of mass and
+// no damping (tests/test_design.cpp), so two such boxes on a light pinned-pinned beam (modes 1 and
+// 2 at 20 and 80 Hz) are two point masses of (2/7) m at their places. Each pair's predicted
+// worst-mode reduction must be the linear beam's with those two masses (continuum::modal_receptance
+// with two bags, written apart from the prediction), every pair within the mass budget and none
+// over it; the best pair is run coupled, and the chosen pair's case loads with its two dampers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "bagdem/case/load_case.hpp"
+#include "bagdem/reduce/continuum_model.hpp"
+#include "bagdem/structure/response.hpp"
+#include "bagdem/study/design_files.hpp"
+#include "case_texts.hpp"
+#include "support.hpp"
+
+using namespace bagdem;
+using namespace bagdem::study;
+using bagdem::testing::CaseText;
+using bagdem::testing::quoted;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The beam: 1 m, 0.02 kg/m, EI 3.2423 N m^2 (modes 1 and 2 at 20 and 80 Hz), damping ratio 0.02,
+// driven by 1 mN at 0.13 m (Gamma at most about 0.2 where a box sits: the ball rolls, mu 0.3).
+std::string rolling_balls_on_beam() {
+  return CaseText()
+      .simulation("0.1 s")
+      .set("simulation", "settle", "0.05 s")
+      .steel("2 GPa")
+      .interactions(0.5, 0.3)
+      .box("steel", "[\"-20 mm\", \"-10 mm\", \"-10 mm\"]", "[\"20 mm\", \"10 mm\", \"10 mm\"]")
+      .placed("ball", "steel", "6 mm", "[[0, 0, \"-6.99 mm\"]]")
+      .set("primary", {{"kind", quoted("beam")}, {"length", quoted("1 m")}, {"youngs_modulus", "3.24228"}, {"second_moment", "1"},
+                       {"line_density", quoted("0.02 kg/m")}, {"ends", quoted("pinned-pinned")}, {"modes", "3"}, {"damping_ratio", "0.02"},
+                       {"attach", quoted("0.2 m")}, {"force_at", quoted("0.13 m")}, {"response_at", quoted("0.13 m")},
+                       {"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", quoted("1 mN")}, {"frequencies", "[17, 20, 23, 68, 80, 92]"},
+                          {"min_cycles", "4"}, {"reduce_cycles", "4"}, {"max_cycles", "30"}})
+      .str();
+}
+
+// The largest |H| F over [lo, hi] of the beam with point masses at the places (shapes), on a fine scan.
+double peak(const Primary& P, const std::vector<continuum::BagAt>& bags, double lo, double hi) {
+  continuum::ModalModel model;
+  model.omega = P.stiffness.cwiseSqrt();
+  model.zeta = (P.damping.array() / (2 * model.omega.array())).matrix();
+  model.shape_at_force = P.at_force, model.shape_at_response = P.at_response, model.shape_at_bag = P.at_cavity;
+  model.mass = P.mass;
+  double best = 0;
+  for (double f = lo; f <= hi; f += 1e-3 * (hi - lo) / 8) best = std::max(best, std::abs(continuum::modal_receptance(model, bags, 2 * std::numbers::pi * f)));
+  return best * P.amplitude;
+}
+
+}  // namespace
+
+TEST(DesignPairs, TwoRollingBallsAreTwoPointMassesAndTheChosenPairLoads) {
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << rolling_balls_on_beam();
+  const fs::path out = t.path / "design";
+  const std::vector<std::string> args = {
+      "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", "0.2,0.35,0.7", "--dampers", "2",
+      "--budget", "0.1", "--gamma", "0.002,0.5", "--amplitudes", "4", "--frequencies", "2", "--seeds", "2", "--cycles", "6", "--skip", "2",
+      "--window-time", "0", "--skip-time", "0", "--verify", "1", "--verify-seeds", "2", "--out", out.string(), "--jobs", "2"};
+  const bagdem::testing::CmdResult r = bagdem::testing::run_bagdem(args, t.path);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+
+  const DesignTable singles = read_design_csv(out / "design.csv");
+  const DesignTable pairs = read_design_csv(out / "design-pairs.csv");
+  ASSERT_EQ(singles.rows.size(), 3u);
+  ASSERT_TRUE(pairs.pairs);
+  ASSERT_EQ(pairs.rows.size(), 3u) << "three places, two at a time";
+  EXPECT_EQ(pairs.modes, (std::vector<int>{1, 2}));
+  const double m = 7800 * std::numbers::pi * std::pow(6e-3, 3) / 6;
+  const Scene base = load_case(dir.string());
+  const Primary& P = *base.primary;
+  for (const DesignRow& row : pairs.rows) {
+    ASSERT_EQ(row.status.kind, Standing::ranked) << row.status.text();
+    EXPECT_LT(row.position, row.position2);
+    EXPECT_NEAR(row.added_mass, 2 * m, 1e-9 * m);
+    // The linear beam with (2/7) m at each place: each mode's reduction, the worst the objective.
+    std::vector<continuum::BagAt> bags;
+    for (double x : {row.position, row.position2})
+      bags.push_back({load_case(dir.string(), {"primary.attach=\"" + std::to_string(x) + " m\""}).primary->at_cavity, 2 * m / 7, 0.0});
+    double worst = INFINITY;
+    for (const auto& [lo, hi] : {std::pair{17.0, 23.0}, std::pair{68.0, 92.0}})
+      worst = std::min(worst, 20 * std::log10(peak(P, {}, lo, hi) / peak(P, bags, lo, hi)));
+    std::printf("  balls at x/L %.2f and %.2f: predicted %.4f dB (%.4f to %.4f), two point masses %.4f dB\n", row.position, row.position2,
+                row.objective, row.objective_lo, row.objective_hi, worst);
+    EXPECT_NEAR(row.objective, worst, 0.01);
+    EXPECT_LT(worst, 0) << "added mass alone raises a peak";
+  }
+  EXPECT_EQ(pairs.rows[0].dem_seeds, 2) << "the best pair run coupled with 2 starts";
+  EXPECT_TRUE(std::isfinite(pairs.rows[0].dem_objective));
+  // The chosen pair: the case with its second damper, ready to run.
+  const Scene chosen = load_case((out / "chosen-pair").string());
+  ASSERT_EQ(chosen.more_dampers.size(), 1u);
+  EXPECT_NEAR(chosen.primary->attach, pairs.rows[0].attach, 1e-12);
+  EXPECT_NEAR(chosen.more_dampers[0].scene->primary->attach, pairs.rows[0].attach2, 1e-12);
+  EXPECT_NE(r.out.find("pair of bags"), std::string::npos) << r.out;
+
+  // A budget for one ball only: no pair.
+  const auto tight = bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", "0.2,0.35",
+                                                  "--dampers", "2", "--budget", "0.06", "--gamma", "0.002,0.5", "--amplitudes", "4",
+                                                  "--frequencies", "2", "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0",
+                                                  "--skip-time", "0", "--verify", "0", "--out", (t.path / "tight").string(), "--jobs", "2"},
+                                                 t.path);
+  ASSERT_EQ(tight.code, 0) << tight.err;
+  EXPECT_EQ(read_design_csv(t.path / "tight" / "design-pairs.csv").rows.size(), 0u);
+  // --dampers 2 on a structure that is no beam: refused.
+  std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
+  const auto sdof = bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--dampers", "2"}, t.path);
+  EXPECT_EQ(sdof.code, 2);
+  EXPECT_NE(sdof.err.find("--dampers"), std::string::npos) << sdof.err;
+}

@@ -85,8 +85,13 @@ class Case:
         return self.command("characterize", out, progress, **options)
 
     def predict(self, out, maps, progress=True, **options):
-        """`bagdem predict --map MAP`: the structure's response with the map's damper, without DEM."""
-        return self.command("predict", out, progress, map=os.path.abspath(str(maps)), **options)
+        """`bagdem predict --map MAP`: the structure's response with the map's damper, without DEM; a
+        case of several dampers takes `maps={"tip": MAP, "mid": MAP2}` (--map NAME=MAP each)."""
+        if isinstance(maps, dict):
+            given = [f"{name}={os.path.abspath(str(d))}" for name, d in maps.items()]
+        else:
+            given = os.path.abspath(str(maps))
+        return self.command("predict", out, progress, map=given, **options)
 
     def design(self, out, vary=None, progress=True, **options):
         """`bagdem design`: the bag searched over `vary` (and positions) under a mass budget."""

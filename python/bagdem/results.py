@@ -128,6 +128,11 @@ class Results:
         return self.json("summary.json")
 
     @property
+    def design_pairs(self):
+        """design-pairs.csv (bagdem design --dampers 2: pairs of bags ranked; docs/bag-design.md)."""
+        return self.table("design-pairs")
+
+    @property
     def calibration(self):
         return self.json("calibration.json")
 

@@ -68,6 +68,9 @@ def test_tables_keep_their_headers_numbers_text_and_units(tmp_path):
     with pytest.raises(AttributeError, match="has no reduced.csv; it has: peaks"):
         results.reduced
     assert not hasattr(results, "reduced") and getattr(results, "sweep", None) is None
+    (tmp_path / "design-pairs.csv").write_text("rank [1],status,bag.balls.mass_ratio,position_xL [1],bag.balls.mass_ratio_2,position_xL_2 [1]\n"
+                                               "1,ranked,0.04,0.56,0.04,0.92\n")
+    assert results.design_pairs["position_xL_2 [1]"].tolist() == [0.92]
     with pytest.raises(FileNotFoundError, match="has no reduced.csv"):
         results.table("reduced")
     # A number column holding text is refused, naming it; an empty file too.
@@ -146,6 +149,16 @@ def test_several_dampers_are_written_and_read_per_damper(tmp_path):
     assert bagdem.Results(str(tmp_path / "run")).dampers.keys() == {"mid"}
     with pytest.raises(ValueError, match="not a key"):
         toml_value({"a b": 1})
+    # The pair predicted from a map per damper (constant maps: a mass and a dashpot each).
+    for name, c in (("tip", 2.0), ("mid", 0.5)):
+        (tmp_path / name).mkdir()
+        rows = [f"{g},{f},0.01,0,{c},0" for g in (1e-4, 100) for f in (50, 480)]
+        (tmp_path / name / "map.csv").write_text("gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m],C_eff_ci95 [N s/m]\n"
+                                                 + "\n".join(rows) + "\n")
+    pair = bagdem.Case(os.path.join(ROOT, "cases", "stepped-beam-pair"))
+    predicted = pair.predict(str(tmp_path / "p"), maps={"tip": tmp_path / "tip", "mid": tmp_path / "mid"}, points=50)
+    assert predicted.predict_peaks["mode [1]"].tolist() == [1, 2]
+    assert (predicted.predict["cavity_amplitude_mid [m]"] > 0).all()
 
 
 def test_an_interrupt_stops_bagdem_before_it_is_raised(tmp_path):

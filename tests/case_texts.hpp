@@ -287,14 +287,21 @@ inline CaseText steady_sdof_sweep(double mass, double stiffness, double damping_
 // A 10-mm steel ball (softened to 2 GPa) on the floor of a 40 x 20 x 20 mm box, mu 0.3, gravity
 // -z, on a 1-kg SDOF primary of 20 Hz (damping ratio 0.02) moving along x, swept over 18-22 Hz
 // at 0.05 N.
-inline std::string ball_on_sdof_floor() {
-  return CaseText()
-      .simulation("0.1 s")
+// The box and its ball without the structure: a steel ball (2 GPa) of `diameter` resting on the
+// floor (its centre `z`) of the 40 x 20 x 20 mm box, mu 0.3, settling 0.05 s.
+inline CaseText ball_on_floor(const Value& diameter, const Value& z) {
+  CaseText c;
+  c.simulation("0.1 s")
       .set("simulation", "settle", "0.05 s")
       .steel("2 GPa")
       .interactions(0.5, 0.3)
       .box("steel", "[\"-20 mm\", \"-10 mm\", \"-10 mm\"]", "[\"20 mm\", \"10 mm\", \"10 mm\"]")
-      .placed("ball", "steel", "10 mm", "[[0, 0, \"-4.99 mm\"]]")
+      .placed("ball", "steel", diameter, "[[0, 0, " + z.toml + "]]");
+  return c;
+}
+
+inline std::string ball_on_sdof_floor() {
+  return ball_on_floor("10 mm", "-4.99 mm")
       .sdof("1 kg", "15791.367 N/m", 0.02)
       .set("primary", {{"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
       .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", "0.05 N"}, {"frequencies", "[18, 20, 22]"}})

@@ -21,7 +21,6 @@
 
 using namespace bagdem;
 using namespace bagdem::study;
-using bagdem::testing::CaseText;
 using bagdem::testing::quoted;
 namespace fs = std::filesystem;
 
@@ -30,13 +29,7 @@ namespace {
 // The beam: 1 m, 0.02 kg/m, EI 3.2423 N m^2 (modes 1 and 2 at 20 and 80 Hz), damping ratio 0.02,
 // driven by 1 mN at 0.13 m (Gamma at most about 0.2 where a box sits: the ball rolls, mu 0.3).
 std::string rolling_balls_on_beam() {
-  return CaseText()
-      .simulation("0.1 s")
-      .set("simulation", "settle", "0.05 s")
-      .steel("2 GPa")
-      .interactions(0.5, 0.3)
-      .box("steel", "[\"-20 mm\", \"-10 mm\", \"-10 mm\"]", "[\"20 mm\", \"10 mm\", \"10 mm\"]")
-      .placed("ball", "steel", "6 mm", "[[0, 0, \"-6.99 mm\"]]")
+  return bagdem::testing::ball_on_floor("6 mm", "-6.99 mm")
       .set("primary", {{"kind", quoted("beam")}, {"length", quoted("1 m")}, {"youngs_modulus", "3.24228"}, {"second_moment", "1"},
                        {"line_density", quoted("0.02 kg/m")}, {"ends", quoted("pinned-pinned")}, {"modes", "3"}, {"damping_ratio", "0.02"},
                        {"attach", quoted("0.2 m")}, {"force_at", quoted("0.13 m")}, {"response_at", quoted("0.13 m")},

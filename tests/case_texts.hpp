@@ -308,6 +308,19 @@ inline std::string ball_on_sdof_floor() {
       .str();
 }
 
+// A 6-mm ball on the floor of the box (ball_on_floor) on a light pinned-pinned beam: 1 m, 0.02 kg/m, EI 3.2423 N m^2 (modes 1 and 2 at 20 and 80 Hz), damping ratio 0.02,
+// driven by 1 mN at 0.13 m (Gamma at most about 0.2 where a box sits: the ball rolls, mu 0.3).
+inline std::string rolling_balls_on_beam() {
+  return ball_on_floor("6 mm", "-6.99 mm")
+      .set("primary", {{"kind", quoted("beam")}, {"length", quoted("1 m")}, {"youngs_modulus", "3.24228"}, {"second_moment", "1"},
+                       {"line_density", quoted("0.02 kg/m")}, {"ends", quoted("pinned-pinned")}, {"modes", "3"}, {"damping_ratio", "0.02"},
+                       {"attach", quoted("0.2 m")}, {"force_at", quoted("0.13 m")}, {"response_at", quoted("0.13 m")},
+                       {"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
+      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", quoted("1 mN")}, {"frequencies", "[17, 20, 23, 68, 80, 92]"},
+                          {"min_cycles", "4"}, {"reduce_cycles", "4"}, {"max_cycles", "30"}})
+      .str();
+}
+
 // An impact damper on an SDOF primary: a 10-mm steel ball (8% of the 0.05-kg primary) with 0.2 mm
 // of clearance each side, swept over 27-33 Hz around the 30-Hz mode (damping ratio 0.02). One ball
 // placed where it starts is deterministic (the seeds change nothing). Its peak reduction falls

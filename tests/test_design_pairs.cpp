@@ -26,19 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The beam: 1 m, 0.02 kg/m, EI 3.2423 N m^2 (modes 1 and 2 at 20 and 80 Hz), damping ratio 0.02,
-// driven by 1 mN at 0.13 m (Gamma at most about 0.2 where a box sits: the ball rolls, mu 0.3).
-std::string rolling_balls_on_beam() {
-  return bagdem::testing::ball_on_floor("6 mm", "-6.99 mm")
-      .set("primary", {{"kind", quoted("beam")}, {"length", quoted("1 m")}, {"youngs_modulus", "3.24228"}, {"second_moment", "1"},
-                       {"line_density", quoted("0.02 kg/m")}, {"ends", quoted("pinned-pinned")}, {"modes", "3"}, {"damping_ratio", "0.02"},
-                       {"attach", quoted("0.2 m")}, {"force_at", quoted("0.13 m")}, {"response_at", quoted("0.13 m")},
-                       {"direction", "[1, 0, 0]"}, {"axis", "[0, 1, 0]"}})
-      .set("excitation", {{"kind", quoted("stepped-sine")}, {"amplitude", quoted("1 mN")}, {"frequencies", "[17, 20, 23, 68, 80, 92]"},
-                          {"min_cycles", "4"}, {"reduce_cycles", "4"}, {"max_cycles", "30"}})
-      .str();
-}
-
 // The largest |H| F over [lo, hi] of the beam with point masses at the places (shapes), on a fine scan.
 double peak(const Primary& P, const std::vector<continuum::BagAt>& bags, double lo, double hi) {
   continuum::ModalModel model;
@@ -57,7 +44,7 @@ TEST(DesignPairs, TwoRollingBallsAreTwoPointMassesAndTheChosenPairLoads) {
   bagdem::testing::TempDir t;
   const fs::path dir = t.path / "case";
   fs::create_directories(dir);
-  std::ofstream(dir / "case.toml") << rolling_balls_on_beam();
+  std::ofstream(dir / "case.toml") << bagdem::testing::rolling_balls_on_beam();
   const fs::path out = t.path / "design";
   const std::vector<std::string> args = {
       "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", "0.2,0.35,0.7", "--dampers", "2",

@@ -112,6 +112,32 @@ TEST(MpiCommands, DesignOnTwoRanksGivesTheSerialTable) {
 #endif
 }
 
+// --dampers 2 (tests/test_design_pairs.cpp's beam): the pairs' table and chosen pair as without MPI,
+// and both ranks run the pairs' coupled check.
+TEST(MpiCommands, DesignOfPairsOnTwoRanksGivesTheSerialTable) {
+#if defined(BAGDEM_WITH_MPI) && defined(BAGDEM_MPIEXEC)
+  bagdem::testing::TempDir t;
+  const fs::path dir = t.path / "case";
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << bagdem::testing::rolling_balls_on_beam();
+  const std::vector<std::string> args = {
+      "design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", "0.2,0.7", "--dampers", "2", "--budget", "0.1",
+      "--gamma", "0.002,0.5", "--amplitudes", "4", "--frequencies", "2", "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0",
+      "--skip-time", "0", "--verify", "1", "--verify-seeds", "2", "--jobs", "1"};
+  const CmdResult serial = run_bagdem(with_out(args, t.path / "serial"), t.path);
+  ASSERT_EQ(serial.code, 0) << serial.err;
+  const CmdResult ranked = run_bagdem(with_out(args, t.path / "ranked"), t.path, 2);
+  ASSERT_EQ(ranked.code, 0) << ranked.err;
+  for (const char* f : {"design.csv", "design-pairs.csv"}) EXPECT_EQ(slurp(t.path / "ranked" / f), slurp(t.path / "serial" / f)) << f;
+  std::string chosen = slurp(t.path / "ranked" / "chosen-pair" / "case.toml");  // its header names its table
+  chosen.replace(chosen.find("/ranked/"), 8, "/serial/");
+  EXPECT_EQ(chosen, slurp(t.path / "serial" / "chosen-pair" / "case.toml"));
+  EXPECT_EQ(points_per_rank(t.path / "ranked" / "verify-pairs"), (std::vector<int>{1, 1}));
+#else
+  GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
+#endif
+}
+
 TEST(MpiCommands, CalibrateOnTwoRanksGivesTheSerialCalibration) {
 #if defined(BAGDEM_WITH_MPI) && defined(BAGDEM_MPIEXEC)
   bagdem::testing::TempDir t;

@@ -11,6 +11,9 @@ namespace bagdem {
 
 namespace {
 
+constexpr int kScales = 12;  // the bare amplitudes times 2^12 ... 2^-12: starts
+constexpr int kWalk = 12;    // starts along every map's range at one Gamma
+
 // The balance at one frequency, in y = log X (one per damper).
 class Balance {
  public:
@@ -96,10 +99,10 @@ std::optional<Eigen::VectorXd> newton(const Balance& b, Eigen::VectorXd y, Stuck
       J.col(j) = (*rz - *r) / h;
     }
     const Eigen::VectorXd step = J.partialPivLu().solve(-*r);
-    if (!step.allFinite()) return std::nullopt;
+    if (!step.allFinite()) return stuck.why = "unsolved", std::nullopt;
     // The longest step (halved) that lowers the largest residual, held inside the maps.
     bool lowered = false;
-    for (double s = 1; s > 1e-6; s *= 0.5) {
+    for (double s = 1; s > 1e-4; s *= 0.5) {
       const Eigen::VectorXd z = b.inside(y + s * step);
       const auto rz = b.residual(z);
       if (rz && rz->lpNorm<Eigen::Infinity>() < r->lpNorm<Eigen::Infinity>()) {
@@ -114,10 +117,11 @@ std::optional<Eigen::VectorXd> newton(const Balance& b, Eigen::VectorXd y, Stuck
         if (y[i] >= b.hi(k) - 1e-9 && (*r)[i] > 0) return stuck = {"above", k}, std::nullopt;
         if (y[i] <= b.lo(k) + 1e-9 && (*r)[i] < 0) return stuck = {"below", k}, std::nullopt;
       }
-      return std::nullopt;
+      return stuck.why = "unsolved", std::nullopt;
     }
   }
-  return r->lpNorm<Eigen::Infinity>() < kTolerance ? std::optional<Eigen::VectorXd>(y) : std::nullopt;
+  if (r->lpNorm<Eigen::Infinity>() < kTolerance) return y;
+  return stuck.why = "unsolved", std::nullopt;
 }
 
 }  // namespace
@@ -143,10 +147,24 @@ FrequencyPrediction predict_at(const Primary& p, const std::vector<MappedDamper>
   const Eigen::VectorXcd bare = p.steady_amplitudes(F, 2 * std::numbers::pi * f, std::complex<double>(0));
   Eigen::VectorXd y_bare(n);
   for (Eigen::Index k = 0; k < n; ++k) y_bare[k] = std::log(std::abs(dampers[static_cast<std::size_t>(k)].at_cavity.cast<std::complex<double>>().dot(bare)));
-  for (int s = 1; s >= -8; --s) starts.push_back(y_bare + Eigen::VectorXd::Constant(n, s * std::log(2.0)));
+  // The bare amplitudes scaled over the maps' whole range (a damper's mass may move the resonance, so
+  // the damped response can lie far above the bare one as well as below), and every map's range
+  // walked at one Gamma (where a damper near a node makes the bare shape a poor guide).
+  for (int s = kScales; s >= -kScales; --s) starts.push_back(b.inside(y_bare + Eigen::VectorXd::Constant(n, s * std::log(2.0))));
+  for (int s = 0; s < kWalk; ++s) {
+    Eigen::VectorXd y(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const auto d = static_cast<std::size_t>(k);
+      y[k] = b.lo(d) + (b.hi(d) - b.lo(d)) * (s + 0.5) / kWalk;
+    }
+    starts.push_back(y);
+  }
   std::vector<Stuck> stuck;
-  std::vector<Eigen::VectorXd> roots;
+  std::vector<Eigen::VectorXd> roots, tried;
   for (const Eigen::VectorXd& y0 : starts) {
+    // A start already tried (the scaled bare amplitudes held at a map's end) is not tried again.
+    if (std::any_of(tried.begin(), tried.end(), [&](const Eigen::VectorXd& t) { return (t - y0).lpNorm<Eigen::Infinity>() < 1e-9; })) continue;
+    tried.push_back(y0);
     Stuck why;
     const auto y = newton(b, y0, why);
     if (!y) {
@@ -166,8 +184,8 @@ FrequencyPrediction predict_at(const Primary& p, const std::vector<MappedDamper>
     out.solutions.push_back(std::move(h));
   }
   if (out.solutions.empty()) {
-    out.outside = "gap";
-    for (const char* why : {"above", "below", "gap"}) {  // the most telling reason any start met
+    out.outside = "unsolved";
+    for (const char* why : {"above", "below", "gap", "unsolved"}) {  // the most telling reason any start met
       const auto it = std::find_if(stuck.begin(), stuck.end(), [&](const Stuck& s) { return s.why == why; });
       if (it != stuck.end()) {
         out.outside = it->why, out.outside_damper = it->damper;

@@ -35,16 +35,24 @@ double force_of(const std::string& option, const std::string& text) {
   return *F;
 }
 
-fs::path map_file(const std::string& given, const std::string& case_dir) {
+// The command that characterizes damper k of the case (characterize maps a case of one damper).
+std::string characterize_command(const std::string& case_dir, const std::vector<std::string>& names, std::size_t k) {
+  if (names.size() == 1) return "bagdem characterize " + case_dir;
+  return "bagdem characterize " + case_dir + " --set 'dampers=[]'" +
+         (k == 0 ? "" : " with damper " + names[k] + "'s keys of [[dampers]] (each as --set KEY=VALUE)");
+}
+
+fs::path map_file(const std::string& given, const std::string& characterize) {
   fs::path map_csv = given;
   if (fs::is_directory(map_csv)) map_csv /= "map.csv";
-  if (!fs::exists(map_csv)) throw InputError("--map", "", given, "holds no map.csv: run bagdem characterize " + case_dir + " first");
+  if (!fs::exists(map_csv)) throw InputError("--map", "", given, "holds no map.csv: run " + characterize + " first");
   return map_csv;
 }
 
 // The map's damper must be the case's (study/damper_record.hpp): refused, naming the keys, when
 // it is not; a map that does not record its damper (not made by bagdem characterize) is said so.
-void require_same_damper(const fs::path& map_csv, const Scene& scene, const std::string& case_dir) {
+// `whose`: "the case's" or "damper NAME's".
+void require_same_damper(const fs::path& map_csv, const Scene& scene, const std::string& characterize, const std::string& whose = "the case's") {
   const fs::path record = map_csv.parent_path() / "damper.toml";
   const std::optional<DamperRecord> map = read_damper_record(record);
   if (!map) {
@@ -58,8 +66,8 @@ void require_same_damper(const fs::path& map_csv, const Scene& scene, const std:
   for (std::size_t k = 0; k < diff.size() && k < 8; ++k) list += (k ? "; " : "") + diff[k];
   if (diff.size() > 8) list += "; and " + std::to_string(diff.size() - 8) + " more";
   throw InputError("--map", "", map_csv.parent_path().string(),
-                   "characterised another damper than the case's (" + record.string() + "): " + list +
-                       ". Characterize this case's damper (bagdem characterize " + case_dir + "), or give its map");
+                   "characterised another damper than " + whose + " (" + record.string() + "): " + list + ". Characterize it (" +
+                       characterize + "), or give its map");
 }
 
 // The resolution check of a mode's prediction (reduce/predict.hpp): printed, and a warning when the
@@ -96,7 +104,7 @@ std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, 
   for (const std::string& m : a.maps) {
     const std::size_t eq = m.find('=');
     const auto named = eq == std::string::npos ? names.end() : std::find(names.begin(), names.end(), m.substr(0, eq));
-    if (named == names.end() && eq != std::string::npos && !fs::exists(m) && names.size() > 1)
+    if (named == names.end() && eq != std::string::npos && !fs::exists(m))
       throw InputError("--map", "", m, "names no damper of the case (its dampers: " + all + "): give NAME=DIR or a map's directory");
     std::string& slot = named == names.end() ? every : given[static_cast<std::size_t>(named - names.begin())];
     if (!slot.empty())
@@ -104,6 +112,8 @@ std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, 
                                                             : "is a second map for damper " + *named);
     slot = named == names.end() ? m : m.substr(eq + 1);
   }
+  if (!every.empty() && std::none_of(given.begin(), given.end(), [](const std::string& g) { return g.empty(); }))
+    throw InputError("--map", "", every, "serves no damper: every damper has its map (NAME=DIR); leave it out");
   maps.clear();
   maps.reserve(names.size());
   std::vector<MappedDamper> out;
@@ -111,9 +121,10 @@ std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, 
     const std::string& dir = given[k].empty() ? every : given[k];
     if (dir.empty())
       throw InputError("--map", "", "", "damper " + names[k] + " has no map: give --map " + names[k] + "=DIR (or one --map DIR for every damper)");
-    const fs::path map_csv = map_file(dir, a.dir);
+    const std::string characterize = characterize_command(a.dir, names, k);
+    const fs::path map_csv = map_file(dir, characterize);
     maps.push_back(read_effective_map(map_csv));
-    require_same_damper(map_csv, *scenes[k], a.dir);
+    require_same_damper(map_csv, *scenes[k], characterize, names.size() == 1 ? "the case's" : "damper " + names[k] + "'s");
     out.push_back({&maps.back(), scenes[k]->primary->at_cavity, names[k]});
   }
   return out;
@@ -189,18 +200,22 @@ int predict_command(const PredictArgs& a) {
           std::snprintf(range, sizeof range, "%.6g-%.6g Hz", m.outside.front(), m.outside.back());
           const MappedDamper& d = dampers[m.outside_damper];
           const std::string whose = several ? "damper " + d.name + "'s " : "the ";
-          const std::string why = m.outside_why == "band"    ? "the frequency is outside " + whose + "map's band"
-                                  : m.outside_why == "below" ? whose + "cavity's amplitude is below its map's"
-                                  : m.outside_why == "above" ? whose + "cavity's amplitude is above its map's"
-                                                             : whose + "map's cells there have no figures (no steady start)";
-          const std::string hint = m.outside_why == "band"    ? "--band covering " + std::string(range)
-                                   : m.outside_why == "below" ? "--gamma with a smaller lower end"
-                                   : m.outside_why == "above" ? "--gamma with a larger upper end"
-                                                              : "more --cycles or --skip (or --seeds)";
+          const std::string why = m.outside_why == "band"     ? "the frequency is outside " + whose + "map's band"
+                                  : m.outside_why == "below"  ? whose + "cavity's amplitude is below its map's"
+                                  : m.outside_why == "above"  ? whose + "cavity's amplitude is above its map's"
+                                  : m.outside_why == "unsolved" ? "the dampers' balance found no steady solution (Newton's method did not converge)"
+                                                              : whose + "map's cells there have no figures (no steady start)";
+          const std::string hint = m.outside_why == "band"     ? "--band covering " + std::string(range)
+                                   : m.outside_why == "below"  ? "--gamma with a smaller lower end"
+                                   : m.outside_why == "above"  ? "--gamma with a larger upper end"
+                                   : m.outside_why == "unsolved" ? "more --amplitudes and --frequencies (a smoother map)"
+                                                               : "more --cycles or --skip (or --seeds)";
+          std::vector<std::string> names;
+          for (const MappedDamper& x : dampers) names.push_back(x.name);
           throw InputError("--map", "", d.map->source,
                            "does not cover the response of mode " + std::to_string(m.mode) + " at " + short_force(F) + ": at " +
-                               std::to_string(m.outside.size()) + " of its frequencies (" + range + ") " + why +
-                               ". Extend the map: bagdem characterize " + a.dir + " " + hint + " (nothing is extrapolated)");
+                               std::to_string(m.outside.size()) + " of its frequencies (" + range + ") " + why + ". Extend the map: " +
+                               characterize_command(a.dir, names, m.outside_damper) + " " + hint + " (nothing is extrapolated)");
         }
         for (std::size_t k = 0; k < m.points.size(); ++k)
           for (std::size_t b = 0; b < m.points[k].solutions.size(); ++b) {

@@ -92,7 +92,8 @@ struct MappedDamper {
 
 // The solutions at one frequency. `outside` says why there is none: "" (solutions found), "below"
 // (the response lies below the map's smallest amplitude), "above" (beyond its largest), "band"
-// (the frequency is outside the map's) or "gap" (cells without figures in the way).
+// (the frequency is outside the map's), "gap" (cells without figures in the way) or, with several
+// dampers, "unsolved" (no start of Newton's method converged).
 struct FrequencyPrediction {
   double frequency = 0;  // (unit: Hz)
   std::vector<HarmonicSolution> solutions;
@@ -108,11 +109,13 @@ FrequencyPrediction predict_at(const Primary& primary, const EffectiveMap& map, 
 //     X_k = |phi_k . Q(F, w, Z_1(X_1, w), ..., Z_n(X_n, w))|,   k = 1..n,
 // (Primary::steady_amplitudes with several cavities), n equations in log X solved by Newton's
 // method with a difference Jacobian and a halving line search, from the solutions at the
-// frequency before (`near`: the branches continued), from the bare structure's amplitudes and from
-// them scaled by 2, 1/2, ..., 1/256 (the damped response lies below the bare one): distinct roots are
-// the branches. One damper takes predict_at above (the same bits). A frequency with no root says
-// "above" or "below" when a start ended against that end of a map's range, else "gap", and
-// `outside_damper` which damper's map.
+// frequency before (`near`: the branches continued), from the bare structure's amplitudes scaled by
+// 2^12 ... 2^-12 (a damper's mass may move the resonance, so the damped response can lie above the
+// bare one as well as below) and from 12 points along every map's range at one Gamma: distinct
+// roots are the branches. One damper takes predict_at above (the same bits). A frequency with no
+// root says "above" or "below" when a start ended against that end of a map's range, "gap" when
+// it met cells without figures, else "unsolved" (no start converged), and `outside_damper` which
+// damper's map.
 FrequencyPrediction predict_at(const Primary& primary, const std::vector<MappedDamper>& dampers, double force, double frequency,
                                int m_sign = 0, int c_sign = 0, const std::vector<HarmonicSolution>* near = nullptr);
 

@@ -220,6 +220,28 @@ TEST(DesignTable, ComesBackAsWrittenAndRefusesADamagedOne) {
     EXPECT_TRUE(std::isnan(y.dem_db[1]));
     EXPECT_EQ(y.map, x.map);
   }
+  // A table of pairs of bags (--dampers 2): the second bag's columns come back too.
+  DesignTable p = a;
+  p.pairs = true;
+  for (std::size_t i = 0; i < p.rows.size(); ++i) {
+    DesignRow& r = p.rows[i];
+    r.pair = true, r.given2 = {"\"6 mm\"", "9 mm"}, r.position2 = 0.9, r.attach2 = 0.54, r.map2 = "map-9" + std::to_string(i);
+  }
+  p.rows[3].status = {Standing::screened, "100 frequencies a band, not among the best 20"};
+  write_design_csv(t.path / "design-pairs.csv", p);
+  const DesignTable q = read_design_csv(t.path / "design-pairs.csv");
+  ASSERT_TRUE(q.pairs);
+  EXPECT_EQ(q.varied, p.varied);
+  ASSERT_EQ(q.rows.size(), p.rows.size());
+  for (std::size_t i = 0; i < p.rows.size(); ++i) {
+    EXPECT_TRUE(q.rows[i].pair);
+    EXPECT_EQ(q.rows[i].given2, p.rows[i].given2);
+    EXPECT_EQ(q.rows[i].position2, 0.9);
+    EXPECT_EQ(q.rows[i].attach2, 0.54);
+    EXPECT_EQ(q.rows[i].map2, p.rows[i].map2);
+    EXPECT_EQ(q.rows[i].status.text(), p.rows[i].status.text());
+    EXPECT_EQ(q.rows[i].db, p.rows[i].db);
+  }
   // Damaged: a cell that is not a number, a status design never writes, a column missing.
   const std::string good = bagdem::testing::slurp(path);
   auto refused = [&](const std::string& text, const std::string& column) {

@@ -87,14 +87,32 @@ TEST(DesignPairs, TwoRollingBallsAreTwoPointMassesAndTheChosenPairLoads) {
   EXPECT_NEAR(chosen.more_dampers[0].scene->primary->attach, pairs.rows[0].attach2, 1e-12);
   EXPECT_NE(r.out.find("pair of bags"), std::string::npos) << r.out;
 
-  // A budget for one ball only: no pair.
-  const auto tight = bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", "0.2,0.35",
-                                                  "--dampers", "2", "--budget", "0.06", "--gamma", "0.002,0.5", "--amplitudes", "4",
-                                                  "--frequencies", "2", "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0",
-                                                  "--skip-time", "0", "--verify", "0", "--out", (t.path / "tight").string(), "--jobs", "2"},
-                                                 t.path);
+  // Again in the same OUT with a budget for one ball only: no pair, and the earlier chosen pair is
+  // gone (the map is reused). Places whose boxes overlap on the beam (20 mm long, 10 mm apart) are
+  // no pair either.
+  auto again = [&](const std::string& positions, const std::string& budget) {
+    return bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--positions", positions,
+                                        "--dampers", "2", "--budget", budget, "--gamma", "0.002,0.5", "--amplitudes", "4", "--frequencies", "2",
+                                        "--seeds", "2", "--cycles", "6", "--skip", "2", "--window-time", "0", "--skip-time", "0", "--verify", "0",
+                                        "--out", out.string(), "--jobs", "2"},
+                                       t.path);
+  };
+  const auto tight = again("0.2,0.35", "0.06");
   ASSERT_EQ(tight.code, 0) << tight.err;
-  EXPECT_EQ(read_design_csv(t.path / "tight" / "design-pairs.csv").rows.size(), 0u);
+  EXPECT_EQ(read_design_csv(out / "design-pairs.csv").rows.size(), 0u);
+  EXPECT_FALSE(fs::exists(out / "chosen-pair")) << "an earlier design's pair is not this one's";
+  EXPECT_NE(tight.out.find("no pair of bags ranked"), std::string::npos) << tight.out;
+  const auto overlap = again("0.2,0.21", "0.1");
+  ASSERT_EQ(overlap.code, 0) << overlap.err;
+  EXPECT_EQ(read_design_csv(out / "design-pairs.csv").rows.size(), 0u);
+  EXPECT_NE(overlap.out.find("1 pairs of places left out: their cavities overlap"), std::string::npos) << overlap.out;
+  // A candidate key no damper may change: refused before anything runs.
+  const auto key = bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "excitation.amplitude=\"1 mN\",\"2 mN\"", "--dampers", "2",
+                                                "--out", (t.path / "key").string()},
+                                               t.path);
+  EXPECT_EQ(key.code, 2);
+  EXPECT_NE(key.err.find("excitation.amplitude"), std::string::npos) << key.err;
+  EXPECT_FALSE(fs::exists(t.path / "key"));
   // --dampers 2 on a structure that is no beam: refused.
   std::ofstream(dir / "case.toml") << bagdem::testing::ball_on_sdof_floor();
   const auto sdof = bagdem::testing::run_bagdem({"design", dir.string(), "--vary", "particles.ball.diameter=\"6 mm\"", "--dampers", "2"}, t.path);

@@ -320,9 +320,9 @@ SLOPE_CHOICES = [  # run in this order (the likeliest first)
     ("materials.steel.youngs_modulus", "ball-stiffness", ["--vary", 'materials.steel.youngs_modulus="20 GPa"']),
     ("bag.radius", "bag-radius", ["--vary", 'bag.radius="8.5 mm","10.5 mm"']),  # at 8 mm the 12% bag is longer than the 80-mm bore section
     ("bag.film.thickness", "film-thickness", ["--vary", 'bag.film.thickness="100 um"']),
-    # One bag for every ratio (the 12% bag's length at the base's lattice fill): it tightens as it fills,
-    # fill fraction 0.17 at 5%, 0.26 at 8%, 0.39 at 12%, where the base's bag grows to keep about 0.39.
-    ("bag.length", "bag-length", ["--vary", 'bag.length="60 mm"']),
+    # One bag for every ratio (the shortest that holds the 12% lattice at every start): it tightens as it
+    # fills, fill fraction 0.15 at 5%, 0.25 at 8%, 0.37 at 12%, where the base's bag grows to keep 0.39.
+    ("bag.length", "bag-length", ["--vary", 'bag.length="64 mm"']),
 ]
 
 

@@ -30,19 +30,6 @@ constexpr const char* kDamperKeys[] = {"cavity",         "bag",           "parti
                                        "interactions",   "primary.attach", "primary.cavity_mass",
                                        "primary.direction", "primary.axis", "primary.follow_slope", "simulation.gravity"};
 
-bool damper_may_change(const std::string& key) {
-  return std::any_of(std::begin(kDamperKeys), std::end(kDamperKeys), [&](const char* k) {
-    const std::string p = k;
-    return key == p || key.rfind(p + ".", 0) == 0;
-  });
-}
-
-std::string damper_keys_text() {
-  std::string t;
-  for (const char* k : kDamperKeys) t += (t.empty() ? "" : ", ") + std::string(k);
-  return t;
-}
-
 // A damper's name names its directory (OUT/dampers/NAME): letters, digits, '_', '-' and '.', at
 // most 64, not "." or "..".
 constexpr std::size_t kMaxNameLength = 64;
@@ -76,6 +63,20 @@ void require_a_rotation(const Scene& s, const Scene& d, const std::string& name)
 }
 
 }  // namespace
+
+bool damper_may_change(const std::string& key) {
+  return std::any_of(std::begin(kDamperKeys), std::end(kDamperKeys), [&](const char* k) {
+    const std::string p = k;
+    return key == p || key.rfind(p + ".", 0) == 0;
+  });
+}
+
+std::string damper_keys_text() {
+  std::string t;
+  for (const char* k : kDamperKeys) t += (t.empty() ? "" : ", ") + std::string(k);
+  return t;
+}
+
 
 std::vector<DamperKeys> read_dampers(const CaseReader& in) {
   std::vector<DamperKeys> out;

@@ -251,6 +251,10 @@ Search set_up_search(const DesignArgs& a) {
   if (a.dampers == 2 && (!z.beam || z.modes == std::vector<int>{0}))
     throw InputError("--dampers", "", "2", "places a pair of bags along a beam ([primary] kind beam or fe-beam) under a stepped sine; " +
                                                std::string(z.beam ? "this case's force is random" : "this case's structure is no beam"));
+  if (a.dampers == 2)  // the second bag is a [[dampers]] entry: its keys must be a damper's
+    for (const Varied& v : z.cand.vary)
+      if (!damper_may_change(v.key))
+        throw InputError("--vary", "", v.key, "is no key of a bag: with --dampers 2 the candidates may vary only the keys under " + damper_keys_text());
   if (z.positions.empty() && z.beam)
     for (int k = 1; k <= 19; ++k) z.positions.push_back(0.05 * k);
   if (!z.beam) z.positions = {NAN};
@@ -370,27 +374,29 @@ int design_command(const DesignArgs& a) {
     rank_rows(rows);
     // 3. The coupled check of the best.
     if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, rows) || failed;
+    // 4. The files of the single bags.
     std::vector<std::vector<std::string>> sets;
     std::vector<const EffectiveMap*> maps;
     for (std::size_t i = 0; i < z.cs.size(); ++i) sets.push_back(z.cs[i].sets), maps.push_back(z.maps[i] ? &*z.maps[i] : nullptr);
-    // 4. Pairs of bags: predicted, the best checked.
-    std::vector<DesignRow> pairs;
-    if (a.dampers == 2) {
-      pairs = predict_pairs(z.cand.case_dir, sets, maps, rows, z.modes, a.budget * z.structure_mass);
-      if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, pairs) || failed;
-    }
-    // 5. The files.
     const DesignSummary sum{z.cand, z.modes, z.structure_mass, a.budget, z.beam, z.length};
     write_design(sum, rows);
     std::string chosen = write_chosen_case(sum, rows, sets);
+    print_design(sum, rows);
+    // 5. Pairs of bags: predicted, the best checked, their files.
     if (a.dampers == 2) {
+      std::size_t overlapping = 0;
+      std::vector<DesignRow> pairs = predict_pairs(z.cand.case_dir, sets, maps, rows, z.modes, a.budget * z.structure_mass, overlapping);
+      if (a.verify > 0) failed = verify_rows(a, z.cand, z.beam, z.length, z.modes, *ranks, pairs) || failed;
       write_design(sum, pairs, true);
-      const std::string pair = write_chosen_case(sum, pairs, sets);
+      const std::string pair = write_chosen_case(sum, pairs, sets, true);
       if (!pair.empty()) chosen += (chosen.empty() ? "" : ", ") + pair;
+      print_design(sum, pairs);
+      if (overlapping > 0) std::printf("%zu pairs of places left out: their cavities overlap on the beam\n", overlapping);
+      if (std::none_of(pairs.begin(), pairs.end(), [](const DesignRow& r) { return r.status.ranked(); }))
+        std::printf("no pair of bags ranked: none fits the budget of %s of the structure's mass at two places, or none could be predicted "
+                    "(design-pairs.csv says why)\n", short_text(a.budget).c_str());
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    print_design(sum, rows);
-    if (a.dampers == 2) print_design(sum, pairs);
     std::printf("design %s: %.1f s wall -> %s/design.csv%s%s\n", failed ? "finished with failed runs" : "complete", wall, z.cand.out_dir.c_str(),
                 a.dampers == 2 ? ", design-pairs.csv" : "", chosen.empty() ? "" : (", " + chosen).c_str());
     code = failed ? kExitRunError : 0;

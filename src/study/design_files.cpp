@@ -27,6 +27,7 @@ std::string Status::text() const {
     case Standing::other_damper: return "map of another damper (" + why + ")";
     case Standing::outside_map: return "outside the map " + why;
     case Standing::mode_not_in_stepped_sine: return "mode " + why + " not in the sweep at this place";
+    case Standing::screened: return "screened only (" + why + ")";
   }
   return why;
 }
@@ -43,6 +44,7 @@ Status Status::parse(const std::string& t) {
   if (auto w = between("map of another damper (", ")")) return {Standing::other_damper, *w};
   if (auto w = between("outside the map ", "")) return {Standing::outside_map, *w};
   if (auto w = between("mode ", " not in the sweep at this place")) return {Standing::mode_not_in_stepped_sine, *w};
+  if (auto w = between("screened only (", ")")) return {Standing::screened, *w};
   throw InputError("design.csv", "status", t, "is none of the statuses design writes (docs/bag-design.md)");
 }
 
@@ -232,11 +234,15 @@ const DesignRow* chosen_row(const std::vector<DesignRow>& rows) {
   return nullptr;
 }
 
-std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows, const std::vector<std::vector<std::string>>& sets) {
+std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows, const std::vector<std::vector<std::string>>& sets,
+                              bool pairs) {
   const DesignRow* r = chosen_row(rows);
-  if (!r) return "";
-  const fs::path from = s.candidates.case_dir, to = fs::path(s.candidates.out_dir) / (r->pair ? "chosen-pair" : "chosen"),
+  const fs::path from = s.candidates.case_dir, to = fs::path(s.candidates.out_dir) / (pairs ? "chosen-pair" : "chosen"),
                  part = to.string() + ".part";
+  if (!r) {  // nothing ranked: an earlier design's choice is not this one's
+    fs::remove_all(to);
+    return "";
+  }
   fs::remove_all(part);
   fs::create_directories(part);
   for (const fs::directory_entry& e : fs::directory_iterator(from))
@@ -254,8 +260,13 @@ std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRo
     header += figures;
   }
   header += ".\n# The comments of the original case are in its file.\n\n";
-  write_atomically(part / "case.toml", header + CaseReader((from / "case.toml").string(), o).text() + "\n");
-  load_case(part.string(), {});  // ready: it loads as it is
+  try {
+    write_atomically(part / "case.toml", header + CaseReader((from / "case.toml").string(), o).text() + "\n");
+    load_case(part.string(), {});  // ready: it loads as it is
+  } catch (...) {
+    fs::remove_all(part);
+    throw;
+  }
   fs::remove_all(to);
   fs::rename(part, to);
   return to.string();
@@ -296,9 +307,9 @@ void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows) {
   }
   if (coarse + unchecked > 0)
     std::printf("warning: the maps are too coarse for %d ranked row%s (an estimated interpolation error above %.1f dB) and too coarse to "
-                "check for %d (interpolation_dB in design.csv, empty): those predictions may be off by more than their ranges; "
+                "check for %d (interpolation_dB in %s, empty): those predictions may be off by more than their ranges; "
                 "a finer map (--amplitudes, --frequencies) or the coupled check (--verify) tells\n",
-                coarse, coarse == 1 ? "" : "s", kInterpolationWarning, unchecked);
+                coarse, coarse == 1 ? "" : "s", kInterpolationWarning, unchecked, pairs ? "design-pairs.csv" : "design.csv");
 }
 
 }  // namespace bagdem::study

@@ -14,11 +14,22 @@
 
 namespace bagdem::study {
 
+namespace {
+// A TOML basic string of any text.
+std::string toml_string(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+}  // namespace
+
 std::string second_damper(const std::vector<std::pair<std::string, std::string>>& keys, double attach) {
-  // A TOML literal string holds any text but a single quote, which no value of a case's keys needs.
   std::string set;
-  for (const auto& [key, value] : keys) set += "'" + key + " = " + value + "', ";
-  return "[{name = \"2\", set = [" + set + "'primary.attach = \"" + short_text(attach) + " m\"']}]";
+  for (const auto& [key, value] : keys) set += toml_string(key + " = " + value) + ", ";
+  return "[{name = \"2\", set = [" + set + toml_string("primary.attach = \"" + short_text(attach) + " m\"") + "]}]";
 }
 
 namespace {
@@ -29,38 +40,17 @@ struct Place {
   std::string error;  // why it does not load
 };
 
-// The pair's figures: each chosen mode's reduction at `points` frequencies a band, the objective.
+// The pair's figures at `points` frequencies a band.
 void predict_pair(const Primary& P, const std::vector<MappedDamper>& d, const std::vector<int>& modes, int points, Checks checks, DesignRow& r) {
-  r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
-  r.at_band_edge = 0;
-  r.interpolation_db = checks == Checks::all ? 0.0 : NAN;
-  for (const PredictedMode& m : predict_modes(P, d, P.amplitude, P.stepped_sine->frequencies, points, checks)) {
-    const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
-    if (k == modes.end()) continue;
-    const auto i = static_cast<std::size_t>(k - modes.begin());
-    if (!m.outside.empty()) {
-      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ", bag " + std::to_string(m.outside_damper + 1) + ")"};
-      return;
-    }
-    r.db[i] = m.reduction_db;
-    if (checks != Checks::none) r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
-    r.at_band_edge += m.at_band_edge ? 1 : 0;
-    if (checks == Checks::all) r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);
-  }
-  for (std::size_t i = 0; i < modes.size(); ++i)
-    if (!std::isfinite(r.db[i])) {
-      r.status = {Standing::mode_not_in_stepped_sine, std::to_string(modes[i])};
-      return;
-    }
   r.status = {};
-  set_objective(r);
+  set_predicted_modes(predict_modes(P, d, P.amplitude, P.stepped_sine->frequencies, points, checks), modes, checks, r);
 }
 
 }  // namespace
 
 std::vector<DesignRow> predict_pairs(const std::filesystem::path& case_dir, const std::vector<std::vector<std::string>>& sets,
                                      const std::vector<const EffectiveMap*>& maps, const std::vector<DesignRow>& singles,
-                                     const std::vector<int>& modes, double budget_mass) {
+                                     const std::vector<int>& modes, double budget_mass, std::size_t& overlapping) {
   // Each ranked single's structure, loaded once.
   std::map<std::pair<std::size_t, double>, Place> places;
   auto place = [&](const DesignRow& r) -> const Place& {
@@ -80,14 +70,19 @@ std::vector<DesignRow> predict_pairs(const std::filesystem::path& case_dir, cons
   std::vector<DesignRow> pairs;
   std::vector<std::vector<MappedDamper>> dampers;  // each pair's, for the second prediction
   std::vector<Primary> structures;
+  overlapping = 0;
   for (const DesignRow* a : usable)
     for (const DesignRow* b : usable) {
       if (!(a->position < b->position) || a->added_mass + b->added_mass > budget_mass * (1 + 1e-9)) continue;
+      const Place &pa = place(*a), &pb = place(*b);
+      if (pa.primary && pb.primary && b->attach - a->attach < pa.primary->half_extent + pb.primary->half_extent) {
+        ++overlapping;  // two cavities in one stretch of the beam: not a pair of places
+        continue;
+      }
       DesignRow r = *a;
       r.pair = true, r.candidate2 = b->candidate, r.given2 = b->given, r.position2 = b->position, r.attach2 = b->attach, r.map2 = b->map;
       r.added_mass = a->added_mass + b->added_mass, r.mass_ratio = a->mass_ratio + b->mass_ratio;
       r.dem_db.clear(), r.dem_db_ci95.clear(), r.dem_objective = r.dem_objective_ci95 = NAN, r.dem_seeds = 0, r.rank = 0, r.pareto = false;
-      const Place &pa = place(*a), &pb = place(*b);
       Primary P;
       if (!pa.primary || !pb.primary) {
         r.status = {Standing::does_not_load, pa.primary ? pb.error : pa.error};
@@ -108,9 +103,13 @@ std::vector<DesignRow> predict_pairs(const std::filesystem::path& case_dir, cons
     const bool rx = pairs[x].status.ranked(), ry = pairs[y].status.ranked();
     return rx != ry ? rx : rx && pairs[x].objective > pairs[y].objective;
   });
-  for (std::size_t k = 0; k < order.size() && k < kPairsChecked && pairs[order[k]].status.ranked(); ++k) {
+  for (std::size_t k = 0; k < order.size() && pairs[order[k]].status.ranked(); ++k) {
     const std::size_t i = order[k];
-    predict_pair(structures[i], dampers[i], modes, 400, Checks::all, pairs[i]);
+    if (k < kPairsChecked)
+      predict_pair(structures[i], dampers[i], modes, 400, Checks::all, pairs[i]);
+    else
+      pairs[i].status = {Standing::screened, std::to_string(kPairScreenPoints) + " frequencies a band, not among the best " +
+                                                 std::to_string(kPairsChecked)};
   }
   rank_rows(pairs);
   return pairs;

@@ -28,18 +28,27 @@ void predict_row(const std::filesystem::path& case_dir, const std::vector<std::s
     set_objective(r);
     return;
   }
-  r.interpolation_db = 0;
-  for (const PredictedMode& m : predict_modes(P, map, P.amplitude, P.stepped_sine->frequencies)) {
+  set_predicted_modes(predict_modes(P, map, P.amplitude, P.stepped_sine->frequencies), modes, Checks::all, r);
+}
+
+void set_predicted_modes(const std::vector<PredictedMode>& predicted, const std::vector<int>& modes, Checks checks, DesignRow& r) {
+  r.db.assign(modes.size(), NAN), r.db_lo = r.db, r.db_hi = r.db;
+  r.at_band_edge = 0;
+  r.interpolation_db = checks == Checks::all ? 0.0 : NAN;
+  for (const PredictedMode& m : predicted) {
     const auto k = std::find(modes.begin(), modes.end(), static_cast<int>(m.mode));
     if (k == modes.end()) continue;
     const std::size_t i = static_cast<std::size_t>(k - modes.begin());
     if (!m.outside.empty()) {
-      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + ")"};
+      const std::string bag = r.pair ? ", bag " + std::to_string(m.outside_damper + 1) : "";
+      r.status = {Standing::outside_map, "at mode " + std::to_string(modes[i]) + " (" + m.outside_why + bag + ")"};
       return;
     }
-    r.db[i] = m.reduction_db, r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
+    r.db[i] = m.reduction_db;
+    if (checks != Checks::none) r.db_lo[i] = m.reduction_db_lo, r.db_hi[i] = m.reduction_db_hi;
     r.at_band_edge += m.at_band_edge ? 1 : 0;
-    r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);  // NaN stays NaN
+    if (checks == Checks::all)  // NaN stays NaN
+      r.interpolation_db = std::isnan(m.interpolation_db) ? NAN : std::max(r.interpolation_db, m.interpolation_db);
   }
   for (std::size_t i = 0; i < modes.size(); ++i)
     if (!std::isfinite(r.db[i])) {

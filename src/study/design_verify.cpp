@@ -9,6 +9,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/reduce/summary.hpp"
+#include "bagdem/study/design_files.hpp"
 #include "bagdem/units.hpp"
 
 namespace bagdem::study {
@@ -40,10 +41,10 @@ VerifyStudy verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, 
   if (pairs) {  // the second bag: its candidate's keys and its place, a [[dampers]] entry
     Varied second{"dampers", {}};
     for (const CheckedRow& r : best) {
-      std::vector<std::pair<std::string, std::string>> keys;
-      for (std::size_t k = 0; k < cand.vary.size(); ++k) keys.emplace_back(cand.vary[k].key, value(r.second->first, k).toml);
-      const std::string text = second_damper(keys, r.second->second * length);
-      second.values.push_back({text, "x/L " + short_text(r.second->second)});
+      std::string given;
+      for (std::size_t k = 0; k < cand.vary.size(); ++k) given += value(r.second->first, k).given + ", ";
+      const std::string text = second_damper(candidate_keys(cand, r.second->first), r.second->second * length);
+      second.values.push_back({text, given + "x/L " + short_text(r.second->second)});
     }
     spec.vary.push_back(second);
   }
@@ -53,7 +54,7 @@ VerifyStudy verify_study(const DesignArgs& a, const StudySpec& cand, bool beam, 
     std::vector<bool> done = done_points(plan);
     return {plan, done, resolve_budget(plan.spec, ranks.cores(), ranks.cores_from(), "bagdem design")};
   } catch (const InputError& e) {
-    throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other pairs: remove OUT/verify, or give a new --out)");
+    throw InputError(spec.out_dir, "", "", std::string(e.what()) + " (an earlier design checked other rows: remove " + spec.out_dir + ", or give a new --out)");
   }
 }
 

@@ -58,6 +58,10 @@ std::vector<DamperKeys> read_dampers(const CaseReader& in);
 // dampers.cpp: the case's own damper s and the others (resolved at one step) made one structure:
 // each Primary's mass matrix carries every cavity's mass; s.more_dampers takes the others.
 void join_dampers(Scene& s, std::vector<Scene>& others, const std::vector<DamperKeys>& keys);
+// dampers.cpp: whether a [[dampers]] entry may change `key` (its cavity, contents and where and how
+// it is attached), and the list of those keys for messages.
+bool damper_may_change(const std::string& key);
+std::string damper_keys_text();
 // A command that handles one damper refuses a case of several (InputError naming `dampers`, exit
 // 2): `what` says what it does with one ("predicts with one damper's map").
 void refuse_several_dampers(const Scene& s, const std::string& command, const std::string& what);

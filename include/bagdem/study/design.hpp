@@ -30,7 +30,9 @@
 #include "bagdem/study/characterize.hpp"
 
 namespace bagdem {
-struct EffectiveMap;  // reduce/predict.hpp
+struct EffectiveMap;   // reduce/predict.hpp
+struct PredictedMode;  // reduce/predict.hpp
+enum class Checks;     // reduce/predict.hpp
 }
 
 namespace bagdem::study {
@@ -61,13 +63,14 @@ struct DesignArgs {
 
 // One candidate at one position, predicted (and verified).
 // Where a candidate, or a candidate at a place, stands: ranked, or why not.
-enum class Standing { ranked, over_budget, does_not_load, no_map, other_damper, outside_map, mode_not_in_stepped_sine };
+enum class Standing { ranked, over_budget, does_not_load, no_map, other_damper, outside_map, mode_not_in_stepped_sine, screened };
 struct Status {
   Standing kind = Standing::ranked;
   std::string why;  // the detail design.csv adds to the kind's words (a loader's message, a mode, a map's reason)
   bool ranked() const { return kind == Standing::ranked; }
   // design.csv's status: "ranked", "over budget", "does not load: WHY", "no map (its runs failed)",
-  // "map of another damper (WHY)", "outside the map WHY", "mode WHY not in the sweep at this place".
+  // "map of another damper (WHY)", "outside the map WHY", "mode WHY not in the sweep at this place",
+  // "screened only (WHY)" (a pair of bags predicted coarsely, not among the best predicted in full).
   std::string text() const;
   // The inverse of text(); InputError for a text that text() does not write.
   static Status parse(const std::string& text);
@@ -118,17 +121,19 @@ std::vector<double> default_diameters(double diameter);
 // 0 done, 2 bad input (nothing run), 3 a run failed (the design is written from what finished).
 int design_command(const DesignArgs& args);
 
-// --dampers 2 (design_pairs.cpp): every two ranked single rows at different places whose added
-// masses together are within `budget_mass`, predicted together (reduce/predict.hpp, several
-// dampers; the structure's mass matrix carrying both cavities' masses), the objective as a single
-// row's. Every pair is screened at kPairScreenPoints frequencies a band without the interval; the
-// best kPairsChecked are predicted again at 400 with the interval and the resolution check.
-// `sets[c]` are candidate c's overrides and `maps[c]` its map (null: none). Returns the pairs ranked.
+// --dampers 2 (design_pairs.cpp): every two ranked single rows whose cavities do not overlap on the
+// beam and whose added masses together are within `budget_mass`, predicted together
+// (reduce/predict.hpp, several dampers; the structure's mass matrix carrying both cavities'
+// masses), the objective as a single row's. Every pair is screened at kPairScreenPoints
+// frequencies a band without the interval; the best kPairsChecked are predicted again at 400 with
+// the interval and the resolution check, and only they are ranked (the others "screened only").
+// `sets[c]` are candidate c's overrides and `maps[c]` its map (null: none). Returns the pairs ranked,
+// and in `overlapping` how many were left out for their cavities.
 inline constexpr int kPairScreenPoints = 100;
 inline constexpr std::size_t kPairsChecked = 20;
 std::vector<DesignRow> predict_pairs(const std::filesystem::path& case_dir, const std::vector<std::vector<std::string>>& sets,
                                      const std::vector<const EffectiveMap*>& maps, const std::vector<DesignRow>& singles,
-                                     const std::vector<int>& modes, double budget_mass);
+                                     const std::vector<int>& modes, double budget_mass, std::size_t& overlapping);
 // The value of `dampers` that puts a pair's second bag on the structure (a [[dampers]] entry named
 // "2", as TOML): its candidate's varied keys (`keys` with their TOML values) and its place x_b (m).
 std::string second_damper(const std::vector<std::pair<std::string, std::string>>& keys, double attach);
@@ -137,5 +142,9 @@ std::string second_damper(const std::vector<std::pair<std::string, std::string>>
 // `sets`) from its map, into r (its status when it cannot be predicted; design_predict.cpp).
 void predict_row(const std::filesystem::path& case_dir, const std::vector<std::string>& sets, const EffectiveMap& map,
                  const std::vector<int>& modes, DesignRow& r);
+// The chosen modes' figures of a prediction into r: each mode's reduction (and its range unless
+// `checks` is none), at_band_edge, interpolation_db (with Checks::all), the objective; or r's
+// status when a mode leaves the maps or is not in the sweep (design_predict.cpp).
+void set_predicted_modes(const std::vector<PredictedMode>& predicted, const std::vector<int>& modes, Checks checks, DesignRow& r);
 
 }  // namespace bagdem::study

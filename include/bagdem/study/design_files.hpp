@@ -47,10 +47,10 @@ const DesignRow* chosen_row(const std::vector<DesignRow>& rows);
 // OUT/chosen: the case directory of the chosen row (the case's own files beside case.toml copied;
 // case.toml its text with every override applied: the run's, the candidate's `sets[candidate]`
 // and its place; a pair's second bag as a [[dampers]] entry), written as OUT/chosen.part and
-// renamed, then loaded to show it is ready. A pair's is OUT/chosen-pair. Returns its path ("" when
-// nothing is ranked).
+// renamed, then loaded to show it is ready (a case that does not load leaves nothing). A pair's is
+// OUT/chosen-pair. Returns its path; "" when nothing is ranked, an earlier design's choice removed.
 std::string write_chosen_case(const DesignSummary& s, const std::vector<DesignRow>& rows,
-                              const std::vector<std::vector<std::string>>& sets);
+                              const std::vector<std::vector<std::string>>& sets, bool pairs = false);
 
 // The best rows and the Pareto front, on stdout.
 void print_design(const DesignSummary& s, const std::vector<DesignRow>& rows);

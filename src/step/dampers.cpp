@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <exception>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <strings.h>
 #include <stdexcept>
 
 #include "bagdem/error.hpp"
@@ -23,10 +25,13 @@ Dampers::Dampers(const Scene& scene) {
     names_.push_back(d.name);
   }
   if (sims_.size() == 1) return;
-  // Side by side on the threads only when each damper's step is worth a fork and a join.
+  // Side by side on the threads only when each damper's step is worth a fork and a join, and the
+  // threads spin between steps: with OMP_WAIT_POLICY=passive each fork wakes sleeping threads, and
+  // two bags of the stepped-beam pair ran 2.35 times slower on 2 threads than on 1 (docs/performance.md).
   std::size_t least = SIZE_MAX;
   for (const Simulation& s : sims_) least = std::min(least, s.particles().size() + s.film().size());
-  parallel_ = least >= kParallelDamper;
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  parallel_ = least >= kParallelDamper && !(policy && strcasecmp(policy, "passive") == 0);
   gather_load();
   for (Simulation& s : sims_) s.s_->restart_structure();  // a released structure's acceleration with every damper's load
 }
@@ -46,8 +51,8 @@ void Dampers::advance(std::uint64_t steps) {
   // and the first, in the dampers' order, is thrown after it, naming the damper.
   std::vector<std::exception_ptr>& errors = errors_;  // sized once (a sweep advances one step at a time)
   errors.assign(sims_.size(), nullptr);
-  auto each = [&](auto&& part) {
-#pragma omp parallel for schedule(static, 1) num_threads(threads)
+  auto each = [&](int team, auto&& part) {
+#pragma omp parallel for schedule(static, 1) num_threads(team)
     for (int d = 0; d < n; ++d) {
       try {
         part(*sims_[static_cast<std::size_t>(d)].s_);
@@ -66,10 +71,10 @@ void Dampers::advance(std::uint64_t steps) {
   };
   for (std::uint64_t k = 0; k < steps; ++k) {
     const bool last = k + 1 == steps;
-    each([last](Stepper& s) { s.step_contents(last); });
+    each(threads, [last](Stepper& s) { s.step_contents(last); });
     load_ = sims_[0].s_->contents_load();
     for (std::size_t d = 1; d < sims_.size(); ++d) load_ += sims_[d].s_->contents_load();
-    each([](Stepper& s) { s.step_structure(); });
+    each(threads, [](Stepper& s) { s.step_structure(); });
   }
 }
 

@@ -59,7 +59,8 @@ class Dampers {
   std::vector<std::string> names_;
   Eigen::VectorXd load_;
   // The dampers step side by side on the threads when each holds at least this many balls and film
-  // nodes (a bag's step, tens of microseconds); smaller ones step one after another (the same bits).
+  // nodes (a bag's step, tens of microseconds) and OMP_WAIT_POLICY is not passive; otherwise one
+  // after another (the same bits).
   static constexpr std::size_t kParallelDamper = 64;
   bool parallel_ = false;
   std::vector<std::exception_ptr> errors_;  // advance's: each damper's failure in a step

@@ -26,8 +26,8 @@ Dampers::Dampers(const Scene& scene) {
   }
   if (sims_.size() == 1) return;
   // Side by side on the threads only when each damper's step is worth a fork and a join, and the
-  // threads spin between steps: with OMP_WAIT_POLICY=passive each fork wakes sleeping threads, and
-  // two bags of the stepped-beam pair ran 2.35 times slower on 2 threads than on 1 (docs/performance.md).
+  // threads spin between steps: with OMP_WAIT_POLICY=passive each fork wakes sleeping threads, which
+  // costs more than a bag's step (docs/performance.md, "Several dampers").
   std::size_t least = SIZE_MAX;
   for (const Simulation& s : sims_) least = std::min(least, s.particles().size() + s.film().size());
   const char* policy = std::getenv("OMP_WAIT_POLICY");

@@ -130,6 +130,24 @@ TEST(Predict, RefusesWhatLiesOutsideTheMap) {
   }
 }
 
+// A corner of the map's interval that leaves the map near the peak (its damping 0.1 of the mean's:
+// the response climbs above the map's Gamma 1) has no peak over the band: it is left out of the
+// range, never taken with the peak of the frequencies it covers.
+TEST(Predict, ACornerThatLeavesTheMapIsLeftOutOfTheRange) {
+  bagdem::testing::TempDir t;
+  const Scene s = sdof_scene(t);
+  EffectiveMap map = make_map({1e-4, 1e-2, 1}, {15, 25}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  for (double& ci : map.C_eff_ci95) ci = 2.9;
+  const auto modes = predict_modes(*s.primary, map, 0.5, {18, 20, 22}, 400, Checks::interval);
+  ASSERT_EQ(modes.size(), 1u);
+  const PredictedMode& m = modes[0];
+  ASSERT_TRUE(m.outside.empty()) << m.outside_why;
+  std::printf("  %.4f dB, range %.4f to %.4f over %d corners\n", m.reduction_db, m.reduction_db_lo, m.reduction_db_hi, m.corners);
+  EXPECT_EQ(m.corners, 2) << "the two corners of less damping leave the map at the peak";
+  EXPECT_EQ(m.reduction_db_lo, m.reduction_db) << "no corner below the means' figure is inside the map";
+  EXPECT_GT(m.reduction_db_hi, m.reduction_db + 0.5);
+}
+
 TEST(Predict, TheCommandGivesTheLinearPeakReductionOfAConstantMapAndRefusesWhatItDoesNotCover) {
   bagdem::testing::TempDir t;
   const Scene s = sdof_scene(t);

@@ -223,6 +223,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const std::vector<Map
     m.bare_peak = b.magnitude * F, m.bare_frequency = b.frequency;
     // The damped peak at the map's means and at its interval's four corners.
     double corner_peak[5] = {};
+    bool corner_left[5] = {};  // a corner that leaves the maps at any frequency has no peak over the band
     int peak_k = -1;  // where the means' peak lies among the frequencies
     const int signs[5][2] = {{0, 0}, {-1, -1}, {-1, 1}, {1, -1}, {1, 1}};
     std::vector<HarmonicSolution> last[5];  // several dampers: each corner's solutions at the frequency before
@@ -233,6 +234,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const std::vector<Map
                                                      : predict_at(p, dampers, F, f, signs[c][0], signs[c][1], &last[c]);
         last[c] = fp.solutions;
         if (!fp.outside.empty()) {
+          corner_left[c] = true;
           if (c == 0) {
             if (m.outside.empty()) m.outside_why = fp.outside, m.outside_damper = fp.outside_damper;
             m.outside.push_back(f);
@@ -260,7 +262,7 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const std::vector<Map
     m.reduction_db_lo = m.reduction_db_hi = m.reduction_db;
     for (int c = 1; c < 5; ++c) {
       const double r = db(corner_peak[c]);
-      if (!std::isfinite(r)) continue;
+      if (corner_left[c] || !std::isfinite(r)) continue;
       ++m.corners;
       m.reduction_db_lo = std::min(m.reduction_db_lo, r), m.reduction_db_hi = std::max(m.reduction_db_hi, r);
     }

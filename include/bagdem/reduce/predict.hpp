@@ -157,7 +157,7 @@ struct PredictedMode {
   double peak_cavity_gamma = 0;           // the cavity's Gamma = X w^2 / g there: where the map is read (unit: 1)
   double reduction_db = 0;                // 20 log10(bare_peak / peak)
   double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)
-  int corners = 0;                        // of the four corners, those inside the map (the range is over them)
+  int corners = 0;                        // of the four corners, those inside the map at every frequency of the band (the range is over them)
   bool at_band_edge = false;              // the damped peak is the band's first or last frequency: it may lie
                                           // beyond the band, and the reduction is then only a bound (at most)
   // The resolution check: the largest change of reduction_db over the interpolation bounds' four

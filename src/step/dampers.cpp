@@ -36,10 +36,14 @@ Dampers::Dampers(const Scene& scene) {
   for (Simulation& s : sims_) s.s_->restart_structure();  // a released structure's acceleration with every damper's load
 }
 
-void Dampers::gather_load() {
-  if (sims_.size() == 1) return;
+void Dampers::sum_load() {
   load_ = sims_[0].s_->contents_load();
   for (std::size_t k = 1; k < sims_.size(); ++k) load_ += sims_[k].s_->contents_load();
+}
+
+void Dampers::gather_load() {
+  if (sims_.size() == 1) return;
+  sum_load();
   for (Simulation& s : sims_) s.s_->share_load(&load_);
 }
 
@@ -72,8 +76,7 @@ void Dampers::advance(std::uint64_t steps) {
   for (std::uint64_t k = 0; k < steps; ++k) {
     const bool last = k + 1 == steps;
     each(threads, [last](Stepper& s) { s.step_contents(last); });
-    load_ = sims_[0].s_->contents_load();
-    for (std::size_t d = 1; d < sims_.size(); ++d) load_ += sims_[d].s_->contents_load();
+    sum_load();
     each(threads, [](Stepper& s) { s.step_structure(); });
   }
 }

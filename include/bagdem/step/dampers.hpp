@@ -53,7 +53,9 @@ class Dampers {
   void load_image(const std::vector<char>& image);
 
  private:
-  // The load of all dampers now (each one's G m, in order), shared with each.
+  // The load of all dampers now (each one's G m, summed in order) into load_; gather_load also
+  // shares it with each.
+  void sum_load();
   void gather_load();
   std::vector<Simulation> sims_;
   std::vector<std::string> names_;

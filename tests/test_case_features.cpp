@@ -11,6 +11,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/step/simulation.hpp"
+#include "bagdem/study/damper_record.hpp"
 #include "case_texts.hpp"
 #include "support.hpp"
 
@@ -127,6 +128,34 @@ TEST(CaseFeatures, CsvParticlesAreReadExactly) {
   EXPECT_EQ(s.particles[0].x, Vec3(0.005, 0.005, 0.005));
   EXPECT_EQ(s.particles[0].v, Vec3(0.1, 0, -0.2));
   EXPECT_EQ(s.particles[1].radius, 0.002);
+}
+
+// A file the case reads is part of the case: its fingerprint ends the resolved text (which a resume,
+// a study's points and the commands reading results.h5 compare), the differences name it, and a
+// map's damper record holds it. Before, an edited particle file or modal table left the case "the
+// same", and a sweep resumed with it mixed two sets of balls or two structures in one table.
+TEST(CaseFeatures, AnEditedFileTheCaseReadsIsAChangedCase) {
+  CaseDir c(in_box().set("particles.balls", {{"material", quoted("steel")}, {"file", quoted("balls.csv")}}));
+  const std::string csv = "x,y,z,diameter\n0.005,0.005,0.005,0.004\n0.015,0.005,0.005,0.004\n";
+  c.write("balls.csv", csv);
+  const Scene a = load_case(c.str());
+  EXPECT_NE(a.resolved.find("# reads particles.balls.file = fnv1a64 "), std::string::npos) << a.resolved;
+  c.write("balls.csv", csv);  // the same bytes written again: the same case
+  EXPECT_EQ(load_case(c.str()).resolved, a.resolved);
+  EXPECT_EQ(case_differences(a.resolved, a.resolved), "");
+
+  c.write("balls.csv", "x,y,z,diameter\n0.005,0.005,0.005,0.003\n0.015,0.005,0.005,0.004\n");  // one ball smaller
+  const Scene b = load_case(c.str());
+  EXPECT_NE(b.resolved, a.resolved);
+  const std::string diff = case_differences(a.resolved, b.resolved);
+  EXPECT_NE(diff.find("the file at particles.balls.file: was fnv1a64"), std::string::npos) << diff;
+  EXPECT_NE(diff.find("edited"), std::string::npos) << diff;
+  const study::DamperRecord ra = study::damper_record(a), rb = study::damper_record(b);
+  ASSERT_TRUE(ra.count("file.particles.balls.file"));
+  EXPECT_FALSE(study::damper_differences(ra, rb).empty());
+  // A resolved text of a bagdem before the fingerprints (no "# reads" line) differs too: it cannot tell.
+  const std::string old = a.resolved.substr(0, a.resolved.find("\n# reads"));
+  EXPECT_NE(case_differences(old, a.resolved).find("was not fingerprinted"), std::string::npos);
 }
 
 // A particle file may be gzip-compressed (read in-process through zlib): the same particles as the

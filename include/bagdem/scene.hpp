@@ -3,6 +3,7 @@
 // and the recorders read only this.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -56,7 +57,9 @@ struct Damper {
 struct Scene {
   std::string case_dir;   // directory of the case
   std::string case_file;  // path of case.toml, for messages
-  std::string resolved;   // the resolved configuration as TOML text (written to results.h5)
+  std::string resolved;   // the resolved configuration as TOML text (written to results.h5), the
+                          // fingerprints of the files it reads at its end (CaseReader::text)
+  std::map<std::string, std::string> files;  // those fingerprints: the case's key -> CaseReader::files()'s text
 
   std::vector<Material> materials;
   PairLawTable laws;

@@ -207,7 +207,7 @@ struct SavedBagPlacement {
 // bag.from: the saved bag's film and balls, placed so its balls' centroid sits at bag.centre when
 // given, else where it was saved.
 void place_saved_bag(const CaseReader& in, Scene& s, const SavedBagPlacement& at, Bag& b) {
-  const std::string path = (std::filesystem::path(s.case_dir) / in.string("bag.from")).string();
+  const std::string path = in.file_path("bag.from", s.case_dir);
   SavedBag saved = load_bag(path);
   b.rest = std::move(saved.rest);
   build_topology(b.rest);

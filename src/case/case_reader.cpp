@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <functional>
 #include <sstream>
 
 #include "bagdem/error.hpp"
+#include "bagdem/fingerprint.hpp"
 
 namespace bagdem {
 
@@ -374,9 +378,20 @@ std::vector<std::pair<std::string, const toml::node*>> toml_leaves(const toml::n
   return out;
 }
 
+std::string CaseReader::file_path(const std::string& key, const std::string& dir) const {
+  const std::string path = (std::filesystem::path(dir) / string(key)).string();
+  std::ifstream f(path, std::ios::binary);
+  std::string bytes;
+  if (f) bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  files_[key] = !f ? std::string("not found")
+                   : "fnv1a64 " + hex16(fnv1a64(bytes.data(), bytes.size())) + ", " + std::to_string(bytes.size()) + " bytes";
+  return path;
+}
+
 std::string CaseReader::text() const {
   std::ostringstream s;
   s << root_;
+  for (const auto& [key, print] : files_) s << "\n# reads " << key << " = " << print;
   return s.str();
 }
 

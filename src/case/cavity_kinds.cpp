@@ -89,7 +89,7 @@ void planes(const CaseReader& in, Scene& s, int material) {
 // A rigid cavity of any shape from an STL file (normals pointing out of the cavity, away from the
 // balls): balls touch its triangles (walls/mesh_wall.hpp). Bounds: the mesh's bounding box.
 void stl(const CaseReader& in, Scene& s, int material) {
-  const std::string path = (std::filesystem::path(s.case_dir) / in.string("cavity.file")).string();
+  const std::string path = in.file_path("cavity.file", s.case_dir);
   const double scale = in.quantity("cavity.scale", dim::length, 1.0);
   if (!(scale > 0)) in.fail("cavity.scale", "must be > 0: the length of one file unit (\"1 mm\" for a file in mm)");
   MeshWall w;

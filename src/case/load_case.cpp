@@ -260,6 +260,7 @@ Scene load_one(const std::string& case_dir, const std::vector<std::string>& over
   if (dampers) *dampers = more;
   in.reject_unknown_keys();
   s.resolved = in.text();
+  s.files = in.files();
   return s;
 }
 }  // namespace
@@ -310,6 +311,21 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
   return s;
 }
 
+namespace {
+// The "# reads KEY = FINGERPRINT" lines of a resolved case (CaseReader::text), by key.
+std::map<std::string, std::string> files_read(const std::string& text) {
+  std::map<std::string, std::string> files;
+  std::istringstream in(text);
+  const std::string tag = "# reads ";
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(tag, 0) != 0) continue;
+    const std::size_t eq = line.find(" = ", tag.size());
+    if (eq != std::string::npos) files[line.substr(tag.size(), eq - tag.size())] = line.substr(eq + 3);
+  }
+  return files;
+}
+}  // namespace
+
 std::string case_differences(const std::string& was, const std::string& now, const std::vector<std::string>& ignore) {
   // By key: each differing key with its two values as written (TOML), the first few.
   try {
@@ -327,6 +343,13 @@ std::string case_differences(const std::string& was, const std::string& now, con
       if (const auto it = vb.find(k); it == vb.end() || it->second != x) diff.push_back(k + ": was " + x + ", now " + (it == vb.end() ? "not set" : it->second));
     for (const auto& [k, y] : vb)
       if (!va.count(k)) diff.push_back(k + ": was not set, now " + y);
+    // The files the case reads (CaseReader::text's "# reads KEY = FINGERPRINT" lines, which TOML skips).
+    const std::map<std::string, std::string> fa = files_read(was), fb = files_read(now);
+    for (const auto& [k, x] : fa)
+      if (const auto it = fb.find(k); it == fb.end() || it->second != x)
+        diff.push_back("the file at " + k + ": was " + x + ", now " + (it == fb.end() ? "not read" : "edited (" + it->second + ")"));
+    for (const auto& [k, y] : fb)
+      if (!fa.count(k)) diff.push_back("the file at " + k + ": was not fingerprinted (a bagdem before file fingerprints), now " + y);
     std::string list;
     for (std::size_t k = 0; k < diff.size() && k < 4; ++k) list += (k ? "; " : "") + diff[k];
     if (diff.size() > 4) list += "; and " + std::to_string(diff.size() - 4) + " more";

@@ -29,7 +29,7 @@ std::unique_ptr<Motion> harmonic(const CaseReader& in, const Scene&) {
 
 std::unique_ptr<Motion> table(const CaseReader& in, const Scene& s) {
   const std::string key = "cavity.motion.file";
-  const std::string path = (std::filesystem::path(s.case_dir) / in.string(key)).string();
+  const std::string path = in.file_path(key, s.case_dir);
   std::ifstream file(path);
   if (!file) in.fail(key, "cannot open the file " + path);
   std::vector<double> t;

@@ -375,7 +375,7 @@ void resolve_particles(const CaseReader& in, Scene& s, const std::vector<std::st
       for (std::size_t k = 0; k < xs.size(); ++k) list.push_back({xs[k], vs[k], Vec3::Zero(), 0.5 * dia[k], 0});
     } else if (in.has(g + ".file")) {
       key = g + ".file";
-      const std::string path = (std::filesystem::path(s.case_dir) / in.string(key)).string();
+      const std::string path = in.file_path(key, s.case_dir);
       const std::string format = in.choice(g + ".format", {"csv", "lammps-data"}, "csv");
       list = format == "csv" ? read_csv(in, key, path) : read_lammps_data(in, key, path);
     }

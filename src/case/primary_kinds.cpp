@@ -219,7 +219,7 @@ Primary fe_beam(const CaseReader& in, const Scene& s, const Vec3& axis) {
 Primary modal(const CaseReader& in, const Scene& s, const Vec3& axis) {
   ModalPrimarySpec m;
   m.source = in.string("primary.table");
-  const std::filesystem::path path = std::filesystem::path(s.case_dir) / m.source;
+  const std::filesystem::path path = in.file_path("primary.table", s.case_dir);
   if (!std::filesystem::is_regular_file(path)) in.fail("primary.table", "names no file (" + path.string() + "): give the CSV of the modes, relative to the case directory");
   m.table = read_modal_table(path);
   if (in.has("primary.damping_ratio")) {  // one for every elastic mode, or a list in their order

@@ -49,12 +49,6 @@ struct Blocks {
 
 }  // namespace
 
-std::uint64_t fnv1a64(const char* data, std::size_t n) {
-  std::uint64_t h = 14695981039346656037ULL;
-  for (std::size_t k = 0; k < n; ++k) h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ULL;
-  return h;
-}
-
 void save_checkpoint_file(const fs::path& path, const CheckpointData& data) {
   std::string payload;
   put_block(payload, data.kind);

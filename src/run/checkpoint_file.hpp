@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bagdem/fingerprint.hpp"  // fnv1a64
 #include "bagdem/scene.hpp"
 
 namespace bagdem {
@@ -29,9 +30,6 @@ struct CheckpointData {
 
 // A checkpoint of `kind` of `scene` holding `blocks`.
 CheckpointData checkpoint_of(const std::string& kind, const Scene& scene, std::vector<std::string> blocks);
-
-// FNV-1a, 64 bits.
-std::uint64_t fnv1a64(const char* data, std::size_t n);
 
 // Writes the checkpoint atomically (a temporary name, then rename); throws std::runtime_error
 // naming the file when it cannot be written (a full disk).

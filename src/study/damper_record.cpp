@@ -86,6 +86,10 @@ DamperRecord damper_record(const Scene& scene) {
           std::string(contact_law(l.kind).name) + ", e " + number(l.restitution) + ", damping " + number(l.damping) + ", tangential ratio " +
           number(l.tangential_ratio) + ", stiffness " + number(l.stiffness) + ", mu_s " + number(l.friction) + ", mu_r " + number(l.rolling);
     }
+  // The files the damper is made of (its balls, a saved bag, its cavity's surface): their contents,
+  // which the keys above only name.
+  for (const auto& [key, print] : scene.files)
+    if (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("cavity.file", 0) == 0) r["file." + key] = print;
   // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
   if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
     r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);

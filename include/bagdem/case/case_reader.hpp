@@ -2,6 +2,7 @@
 // read, so that any key nobody asked for is reported as unknown. Every error names the file, the
 // key, the value and what is allowed (InputError, exit code 2).
 #pragma once
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -60,7 +61,14 @@ class CaseReader {
   void reject_unknown_keys() const;
   // The value at key as written in TOML ("(missing)" when absent).
   std::string value_text(const std::string& key) const;
-  // The TOML text of the case with overrides applied.
+  // The path of the file the case names at `key`, relative to its directory `dir`, its contents
+  // fingerprinted at once into text() and files(): an edited file is a changed case (a resume, a
+  // study's points, a map's damper and the commands that read results.h5 refuse it).
+  std::string file_path(const std::string& key, const std::string& dir) const;
+  // Each file named so far: key -> "fnv1a64 <16 hex digits>, <size> bytes" ("not found" when absent).
+  const std::map<std::string, std::string>& files() const { return files_; }
+  // The TOML text of the case with overrides applied, then a comment line for each file it reads
+  // ("# reads <key> = <fingerprint>").
   std::string text() const;
 
  private:
@@ -74,6 +82,7 @@ class CaseReader {
   toml::table root_;
   mutable std::set<std::string> read_;   // keys present in the case and read
   mutable std::set<std::string> asked_;  // keys asked for, present or not: the allowed keys
+  mutable std::map<std::string, std::string> files_;  // file_path's fingerprints, by key
 };
 
 // The one of `candidates` nearest to `name` in edit distance, if it is close enough to be what a

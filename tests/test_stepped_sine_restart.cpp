@@ -123,7 +123,8 @@ TEST(SweepRestart, TwoChainsAreTheSameOnAnyThreadsAndAfterKills) {
   ASSERT_GT(kill, steps(2) + steps(3));
   ASSERT_LT(kill, steps(2) + steps(3) + steps(5));
   EXPECT_FALSE(sweep(b, 2, std::llround(kill), false).complete);
-  const std::string part = bagdem::testing::slurp(b / "sweep.csv");
+  const std::string part = bagdem::testing::slurp(b / "sweep.partial.csv");
+  EXPECT_FALSE(fs::exists(b / "sweep.csv") || fs::exists(b / "reduced.csv")) << "an interrupted sweep's tables are its partial ones";
   EXPECT_EQ(std::count(part.begin(), part.end(), '\n'), 5) << "the header and the 4 planned points";
   const fs::path d = tmp.path / "D";
   EXPECT_FALSE(sweep(d, 2, std::llround(0.5 * steps(3)), false).complete);

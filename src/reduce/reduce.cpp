@@ -327,7 +327,12 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
   if (scene.primary && scene.primary->stepped_sine) {
     require_case_of_run(out / "results.h5", scene, "is missing: run the sweep first (bagdem run)");
     const fs::path csv = out / "reduced.csv";
-    if (!fs::exists(csv)) throw InputError(csv.string(), "", "", "is missing: run the sweep first (bagdem run)");
+    if (!fs::exists(csv))
+      throw InputError(csv.string(), "", "", fs::exists(out / "reduced.partial.csv")
+                                                 ? "is missing: the last sweep in this directory did not finish (reduced.partial.csv holds "
+                                                   "its points so far, results.h5 is an earlier run's if any); resume it (bagdem run "
+                                                   "--resume) or run it again"
+                                                 : "is missing: run the sweep first (bagdem run)");
     return read_reduced_csv(csv);
   }
   const double f = scene.motion->frequency();

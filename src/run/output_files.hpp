@@ -62,8 +62,15 @@ inline void append_frame(ResultsFile& file, const Frame& f) {
 // and what a failed run left: a new run (or a resumed one) removes them first, so that none of an
 // earlier run is left beside its results. results.h5 is not among them: it is replaced when the new
 // one is complete (renamed over it), so an interrupted or failed run leaves the earlier one intact.
+// A stepped sine's tables of the points done so far, while it runs (and after an interruption, which
+// a resume continues): never under the names of a whole run's tables, which its reading commands
+// would take for the results.h5 beside them (an earlier run's, until the new one is complete).
+inline constexpr const char* kSweepPartial = "sweep.partial.csv";
+inline constexpr const char* kReducedPartial = "reduced.partial.csv";
+
 inline constexpr const char* kDerivedTables[] = {"summary.json", "reduced.csv", "compare.csv", "peaks.csv",
                                                  "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv",
+                                                 kSweepPartial, kReducedPartial,
                                                  "export.csv", "export.json", "export.h5",
                                                  "results.failed.h5", "results.failed.xmf", "sweep.failed.csv",
                                                  "reduced.failed.csv"};

@@ -8,7 +8,7 @@ namespace stepped_sine_run {
 
 void SteppedSineRun::open() {
   for (std::size_t k = 1; k < dampers_; ++k) fs::create_directories(more_out(k));
-  const fs::path part = out_ / "results.h5.part", csv = out_ / "sweep.csv";
+  const fs::path part = out_ / "results.h5.part", csv = out_ / kSweepPartial;
   std::vector<std::string> mats;
   for (const auto& m : scene_.materials) mats.push_back(m.name);
   file_.emplace(opt_.resume ? reopen_results(part, state_.lengths) : open_results(part.string(), sim0(), mats, scene_.dt));
@@ -21,7 +21,7 @@ void SteppedSineRun::open() {
   done_points_ = std::move(state_.points);
   done_reduced_ = std::move(state_.reduced);
   for (const SteppedSinePoint& p : done_points_) file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(p));
-  if (!done_points_.empty()) write_stepped_sine_csv(csv, done_points_), write_reduced_csv(out_ / "reduced.csv", done_reduced_);
+  if (!done_points_.empty()) write_stepped_sine_csv(csv, done_points_), write_reduced_csv(out_ / kReducedPartial, done_reduced_);
   rep_.points = done_points_, rep_.reduced = done_reduced_;
   state_.more_reduced.resize(dampers_ - 1);
   if (!done_points_.empty()) write_more_reduced();
@@ -159,9 +159,9 @@ SteppedSineReport SteppedSineRun::halted(const SteppedSineHalt& h) {
 SteppedSineReport SteppedSineRun::failed(const RunError& e) {
   // The points done are this failed stepped sine's: their tables carry its name too, beside its record.
   for (const char* t : {"sweep", "reduced"})
-    if (fs::exists(out_ / (std::string(t) + ".csv"))) fs::rename(out_ / (std::string(t) + ".csv"), out_ / (std::string(t) + ".failed.csv"));
+    if (fs::exists(out_ / (std::string(t) + ".partial.csv"))) fs::rename(out_ / (std::string(t) + ".partial.csv"), out_ / (std::string(t) + ".failed.csv"));
   for (std::size_t k = 1; k < dampers_; ++k)
-    if (fs::exists(more_out(k) / "reduced.csv")) fs::rename(more_out(k) / "reduced.csv", more_out(k) / "reduced.failed.csv");
+    if (fs::exists(more_out(k) / kReducedPartial)) fs::rename(more_out(k) / kReducedPartial, more_out(k) / "reduced.failed.csv");
   rep_.message = failed_run_message(e.what(), close_results(std::string("failed: ") + e.what(), false));
   fs::remove(out_ / "checkpoint.bin");  // a failed sweep is not continued: resuming it would fail again
   return rep_;
@@ -180,13 +180,17 @@ SteppedSineReport SteppedSineRun::finish() {
   own.more_dampers.clear();
   if (const std::string why = drop_where_no_restitution(own, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
+  // The tables of the points, whole now: under their own names, the partial ones gone.
+  write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
   write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
+  fs::remove(out_ / kSweepPartial), fs::remove(out_ / kReducedPartial);
   for (std::size_t k = 1; k < dampers_; ++k) {
     std::vector<ReducedRow>& rows = state_.more_reduced[k - 1];
     if (const std::string why = drop_where_no_restitution(more_scene(k), rows, more_out(k), true); !why.empty() && !opt_.quiet)
       std::fprintf(stderr, "damper %s: no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n",
                    scene_.more_dampers[k - 1].name.c_str(), why.c_str());
     write_reduced_csv(more_out(k) / "reduced.csv", rows);
+    fs::remove(more_out(k) / kReducedPartial);
   }
   // The continuum model with the contents' C_b and M_b (several dampers: the modal model with each
   // at its place).

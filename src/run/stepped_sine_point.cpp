@@ -92,8 +92,8 @@ void SteppedSineRun::write_point(DonePoint& d) {
   for (std::size_t k = 1; k < dampers_; ++k) state_.more_reduced[k - 1].push_back(d.more_reduced[k - 1]);
   file_->append_table_row("sweep", kSteppedSineColumns, stepped_sine_row(d.pt));
   frame(d.frame);
-  write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
-  write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
+  write_stepped_sine_csv(out_ / kSweepPartial, rep_.points);
+  write_reduced_csv(out_ / kReducedPartial, rep_.reduced);
   write_more_reduced();
   // The chain's latest state among its points written (steps_done grows along a chain).
   if (d.step > image_step_[d.chain]) state_.images[d.chain] = std::move(d.image), image_step_[d.chain] = d.step;

@@ -97,7 +97,7 @@ class SteppedSineRun {
   fs::path more_out(std::size_t k) const { return damper_dir(out_, scene_.more_dampers[k - 1].name); }
   const Scene& more_scene(std::size_t k) const { return *scene_.more_dampers[k - 1].scene; }
   void write_more_reduced() {
-    for (std::size_t k = 1; k < dampers_; ++k) write_reduced_csv(more_out(k) / "reduced.csv", state_.more_reduced[k - 1]);
+    for (std::size_t k = 1; k < dampers_; ++k) write_reduced_csv(more_out(k) / kReducedPartial, state_.more_reduced[k - 1]);
   }
   void frame(const Frame& f) {
     append_frame(*file_, f);

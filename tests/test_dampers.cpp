@@ -261,7 +261,8 @@ TEST(DampersSweep, TheBalanceClosesOverEveryDamperAndEachIsReduced) {
   const double into = chain.settle + whole.points[0].cycles / whole.points[0].frequency + 0.5 * whole.points[1].cycles / whole.points[1].frequency;
   RunOptions cut = bagdem::testing::quiet_run(d.path / "t3", 1, static_cast<long long>(into / chain.dt));
   ASSERT_FALSE(run_stepped_sine(chain, cut).complete);
-  ASSERT_TRUE(std::filesystem::exists(d.path / "t3" / "dampers" / "two" / "reduced.csv"));  // the first point was written
+  ASSERT_TRUE(std::filesystem::exists(d.path / "t3" / "dampers" / "two" / "reduced.partial.csv"));  // the first point was written
+  ASSERT_FALSE(std::filesystem::exists(d.path / "t3" / "dampers" / "two" / "reduced.csv"));
   cut.stop_after_steps = -1, cut.resume = true;
   ASSERT_TRUE(run_stepped_sine(chain, cut).complete);
   EXPECT_EQ(table("t3", "reduced.csv"), table("t4", "reduced.csv"));

@@ -33,6 +33,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
 #include "h5_read.hpp"
 #include "case_texts.hpp"
@@ -256,6 +257,42 @@ TEST(Study, GridRunsEveryPointAndMergesItsRows) {
   EXPECT_EQ(read_strings(f, "/sweep/given/particles.ball.diameter")[7], "20 mm");
   EXPECT_EQ(read_strings(f, "/sweep/status")[0], "done");
   H5Fclose(f);
+}
+
+// A study and a run each refuse the other's directory, and a study does not clear a point's directory
+// that a run started by hand writes now. Before, a sweep into a run's directory replaced its tables
+// with the study's (reduce then read the study's first point as the run), a run into a study's
+// deleted its merged tables, and a sweep deleted a locked point's directory and merged that
+// stranger's rows (all exit 0).
+TEST(Study, ARunAndAStudyRefuseEachOthersDirectoriesAndALockedPoint) {
+  TempDir d;
+  const std::string c = make_case(d);
+  const fs::path run = d.path / "run", study = d.path / "study", busy = d.path / "busy";
+  ASSERT_EQ(bagdem::testing::run_bagdem({"run", c, "--quiet", "--threads", "1", "--out", run.string()}, d.path).code, 0);
+  const std::string reduced = bagdem::testing::slurp(run / "reduced.csv");
+  CmdResult r = sweep(d, {c, "--vary", "excitation.amplitude=10 N,20 N", "--jobs", "1", "--out", run.string()});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("holds a run's results.h5"), std::string::npos) << r.err;
+  EXPECT_EQ(bagdem::testing::slurp(run / "reduced.csv"), reduced);
+  EXPECT_FALSE(fs::exists(run / "study.h5") || fs::exists(run / "point-000"));
+
+  ASSERT_EQ(sweep(d, {c, "--vary", "excitation.amplitude=10 N", "--jobs", "1", "--out", study.string()}).code, 0);
+  const std::string merged = bagdem::testing::slurp(study / "sweep.csv");
+  r = bagdem::testing::run_bagdem({"run", c, "--quiet", "--threads", "1", "--out", study.string()}, d.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("holds a study's study.h5"), std::string::npos) << r.err;
+  EXPECT_EQ(bagdem::testing::slurp(study / "sweep.csv"), merged);
+  EXPECT_FALSE(fs::exists(study / "results.h5"));
+
+  {
+    const bagdem::OutputLock held(busy / "point-000");  // as a run started by hand into it holds it
+    std::ofstream(busy / "point-000" / "mine.txt") << "being written\n";
+    r = sweep(d, {c, "--vary", "excitation.amplitude=10 N", "--jobs", "1", "--out", busy.string()});
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("another bagdem process is writing there now"), std::string::npos) << r.err;
+    EXPECT_EQ(bagdem::testing::slurp(busy / "point-000" / "mine.txt"), "being written\n");
+  }
+  EXPECT_EQ(sweep(d, {c, "--vary", "excitation.amplitude=10 N", "--jobs", "1", "--out", busy.string()}).code, 0) << "the lock outlived its holder";
 }
 
 // study.toml with combine = "zip": the lists taken together, point.toml recording the overrides,

@@ -63,6 +63,38 @@ void refuse_inside_another(const std::filesystem::path& dir) {
 
 }  // namespace
 
+void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return;
+  std::string found;
+  if (as == OutputOwner::study) {
+    for (const char* f : {"results.h5", "results.h5.part", "checkpoint.bin"})
+      if (found.empty() && fs::exists(dir / f, ec)) found = std::string("a run's ") + f;
+  } else {
+    if (fs::exists(dir / "study.h5", ec)) found = "a study's study.h5";
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      if (found.empty() && name.rfind("point-", 0) == 0 && fs::exists(e.path() / "point.toml", ec)) found = "a study's point directory " + name;
+    }
+  }
+  if (!found.empty())
+    throw InputError(dir.string() + ": holds " + found + (as == OutputOwner::study ? " (bagdem run)" : " (bagdem sweep, characterize, trade, calibrate or design)") +
+                     "; a " + (as == OutputOwner::study ? "study" : "run") +
+                     " would mix its outputs with those. Give another --out, or delete what is there");
+}
+
+void refuse_if_locked(const std::filesystem::path& dir) {
+  const std::filesystem::path lock = dir / ".bagdem-lock";
+  const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return;
+  const bool held = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  if (held)
+    throw InputError(dir.string() + ": another bagdem process is writing there now (it holds its lock), so it is not cleared "
+                     "for a new run; stop that process or wait for it, then run again");
+}
+
 void share_output_with_children(const std::filesystem::path& dir) {
   const char* env = std::getenv(kEnclosing);
   const std::string list = (env && *env ? std::string(env) + ":" : std::string()) + normal(dir).string();

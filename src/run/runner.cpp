@@ -445,6 +445,7 @@ bool step_all(Stepped steps, std::vector<std::unique_ptr<RunLoop>>& loops, const
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  refuse_other_outputs(opt.out_dir, OutputOwner::run);
   const OutputLock lock(opt.out_dir);  // creates the directory
   clear_other_dampers(opt.out_dir, scene, opt.resume);
   std::optional<Simulation> one;

@@ -215,6 +215,7 @@ SteppedSineReport run_stepped_sine(const Scene& scene, const RunOptions& opt) {
     throw InputError(scene.case_file, "excitation.kind", "", "a sweep needs a primary structure with excitation.kind = \"stepped-sine\"");
   const InterruptGuard interrupts;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  refuse_other_outputs(opt.out_dir, OutputOwner::run);
   const OutputLock lock(opt.out_dir);  // creates the directory
   clear_other_dampers(opt.out_dir, scene, opt.resume);
   stepped_sine_run::SteppedSineRun sweep(scene, opt);

@@ -324,7 +324,7 @@ int design_command(const DesignArgs& a) {
   if (const int code = agreed(*ranks, [&] {
         z = set_up_search(a);
         if (!a.check) {
-          if (lead) lock.emplace(z.cand.out_dir);
+          if (lead) refuse_other_outputs(z.cand.out_dir, OutputOwner::study), lock.emplace(z.cand.out_dir);
           share_output_with_children(z.cand.out_dir);
         }
         return 0;

@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
 
 namespace bagdem::study {
@@ -147,6 +148,7 @@ struct Reaper {
 Child start_point(const Plan& plan, std::size_t index, const PoolOptions& opt, const std::string& host, int null_fd) {
   const Point& p = plan.points[index];
   const fs::path dir = plan.point_dir(p);
+  refuse_if_locked(dir);
   fs::remove_all(dir);
   fs::create_directories(dir);
   write_atomically(dir / "point.toml", point_toml(plan, p));

@@ -174,7 +174,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
         plan = make_plan(read());
         budget = resolve_budget(plan.spec, ranks->cores(), ranks->cores_from(), command);
         warnings = validate_plan(plan);
-        if (lead && !check) lock.emplace(plan.spec.out_dir);
+        if (lead && !check) refuse_other_outputs(plan.spec.out_dir, OutputOwner::study), lock.emplace(plan.spec.out_dir);
         if (!check) share_output_with_children(plan.spec.out_dir);  // every rank's runs write inside OUT
         done = done_points(plan);
         return 0;

@@ -394,6 +394,7 @@ int trade_command(const TradeArgs& args) {
     plan = trade_plan(args, ladder);
     budget = resolve_budget(plan.spec, machine_cores(), "the cores of this machine", "bagdem trade");
     for (const std::string& w : validate_plan(plan)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    refuse_other_outputs(plan.spec.out_dir, OutputOwner::study);
     lock.emplace(plan.spec.out_dir);  // one study writes a directory at a time; its runs write inside it
     share_output_with_children(plan.spec.out_dir);
     done = done_points(plan);

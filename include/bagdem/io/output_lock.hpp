@@ -14,6 +14,19 @@ namespace bagdem {
 // holds dir's lock: names it in their environment (BAGDEM_ENCLOSING_OUTPUTS).
 void share_output_with_children(const std::filesystem::path& dir);
 
+// Who writes an output directory: a run (results.h5 and its tables at its top) or a study (sweep,
+// characterize, trade, calibrate, design: study.h5 and point directories, its runs inside).
+enum class OutputOwner { run, study };
+
+// Refuses (InputError naming the directory and what it holds) to write `as` into a directory that
+// holds the other's outputs: a study's merged tables would replace a run's, and a run would delete
+// a study's tables and leave its points beside a single run that export then takes for the study.
+void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as);
+
+// Refuses (InputError) when a process holds dir's lock now (before a study clears a point's
+// directory that a run started by hand may be writing).
+void refuse_if_locked(const std::filesystem::path& dir);
+
 class OutputLock {
  public:
   // Creates `dir` if need be and locks it; InputError naming the directory when another process

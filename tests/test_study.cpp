@@ -295,6 +295,38 @@ TEST(Study, ARunAndAStudyRefuseEachOthersDirectoriesAndALockedPoint) {
   EXPECT_EQ(sweep(d, {c, "--vary", "excitation.amplitude=10 N", "--jobs", "1", "--out", busy.string()}).code, 0) << "the lock outlived its holder";
 }
 
+// The merge on a full disk (the full-disk library preloaded, tests/full_disk): the study exits 1 naming
+// the reason and leaves no study.h5. Before, HDF5's failed writes went to stderr only and a broken
+// study.h5 was renamed into place with "sweep complete" and exit 0 (the close's writes were unchecked).
+TEST(Study, AMergeOnAFullDiskExitsOneAndLeavesNoBrokenStudyFile) {
+  TempDir d;
+  const std::string c = make_case(d), out = (d.path / "full").string();
+  const std::vector<std::string> args = {c, "--vary", "excitation.amplitude=10 N,20 N", "--jobs", "1", "--out", out};
+  ASSERT_EQ(sweep(d, args).code, 0);
+  long long tables = 0;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().extension() == ".csv") tables += static_cast<long long>(fs::file_size(e.path()));
+  const auto h5 = static_cast<long long>(fs::file_size(fs::path(out) / "study.h5"));
+  // Every point is done: a second sweep only merges. The disk fills within the tables, and in
+  // study.h5 early, half way and near its end.
+  for (long long bytes : {tables / 2, tables + 200, tables + h5 / 2, tables + h5 * 9 / 10}) {
+    SCOPED_TRACE("disk full after " + std::to_string(bytes) + " bytes");
+    fs::remove(fs::path(out) / "study.h5");
+    setenv("LD_PRELOAD", BAGDEM_FULL_DISK_LIB, 1);
+    setenv("BAGDEM_FULL_DISK_BYTES", std::to_string(bytes).c_str(), 1);
+    const CmdResult r = sweep(d, args);
+    unsetenv("LD_PRELOAD");
+    unsetenv("BAGDEM_FULL_DISK_BYTES");
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(fs::path(out) / "study.h5")) << "a study.h5 the disk could not hold was renamed into place";
+  }
+  ASSERT_EQ(sweep(d, args).code, 0) << "with room again";
+  const hid_t f = bagdem::testing::open_read(out + "/study.h5");
+  EXPECT_GE(f, 0);
+  if (f >= 0) H5Fclose(f);
+}
+
 // study.toml with combine = "zip": the lists taken together, point.toml recording the overrides,
 // and each point's receptance the analytic one of its own damping ratio.
 TEST(Study, ZipFromStudyTomlTakesTheListsTogether) {

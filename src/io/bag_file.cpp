@@ -72,7 +72,7 @@ void write_file(Writer& w, const SavedBag& bag) {
     w.attribute(file, "film_thickness", bag.film_thickness);  // m
     w.attribute(file, "program_version", std::string(BAGDEM_VERSION));
   }  // the groups close before the file
-  w.ok(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush");
+  h5::close_file(file, w.ok, "cannot write it");
 }
 
 // ---- reading --------------------------------------------------------------------------------

@@ -28,6 +28,7 @@ class H5 {
     if (id_ >= 0) close_(id_);
   }
   operator hid_t() const { return id_; }
+  hid_t release() { return std::exchange(id_, H5I_INVALID_HID); }  // the caller closes it
 
  private:
   hid_t id_ = H5I_INVALID_HID;
@@ -52,6 +53,14 @@ class Check {
  private:
   std::function<void(const std::string&)> fail_;
 };
+
+// A file written whole, flushed and closed with both checked: what the library writes at the close
+// (data still cached, the superblock) fails there on a full disk, which a close in a destructor
+// would drop, and the file would then be renamed into place broken.
+inline void close_file(H5& file, const Check& ok, const std::string& what) {
+  ok(H5Fflush(file, H5F_SCOPE_LOCAL), what);
+  ok(H5Fclose(file.release()), what);
+}
 
 // The innermost description on HDF5's error stack after a failed call: for a failed write the
 // system's reason ("No space left on device"); "" when the stack is empty.

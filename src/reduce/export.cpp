@@ -105,7 +105,7 @@ void write_h5(const fs::path& path, const TextTable& t, const std::vector<std::s
       }
       h5::write_attribute(ds, "description", descriptions[j], ok);
     }
-    ok(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush");
+    h5::close_file(file, ok, "cannot write it");
   }
   fs::rename(tmp, path);
 }

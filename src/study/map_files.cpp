@@ -99,6 +99,7 @@ void write_h5(const fs::path& path, const MapPlan& g, const std::vector<MapCell>
       put(group, "mean", grid_of([&](const MapCell& c) { return (c.*f.field).mean; }), f.unit);
       put(group, "ci95", grid_of([&](const MapCell& c) { return (c.*f.field).ci95; }), f.unit);
     }
+    h5::close_file(file, ok, "cannot write " + tmp);
   }
   fs::rename(tmp, path);
 }

@@ -78,6 +78,7 @@ void write_study_h5(const std::string& path, const std::vector<std::pair<std::st
           h5::write_strings(g, dataset_name(col), cells, ok);
       }
     }
+    h5::close_file(file, ok, "cannot write " + tmp);
   }
   fs::rename(tmp, path);
 }

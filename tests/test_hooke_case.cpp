@@ -209,6 +209,27 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   ASSERT_EQ(m.rows.size(), 1u);
   EXPECT_NEAR(number(m, 0, "frequency"), 30, 1e-9);
   EXPECT_NEAR(number(m, 0, "modal_mass"), 0.05, 1e-12);
+
+  // --to replaces what the command wrote before, and nothing else (exit 2, the file untouched): a
+  // run's results, a file of the user's, a directory, a device. Both used to replace any path.
+  EXPECT_EQ(cli({"export", out}).code, 0);
+  EXPECT_EQ(cli({"modes", c, "--to", table.string()}).code, 0);
+  const fs::path results = fs::path(out) / "results.h5", mine = fs::path(out) / "notes.csv";
+  std::ofstream(mine) << "my,own\n1,2\n";
+  const std::string before = slurp(results);
+  for (const auto& [args, says] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"modes", c, "--to", results.string()}, "holds a file that is not a table of modes bagdem wrote"},
+           {{"modes", c, "--to", mine.string()}, "holds a file that is not a table of modes bagdem wrote"},
+           {{"modes", c, "--to", out}, "is a directory"},
+           {{"modes", c, "--to", "/dev/null"}, "is not a regular file"},
+           {{"export", out, "--to", (fs::path(out) / "results").string()}, "holds a file that is not an export bagdem wrote (export.h5)"},
+           {{"export", out, "--to", (fs::path(out) / "notes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"}}) {
+    const CmdResult r = cli(args);
+    EXPECT_EQ(r.code, 2) << args[0] << " " << args.back() << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(results), before);
+  EXPECT_EQ(slurp(mine), "my,own\n1,2\n");
 }
 
 // The ball's impact on the resting wall is a damped linear oscillator: it leaves the wall at e

@@ -257,6 +257,15 @@ TEST(Study, GridRunsEveryPointAndMergesItsRows) {
   EXPECT_EQ(read_strings(f, "/sweep/given/particles.ball.diameter")[7], "20 mm");
   EXPECT_EQ(read_strings(f, "/sweep/status")[0], "done");
   H5Fclose(f);
+
+  // Exported: a varied key's two columns (as written and in SI) under two names. Export used to
+  // fail on the second (exit 1, export.h5.part left) and write one JSON key twice.
+  const CmdResult ex = bagdem::testing::run_bagdem({"export", out}, d.path);
+  ASSERT_EQ(ex.code, 0) << ex.err;
+  const std::string json = bagdem::testing::slurp(fs::path(out) / "export.json");
+  EXPECT_NE(json.find("\"excitation.amplitude (given)\": \"10 N\""), std::string::npos) << json.substr(0, 2000);
+  EXPECT_NE(json.find("\"excitation.amplitude\": 10,"), std::string::npos) << json.substr(0, 2000);
+  EXPECT_FALSE(fs::exists(fs::path(out) / "export.h5.part"));
 }
 
 // A study and a run each refuse the other's directory, and a study does not clear a point's directory

@@ -3,6 +3,8 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -115,7 +117,14 @@ void write_h5(const fs::path& path, const TextTable& t, const std::vector<std::s
 std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats) {
   const fs::path in = fs::path(dir) / "reduced.csv";
   if (!fs::exists(in)) throw InputError(in.string(), "", "", "is missing: run (or reduce) the case or the study first");
-  const TextTable t = read_text_table(in);
+  TextTable t = read_text_table(in);
+  // A study's table holds each varied key twice, as written ("0.3 N") and in SI ("... [kg m/s^2]"):
+  // one name in the exported files, so the text is "<key> (given)", as study.h5's given/<key>.
+  for (std::size_t k = 0; k < t.names.size(); ++k)
+    if (t.units[k].empty() && std::count(t.names.begin(), t.names.end(), t.names[k]) > 1) t.names[k] += " (given)";
+  for (std::size_t k = 0; k < t.names.size(); ++k)
+    if (std::count(t.names.begin(), t.names.end(), t.names[k]) > 1)
+      throw InputError(in.string(), t.names[k], "", "names two columns: a damaged table (export writes one column per name)");
   // The study's inputs first (every column that is not a reduced quantity), then the reduced ones.
   std::vector<std::size_t> cols;
   std::vector<std::string> descriptions;
@@ -135,6 +144,19 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
     if (const std::size_t k = t.find(c.name); k < t.names.size()) cols.push_back(k), descriptions.push_back(c.description);
 
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
+  // Only an earlier export is replaced: a CSV table, export.json's head, an HDF5 file with /export.
+  const auto earlier_export = [](const fs::path& path, const std::string& head) {
+    if (path.extension() == ".csv") return is_bagdem_table_head(head);
+    if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
+    if (head.rfind("\x89HDF\r\n\x1a\n", 0) != 0) return false;
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    const hid_t f = H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const bool has = f >= 0 && H5Lexists(f, "export", H5P_DEFAULT) > 0;
+    if (f >= 0) H5Fclose(f);
+    return has;
+  };
+  for (const std::string& f : formats)
+    check_output_target(base.string() + "." + f, to.empty() ? "out" : "--to", earlier_export, "an export bagdem wrote (export." + f + ")");
   if (!base.parent_path().empty()) fs::create_directories(base.parent_path());
   std::vector<std::string> written;
   for (const std::string& f : formats) {

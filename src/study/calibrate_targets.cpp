@@ -59,6 +59,8 @@ Targets read_targets_file(const std::string& path) {
   for (std::size_t c = 0; c < t.columns.size(); ++c) {
     const std::string name = trimmed(t.columns[c]);
     if (name.empty()) throw InputError(path, "column " + std::to_string(c + 1), "", "has no name" + hint);
+    if ((name == "mode" && c_mode != none) || (name == "reduction_db" && c_db != none))
+      throw InputError(path, name, "", "is the header of two columns: which one holds the figures is not clear" + hint);
     if (name == "mode") c_mode = c;
     else if (name == "reduction_db") c_db = c;
     else if (c_config == none) c_config = c, out.config_key = name;

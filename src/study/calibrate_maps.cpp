@@ -470,8 +470,7 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     p.check_bounds(args.bounds);
     const fs::path out = fs::absolute(args.out.empty() ? fs::path(p.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal();
     require_same_method(out.string(), true);
-    refuse_other_outputs(out, OutputOwner::study);
-    OutputLock lock(out);
+    OutputLock lock((refuse_other_outputs(out, OutputOwner::study), out));
     for (const char* name : {"calibration.json", "calibrate.csv"}) fs::remove(out / name);  // an earlier fit's tables never outlive a failed one
     std::string keys;
     for (const FitKey& k : p.keys) keys += (keys.empty() ? "" : ", ") + k.given + " in [" + k.scale.given(k.lo) + ", " + k.scale.given(k.hi) + "]" + (k.log ? " (log)" : "");

@@ -43,7 +43,6 @@
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
-
 namespace {
 
 // A fitted key: a case key, or (mode > 0) the element of that elastic mode of an array key.
@@ -470,7 +469,8 @@ int calibrate_on_maps(const CalibrateArgs& args) {
     p.check_bounds(args.bounds);
     const fs::path out = fs::absolute(args.out.empty() ? fs::path(p.case_dir) / "calibrate" : fs::path(args.out)).lexically_normal();
     require_same_method(out.string(), true);
-    OutputLock lock((refuse_other_outputs(out, OutputOwner::study), out));
+    refuse_other_outputs(out, OutputOwner::study);
+    OutputLock lock(out);
     for (const char* name : {"calibration.json", "calibrate.csv"}) fs::remove(out / name);  // an earlier fit's tables never outlive a failed one
     std::string keys;
     for (const FitKey& k : p.keys) keys += (keys.empty() ? "" : ", ") + k.given + " in [" + k.scale.given(k.lo) + ", " + k.scale.given(k.hi) + "]" + (k.log ? " (log)" : "");

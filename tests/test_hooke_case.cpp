@@ -230,6 +230,30 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   }
   EXPECT_EQ(slurp(results), before);
   EXPECT_EQ(slurp(mine), "my,own\n1,2\n");
+
+  // A damaged reduced.csv is refused, not exported with strings in number columns; a byte-order
+  // mark is read.
+  const std::string csv = slurp(fs::path(out) / "reduced.csv");
+  const std::string head = csv.substr(0, csv.find('\n') + 1), first = csv.substr(head.size(), csv.find('\n', head.size()) + 1 - head.size());
+  const std::string cut_cell = head + "abc" + first.substr(first.find(','));
+  std::string no_frequency;  // the first column (frequency) gone from every line
+  for (std::size_t at = 0; at < csv.size();) {
+    const std::size_t end = csv.find('\n', at) + 1;
+    no_frequency += csv.substr(csv.find(',', at) + 1, end - csv.find(',', at) - 1);
+    at = end;
+  }
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {cut_cell, "key 'row 1, frequency' = abc: is not a number"},
+           {csv + head.substr(0, head.size() - 1) + "\n", "= frequency [Hz]: is not a number"},
+           {no_frequency, "is not a column"},
+           {"\xEF\xBB\xBF" + csv, ""}}) {
+    const fs::path damaged = at("damaged");
+    fs::create_directories(damaged);
+    std::ofstream(damaged / "reduced.csv", std::ios::trunc) << text;
+    const CmdResult r = cli({"export", damaged.string()});
+    EXPECT_EQ(r.code, says.empty() ? 0 : 2) << r.err;
+    if (!says.empty()) EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+  }
 }
 
 // The ball's impact on the resting wall is a damped linear oscillator: it leaves the wall at e

@@ -115,6 +115,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
   if (cells.empty()) throw InputError(path.string(), "", "", "is empty: no header");
   TextTable t;
   t.path = path.string();
+  if (!cells.front().empty() && cells.front()[0].rfind("\xEF\xBB\xBF", 0) == 0) cells.front()[0].erase(0, 3);  // a byte-order mark
   for (const std::string& h : cells.front()) {
     const std::size_t b = h.rfind(" [");
     const bool unit = b != std::string::npos && h.back() == ']';

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -140,8 +141,25 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
     for (const char* r : kRaw) raw = raw || t.names[k] == r;
     if (!is_known(t.names[k]) && !raw) cols.push_back(k), descriptions.push_back("study input");
   }
-  for (const ExportColumn& c : known)
-    if (const std::size_t k = t.find(c.name); k < t.names.size()) cols.push_back(k), descriptions.push_back(c.description);
+  // Every reduced table bagdem writes has each of these columns, numbers but for the text ones: a
+  // table without one, or with another cell there (a header line repeated, a cut or edited cell),
+  // is damaged and refused rather than exported as text.
+  for (const ExportColumn& c : known) {
+    const std::size_t k = t.find(c.name);
+    if (k == t.names.size())
+      throw InputError(in.string(), c.name, "", "is not a column: the table is damaged or not one bagdem wrote (run or reduce again)");
+    cols.push_back(k), descriptions.push_back(c.description);
+    if (t.units[k] == "text") continue;
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+      const std::string& cell = t.rows[r][k];
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0' || (std::isinf(v) && errno == ERANGE))
+        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", " + c.name, cell,
+                         "is not a number: the table is damaged (run or reduce again)");
+    }
+  }
 
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
   // Only an earlier export is replaced: a CSV table, export.json's head, an HDF5 file with /export.

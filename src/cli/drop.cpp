@@ -20,11 +20,14 @@ CLI::App* add_drop(CLI::App& app, Args& a) {
                    "Launch speed in m/s, > 0 (default: the case's expected impact speed; where the impact at that speed does not "
                    "stand out of the sliding friction, twice as fast, up to 16 times, said in the output)")
       ->check(CLI::Validator(
-          [](std::string& v) {
+          [](std::string& v) -> std::string {
             char* end = nullptr;
             const double x = std::strtod(v.c_str(), &end);
-            return end != v.c_str() && *end == '\0' && x > 0 && std::isfinite(x) ? std::string()
-                                                                                  : "'" + v + "' is not a launch speed: give a number > 0 (m/s)";
+            if (!(end != v.c_str() && *end == '\0' && x > 0 && std::isfinite(x)))
+              return "'" + v + "' is not a launch speed: give a number > 0 (m/s)";
+            return x <= 100 ? std::string()
+                            : "'" + v + "' m/s is faster than a damper's contents meet a wall (a cavity at Gamma 100 and 100 Hz moves at 1.6 m/s): "
+                                        "give at most 100 m/s";
           },
           "SPEED > 0"));
   drop->add_option("--threads", a.threads, "OpenMP threads")->check(CLI::Range(1, 1024));

@@ -17,7 +17,7 @@ CLI::App* add_drop(CLI::App& app, Args& a) {
   drop->add_option("--set", a.sets, "Override a key of case.toml (repeatable)");
   add_fidelity(drop, a.fidelity);
   drop->add_option("--speed", a.drop_speed,
-                   "Launch speed in m/s, > 0 (default: the case's expected impact speed; where the impact at that speed does not "
+                   "Launch speed in m/s, > 0 and at most 100 (default: the case's expected impact speed; where the impact at that speed does not "
                    "stand out of the sliding friction, twice as fast, up to 16 times, said in the output)")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {

@@ -26,7 +26,7 @@
 #      (--seeds starts each), and slope.csv (per choice, value and mode: the reduction at each ratio,
 #      the slopes 8 - 5% and 12 - 8% with their intervals, and the runs' mean wall time).
 #      --slope alone skips steps 1-4 (it needs --damping-ratio); --slope-choices runs only those named
-#      (base, tightness, force, ball-stiffness, bag-radius, film-thickness, bag-length, bore-friction), slope.csv and slope-seeds.csv
+#      (base, tightness, force, ball-stiffness, bag-radius, film-thickness, bag-length, bore-friction, tight-bag), slope.csv and slope-seeds.csv
 #      (each start's figure) are written after each;
 #   6. with --table3, the pipe's damping ratio fitted by least squares to all 20 figures of Table 3
 #      at once (cases/studies/mass-ratio/table3.csv: modes 1 and 3 at 5-14%, the mass-ratio study's
@@ -326,6 +326,9 @@ SLOPE_CHOICES = [  # run in this order (the likeliest first)
     # The film on the bore: below Gamma about 1 (mode 1's damped peak past 9% at the Table 3 fit) a bag
     # that grips the bore rides with it; LDPE on aluminium is about 0.2-0.5, the case 0.4.
     ("interactions.ldpe-aluminium.friction", "bore-friction", ["--vary", "interactions.ldpe-aluminium.friction=0.2,0.8"]),
+    # A bag pulled tight: the film's unstretched size 0.9 of the lattice's bag (fill 0.54 where the
+    # lattice leaves 0.39), so it closes on the balls as they settle (docs/bag.md, "Tight bags").
+    ("bag.film.shrink", "tight-bag", ["--vary", "bag.film.shrink=0.9"]),
 ]
 
 

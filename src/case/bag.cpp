@@ -400,6 +400,18 @@ void fill_from_contents(const CaseReader& in, Scene& s, const SavedBagPlacement&
     volume *= 1.05;
   }
   b.x0 = b.rest.vertices;
+  // A bag pulled tight around its balls (bag.film.shrink s < 1): the film is made where the lattice
+  // holds them, but its unstretched size is s times that (each length, about its centroid), so
+  // it starts stretched by 1/s and closes on the balls while they settle, packing them closer than
+  // the lattice can. The fill fraction is then that of the unstretched film.
+  const double shrink = in.quantity("bag.film.shrink", dim::none, 1.0);
+  if (!(shrink >= 0.7 && shrink <= 1.0)) in.fail("bag.film.shrink", "must be in [0.7, 1]: the film's unstretched size over its made size");
+  if (shrink < 1) {
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& v : b.rest.vertices) c += v;
+    c /= static_cast<double>(b.rest.vertices.size());
+    for (Vec3& v : b.rest.vertices) v = c + shrink * (v - c);
+  }
   b.fill_fraction = ball_volume / enclosed_volume(b.rest, b.rest.vertices);
   if (sites.size() < n) {
     std::ostringstream m;

@@ -354,6 +354,7 @@ TEST(Calibrate, RefusesBadTargetsBoundsAndModesBeforeRunning) {
       {{"--targets", (t.path / "no-db.csv").string()}, "reduction_db"},
       {{"--targets", (t.path / "two-keys.csv").string()}, "is a second configuration column"},
       {{"--targets", (t.path / "two-figures.csv").string()}, "two-figures.csv: key 'reduction_db': is the header of two columns"},
+      {{"--targets", (t.path / "bad-config.csv").string()}, "bad-config.csv: key 'row 2, primary.damping_ratio' = -0.01: is refused by the case"},
       {{"--targets", (t.path / "two-modes.csv").string()}, "two-modes.csv: key 'mode': is the header of two columns"},
       {{"--targets", (t.path / "repeat.csv").string()}, "repeats the target of mode 1 at primary.damping_ratio = 0.02"},
       {{"--targets", (t.path / "bad-mode.csv").string()}, "bad-mode.csv: key 'row 1, mode' = 1.5: must be a whole number"},
@@ -367,6 +368,7 @@ TEST(Calibrate, RefusesBadTargetsBoundsAndModesBeforeRunning) {
   std::ofstream(t.path / "two-keys.csv") << "mode,reduction_db,primary.damping_ratio,primary.mass\n1,5,0.02,0.05\n";
   std::ofstream(t.path / "two-figures.csv") << "mode,reduction_db,reduction_db\n1,0.4,9\n";  // the last one used to win
   std::ofstream(t.path / "two-modes.csv") << "mode,reduction_db,mode\n1,0.4,3\n";
+  std::ofstream(t.path / "bad-config.csv") << "mode,reduction_db,primary.damping_ratio\n1,5,0.02\n1,6,-0.01\n";  // named point-001's case.toml
   std::ofstream(t.path / "repeat.csv") << "mode,reduction_db,primary.damping_ratio\n1,5,0.02\n1,6,0.02\n";
   std::ofstream(t.path / "bad-mode.csv") << "mode,reduction_db\n1.5,5\n";
   std::ofstream(t.path / "bad-db.csv") << "\xEF\xBB\xBFmode, reduction_db\r\n1,5\r\n3,high\r\n";

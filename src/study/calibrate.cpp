@@ -183,6 +183,20 @@ Setup read_setup(const CalibrateArgs& args, const Ranks& ranks) {
   if (u.targets.config_key == key_of(args))
     throw InputError(args.targets_file, key_of(args), "", "is the key calibrated: the targets' configuration column must be another key");
   const Scene s = load_case(u.base.case_dir, args.sets);
+  // Each configuration the case must take, refused here naming the targets' file and row (not a
+  // point of the first round's study, after its directory was made).
+  for (std::size_t c = 0; c < u.targets.configs.size(); ++c) {
+    std::vector<std::string> sets = args.sets;
+    sets.push_back(u.targets.config_key + "=" + u.targets.configs[c].toml);
+    try {
+      load_case(u.base.case_dir, sets);
+    } catch (const InputError& e) {
+      std::size_t row = 0;
+      while (row < u.targets.list.size() && u.targets.list[row].config != c) ++row;
+      throw InputError(args.targets_file, "row " + std::to_string(row + 1) + ", " + u.targets.config_key, u.targets.configs[c].given,
+                       std::string("is refused by the case: ") + e.what());
+    }
+  }
   u.target_db = target_reductions(s, u.targets.list, args.targets_file.empty() ? "--target" : args.targets_file);
   const auto [lo, hi] = read_bounds(key_of(args), args.bounds.empty() ? "" : args.bounds[0], s, u.scale);
   u.opt.lo = lo, u.opt.hi = hi, u.opt.log = search_in_log(lo, hi);

@@ -129,6 +129,20 @@ TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {
   EXPECT_EQ(reduce.code, 2) << reduce.err;
   const CmdResult same = c.cli("compare");
   EXPECT_EQ(same.code, 0) << same.err;
+
+  // peaks reads sweep.csv only where it is the text of results.h5's /sweep: a receptance halved by
+  // hand, or a table cut short, is refused (it gave a 6-dB reduction from a 0.5-dB run, exit 0).
+  ASSERT_EQ(c.cli("peaks").code, 0);
+  const std::string sweep = slurp(c.out / "sweep.csv"), peaks = slurp(c.out / "peaks.csv");
+  const std::size_t row2 = sweep.find('\n', sweep.find('\n') + 1) + 1, col = sweep.find(',', sweep.find(',', row2) + 1) + 1;
+  const std::string halved = sweep.substr(0, col) + "0" + sweep.substr(sweep.find(',', col));  // its first response_re zeroed
+  for (const std::string& text : {halved, sweep.substr(0, row2)}) {
+    std::ofstream(c.out / "sweep.csv", std::ios::trunc) << text;
+    const CmdResult edited = c.cli("peaks");
+    EXPECT_EQ(edited.code, 2) << edited.err;
+    EXPECT_NE(edited.err.find("results.h5's /sweep"), std::string::npos) << edited.err;
+  }
+  EXPECT_EQ(slurp(c.out / "peaks.csv"), peaks);
 }
 
 // summary.json without the keys that measure the machine (wall time, speed, threads).

@@ -406,6 +406,7 @@ void fill_from_contents(const CaseReader& in, Scene& s, const SavedBagPlacement&
   // the lattice can. The fill fraction is then that of the unstretched film.
   const double shrink = in.quantity("bag.film.shrink", dim::none, 1.0);
   if (!(shrink >= 0.7 && shrink <= 1.0)) in.fail("bag.film.shrink", "must be in [0.7, 1]: the film's unstretched size over its made size");
+  b.shrink = shrink;
   if (shrink < 1) {
     Vec3 c = Vec3::Zero();
     for (const Vec3& v : b.rest.vertices) c += v;

@@ -101,6 +101,9 @@ void check_guards(const GuardStage& st) {
     m << ". Impacts are faster or contacts softer than the time step "
          "and stiffness allow: reduce simulation.timestep, raise simulation.expected_speed, or "
          "raise the Young's modulus (law = \"hooke\": the pair's interactions.NAME.stiffness).";
+    if (scene.bag && scene.bag->shrink < 1 && st.time < scene.settle)
+      m << " The bag's film, pulled tight (bag.film.shrink = " << scene.bag->shrink
+        << "), closes on its balls as they settle: a value nearer 1 closes it more gently.";
     throw RunError(m.str());
   }
   // Last: a ball that fast has usually done one of the above already, which names what it did.

@@ -49,6 +49,7 @@ struct Bag {
   Vec3 side = Vec3::UnitY();    // its width direction, unit (height = axis x side)
   Vec3 size = Vec3::Zero();     // outer length, width, height at rest (unit: m)
   double fill_fraction = 0;     // ball volume / bag volume at rest
+  double shrink = 1;            // bag.film.shrink: the film's unstretched size over the size it is made at
   std::string source;           // "filled on an FCC lattice (seed 1)" or "from <file>"
 
   // The film's physical mass: its area at rest x thickness x density (the node masses add up to

@@ -8,6 +8,7 @@
 //  - while a run writes a directory (it holds OUT/.bagdem-lock), another run or drop test into it
 //    is refused (exit 2) and changes nothing.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <filesystem>
 #include <fstream>
@@ -112,6 +113,34 @@ TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {
   const CmdResult later = c.cli("reduce", {"--set", "output.skip_cycles=2"});
   EXPECT_EQ(later.code, 0) << later.err;
   EXPECT_NE(slurp(c.out / "reduced.csv"), reduced);
+}
+
+// A complete run seals its series (a CRC-32 each, ResultsFile::seal): values changed in place
+// afterwards (a damaged disk, an edit) are refused where they are read. Before, reduce gave new
+// figures from a force scaled by 3 over 300 samples (exit 0).
+TEST(RunOutputs, ReduceRefusesAResultsFileChangedAfterItsRun) {
+  CaseDir c(kShakenBox);
+  ASSERT_EQ(c.cli("run").code, 0);
+  ASSERT_EQ(c.cli("reduce").code, 0);
+  const std::string h5 = (c.out / "results.h5").string();
+  {
+    const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hid_t ds = H5Dopen2(f, "/cavity/force", H5P_DEFAULT);
+    ASSERT_GE(ds, 0);
+    ASSERT_GT(H5Aexists(ds, "crc32"), 0) << "the run did not seal its series";
+    const hid_t space = H5Dget_space(ds);
+    std::vector<double> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    H5Sclose(space);
+    ASSERT_GE(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+    v[v.size() / 2] += 1e-3;  // one value (a force may be zero: scaling it would change nothing)
+    ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+    H5Dclose(ds);
+    H5Fclose(f);
+  }
+  const CmdResult r = c.cli("reduce");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("/cavity/force: its values differ from the CRC-32 the run recorded"), std::string::npos) << r.err;
 }
 
 TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {

@@ -3,6 +3,8 @@
 
 #include <stdexcept>
 
+#include <zlib.h>
+
 namespace bagdem::h5 {
 
 namespace {
@@ -116,6 +118,14 @@ std::vector<double> read_doubles(hid_t ds, const std::string& name, const Check&
   for (hsize_t d : dims(ds, ok)) n *= d;
   std::vector<double> v(n);
   if (n > 0) ok(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "cannot read " + name);
+  // A sealed series (ResultsFile::seal): its values must be those the run wrote.
+  if (H5Aexists(ds, "crc32") > 0) {
+    double recorded = -1;
+    H5 a(ok(H5Aopen(ds, "crc32", H5P_DEFAULT), "attribute crc32 of " + name), H5Aclose);
+    ok(H5Aread(a, H5T_NATIVE_DOUBLE, &recorded), "attribute crc32 of " + name);
+    const auto crc = static_cast<double>(crc32_z(0, reinterpret_cast<const Bytef*>(v.data()), v.size() * sizeof(double)));
+    if (crc != recorded) ok.fail(name + ": its values differ from the CRC-32 the run recorded when it completed (the file was damaged or edited)");
+  }
   return v;
 }
 

@@ -489,6 +489,11 @@ void ResultsFile::flush() {
   if (impl_) impl_->flush();
 }
 
+void ResultsFile::seal() {
+  Impl& p = open_or_throw(impl_);
+  for (const auto& [ds, c] : p.crc) p.attribute(ds, "crc32", static_cast<double>(c));
+}
+
 void ResultsFile::close() {
   if (!impl_) return;
   std::unique_ptr<Impl> p(std::exchange(impl_, nullptr));

@@ -112,6 +112,7 @@ struct XdmfShape {
 // results.failed.h5, so that an earlier complete results.h5 stays as it was. Returns the new path.
 inline std::filesystem::path close_results_file(ResultsFile& file, const std::filesystem::path& out, const std::string& status,
                                                 bool complete, const std::vector<double>& frame_times, const XdmfShape& shape) {
+  if (complete) file.seal();
   file.set_attribute("status", status);
   file.close();
   const std::string name = complete ? "results" : "results.failed";

@@ -106,6 +106,10 @@ class ResultsFile {
 
   SeriesLengths lengths() const;
   void flush();
+  // A complete run's seal: each series appended to is stamped with the CRC-32 of its values
+  // (attribute "crc32"), which every reader checks (h5::read_doubles): a file damaged or edited
+  // afterwards is refused where its data are read, not reduced.
+  void seal();
   void close();  // idempotent
 
  private:

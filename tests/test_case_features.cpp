@@ -156,6 +156,59 @@ TEST(CaseFeatures, AnEditedFileTheCaseReadsIsAChangedCase) {
   // A resolved text of a bagdem before the fingerprints (no "# reads" line) differs too: it cannot tell.
   const std::string old = a.resolved.substr(0, a.resolved.find("\n# reads"));
   EXPECT_NE(case_differences(old, a.resolved).find("was not fingerprinted"), std::string::npos);
+  // A directory at the key is bad input naming it (it was a library's read error, exit 1).
+  std::filesystem::create_directories(c.path / "d");
+  try {
+    load_case(c.str(), {"particles.balls.file=\"d\""});
+    ADD_FAILURE() << "a directory was read as a particle file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'particles.balls.file' = \"d\": names a directory"), std::string::npos) << e.what();
+  }
+}
+
+// A file that a damper's keys name ([[dampers]], set) is the case's too: edited, the case differs.
+TEST(CaseFeatures, AFileADamperReadsIsPartOfTheCase) {
+  TempDir c;
+  c.write("balls.csv", "x,y,z,diameter\n0.005,0.005,0.004,0.004\n0.012,0.005,0.004,0.004\n");
+  c.write("b2.csv", "x,y,z,diameter\n0.005,0.005,0.004,0.004\n");
+  c.write("case.toml", R"(
+[simulation]
+duration = "0.05 s"
+gravity = [0, 0, "-9.81 m/s^2"]
+[materials.steel]
+density = "7800 kg/m^3"
+youngs_modulus = "2 GPa"
+poisson_ratio = 0.3
+[interactions.default]
+restitution = 0.5
+friction = 0.3
+[cavity]
+kind = "box"
+material = "steel"
+min = ["0 mm", "0 mm", "0 mm"]
+max = ["21 mm", "21 mm", "12 mm"]
+[particles.balls]
+material = "steel"
+file = "balls.csv"
+[primary]
+kind = "sdof"
+mass = "0.05 kg"
+stiffness = "1776.5 N/m"
+damping_ratio = 0.02
+direction = [1, 0, 0]
+[excitation]
+kind = "harmonic"
+amplitude = "0.05 N"
+frequency = "30 Hz"
+[[dampers]]
+name = "two"
+set = ['particles.balls.file = "b2.csv"']
+)");
+  const Scene a = load_case(c.str());
+  EXPECT_NE(a.resolved.find("# reads dampers.two.particles.balls.file = fnv1a64 "), std::string::npos) << a.resolved;
+  c.write("b2.csv", "x,y,z,diameter\n0.006,0.005,0.004,0.004\n");
+  const std::string diff = case_differences(a.resolved, load_case(c.str()).resolved);
+  EXPECT_NE(diff.find("the file at dampers.two.particles.balls.file"), std::string::npos) << diff;
 }
 
 // A particle file may be gzip-compressed (read in-process through zlib): the same particles as the

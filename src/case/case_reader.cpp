@@ -380,6 +380,10 @@ std::vector<std::pair<std::string, const toml::node*>> toml_leaves(const toml::n
 
 std::string CaseReader::file_path(const std::string& key, const std::string& dir) const {
   const std::string path = (std::filesystem::path(dir) / string(key)).string();
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    fail(key, "names " + std::string(std::filesystem::is_directory(path, ec) ? "a directory" : "no regular file") + " (" + path +
+                  "): give a file, relative to the case directory");
   std::ifstream f(path, std::ios::binary);
   std::string bytes;
   if (f) bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());

@@ -307,6 +307,15 @@ Scene load_case(const std::string& case_dir, const std::vector<std::string>& ove
     s.dt_reason = reason;
     for (Scene& d : others) d.dt_reason = reason;
   }
+  // The files each damper reads are the case's too (its resolved text is what a resume, a study's
+  // points and the reading commands compare): those a damper's keys name beside the case's own.
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    for (const auto& [key, print] : others[k].files)
+      if (const auto it = s.files.find(key); it == s.files.end() || it->second != print) {
+        const std::string name = "dampers." + keys[k].name + "." + key;
+        s.files[name] = print;
+        s.resolved += "\n# reads " + name + " = " + print;
+      }
   join_dampers(s, others, keys);
   return s;
 }

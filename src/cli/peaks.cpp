@@ -2,6 +2,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/output_lock.hpp"
+#include "bagdem/reduce/reduce.hpp"
 #include "bagdem/run/stepped_sine.hpp"
 #include "command.hpp"
 
@@ -21,6 +22,7 @@ int run_peaks(Args& a) {
   if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "peaks needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
   const OutputLock lock(a.out());
+  require_case_of_run(std::filesystem::path(a.out()) / "results.h5", s, "is missing: run the sweep first (bagdem run)");
   for (const ModePeak& m : recompute_stepped_sine_peaks(*s.primary, a.out())) std::printf("%s\n", describe_peak(m).c_str());
   return 0;
 }

@@ -72,11 +72,18 @@ void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
     for (const char* f : {"results.h5", "results.h5.part", "checkpoint.bin"})
       if (found.empty() && fs::exists(dir / f, ec)) found = std::string("a run's ") + f;
   } else {
-    if (fs::exists(dir / "study.h5", ec)) found = "a study's study.h5";
+    // A study's own files at its top, and its point and round directories.
+    for (const char* f : {"study.h5", "calibration.json", "calibrate.csv", "map.csv", "design.csv", "trade.csv"})
+      if (found.empty() && fs::exists(dir / f, ec)) found = std::string("a study's ") + f;
     for (const auto& e : fs::directory_iterator(dir, ec)) {
       const std::string name = e.path().filename().string();
-      if (found.empty() && name.rfind("point-", 0) == 0 && fs::exists(e.path() / "point.toml", ec)) found = "a study's point directory " + name;
+      if (found.empty() && e.is_directory(ec) && (name.rfind("round-", 0) == 0 || (name.rfind("point-", 0) == 0 && fs::exists(e.path() / "point.toml", ec))))
+        found = "a study's directory " + name;
     }
+    // A study's point, unless that study started this run (it names its OUT in our environment).
+    const std::vector<std::string> ours = enclosing_outputs();
+    if (found.empty() && fs::exists(dir / "point.toml", ec) && std::find(ours.begin(), ours.end(), normal(dir).parent_path().string()) == ours.end())
+      found = "a study's point.toml (it is a point of the study in " + normal(dir).parent_path().string() + ")";
   }
   if (!found.empty())
     throw InputError(dir.string() + ": holds " + found + (as == OutputOwner::study ? " (bagdem run)" : " (bagdem sweep, characterize, trade, calibrate or design)") +

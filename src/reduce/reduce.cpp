@@ -304,9 +304,10 @@ struct ResultsReader {
   }
 };
 
-// Checks that results.h5 at `h5` (InputError with `missing` when there is none) holds a run of the
-// scene's case: a reduction with another case (an edited case.toml, other --set options) would
-// reproject the run as something it was not.
+}  // namespace
+
+// A reduction with another case (an edited case.toml, other --set options) would reproject the
+// run as something it was not (reduce.hpp).
 void require_case_of_run(const fs::path& h5, const Scene& scene, const char* missing) {
   if (!fs::exists(h5)) throw InputError(h5.string(), "", "", missing);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become exceptions, not stderr dumps
@@ -319,8 +320,6 @@ void require_case_of_run(const fs::path& h5, const Scene& scene, const char* mis
                      "the case differs from the one the run was made with (" + diff +
                          "); give the case and the --set options of the run (only output.skip_cycles may change), or run it again");
 }
-
-}  // namespace
 
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir) {
   const fs::path out = out_dir;

@@ -240,7 +240,7 @@ class Rounds {
   // Before the first round writes: the lead's lock on OUT (its runs write inside it); every rank.
   int take_out() {
     return agreed(ranks_, [&] {
-      if (ranks_.rank() == 0) lock_.emplace(u_.base.out_dir);
+      if (ranks_.rank() == 0) refuse_other_outputs(u_.base.out_dir, OutputOwner::study), lock_.emplace(u_.base.out_dir);
       share_output_with_children(u_.base.out_dir);
       return 0;
     });

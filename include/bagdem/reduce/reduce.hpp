@@ -126,6 +126,11 @@ std::vector<ReducedRow> read_reduced_csv(const std::filesystem::path& path);
 // (run/stepped_sine.cpp); reduce then rereads its reduced.csv.
 std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_dir);
 
+// Checks that results.h5 at `h5` holds a run of the scene's case (its resolved_config, the files it
+// reads included; output.skip_cycles may differ): InputError naming the keys that differ, or
+// `missing` when there is no results.h5.
+void require_case_of_run(const std::filesystem::path& h5, const Scene& scene, const char* missing);
+
 // A terminal table of the rows.
 std::string describe_reduced(const std::vector<ReducedRow>& rows);
 // The restitution three ways per row (per impact, Eq. 19a, drop test) and how far they disagree.

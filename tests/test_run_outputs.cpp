@@ -156,6 +156,8 @@ TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {
   EXPECT_EQ(slurp(c.out / "compare.csv"), compare);
   const CmdResult reduce = c.cli("reduce", {"--set", "excitation.amplitude=\"2 N\""});
   EXPECT_EQ(reduce.code, 2) << reduce.err;
+  const CmdResult peaks_other = c.cli("peaks", {"--set", "excitation.amplitude=\"2 N\""});
+  EXPECT_EQ(peaks_other.code, 2) << peaks_other.err;  // it rewrote summary.json with another case's figures
   const CmdResult same = c.cli("compare");
   EXPECT_EQ(same.code, 0) << same.err;
 

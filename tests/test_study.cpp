@@ -292,6 +292,12 @@ TEST(Study, ARunAndAStudyRefuseEachOthersDirectoriesAndALockedPoint) {
   EXPECT_NE(r.err.find("holds a study's study.h5"), std::string::npos) << r.err;
   EXPECT_EQ(bagdem::testing::slurp(study / "sweep.csv"), merged);
   EXPECT_FALSE(fs::exists(study / "results.h5"));
+  // Nor into one of its points by hand (the resumed study merged that run under the point's label).
+  const std::string point = bagdem::testing::slurp(study / "point-000" / "sweep.csv");
+  r = bagdem::testing::run_bagdem({"run", c, "--quiet", "--threads", "1", "--out", (study / "point-000").string()}, d.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("holds a study's point.toml"), std::string::npos) << r.err;
+  EXPECT_EQ(bagdem::testing::slurp(study / "point-000" / "sweep.csv"), point);
 
   {
     const bagdem::OutputLock held(busy / "point-000");  // as a run started by hand into it holds it

@@ -207,6 +207,8 @@ struct SavedBagPlacement {
 // bag.from: the saved bag's film and balls, placed so its balls' centroid sits at bag.centre when
 // given, else where it was saved.
 void place_saved_bag(const CaseReader& in, Scene& s, const SavedBagPlacement& at, Bag& b) {
+  if (in.has("bag.film.shrink"))
+    in.fail("bag.film.shrink", "does not apply to a saved bag (bag.from): its film's unstretched shape is saved with it");
   const std::string path = in.file_path("bag.from", s.case_dir);
   SavedBag saved = load_bag(path);
   b.rest = std::move(saved.rest);
@@ -406,6 +408,15 @@ void fill_from_contents(const CaseReader& in, Scene& s, const SavedBagPlacement&
   // the lattice can. The fill fraction is then that of the unstretched film.
   const double shrink = in.quantity("bag.film.shrink", dim::none, 1.0);
   if (!(shrink >= 0.7 && shrink <= 1.0)) in.fail("bag.film.shrink", "must be in [0.7, 1]: the film's unstretched size over its made size");
+  // Balls at random close packing (0.64) fill the tightest bag they can be pulled into.
+  constexpr double kClosePacking = 0.64;
+  if (const double made = ball_volume / enclosed_volume(b.rest, b.rest.vertices); shrink < 1 && made / std::pow(shrink, 3) > kClosePacking) {
+    std::ostringstream m;
+    m << "makes the unstretched film hold the balls at a fill of " << made / std::pow(shrink, 3)
+      << ", above random close packing (0.64), so that the film could only close on them by crushing them: give at least "
+      << std::ceil(1000 * std::cbrt(made / kClosePacking)) / 1000;
+    in.fail("bag.film.shrink", m.str());
+  }
   b.shrink = shrink;
   if (shrink < 1) {
     Vec3 c = Vec3::Zero();

@@ -25,8 +25,11 @@ void describe_bag(std::ostream& o, const Scene& s, double rmin) {
     const double V = enclosed_volume(b.rest, b.rest.vertices);
     const double film_mass = b.film_mass();
     o << "bag         " << b.shape << ", " << b.balls << " balls (" << b.source << "), outer " << 1e3 * b.size.x()
-      << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z() << " mm at rest, volume " << V * 1e6
-      << " cm^3, fill fraction " << b.fill_fraction << "\n";
+      << " x " << 1e3 * b.size.y() << " x " << 1e3 * b.size.z() << " mm " << (b.shrink < 1 ? "as made" : "at rest") << ", volume "
+      << V * 1e6 << " cm^3, fill fraction " << b.fill_fraction;
+    if (b.shrink < 1)
+      o << " (pulled tight, key bag.film.shrink: the volume and fill are the unstretched film's, " << b.shrink << " of its made size)";
+    o << "\n";
     double ball_mass = 0;
     for (std::size_t k = b.ball_first; k < b.ball_first + b.balls; ++k) ball_mass += sphere_mass(s.materials[static_cast<std::size_t>(s.particles[k].material)].density, s.particles[k].radius);
     o << "            balls " << ball_mass << " kg";

@@ -25,8 +25,9 @@ int run_modes(Args& a) {
   refuse_several_dampers(s, "bagdem modes", "writes the structure's table without its one cavity's mass");
   if (!s.primary) throw InputError(s.case_file, "primary.kind", "", "modes needs a primary structure (sdof, beam, fe-beam or modal)");
   const std::filesystem::path to = a.export_to.empty() ? std::filesystem::path(a.out()) / "modes.csv" : std::filesystem::path(a.export_to);
-  check_output_target(to, "--to", [](const std::filesystem::path&, const std::string& head) { return is_bagdem_table_head(head); },
-                      "a table of modes bagdem wrote");
+  check_output_target(
+      to, "--to", [](const std::filesystem::path&, const std::string& head) { return head.rfind("frequency [Hz],damping_ratio [1],modal_mass [kg],", 0) == 0; },
+      "a table of modes bagdem wrote");
   if (to.has_parent_path()) std::filesystem::create_directories(to.parent_path());
   write_modal_table(to, *s.primary);
   std::printf("wrote %s: %zu modes of %s\n", to.string().c_str(), s.primary->size(), s.primary->description.c_str());

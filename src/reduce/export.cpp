@@ -164,7 +164,11 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
   // Only an earlier export is replaced: a CSV table, export.json's head, an HDF5 file with /export.
   const auto earlier_export = [](const fs::path& path, const std::string& head) {
-    if (path.extension() == ".csv") return is_bagdem_table_head(head);
+    // A run's or a study's own tables are never an export, whatever their head.
+    const std::string name = path.filename().string();
+    for (const char* own : {"reduced", "sweep", "peaks", "compare", "bare_curve", "drop", "drop_result", "map", "design", "calibrate", "trade"})
+      if (name == std::string(own) + ".csv" || name == std::string(own) + ".json" || name.find("_ensemble.") != std::string::npos) return false;
+    if (path.extension() == ".csv") return is_bagdem_table_head(head) && head.find("displacement_re [") == std::string::npos;
     if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
     if (head.rfind("\x89HDF\r\n\x1a\n", 0) != 0) return false;
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);

@@ -460,4 +460,12 @@ TEST(BagTight, AShrunkFilmPacksItsBallsCloser) {
   EXPECT_GT(packing[1], packing[0] + 0.1);
   EXPECT_GT(packing[1], tight.bag->fill_fraction);  // a film wrinkles freely: it may sag below its unstretched volume
   EXPECT_LT(packing[1], 0.64);                      // and not past random close packing
+  // A film that could only close on its balls by crushing them is refused (every run stopped at its
+  // first steps), naming the least value allowed.
+  try {
+    load_case((dir.path / "case").string(), {"bag.film.shrink=0.7"});
+    ADD_FAILURE() << "a shrink past close packing was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("above random close packing (0.64)"), std::string::npos) << e.what();
+  }
 }

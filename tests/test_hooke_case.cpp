@@ -219,6 +219,8 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   const std::string before = slurp(results);
   for (const auto& [args, says] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"modes", c, "--to", results.string()}, "holds a file that is not a table of modes bagdem wrote"},
+           {{"modes", c, "--to", (fs::path(out) / "reduced.csv").string()}, "holds a file that is not a table of modes bagdem wrote"},
+           {{"export", out, "--to", (fs::path(out) / "reduced").string(), "--formats", "csv"}, "holds a file that is not an export"},
            {{"modes", c, "--to", mine.string()}, "holds a file that is not a table of modes bagdem wrote"},
            {{"modes", c, "--to", out}, "is a directory"},
            {{"modes", c, "--to", "/dev/null"}, "is not a regular file"},

@@ -328,9 +328,10 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
     const fs::path csv = out / "reduced.csv";
     if (!fs::exists(csv))
       throw InputError(csv.string(), "", "", fs::exists(out / "reduced.partial.csv")
-                                                 ? "is missing: the last sweep in this directory did not finish (reduced.partial.csv holds "
-                                                   "its points so far, results.h5 is an earlier run's if any); resume it (bagdem run "
-                                                   "--resume) or run it again"
+                                                 ? std::string("is missing: the last sweep in this directory did not finish (reduced.partial.csv "
+                                                               "holds its points so far); ") +
+                                                       (fs::exists(out / "checkpoint.bin") ? "resume it (bagdem run --resume) or run it again"
+                                                                                           : "it stopped as it wrote its tables: run it again")
                                                  : "is missing: run the sweep first (bagdem run)");
     return read_reduced_csv(csv);
   }

@@ -171,27 +171,16 @@ SteppedSineReport SteppedSineRun::finish() {
   rep_.complete = true;
   rep_.wall_seconds = since(t_start_);
   rep_.peaks = sweep_peaks(P_, rep_.points);
-  close_results("complete", true);
-  fs::remove(out_ / "checkpoint.bin");
-
-  const Summary summary = stepped_sine_summary(scene_, rep_, sim0().particles().size(), chains_.size());
-  write_peaks_csv(out_ / "peaks.csv", rep_.peaks);
+  // Everything that takes time before results.h5 is complete: a run stopped here resumes from its
+  // checkpoint (the drop tests may take seconds; killed after the rename, nothing could resume it).
   Scene own = scene_;  // the case's own damper alone (its drop test)
   own.more_dampers.clear();
   if (const std::string why = drop_where_no_restitution(own, rep_.reduced, out_, true); !why.empty() && !opt_.quiet)
     std::fprintf(stderr, "no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n", why.c_str());
-  // The tables of the points, whole now: under their own names, the partial ones gone.
-  write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
-  write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
-  fs::remove(out_ / kSweepPartial), fs::remove(out_ / kReducedPartial);
-  for (std::size_t k = 1; k < dampers_; ++k) {
-    std::vector<ReducedRow>& rows = state_.more_reduced[k - 1];
-    if (const std::string why = drop_where_no_restitution(more_scene(k), rows, more_out(k), true); !why.empty() && !opt_.quiet)
+  for (std::size_t k = 1; k < dampers_; ++k)
+    if (const std::string why = drop_where_no_restitution(more_scene(k), state_.more_reduced[k - 1], more_out(k), true); !why.empty() && !opt_.quiet)
       std::fprintf(stderr, "damper %s: no restitution from the impacts or Eq. (19a), and the drop test could not run: %s\n",
                    scene_.more_dampers[k - 1].name.c_str(), why.c_str());
-    write_reduced_csv(more_out(k) / "reduced.csv", rows);
-    fs::remove(more_out(k) / kReducedPartial);
-  }
   // The continuum model with the contents' C_b and M_b (several dampers: the modal model with each
   // at its place).
   if (dampers_ == 1) {
@@ -201,6 +190,19 @@ SteppedSineReport SteppedSineRun::finish() {
     std::vector<std::vector<ReducedRow>> rows{rep_.reduced};
     for (std::size_t k = 1; k < dampers_; ++k) primaries.push_back(more_scene(k).primary.get()), rows.push_back(state_.more_reduced[k - 1]);
     rep_.compare = compare_with_dampers(primaries, P_.amplitude, rows);
+  }
+  const Summary summary = stepped_sine_summary(scene_, rep_, sim0().particles().size(), chains_.size());
+
+  close_results("complete", true);
+  fs::remove(out_ / "checkpoint.bin");
+  // The tables of the points, whole now: under their own names, the partial ones gone.
+  write_peaks_csv(out_ / "peaks.csv", rep_.peaks);
+  write_stepped_sine_csv(out_ / "sweep.csv", rep_.points);
+  write_reduced_csv(out_ / "reduced.csv", rep_.reduced);
+  fs::remove(out_ / kSweepPartial), fs::remove(out_ / kReducedPartial);
+  for (std::size_t k = 1; k < dampers_; ++k) {
+    write_reduced_csv(more_out(k) / "reduced.csv", state_.more_reduced[k - 1]);
+    fs::remove(more_out(k) / kReducedPartial);
   }
   write_compare_csv(out_ / "compare.csv", rep_.compare);
   write_bare_curve(out_ / "bare_curve.csv", P_, rep_.points);

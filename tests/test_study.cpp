@@ -303,7 +303,7 @@ TEST(Study, ARunAndAStudyRefuseEachOthersDirectoriesAndALockedPoint) {
     const bagdem::OutputLock held(busy / "point-000");  // as a run started by hand into it holds it
     std::ofstream(busy / "point-000" / "mine.txt") << "being written\n";
     r = sweep(d, {c, "--vary", "excitation.amplitude=10 N", "--jobs", "1", "--out", busy.string()});
-    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find("another bagdem process is writing there now"), std::string::npos) << r.err;
     EXPECT_EQ(bagdem::testing::slurp(busy / "point-000" / "mine.txt"), "being written\n");
   }

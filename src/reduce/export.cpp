@@ -76,6 +76,16 @@ std::string json_number(const std::string& cell) {
   return o.str();
 }
 
+// A number as bagdem's tables write it: decimal (no spaces, no hexadecimal), nan or inf, and
+// representable (no overflow or underflow).
+bool is_written_number(const std::string& cell) {
+  if (cell.empty() || cell.find_first_of(" \t\r\nxXpP") != std::string::npos) return false;
+  char* end = nullptr;
+  errno = 0;
+  std::strtod(cell.c_str(), &end);
+  return *end == '\0' && errno != ERANGE;
+}
+
 bool numeric_column(const TextTable& t, std::size_t k) {
   for (const auto& r : t.rows) {
     char* end = nullptr;
@@ -141,24 +151,22 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
     for (const char* r : kRaw) raw = raw || t.names[k] == r;
     if (!is_known(t.names[k]) && !raw) cols.push_back(k), descriptions.push_back("study input");
   }
-  // Every reduced table bagdem writes has each of these columns, numbers but for the text ones: a
-  // table without one, or with another cell there (a header line repeated, a cut or edited cell),
-  // is damaged and refused rather than exported as text.
+  // Every reduced table bagdem writes has each of these columns. Every column with a unit holds
+  // numbers as bagdem writes them (decimal, nan or inf; a study's varied keys in SI too), the text
+  // ones aside: a table without one, or with another cell there (a header line repeated, a cut or
+  // edited cell), is damaged and refused rather than exported as text.
   for (const ExportColumn& c : known) {
     const std::size_t k = t.find(c.name);
     if (k == t.names.size())
       throw InputError(in.string(), c.name, "", "is not a column: the table is damaged or not one bagdem wrote (run or reduce again)");
     cols.push_back(k), descriptions.push_back(c.description);
-    if (t.units[k] == "text") continue;
-    for (std::size_t r = 0; r < t.rows.size(); ++r) {
-      const std::string& cell = t.rows[r][k];
-      char* end = nullptr;
-      errno = 0;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0' || (std::isinf(v) && errno == ERANGE))
-        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", " + c.name, cell,
+  }
+  for (std::size_t k = 0; k < t.names.size(); ++k) {
+    if (t.units[k].empty() || t.units[k] == "text") continue;
+    for (std::size_t r = 0; r < t.rows.size(); ++r)
+      if (!is_written_number(t.rows[r][k]))
+        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", " + t.names[k], t.rows[r][k],
                          "is not a number: the table is damaged (run or reduce again)");
-    }
   }
 
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);

@@ -17,7 +17,7 @@ CLI::App* add_drop(CLI::App& app, Args& a) {
   drop->add_option("--set", a.sets, "Override a key of case.toml (repeatable)");
   add_fidelity(drop, a.fidelity);
   drop->add_option("--speed", a.drop_speed,
-                   "Launch speed in m/s, > 0 and at most 100 (default: the case's expected impact speed; where the impact at that speed does not "
+                   "Launch speed in m/s, > 0 and at most 20 (default: the case's expected impact speed; where the impact at that speed does not "
                    "stand out of the sliding friction, twice as fast, up to 16 times, said in the output)")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {
@@ -25,9 +25,9 @@ CLI::App* add_drop(CLI::App& app, Args& a) {
             const double x = std::strtod(v.c_str(), &end);
             if (!(end != v.c_str() && *end == '\0' && x > 0 && std::isfinite(x)))
               return "'" + v + "' is not a launch speed: give a number > 0 (m/s)";
-            return x <= 100 ? std::string()
-                            : "'" + v + "' m/s is faster than a damper's contents meet a wall (a cavity at Gamma 100 and 100 Hz moves at 1.6 m/s): "
-                                        "give at most 100 m/s";
+            return x <= 20 ? std::string()
+                           : "'" + v + "' m/s is faster than a damper's contents meet a wall (a cavity at Gamma 100 and 20 Hz moves at 7.8 m/s): "
+                                       "give at most 20 m/s";
           },
           "SPEED > 0"));
   drop->add_option("--threads", a.threads, "OpenMP threads")->check(CLI::Range(1, 1024));

@@ -59,11 +59,11 @@ std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vecto
   // them (force against u): the rebound must be measured before it meets another wall.
   const double flight = std::isfinite(gap) ? gap / speed : 0.0;
   const auto quiet_steps = std::max<std::uint64_t>(100, static_cast<std::uint64_t>(0.01 * flight / s.dt));
-  constexpr double kMostSteps = 1e9;  // a drop test longer than this is a launch speed too slow to mean one
-  if ((5 * flight + 0.05) / s.dt > kMostSteps) {
+  constexpr double kLongestFlight = 1.0;  // (unit: s) a launch too slow to cross the gap within it means no impact
+  if (flight > kLongestFlight) {
     char why[256];
-    std::snprintf(why, sizeof why, "is too slow: the contents would take %.3g s to cross the gap of %.3g m, over 1e9 steps of %.3g s; give at least %.3g m/s",
-                  flight, gap, s.dt, 5 * gap / (kMostSteps * s.dt - 0.05));
+    std::snprintf(why, sizeof why, "is too slow: the contents would take %.3g s to cross the gap of %.3g m (at most %.3g s); give at least %.3g m/s",
+                  flight, gap, kLongestFlight, gap / kLongestFlight);
     char given[32];
     std::snprintf(given, sizeof given, "%.6g", speed);
     throw InputError(s.case_file, "--speed", given, why);

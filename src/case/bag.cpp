@@ -19,6 +19,7 @@
 #include "bagdem/neighbour/broad_phase.hpp"
 #include "bagdem/neighbour/mesh_candidates.hpp"
 #include "bagdem/particles.hpp"
+#include "tight_bag.hpp"
 
 namespace bagdem {
 namespace {
@@ -402,28 +403,7 @@ void fill_from_contents(const CaseReader& in, Scene& s, const SavedBagPlacement&
     volume *= 1.05;
   }
   b.x0 = b.rest.vertices;
-  // A bag pulled tight around its balls (bag.film.shrink s < 1): the film is made where the lattice
-  // holds them, but its unstretched size is s times that (each length, about its centroid), so
-  // it starts stretched by 1/s and closes on the balls while they settle, packing them closer than
-  // the lattice can. The fill fraction is then that of the unstretched film.
-  const double shrink = in.quantity("bag.film.shrink", dim::none, 1.0);
-  if (!(shrink >= 0.7 && shrink <= 1.0)) in.fail("bag.film.shrink", "must be in [0.7, 1]: the film's unstretched size over its made size");
-  // Balls at random close packing (0.64) fill the tightest bag they can be pulled into.
-  constexpr double kClosePacking = 0.64;
-  if (const double made = ball_volume / enclosed_volume(b.rest, b.rest.vertices); shrink < 1 && made / std::pow(shrink, 3) > kClosePacking) {
-    std::ostringstream m;
-    m << "makes the unstretched film hold the balls at a fill of " << made / std::pow(shrink, 3)
-      << ", above random close packing (0.64), so that the film could only close on them by crushing them: give at least "
-      << std::ceil(1000 * std::cbrt(made / kClosePacking)) / 1000;
-    in.fail("bag.film.shrink", m.str());
-  }
-  b.shrink = shrink;
-  if (shrink < 1) {
-    Vec3 c = Vec3::Zero();
-    for (const Vec3& v : b.rest.vertices) c += v;
-    c /= static_cast<double>(b.rest.vertices.size());
-    for (Vec3& v : b.rest.vertices) v = c + shrink * (v - c);
-  }
+  pull_tight(in, ball_volume, b);
   b.fill_fraction = ball_volume / enclosed_volume(b.rest, b.rest.vertices);
   if (sites.size() < n) {
     std::ostringstream m;

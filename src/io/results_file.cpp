@@ -485,13 +485,10 @@ SeriesLengths ResultsFile::lengths() const {
   return l;
 }
 
-void ResultsFile::flush() {
-  if (impl_) impl_->flush();
-}
+void ResultsFile::flush() { if (impl_) impl_->flush(); }
 
 void ResultsFile::seal() {
-  Impl& p = open_or_throw(impl_);
-  for (const auto& [ds, c] : p.crc) p.attribute(ds, "crc32", static_cast<double>(c));
+  for (const auto& [ds, c] : open_or_throw(impl_).crc) impl_->attribute(ds, "crc32", static_cast<double>(c));
 }
 
 void ResultsFile::close() {

@@ -123,6 +123,46 @@ void write_h5(const fs::path& path, const TextTable& t, const std::vector<std::s
   fs::rename(tmp, path);
 }
 
+// Every reduced table bagdem writes has each of the known columns (appended to `cols`, their
+// descriptions to `descriptions`). Every column with a unit holds numbers as bagdem writes them
+// (decimal, nan or inf; a study's varied keys in SI too), the text ones aside: a table without one,
+// or with another cell there (a header line repeated, a cut or edited cell), is damaged and
+// refused rather than exported as text.
+void check_reduced_table(const fs::path& in, const TextTable& t, const std::vector<ExportColumn>& known, std::vector<std::size_t>& cols,
+                         std::vector<std::string>& descriptions) {
+  for (const ExportColumn& c : known) {
+    const std::size_t k = t.find(c.name);
+    if (k == t.names.size())
+      throw InputError(in.string(), c.name, "", "is not a column: the table is damaged or not one bagdem wrote (run or reduce again)");
+    cols.push_back(k), descriptions.push_back(c.description);
+  }
+  for (std::size_t k = 0; k < t.names.size(); ++k) {
+    if (t.units[k].empty() || t.units[k] == "text") continue;
+    for (std::size_t r = 0; r < t.rows.size(); ++r)
+      if (!is_written_number(t.rows[r][k]))
+        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", " + t.names[k], t.rows[r][k],
+                         "is not a number: the table is damaged (run or reduce again)");
+  }
+}
+
+// Only an earlier export is replaced: a CSV table that is not a run's or a study's own, export.json's
+// head, an HDF5 file with /export.
+bool earlier_export(const fs::path& path, const std::string& head) {
+  // A run's or a study's own tables are never an export, whatever their head.
+  const std::string name = path.filename().string();
+  if (name.find("_ensemble.") != std::string::npos) return false;
+  for (const char* own : {"reduced", "sweep", "peaks", "compare", "bare_curve", "drop", "drop_result", "map", "design", "calibrate", "trade"})
+    if (name == std::string(own) + ".csv" || name == std::string(own) + ".json") return false;
+  if (path.extension() == ".csv") return is_bagdem_table_head(head) && head.find("displacement_re [") == std::string::npos;
+  if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
+  if (head.rfind("\x89HDF\r\n\x1a\n", 0) != 0) return false;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const bool has = f >= 0 && H5Lexists(f, "export", H5P_DEFAULT) > 0;
+  if (f >= 0) H5Fclose(f);
+  return has;
+}
+
 }  // namespace
 
 std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats) {
@@ -151,40 +191,8 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
     for (const char* r : kRaw) raw = raw || t.names[k] == r;
     if (!is_known(t.names[k]) && !raw) cols.push_back(k), descriptions.push_back("study input");
   }
-  // Every reduced table bagdem writes has each of these columns. Every column with a unit holds
-  // numbers as bagdem writes them (decimal, nan or inf; a study's varied keys in SI too), the text
-  // ones aside: a table without one, or with another cell there (a header line repeated, a cut or
-  // edited cell), is damaged and refused rather than exported as text.
-  for (const ExportColumn& c : known) {
-    const std::size_t k = t.find(c.name);
-    if (k == t.names.size())
-      throw InputError(in.string(), c.name, "", "is not a column: the table is damaged or not one bagdem wrote (run or reduce again)");
-    cols.push_back(k), descriptions.push_back(c.description);
-  }
-  for (std::size_t k = 0; k < t.names.size(); ++k) {
-    if (t.units[k].empty() || t.units[k] == "text") continue;
-    for (std::size_t r = 0; r < t.rows.size(); ++r)
-      if (!is_written_number(t.rows[r][k]))
-        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", " + t.names[k], t.rows[r][k],
-                         "is not a number: the table is damaged (run or reduce again)");
-  }
-
+  check_reduced_table(in, t, known, cols, descriptions);
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
-  // Only an earlier export is replaced: a CSV table, export.json's head, an HDF5 file with /export.
-  const auto earlier_export = [](const fs::path& path, const std::string& head) {
-    // A run's or a study's own tables are never an export, whatever their head.
-    const std::string name = path.filename().string();
-    for (const char* own : {"reduced", "sweep", "peaks", "compare", "bare_curve", "drop", "drop_result", "map", "design", "calibrate", "trade"})
-      if (name == std::string(own) + ".csv" || name == std::string(own) + ".json" || name.find("_ensemble.") != std::string::npos) return false;
-    if (path.extension() == ".csv") return is_bagdem_table_head(head) && head.find("displacement_re [") == std::string::npos;
-    if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
-    if (head.rfind("\x89HDF\r\n\x1a\n", 0) != 0) return false;
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    const hid_t f = H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    const bool has = f >= 0 && H5Lexists(f, "export", H5P_DEFAULT) > 0;
-    if (f >= 0) H5Fclose(f);
-    return has;
-  };
   for (const std::string& f : formats)
     check_output_target(base.string() + "." + f, to.empty() ? "out" : "--to", earlier_export, "an export bagdem wrote (export." + f + ")");
   if (!base.parent_path().empty()) fs::create_directories(base.parent_path());

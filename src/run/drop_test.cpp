@@ -32,6 +32,20 @@ bool contact_pulls(const Scene& s) {
   return std::any_of(s.laws.laws.begin(), s.laws.laws.end(), [](const PairLaw& l) { return contact_law(l.kind).pulls; });
 }
 
+// A launch too slow to cross the gap within a second means no impact to measure (and a run of
+// ever more steps): refused, naming the least speed.
+void refuse_too_slow(const Scene& s, double speed, double gap) {
+  constexpr double kLongestFlight = 1.0;  // (unit: s) a launch too slow to cross the gap within it means no impact
+  if (const double flight = gap / speed; flight > kLongestFlight) {
+    char why[256];
+    std::snprintf(why, sizeof why, "is too slow: the contents would take %.3g s to cross the gap of %.3g m (at most %.3g s); give at least %.3g m/s",
+                  flight, gap, kLongestFlight, gap / kLongestFlight);
+    char given[32];
+    std::snprintf(given, sizeof given, "%.6g", speed);
+    throw InputError(s.case_file, "--speed", given, why);
+  }
+}
+
 // The settled contents launched at `speed` along u across `gap` (scene `s`, state `settled`).
 // Returns the figures, or a DropFailure; RunError when the run goes unstable.
 std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vector<char>& settled, double speed, const Vec3& u,
@@ -59,15 +73,6 @@ std::variant<DropResult, DropFailure> drop_once(const Scene& s, const std::vecto
   // them (force against u): the rebound must be measured before it meets another wall.
   const double flight = std::isfinite(gap) ? gap / speed : 0.0;
   const auto quiet_steps = std::max<std::uint64_t>(100, static_cast<std::uint64_t>(0.01 * flight / s.dt));
-  constexpr double kLongestFlight = 1.0;  // (unit: s) a launch too slow to cross the gap within it means no impact
-  if (flight > kLongestFlight) {
-    char why[256];
-    std::snprintf(why, sizeof why, "is too slow: the contents would take %.3g s to cross the gap of %.3g m (at most %.3g s); give at least %.3g m/s",
-                  flight, gap, kLongestFlight, gap / kLongestFlight);
-    char given[32];
-    std::snprintf(given, sizeof given, "%.6g", speed);
-    throw InputError(s.case_file, "--speed", given, why);
-  }
   const auto max_steps = static_cast<std::uint64_t>((5 * flight + 0.05) / s.dt);
   std::vector<double> t{sim.time()}, F{0.0}, v{sim.contents_relative_velocity().dot(u)};
   double peak = 0;
@@ -171,6 +176,7 @@ DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem
   const Vec3 u = plus ? e : Vec3(-e);
   const double gap = plus ? g.plus : g.minus;
   if (gap <= 0) throw InputError(scene.case_file, "", "", "the contents touch the walls on both sides along the excitation: no room for a drop test");
+  if (std::isfinite(gap)) refuse_too_slow(s, speed, gap);
 
   // At the case's own speed the impact may not stand out of the sliding friction (a bag's contents
   // under a gentle drive): without --speed, the launch is repeated twice as fast, up to 16 times.

@@ -80,9 +80,13 @@ void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
       if (found.empty() && e.is_directory(ec) && (name.rfind("round-", 0) == 0 || (name.rfind("point-", 0) == 0 && fs::exists(e.path() / "point.toml", ec))))
         found = "a study's directory " + name;
     }
-    // A study's point, unless that study started this run (it names its OUT in our environment).
+    // A study's point, unless a study that started this run writes around it (it names its OUT in
+    // our environment; a calibration's points lie in its rounds).
     const std::vector<std::string> ours = enclosing_outputs();
-    if (found.empty() && fs::exists(dir / "point.toml", ec) && std::find(ours.begin(), ours.end(), normal(dir).parent_path().string()) == ours.end())
+    bool started_by_it = false;
+    for (fs::path a = normal(dir).parent_path(); !a.empty() && !started_by_it; a = a == a.root_path() ? fs::path() : a.parent_path())
+      started_by_it = std::find(ours.begin(), ours.end(), a.string()) != ours.end();
+    if (found.empty() && !started_by_it && fs::exists(dir / "point.toml", ec))
       found = "a study's point.toml (it is a point of the study in " + normal(dir).parent_path().string() + ")";
   }
   if (!found.empty())

@@ -206,6 +206,10 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
       std::fflush(stdout);
     }
     return ranks->broadcast(code);
+  } catch (const InputError& e) {  // bad input found as the points run (a point's directory another process holds)
+    std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
+    if (ranks->size() > 1) ranks->abort(2);
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
     if (ranks->size() > 1) ranks->abort(1);

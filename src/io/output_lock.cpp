@@ -39,6 +39,15 @@ std::vector<std::string> enclosing_outputs() {
   return out;
 }
 
+// Whether another process holds the lock file at `lock` now (an absent file: no).
+bool held_by_another(const std::filesystem::path& lock) {
+  const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
+
 // A directory inside one that another bagdem process writes now (a study's OUT holds the lock,
 // and its rounds, maps and points lie inside it) is refused, unless that study is our own parent
 // (it named its OUT in the environment when it started us).
@@ -47,16 +56,9 @@ void refuse_inside_another(const std::filesystem::path& dir) {
   const std::filesystem::path d = normal(dir);
   for (std::filesystem::path a = d.parent_path(); !a.empty(); a = a.parent_path()) {
     const std::filesystem::path lock = a / ".bagdem-lock";
-    if (std::find(ours.begin(), ours.end(), a.string()) == ours.end()) {
-      const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC);
-      if (fd >= 0) {
-        const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-        ::close(fd);
-        if (held)
-          throw InputError(dir.string() + ": lies inside " + a.string() + ", which another bagdem process (a study) is writing now; "
-                           "wait for it to end, or give an --out outside it");
-      }
-    }
+    if (std::find(ours.begin(), ours.end(), a.string()) == ours.end() && held_by_another(lock))
+      throw InputError(dir.string() + ": lies inside " + a.string() + ", which another bagdem process (a study) is writing now; "
+                       "wait for it to end, or give an --out outside it");
     if (a == a.root_path()) break;
   }
 }
@@ -96,12 +98,7 @@ void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
 }
 
 void refuse_if_locked(const std::filesystem::path& dir) {
-  const std::filesystem::path lock = dir / ".bagdem-lock";
-  const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return;
-  const bool held = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-  ::close(fd);
-  if (held)
+  if (held_by_another(dir / ".bagdem-lock"))
     throw InputError(dir.string() + ": another bagdem process is writing there now (it holds its lock), so it is not cleared "
                      "for a new run; stop that process or wait for it, then run again");
 }

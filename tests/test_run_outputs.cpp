@@ -174,6 +174,17 @@ TEST(RunOutputs, CompareRefusesAnotherCaseThanTheSweep) {
     EXPECT_NE(edited.err.find("results.h5's /sweep"), std::string::npos) << edited.err;
   }
   EXPECT_EQ(slurp(c.out / "peaks.csv"), peaks);
+
+  // compare and reduce read reduced.csv only where it is the text of results.h5's /reduced: a cell
+  // edited by hand is refused (C_eff x 10 changed compare.csv, exit 0).
+  const std::string reduced = slurp(c.out / "reduced.csv");
+  const std::size_t first = reduced.find('\n') + 1;
+  std::ofstream(c.out / "reduced.csv", std::ios::trunc) << reduced.substr(0, first) + "1" + reduced.substr(first);  // its first frequency x 10 or so
+  for (const char* command : {"compare", "reduce"}) {
+    const CmdResult edited = c.cli(command);
+    EXPECT_EQ(edited.code, 2) << command << ": " << edited.err;
+    EXPECT_NE(edited.err.find("results.h5's /reduced"), std::string::npos) << edited.err;
+  }
 }
 
 // summary.json without the keys that measure the machine (wall time, speed, threads).

@@ -19,6 +19,7 @@
 #include "bagdem/reduce/impacts.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/particles.hpp"
+#include "bagdem/io/recorded_table.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "../io/h5.hpp"
 
@@ -282,6 +283,7 @@ struct ResultsReader {
   h5::H5 file;
   h5::Check ok{[this](const std::string& what) { throw InputError(path, "", "", what + " (a damaged file?)"); }};
 
+  bool has(const char* group) const { return H5Lexists(file, group, H5P_DEFAULT) > 0; }
   std::vector<double> series(const std::string& name) const {
     if (H5Lexists(file, name.substr(0, name.find('/', 1)).c_str(), H5P_DEFAULT) <= 0 ||
         H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0)
@@ -333,6 +335,17 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
                                                        (fs::exists(out / "checkpoint.bin") ? "resume it (bagdem run --resume) or run it again"
                                                                                            : "it stopped as it wrote its tables: run it again")
                                                  : "is missing: run the sweep first (bagdem run)");
+    // The figures the run measured must be its record's (/reduced; a sweep of a bagdem before that
+    // record has none to check against). The restitution's columns are not: reduce attaches a drop
+    // test run since (attach_drop_result).
+    if (ResultsReader{(out / "results.h5").string(), h5::H5(H5Fopen((out / "results.h5").string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)}
+            .has("/reduced")) {
+      std::vector<TableColumn> measured;
+      for (const TableColumn& c : kColumns)
+        if (std::string_view(c.name) != "e_drop" && std::string_view(c.name) != "e" && std::string_view(c.name) != "e_se" && std::string_view(c.name) != "e_ci95")
+          measured.push_back(c);
+      require_recorded_table(csv, out / "results.h5", "reduced", measured);
+    }
     return read_reduced_csv(csv);
   }
   const double f = scene.motion->frequency();

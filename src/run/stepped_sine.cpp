@@ -192,6 +192,8 @@ SteppedSineReport SteppedSineRun::finish() {
     rep_.compare = compare_with_dampers(primaries, P_.amplitude, rows);
   }
   const Summary summary = stepped_sine_summary(scene_, rep_, sim0().particles().size(), chains_.size());
+  // The reduced rows in the record too, sealed with it: reduce and compare check reduced.csv against them.
+  for (const ReducedRow& r : rep_.reduced) file_->append_table_row("reduced", reduced_columns(), reduced_values(r));
 
   close_results("complete", true);
   fs::remove(out_ / "checkpoint.bin");

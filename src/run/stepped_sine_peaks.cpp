@@ -12,9 +12,9 @@
 #include "bagdem/error.hpp"
 #include "bagdem/reduce/summary.hpp"
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/recorded_table.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/structure/response.hpp"
-#include "../io/h5.hpp"
 #include "stepped_sine_files.hpp"
 
 namespace bagdem {
@@ -113,37 +113,6 @@ std::vector<ModePeak> sweep_peaks(const Primary& P, const std::vector<SteppedSin
   return out;
 }
 
-namespace {
-
-// sweep.csv is the text of the run's /sweep in results.h5, every number to its 12 digits: refused where
-// it is not (a table edited by hand, damaged, or another run's beside this results.h5), so that the
-// peaks are the run's.
-void require_the_recorded_sweep(const std::filesystem::path& out) {
-  const std::filesystem::path csv = out / "sweep.csv", h5 = out / "results.h5";
-  const std::vector<std::vector<double>> rows = read_table_csv(csv, kSteppedSineColumns);
-  if (!std::filesystem::exists(h5)) throw InputError(h5.string(), "", "", "is missing: the sweep's record (run it again)");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const h5::Check ok([&](const std::string& what) { throw InputError(h5.string(), "/sweep", "", what + ": not the record of a complete sweep"); });
-  const h5::H5 file(ok(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot be read"), H5Fclose);
-  for (std::size_t c = 0; c < kSteppedSineColumns.size(); ++c) {
-    const std::string name = std::string("/sweep/") + kSteppedSineColumns[c].name;
-    const h5::H5 ds(ok(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "has no " + name), H5Dclose);
-    const std::vector<double> recorded = h5::read_doubles(ds, name, ok);
-    std::size_t r = 0;  // the first row that differs
-    while (r < rows.size() && r < recorded.size() &&
-           (std::abs(rows[r][c] - recorded[r]) <= 1e-11 * std::max(std::abs(rows[r][c]), std::abs(recorded[r])) ||
-            (std::isnan(rows[r][c]) && std::isnan(recorded[r]))))
-      ++r;
-    if (r < rows.size() || recorded.size() != rows.size())
-      throw InputError(csv.string(), kSteppedSineColumns[c].name, "",
-                       recorded.size() != rows.size()
-                           ? "has " + std::to_string(rows.size()) + " rows where results.h5's /sweep has " + std::to_string(recorded.size()) +
-                                 ": not this run's table (run the sweep again)"
-                           : "differs from results.h5's /sweep at row " + std::to_string(r + 1) + ": the table was edited or is another run's (run the sweep again)");
-  }
-}
-
-}  // namespace
 
 std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& P, const std::filesystem::path& out) {
   const std::filesystem::path summary_path = out / "summary.json", peaks_path = out / "peaks.csv";
@@ -152,7 +121,7 @@ std::vector<ModePeak> recompute_stepped_sine_peaks(const Primary& P, const std::
   Summary summary = read_summary(summary_path);
   if (summary.kind != SummaryKind::stepped_sine)
     throw InputError(summary_path.string(), "", "", "no complete stepped-sine sweep here (its summary.json has no peaks of a stepped-sine sweep)");
-  require_the_recorded_sweep(out);
+  require_recorded_table(out / "sweep.csv", out / "results.h5", "sweep", kSteppedSineColumns);
   const std::vector<ModePeak> peaks = sweep_peaks(P, read_stepped_sine_csv(out / "sweep.csv"));
   // The bare peaks depend on the structure alone: they must be those the run recorded.
   const std::vector<std::vector<double>> recorded = read_table_csv(peaks_path, {{"mode", "1"}, {"bare_peak", "m/N"}});

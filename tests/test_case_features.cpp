@@ -171,39 +171,12 @@ TEST(CaseFeatures, AFileADamperReadsIsPartOfTheCase) {
   TempDir c;
   c.write("balls.csv", "x,y,z,diameter\n0.005,0.005,0.004,0.004\n0.012,0.005,0.004,0.004\n");
   c.write("b2.csv", "x,y,z,diameter\n0.005,0.005,0.004,0.004\n");
-  c.write("case.toml", R"(
-[simulation]
-duration = "0.05 s"
-gravity = [0, 0, "-9.81 m/s^2"]
-[materials.steel]
-density = "7800 kg/m^3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-[interactions.default]
-restitution = 0.5
-friction = 0.3
-[cavity]
-kind = "box"
-material = "steel"
-min = ["0 mm", "0 mm", "0 mm"]
-max = ["21 mm", "21 mm", "12 mm"]
-[particles.balls]
-material = "steel"
-file = "balls.csv"
-[primary]
-kind = "sdof"
-mass = "0.05 kg"
-stiffness = "1776.5 N/m"
-damping_ratio = 0.02
-direction = [1, 0, 0]
-[excitation]
-kind = "harmonic"
-amplitude = "0.05 N"
-frequency = "30 Hz"
-[[dampers]]
-name = "two"
-set = ['particles.balls.file = "b2.csv"']
-)");
+  c.write("case.toml", in_box()
+                           .set("particles.balls", {{"material", quoted("steel")}, {"file", quoted("balls.csv")}})
+                           .sdof("0.05 kg", "1776.5 N/m", 0.02)
+                           .set("primary", "direction", "[1, 0, 0]")
+                           .set("excitation", {{"kind", quoted("harmonic")}, {"amplitude", "0.05 N"}, {"frequency", "30 Hz"}})
+                           .add("dampers", {{"name", quoted("two")}, {"set", "['particles.balls.file = \"b2.csv\"']"}}));
   const Scene a = load_case(c.str());
   EXPECT_NE(a.resolved.find("# reads dampers.two.particles.balls.file = fnv1a64 "), std::string::npos) << a.resolved;
   c.write("b2.csv", "x,y,z,diameter\n0.006,0.005,0.004,0.004\n");

@@ -53,8 +53,9 @@ std::vector<Vec3> on_cylinder(const TriangleMesh& m, double R, double phi) {
   return x;
 }
 
-MembraneProperties film(double D) {
+MembraneProperties film(double D, BendingModel model = BendingModel::Hinge) {
   MembraneProperties p;
+  p.bending_model = model;
   p.youngs_modulus = 1e6;
   p.poisson_ratio = 0.3;
   p.thickness = 1e-4;
@@ -65,10 +66,11 @@ MembraneProperties film(double D) {
 
 // Bending energy at x: E_total(D) - E_total(D = 0) (the membrane part is the same computation).
 // `membrane` gets E_total(D = 0).
-double bending_energy(const TriangleMesh& m, const std::vector<Vec3>& x, double D, double* membrane = nullptr) {
+double bending_energy(const TriangleMesh& m, const std::vector<Vec3>& x, double D, double* membrane = nullptr,
+                      BendingModel model = BendingModel::Hinge) {
   const double e0 = Membrane(m, film(0)).elastic_energy(x);
   if (membrane) *membrane = e0;
-  return Membrane(m, film(D)).elastic_energy(x) - e0;
+  return Membrane(m, film(D, model)).elastic_energy(x) - e0;
 }
 
 double area(const TriangleMesh& m) {
@@ -79,8 +81,8 @@ double area(const TriangleMesh& m) {
 }
 
 // E_bending / (D kappa^2 A / 2) for the sheet m bent to radius R about the axis at phi.
-double plate_ratio(const TriangleMesh& m, double R, double phi, double* membrane = nullptr) {
-  const double Eb = bending_energy(m, on_cylinder(m, R, phi), kD, membrane);
+double plate_ratio(const TriangleMesh& m, double R, double phi, double* membrane = nullptr, BendingModel model = BendingModel::Hinge) {
+  const double Eb = bending_energy(m, on_cylinder(m, R, phi), kD, membrane, model);
   return Eb / (0.5 * kD / (R * R) * area(m));
 }
 
@@ -256,4 +258,144 @@ TEST(MembraneBending, OnASlowerClockTheFilmSwingsAsOnEveryStep) {
               steps, dt, probe.bending_frequency() * 8 * dt, diff / amp, amp, slow.drift, every.drift);
   EXPECT_LT(diff / amp, 1e-3);
   EXPECT_LT(slow.drift, 2e-4);
+}
+
+// ---- The quadratic model (bag.film.bending_model = "quadratic"; src/bag/quadratic_bending.hpp) ----
+namespace {
+
+// The bending forces alone at x: those of the membrane with bending less those without.
+std::vector<Vec3> bending_forces(const TriangleMesh& m, const std::vector<Vec3>& x, double D, BendingModel model) {
+  Membrane with(m, film(D, model)), without(m, film(0));
+  std::vector<Vec3> f(x.size(), Vec3::Zero()), f0 = f, fd = f, v = f;
+  with.add_forces(x, v, f, fd);
+  without.add_forces(x, v, f0, fd);
+  for (std::size_t i = 0; i < x.size(); ++i) f[i] -= f0[i];
+  return f;
+}
+
+}  // namespace
+
+TEST(QuadraticBending, OneHingeFoldedRigidlyStoresTwoSineOfHalfTheAngle) {
+  // Two triangles on the edge (0,0,0)-(1,0,0) mm, wings at heights 0.8 and 0.6 mm projecting at a
+  // quarter and at two thirds of the edge, flat at rest; wing b turned rigidly by theta about the
+  // edge: |s| = 2 sin(theta / 2), so W = k 4 sin^2(theta / 2) with the hinge law's k (to rounding),
+  // k theta^2 at small angles (the hinge law's energy, within theta^2 / 12 of it).
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1e-3, 0, 0}, {0.25e-3, 0.8e-3, 0}, {0.667e-3, -0.6e-3, 0}};
+  m.triangles = {{0, 1, 2}, {1, 0, 3}};
+  for (double theta : {1e-3, 0.1, 1.0, 2.5}) {
+    std::vector<Vec3> x = m.vertices;
+    x[3] = Vec3(x[3].x(), x[3].y() * std::cos(theta), x[3].y() * std::sin(theta));
+    const double Wq = bending_energy(m, x, kD, nullptr, BendingModel::Quadratic);
+    const double Wh = bending_energy(m, x, kD, nullptr, BendingModel::Hinge);
+    const double L = 1e-3, A = 0.5 * L * (0.8e-3 + 0.6e-3), k = 0.5 * kD * L * L / A;  // k_e = D |e|^2 / (2 (A1 + A2))
+    const double expected = k * 4 * std::pow(std::sin(0.5 * theta), 2);
+    std::printf("  theta %.3g: W_quadratic / (k 4 sin^2(theta/2)) - 1 = %.1e, W_quadratic / W_hinge = %.6f\n", theta,
+                Wq / expected - 1, Wq / Wh);
+    EXPECT_NEAR(Wq / expected, 1.0, 1e-9) << theta;
+    if (theta <= 0.1) EXPECT_NEAR(Wq / Wh, 1.0, theta * theta / 12 + 1e-6) << theta;
+  }
+}
+
+TEST(QuadraticBending, FlatPlacementsBendNothingAndTheSheetMatchesThePlate) {
+  // A flat sheet moved rigidly and stretched in its plane (strains of 1-3%): no bending force or
+  // energy, whatever the membrane does. Bent on a cylinder (as the hinge law's test above): the
+  // equilateral lattice stores 0.9-1.02 of the plate energy at every orientation, closer to 1 with
+  // each refinement (the same constant k_e).
+  const TriangleMesh m = lattice(10, 12, 0.01);
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<Vec3> x;
+  for (const Vec3& X : m.vertices) x.push_back(Q * Vec3(1.03 * X.x() + 0.01 * X.y(), 0.99 * X.y(), 0) + Vec3(0.1, -0.2, 0.3));
+  const double W = bending_energy(m, x, kD, nullptr, BendingModel::Quadratic);
+  double fmax = 0;
+  for (const Vec3& f : bending_forces(m, x, kD, BendingModel::Quadratic)) fmax = std::max(fmax, f.norm());
+  std::printf("  flat, moved and stretched: W = %.1e J, largest bending force %.1e N\n", W, fmax);
+  EXPECT_LT(std::abs(W), 1e-18);
+  EXPECT_LT(fmax, 1e-12);
+  for (double deg : {0.0, 30.0, 90.0}) {
+    double previous = 0;
+    for (std::size_t n : {10, 20, 40}) {
+      const double a = 0.1 / static_cast<double>(n);
+      const TriangleMesh sheet = lattice(n, static_cast<std::size_t>(std::round(0.1 / (a * std::sqrt(3.0) / 2))), a);
+      const double r = plate_ratio(sheet, 0.2, deg * std::numbers::pi / 180, nullptr, BendingModel::Quadratic);
+      std::printf("  quadratic, equilateral, axis at %2.0f deg, %zu triangles: E/E_plate = %.6f\n", deg, sheet.size(), r);
+      EXPECT_GE(r, 0.9) << deg << " deg, n " << n;
+      EXPECT_LE(r, 1.02) << deg << " deg, n " << n;
+      EXPECT_GT(r, previous) << deg << " deg, n " << n;
+      previous = r;
+    }
+  }
+}
+
+TEST(QuadraticBending, ItsForceIsLinearConservativeAndBoundedByItsFrequency) {
+  // A closed bag's film (a capsule, curved at rest: the quadratic model holds a bending stress
+  // there), with D x 1e4 so that bending is measurable:
+  //  - the force is minus the energy's gradient (central differences, 1e-7 relative) and sums to
+  //    no force and no torque (momentum kept, to 1e-9 of the largest force);
+  //  - it is linear in the positions: the change of force for one displacement is the same from the
+  //    rest shape and from a crumpled one (a wing squashed to a line included), to rounding. So the
+  //    stiffness never grows with the shape, and the bound at rest holds for every shape: the
+  //    largest omega^2 of M^-1 K (power iteration on the force's change) is at most
+  //    bending_frequency()^2, and above a tenth of it.
+  const TriangleMesh m = capsule_mesh(Vec3::Zero(), Vec3::UnitX(), 9e-3, 42e-3, 300);
+  const double D = 1e4 * kD;
+  const Membrane mem(m, film(D, BendingModel::Quadratic)), plain(m, film(0));
+  std::uint64_t seed = 7;
+  auto uniform = [&] { seed = seed * 6364136223846793005ULL + 1442695040888963407ULL; return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5; };
+  std::vector<Vec3> crumpled = m.vertices;
+  for (Vec3& xi : crumpled) xi += 2e-3 * Vec3(uniform(), uniform(), uniform());
+  crumpled[m.triangles[5][2]] = 0.5 * (crumpled[m.triangles[5][0]] + crumpled[m.triangles[5][1]]);  // a wing squashed to a line
+  const std::vector<Vec3> f = bending_forces(m, crumpled, D, BendingModel::Quadratic);
+  Vec3 F = Vec3::Zero(), T = Vec3::Zero();
+  double fmax = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) F += f[i], T += crumpled[i].cross(f[i]), fmax = std::max(fmax, f[i].norm());
+  double err = 0, norm = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double h = 1e-8;
+      std::vector<Vec3> xp = crumpled, xm = crumpled;
+      xp[i][c] += h, xm[i][c] -= h;
+      const double g = ((mem.elastic_energy(xp) - plain.elastic_energy(xp)) - (mem.elastic_energy(xm) - plain.elastic_energy(xm))) / (2 * h);
+      err += std::pow(g + f[i][c], 2), norm += f[i][c] * f[i][c];
+    }
+  std::printf("  capsule, crumpled: |grad + f| / |f| = %.1e; |sum f| = %.1e, |sum x x f| = %.1e (largest f %.2e N)\n",
+              std::sqrt(err / norm), F.norm(), T.norm(), fmax);
+  EXPECT_LT(std::sqrt(err / norm), 1e-7);
+  EXPECT_LT(F.norm(), 1e-9 * fmax);
+  EXPECT_LT(T.norm(), 1e-9 * fmax * 9e-3);
+  // Linear: f(x + d) - f(x) from the rest shape and from the crumpled one.
+  std::vector<Vec3> d(m.vertices.size());
+  for (Vec3& di : d) di = 1e-4 * Vec3(uniform(), uniform(), uniform());
+  auto change = [&](const std::vector<Vec3>& x0, const std::vector<Vec3>& dx) {
+    std::vector<Vec3> x1 = x0;
+    for (std::size_t i = 0; i < x1.size(); ++i) x1[i] += dx[i];
+    std::vector<Vec3> a = bending_forces(m, x1, D, BendingModel::Quadratic), b = bending_forces(m, x0, D, BendingModel::Quadratic);
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] -= b[i];
+    return a;
+  };
+  const std::vector<Vec3> at_rest = change(m.vertices, d), at_crumpled = change(crumpled, d);
+  double diff = 0, size = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) diff = std::max(diff, (at_rest[i] - at_crumpled[i]).norm()), size = std::max(size, at_rest[i].norm());
+  std::printf("  the force's change for one displacement, at rest and crumpled: differ by %.1e of it\n", diff / size);
+  EXPECT_LT(diff, 1e-6 * size);
+  // omega_max^2 of M^-1 K by power iteration (K d = -(f(x + d) - f(x))).
+  std::vector<Vec3> u = d;
+  double lambda = 0;
+  for (int it = 0; it < 300; ++it) {
+    const std::vector<Vec3> Ku = change(m.vertices, u);
+    double nrm = 0, dot = 0;
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      const Vec3 w = -Ku[i] / mem.node_mass()[i];
+      dot += w.dot(u[i]), nrm += u[i].squaredNorm();
+      u[i] = w;
+    }
+    lambda = dot / nrm;
+    double scale = 0;
+    for (const Vec3& ui : u) scale = std::max(scale, ui.norm());
+    for (Vec3& ui : u) ui *= 1e-4 / scale;
+  }
+  const double wb = mem.bending_frequency();
+  std::printf("  largest omega of the bending: %.4g rad/s by power iteration, bound %.4g rad/s\n", std::sqrt(lambda), wb);
+  EXPECT_LE(std::sqrt(lambda), wb);
+  EXPECT_GT(std::sqrt(lambda), 0.1 * wb);
 }

@@ -3,6 +3,7 @@
 #include "bagdem/contact/lanes.hpp"
 #include "bagdem/parallel.hpp"
 #include "hinge.hpp"
+#include "quadratic_bending.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -258,7 +259,7 @@ void Membrane::build_hinges(const std::vector<Vec3>& x0) {
       const auto& A = tri_[edges[i].tri];
       const auto& B = tri_[edges[i + 1].tri];
       const std::uint32_t ka = edges[i].k, kb = edges[i + 1].k;
-      const Hinge h{A[ka], A[(ka + 1) % 3], A[(ka + 2) % 3], B[(kb + 2) % 3], 0.0, 0.0, 0.0, 0.0};
+      const Hinge h{A[ka], A[(ka + 1) % 3], A[(ka + 2) % 3], B[(kb + 2) % 3], 0.0, 0.0, 0.0, 0.0, {}};
       if (B[kb] != h.v1) throw std::invalid_argument("Membrane: inconsistent triangle orientation");
       if (D > 0) hinges_.push_back(h);
     }
@@ -271,6 +272,7 @@ void Membrane::build_hinges(const std::vector<Vec3>& x0) {
     const double a1 = 0.5 * e.cross(x0[h.a] - x0[h.v0]).norm(), a2 = 0.5 * e.cross(x0[h.b] - x0[h.v0]).norm();
     h.k = 0.5 * D * e.squaredNorm() / (a1 + a2);
     h.fade_a = std::pow(0.1 * 2 * a1, 2), h.fade_b = std::pow(0.1 * 2 * a2, 2);
+    h.w = quadratic_bending::weights(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]);
   }
   hinge_force_.assign(hinges_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   hinge_energy_.assign(hinges_.size(), 0.0);
@@ -313,9 +315,23 @@ void Membrane::compute_frequencies(const std::vector<Vec3>& x0) {
     for (int a = 0; a < 3; ++a)
       for (int r = 0; r < 3; ++r) row[3 * t[a] + r] += K.row(3 * a + r).cwiseAbs().sum();
   }
+  const bool quadratic = props_.bending_model == BendingModel::Quadratic;
   for (const Hinge& h : hinges_) {
     const std::uint32_t v[4] = {h.v0, h.v1, h.a, h.b};
-    const auto g = hinge_eval<double>(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
+    // The quadratic model's Hessian is 2 k w w^T (x) I: a row's absolute sum 2 k |w_s| sum_j |w_j|
+    // (one axis: it does not couple x, y and z).
+    const auto g = quadratic ? std::array<Vec3, 4>{} : hinge_eval<double>(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
+    if (quadratic) {
+      double wsum = 0;
+      for (double wj : h.w) wsum += std::abs(wj);
+      for (int s = 0; s < 4; ++s)
+        for (int r = 0; r < 3; ++r) {
+          const double k = 2.0 * h.k * std::abs(h.w[s]) * wsum;
+          row[3 * v[s] + r] += k;
+          bend[3 * v[s] + r] += k;
+        }
+      continue;
+    }
     double gsum = 0;
     for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
     for (int s = 0; s < 4; ++s)
@@ -381,6 +397,16 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
     }
   });
 
+  if (props_.bending_model == BendingModel::Quadratic) {
+    // W = k |s|^2, s = sum w_j x_j: f_j = -2 k w_j s (quadratic_bending.hpp).
+    parallel_for(nh, [&](std::size_t i) {
+      const Hinge& h = hinges_[i];
+      const Vec3 s = quadratic_bending::curvature(h.w, x[h.v0], x[h.v1], x[h.a], x[h.b]);
+      hinge_energy_[i] = h.k * s.squaredNorm();
+      const Vec3 c = (-2.0 * h.k * bending_weight) * s;
+      hinge_force_[i] = {h.w[0] * c, h.w[1] * c, h.w[2] * c, h.w[3] * c};
+    });
+  } else {
   // The hinges kLanes at a time, as the triangles.
   parallel_for((nh + kLanes - 1) / kLanes, [&](std::size_t g) {
     const Hinge* h[kLanes];
@@ -407,6 +433,7 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       hinge_force_[i] = {lane(c * he.grad[0], l), lane(c * he.grad[1], l), lane(c * he.grad[2], l), lane(c * he.grad[3], l)};
     }
   });
+  }
 
   parallel_for(n, [&](std::size_t i) {
     Vec3 fe = Vec3::Zero(), fd = Vec3::Zero();
@@ -438,6 +465,10 @@ double Membrane::elastic_energy(const std::vector<Vec3>& x) const {
     energy += props_.thickness * area0_[i] * stress(law, green_strain(gradient_at(x, tri_[i], dm_inv_[i]))).psi;
   }
   for (const Hinge& h : hinges_) {
+    if (props_.bending_model == BendingModel::Quadratic) {
+      energy += h.k * quadratic_bending::curvature(h.w, x[h.v0], x[h.v1], x[h.a], x[h.b]).squaredNorm();
+      continue;
+    }
     const HingeEval<double> he = hinge_eval<double>(x[h.v0], x[h.v1], x[h.a], x[h.b]);
     if (he.nA2 < h.fade_a || he.nB2 < h.fade_b) {
       energy += faded_hinge(x[h.v0], x[h.v1], x[h.a], x[h.b], h.k, h.theta0, h.fade_a, h.fade_b).energy;

@@ -191,6 +191,8 @@ void read_film(const CaseReader& in, const Scene& s, const std::vector<std::stri
   if (!(bending >= 0)) in.fail("bag.film.bending", "must be >= 0 (a factor on the plate stiffness E t^3 / (12 (1 - nu^2)))");
   const double t = b.film.thickness, nu = b.film.poisson_ratio;
   b.film.bending_stiffness = bending * b.film.youngs_modulus * t * t * t / (12 * (1 - nu * nu));
+  b.film.bending_model = in.choice("bag.film.bending_model", {"hinge", "quadratic"}, "hinge") == "quadratic" ? BendingModel::Quadratic
+                                                                                                      : BendingModel::Hinge;
   b.damping_ratio = in.quantity("bag.film.damping_ratio", dim::none, 0.05);
   if (!(b.damping_ratio >= 0 && b.damping_ratio < 1)) in.fail("bag.film.damping_ratio", "must be in [0, 1)");
   b.mass_scaling = in.quantity("bag.film.mass_scaling", dim::none, 1.0);

@@ -40,7 +40,8 @@ void describe_bag(std::ostream& o, const Scene& s, double rmin) {
       << b.rest.vertices.size() << " nodes, mean edge " << b.mean_edge << " m (" << b.mean_edge / (2 * rmin)
       << " ball diameters; key bag.triangles)\n"
       << "            tension field " << on(b.film.tension_field) << ", bending D " << b.film.bending_stiffness
-      << " N m, damping ratio " << b.damping_ratio << " (Kelvin-Voigt time " << b.film.damping_time
+      << " N m (" << (b.film.bending_model == BendingModel::Quadratic ? "quadratic, flat at rest" : "hinges, the rest shape's angles")
+      << "; key bag.film.bending_model), damping ratio " << b.damping_ratio << " (Kelvin-Voigt time " << b.film.damping_time
       << " s), node mass x " << b.mass_scaling << ", film-wall contact radius " << b.contact_radius << " m\n"
       << "            film-film contact ";
     if (b.self_radius > 0)

@@ -28,6 +28,9 @@
 // normal as fast as 1/A, and theta's gradient with it: unfaded, the hinge's stiffness grows as
 // 1/A^2 past any step. Faded, its force stays bounded and goes to 0 with the area; a hinge whose
 // wings keep a tenth of their area is unchanged (the same bits).
+// Or (bending_model Quadratic) the quadratic model of Bergou et al. 2006, W_b = k_e |s_e|^2 with s_e
+// a fixed weighted sum of the edge's four nodes, flat at rest, its force linear in the positions
+// (src/bag/quadratic_bending.hpp); no fade is needed.
 // Damping: viscous stress S_v = beta C : dEg/dt, with beta = damping time (s), in the same regime
 // as the elastic stress (none when slack, uniaxial when wrinkled); returned separately so the
 // energy budget can tally its work.
@@ -44,6 +47,10 @@
 
 namespace bagdem {
 
+// Bending across the film's edges: the hinge's angle law (the default) or the quadratic model
+// (src/bag/quadratic_bending.hpp; bag.film.bending_model).
+enum class BendingModel : std::uint8_t { Hinge, Quadratic };
+
 struct MembraneProperties {
   double youngs_modulus = 0;     // (unit: Pa)
   double poisson_ratio = 0;      // (dimensionless)
@@ -51,6 +58,7 @@ struct MembraneProperties {
   double density = 0;            // (unit: kg/m^3)
   bool tension_field = true;     // no compressive principal stress (wrinkling)
   double bending_stiffness = 0;  // D (unit: N m); 0 = no bending
+  BendingModel bending_model = BendingModel::Hinge;
   double damping_time = 0;       // beta of the Kelvin-Voigt stress (unit: s); 0 = none
 };
 
@@ -102,6 +110,7 @@ class Membrane {
     double theta0;         // rest angle (unit: rad)
     double k;              // stiffness k_e (unit: N m)
     double fade_a, fade_b; // |n|^2 = (2 A)^2 of each wing where its fade begins: (0.1 x 2 A_rest)^2 (unit: m^4)
+    std::array<double, 4> w;  // the quadratic model's stencil on (v0, v1, a, b) (unit: 1/m)
   };
   std::vector<Hinge> hinges_;
   double max_frequency_ = 0, bending_frequency_ = 0;  // computed once from the rest shape (unit: rad/s)

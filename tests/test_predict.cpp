@@ -120,7 +120,20 @@ TEST(Predict, RefusesWhatLiesOutsideTheMap) {
   const EffectiveMap back = read_effective_map(t.path / "map.csv");
   EXPECT_EQ(back.gamma, (std::vector<double>{0.5, 20}));
   EXPECT_EQ(back.frequency, (std::vector<double>{18, 22}));
-  EXPECT_EQ(back.M_eff_ci95[0], 0) << "one start: no spread to propagate";
+  EXPECT_TRUE(std::isnan(back.M_eff_ci95[0])) << "one start: its interval is not known";
+  EXPECT_TRUE(back.at(5e-4, 20)) << "the means are";
+  EXPECT_FALSE(back.at(5e-4, 20, 1, 1)) << "a corner of the interval is not";
+  // Two bands (as characterize maps excitation.around_modes = [1, 3]): nothing between them.
+  const EffectiveMap bands = make_map({0.5, 20}, {18, 19, 20, 40, 45, 50}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  EXPECT_TRUE(bands.covers(19.5));
+  EXPECT_TRUE(bands.covers(47));
+  EXPECT_TRUE(bands.covers(20) && bands.covers(40));
+  EXPECT_FALSE(bands.covers(30)) << "between the bands";
+  EXPECT_EQ(predict_at(*s.primary, bands, 0.5, 30).outside, "band");
+  const EffectiveMap two = make_map({0.5, 20}, {18, 20, 26, 30}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  EXPECT_FALSE(two.covers(23)) << "a gap wider than the spacing on either side";
+  const EffectiveMap dense = make_map({0.5, 20}, {18, 20, 21, 30}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  EXPECT_TRUE(dense.covers(20.5)) << "a gap no wider than a spacing beside it";
   std::ofstream(t.path / "bad.csv") << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m]\n0.5,18,1,0,1\n";
   try {
     read_effective_map(t.path / "bad.csv");
@@ -131,9 +144,9 @@ TEST(Predict, RefusesWhatLiesOutsideTheMap) {
 }
 
 // A corner of the map's interval that leaves the map near the peak (its damping 0.1 of the mean's:
-// the response climbs above the map's Gamma 1) has no peak over the band: it is left out of the
-// range, never taken with the peak of the frequencies it covers.
-TEST(Predict, ACornerThatLeavesTheMapIsLeftOutOfTheRange) {
+// the response climbs above the map's Gamma 1) has no peak over the band, and the interval is then
+// not known: NaN, not the range of the corners left (which narrows as the map's intervals widen).
+TEST(Predict, ACornerThatLeavesTheMapLeavesTheIntervalUnknown) {
   bagdem::testing::TempDir t;
   const Scene s = sdof_scene(t);
   EffectiveMap map = make_map({1e-4, 1e-2, 1}, {15, 25}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
@@ -144,8 +157,13 @@ TEST(Predict, ACornerThatLeavesTheMapIsLeftOutOfTheRange) {
   ASSERT_TRUE(m.outside.empty()) << m.outside_why;
   std::printf("  %.4f dB, range %.4f to %.4f over %d corners\n", m.reduction_db, m.reduction_db_lo, m.reduction_db_hi, m.corners);
   EXPECT_EQ(m.corners, 2) << "the two corners of less damping leave the map at the peak";
-  EXPECT_EQ(m.reduction_db_lo, m.reduction_db) << "no corner below the means' figure is inside the map";
-  EXPECT_GT(m.reduction_db_hi, m.reduction_db + 0.5);
+  EXPECT_TRUE(std::isnan(m.reduction_db_lo) && std::isnan(m.reduction_db_hi));
+  EXPECT_TRUE(std::isfinite(m.reduction_db));
+  for (double& ci : map.C_eff_ci95) ci = 0.3;  // every corner inside: the range
+  const PredictedMode n = predict_modes(*s.primary, map, 0.5, {18, 20, 22}, 400, Checks::interval)[0];
+  EXPECT_EQ(n.corners, 4);
+  EXPECT_LT(n.reduction_db_lo, n.reduction_db);
+  EXPECT_GT(n.reduction_db_hi, n.reduction_db);
 }
 
 TEST(Predict, TheCommandGivesTheLinearPeakReductionOfAConstantMapAndRefusesWhatItDoesNotCover) {

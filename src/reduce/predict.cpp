@@ -41,7 +41,8 @@ std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, in
     for (int dj = 0; dj < 2; ++dj) {
       const std::size_t k = (i + di) * nf + j + dj;
       const double weight = (di ? s : 1 - s) * (dj ? t : 1 - t);
-      const double mk = M_eff[k] + m_sign * M_eff_ci95[k], ck = C_eff[k] + c_sign * C_eff_ci95[k];
+      // A corner of the interval needs the cell's interval (NaN with one start: not known).
+      const double mk = M_eff[k] + (m_sign != 0 ? m_sign * M_eff_ci95[k] : 0.0), ck = C_eff[k] + (c_sign != 0 ? c_sign * C_eff_ci95[k] : 0.0);
       if (!std::isfinite(mk) || !std::isfinite(ck)) return std::nullopt;
       m += weight * mk, c += weight * ck;
     }
@@ -50,7 +51,21 @@ std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, in
 
 bool EffectiveMap::covers(double f) const {
   const double tol = 1e-8 * frequency.back();  // the map's grid and a sweep's band, each rounded to its digits
-  return f >= frequency.front() - tol && f <= frequency.back() + tol;
+  if (!(f >= frequency.front() - tol && f <= frequency.back() + tol)) return false;
+  const std::size_t j = bracket(frequency, std::clamp(f, frequency.front(), frequency.back()));
+  if (f <= frequency[j] + tol || f >= frequency[j + 1] - tol) return true;  // on a line
+  return !band_gap(j);
+}
+
+// Each band of characterize has its frequencies evenly spaced; the lines of two bands are parted by
+// a gap wider than the spacing on either side of it (a band of two lines: its width). A gap no
+// wider than a neighbouring spacing is interpolated like it.
+bool EffectiveMap::band_gap(std::size_t j) const {
+  const double g = frequency[j + 1] - frequency[j];
+  double beside = 0;
+  if (j > 0) beside = std::max(beside, frequency[j] - frequency[j - 1]);
+  if (j + 2 < frequency.size()) beside = std::max(beside, frequency[j + 2] - frequency[j + 1]);
+  return beside > 0 && g > (1 + 1e-3) * beside;
 }
 
 namespace {
@@ -98,6 +113,7 @@ std::vector<double> curvature_bounds(const std::vector<double>& x, const std::ve
 
 EffectiveMap EffectiveMap::interpolation_bounds() const {
   EffectiveMap b = *this;
+  const auto scatter = [](double ci) { return std::isfinite(ci) ? ci : 0.0; };  // one start: no scatter to take off
   const std::size_t na = gamma.size(), nf = frequency.size();
   std::vector<double> log_gamma;
   for (double G : gamma) log_gamma.push_back(std::log(G));
@@ -105,7 +121,7 @@ EffectiveMap EffectiveMap::interpolation_bounds() const {
     bound->assign(na * nf, 0.0);
     for (std::size_t j = 0; j < nf; ++j) {  // along Gamma, a column at a time
       std::vector<double> v, c;
-      for (std::size_t i = 0; i < na; ++i) v.push_back((*value)[i * nf + j]), c.push_back((*ci)[i * nf + j]);
+      for (std::size_t i = 0; i < na; ++i) v.push_back((*value)[i * nf + j]), c.push_back(scatter((*ci)[i * nf + j]));
       const std::vector<double> e = curvature_bounds(log_gamma, v, c, false);
       for (std::size_t i = 0; i < na; ++i) (*bound)[i * nf + j] += e[i];
     }
@@ -113,7 +129,9 @@ EffectiveMap EffectiveMap::interpolation_bounds() const {
       const auto row = [&](const std::vector<double>* a) {
         return std::vector<double>(a->begin() + static_cast<long>(i * nf), a->begin() + static_cast<long>((i + 1) * nf));
       };
-      const std::vector<double> e = curvature_bounds(frequency, row(value), row(ci), true);
+      std::vector<double> c = row(ci);
+      for (double& x : c) x = scatter(x);
+      const std::vector<double> e = curvature_bounds(frequency, row(value), c, true);
       for (std::size_t j = 0; j < nf; ++j) (*bound)[i * nf + j] += e[j];
     }
   }
@@ -144,10 +162,8 @@ EffectiveMap read_effective_map(const fs::path& path) {
   for (std::size_t k = 0; grid && k < G.size(); ++k) grid = G[k] == m.gamma[k / nf] && f[k] == m.frequency[k % nf];
   if (!grid)
     throw InputError(path.string(), "", "", "is not a grid of at least 2 Gamma x 2 frequencies, Gamma varying slowest (as bagdem characterize writes it)");
-  // The cells' interval is NaN with one start: no spread to propagate.
-  for (auto* ci : {&m.M_eff_ci95, &m.C_eff_ci95})
-    for (double& x : *ci)
-      if (!std::isfinite(x)) x = 0;
+  // A cell's interval is NaN with one start: not known, so neither is a prediction's (at: its
+  // corners have no figure there).
   return m;
 }
 
@@ -266,6 +282,9 @@ std::vector<PredictedMode> predict_modes(const Primary& p, const std::vector<Map
       ++m.corners;
       m.reduction_db_lo = std::min(m.reduction_db_lo, r), m.reduction_db_hi = std::max(m.reduction_db_hi, r);
     }
+    // The interval is the four corners' range; a corner that left the map leaves it unknown (not
+    // the range of those left, which narrows as the map grows less certain).
+    if (m.corners < 4) m.reduction_db_lo = m.reduction_db_hi = std::nan("");
     out.push_back(std::move(m));
   }
   if (checks != Checks::all) return out;
@@ -339,8 +358,12 @@ RandomPredictionRange predict_random_range(const Primary& p, const EffectiveMap&
   for (int m : {-1, 1})
     for (int c : {-1, 1}) {
       const RandomPrediction k = predict_random(p, map, rms, lo, hi, lines, m, c);
-      if (k.outside.empty() && k.converged) r.response_rms_lo = std::min(r.response_rms_lo, k.response_rms), r.response_rms_hi = std::max(r.response_rms_hi, k.response_rms);
+      if (k.outside.empty() && k.converged) {
+        ++r.corners;
+        r.response_rms_lo = std::min(r.response_rms_lo, k.response_rms), r.response_rms_hi = std::max(r.response_rms_hi, k.response_rms);
+      }
     }
+  if (r.corners < 4) r.response_rms_lo = r.response_rms_hi = std::nan("");  // as predict_modes' interval
   return r;
 }
 

@@ -70,6 +70,17 @@ void require_same_damper(const fs::path& map_csv, const Scene& scene, const std:
                        characterize + "), or give its map");
 }
 
+// A prediction's interval over the map's interval corners, or why it is not known.
+std::string interval_text(double lo, double hi, int corners, const char* format, const char* unit) {
+  if (!std::isfinite(lo) || !std::isfinite(hi))
+    return "its interval not known (" + std::to_string(4 - corners) +
+           " of the four corners of the map's intervals leave the map, or its cells have one start: widen --gamma or give --seeds)";
+  char text[96];
+  const std::string f = std::string(format) + "%s to " + format + "%s over the map's intervals";
+  std::snprintf(text, sizeof text, f.c_str(), lo, unit, hi, unit);
+  return text;
+}
+
 // The resolution check of a mode's prediction (reduce/predict.hpp): printed, and a warning when the
 // map is too coarse for the answer or too coarse to check it.
 void report_resolution(const PredictedMode& m, double F) {
@@ -157,8 +168,8 @@ int predict_random_command(const PredictArgs& a, const Scene& scene) {
     const double lo = range.response_rms_lo, hi = range.response_rms_hi;
     const double db = 20 * std::log10(r.bare_response_rms / r.response_rms);
     rows.push_back({F, a.band[0], a.band[1], r.bare_response_rms, r.response_rms, lo, hi, r.cavity_rms, db});
-    std::printf("%s RMS over %.6g-%.6g Hz: response RMS %.4g m (%.4g to %.4g over the map's intervals), bare %.4g m: %.2f dB lower\n",
-                short_force(F).c_str(), a.band[0], a.band[1], r.response_rms, lo, hi, r.bare_response_rms, db);
+    std::printf("%s RMS over %.6g-%.6g Hz: response RMS %.4g m (%s), bare %.4g m: %.2f dB lower\n", short_force(F).c_str(), a.band[0],
+                a.band[1], r.response_rms, interval_text(lo, hi, range.corners, "%.4g", "").c_str(), r.bare_response_rms, db);
   }
   const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
   fs::create_directories(out);
@@ -226,9 +237,10 @@ int predict_command(const PredictArgs& a) {
         const double pct = reduction_percent(m.reduction_db);
         peaks.push_back({F, double(m.mode), m.bare_frequency, m.bare_peak, m.peak_frequency, m.peak, m.reduction_db, pct, m.reduction_db_lo,
                          m.reduction_db_hi, m.at_band_edge ? 1.0 : 0.0, m.interpolation_db});
-        std::printf("%s, mode %zu: %speak reduction %s%.2f dB (%.1f%%), %.2f to %.2f dB over the map's intervals; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
+        std::printf("%s, mode %zu: %speak reduction %s%.2f dB (%.1f%%), %s; damped peak %.4g m at %.2f Hz (bare %.4g m at %.2f Hz)\n",
                     short_force(F).c_str(), m.mode, m.at_band_edge ? "AT THE BAND'S EDGE: " : "", m.at_band_edge ? "at most " : "",
-                    m.reduction_db, pct, m.reduction_db_lo, m.reduction_db_hi, m.peak, m.peak_frequency, m.bare_peak, m.bare_frequency);
+                    m.reduction_db, pct, interval_text(m.reduction_db_lo, m.reduction_db_hi, m.corners, "%.2f", " dB").c_str(), m.peak,
+                    m.peak_frequency, m.bare_peak, m.bare_frequency);
         report_resolution(m, F);
         if (m.at_band_edge)
           std::fprintf(stderr,

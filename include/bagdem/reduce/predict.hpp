@@ -12,7 +12,8 @@
 // Interpolation: bilinear in (log Gamma, f) on the map's grid, Gamma = X w^2 / g.
 // Intervals: the map's 95% half-widths shift M_eff and C_eff together to the four corners
 // (M_eff +- ci, C_eff +- ci); each corner is predicted again and the spread of the peak reduction
-// over the corners and the mean is its interval.
+// over the corners and the mean is its interval. Where a corner leaves the map (or a cell has one
+// start, whose interval is not known), so does the interval: NaN, never the range of the others.
 // Resolution: linear interpolation between grid lines h apart errs by up to |f''| h^2 / 8 for a
 // smooth f; f'' is estimated at each node from its neighbours (second divided differences in
 // log Gamma, and in f within each band), less what the cells' scatter could make of it. M_eff and C_eff shifted by those bounds to the four corners
@@ -58,9 +59,11 @@ struct EffectiveMap : MapAxes {
   // `c_sign` times its 95% half-width; nullopt outside the grid (Gamma or f beyond its ends) or in
   // a cell whose corners lack a figure.
   std::optional<std::pair<double, double>> at(double X, double f, int m_sign = 0, int c_sign = 0) const;
-  // Whether the band holds f, to a relative 1e-8 at its ends (a sweep's frequencies and the map's
+  // Whether one of the map's bands holds f (band_gap), to a relative 1e-8 at its ends (a sweep's frequencies and the map's
   // are each rounded to their own digits); a frequency so close is taken at the end.
   bool covers(double f) const;
+  // Whether the lines j and j + 1 of the frequencies lie in two bands (nothing is mapped between).
+  bool band_gap(std::size_t j) const;
   // The amplitude range of the grid at frequency f: Gamma's ends as X (unit: m).
   std::pair<double, double> amplitude_range(double f) const;
   // The same map with M_eff_ci95 and C_eff_ci95 replaced by the bound of the interpolation's error
@@ -137,10 +140,11 @@ RandomPrediction predict_random(const Primary& primary, const EffectiveMap& map,
                                 int m_sign = 0, int c_sign = 0);
 
 // predict_random at the map's means, and the range of the response RMS over the map's four
-// interval corners (a corner outside the map, or not converging, is left out of the range).
+// interval corners (NaN when a corner leaves the map or does not converge: the interval is not known).
 struct RandomPredictionRange {
   RandomPrediction mean;
-  double response_rms_lo = 0, response_rms_hi = 0;  // (unit: m)
+  double response_rms_lo = 0, response_rms_hi = 0;  // NaN unless all four corners converge inside the map (unit: m)
+  int corners = 0;                                   // of the four, those that did
 };
 RandomPredictionRange predict_random_range(const Primary& primary, const EffectiveMap& map, double rms, double lo, double hi,
                                            int lines = 201);
@@ -156,8 +160,8 @@ struct PredictedMode {
   double peak = 0, peak_frequency = 0;    // the damped peak: the largest solution over the band (unit: m, Hz)
   double peak_cavity_gamma = 0;           // the cavity's Gamma = X w^2 / g there: where the map is read (unit: 1)
   double reduction_db = 0;                // 20 log10(bare_peak / peak)
-  double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners (unit: dB)
-  int corners = 0;                        // of the four corners, those inside the map at every frequency of the band (the range is over them)
+  double reduction_db_lo = 0, reduction_db_hi = 0;  // its range over the map's interval corners; NaN unless all four are inside the map (unit: dB)
+  int corners = 0;                        // of the four corners, those inside the map at every frequency of the band
   bool at_band_edge = false;              // the damped peak is the band's first or last frequency: it may lie
                                           // beyond the band, and the reduction is then only a bound (at most)
   // The resolution check: the largest change of reduction_db over the interpolation bounds' four

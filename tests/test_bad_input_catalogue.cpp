@@ -315,6 +315,9 @@ TEST(BadInputCatalogue, CommandLines) {
       {{"bench", "--sizes", "x"}, {"--sizes", "x", "Could not convert"}},
       {{"sweep", c, "--jobs", "0"}, {"--jobs", "0", "not in range 1 to 4096"}},
       {{"trade", c, "--threads", "-1"}, {"--threads", "-1", "not in range 1 to 4096"}},
+      {{"design", c, "--budget", "nan"}, {"--budget", "nan", "not in range"}},  // was blamed on bag.balls.mass_ratio
+      {{"characterize", c, "--window-time", "nan"}, {"--window-time", "nan", "not in range"}},  // ran with 0
+      {{"design", c, "--skip-time", "1x"}, {"--skip-time", "'1x' is not a number"}},
       {{}, {"A subcommand is required"}},
       {{"simulate", c}, {"unknown subcommand 'simulate'", "the subcommands are check, run", "design"}},  // was "A subcommand is required"
   };

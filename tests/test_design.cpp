@@ -133,6 +133,22 @@ TEST(Design, ARollingBallAddsTwoSeventhsOfItsMassTheLighterWinsAndTheChosenCaseL
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_EQ(bagdem::testing::slurp(out / "design.csv"), before);
   EXPECT_NE(again.out.find("map built"), std::string::npos) << again.out;
+
+  // A bad option of the maps is refused before anything is written (it used to end "design
+  // complete", exit 0, with design.csv replaced by "does not load" rows and chosen/ deleted).
+  std::vector<std::string> bad = args;
+  std::find(bad.begin(), bad.end(), "0.02,0.5")[0] = "0.5,0.02";
+  const bagdem::testing::CmdResult refused = bagdem::testing::run_bagdem(bad, t.path);
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("--gamma"), std::string::npos) << refused.err;
+  // Every map unreadable (each map's damper record damaged): nothing to rank, exit 2, and the
+  // earlier design's files stay.
+  for (const fs::directory_entry& m : fs::directory_iterator(out / "maps")) std::ofstream(m.path() / "damper.toml") << "garbage = [\n";
+  const bagdem::testing::CmdResult none = bagdem::testing::run_bagdem(args, t.path);
+  EXPECT_EQ(none.code, 2) << none.err << none.out;
+  EXPECT_NE(none.err.find("no candidate's map could be built or read"), std::string::npos) << none.err;
+  EXPECT_EQ(bagdem::testing::slurp(out / "design.csv"), before);
+  EXPECT_TRUE(fs::exists(out / "chosen" / "case.toml"));
 }
 
 // The same balls under a band-limited random force (18-22 Hz, 2 mN RMS): the objective is the

@@ -200,6 +200,25 @@ TEST(Predict, TheCommandGivesTheLinearPeakReductionOfAConstantMapAndRefusesWhatI
   EXPECT_EQ(far.code, 2);
   EXPECT_NE(far.err.find("bagdem characterize"), std::string::npos) << far.err;
   EXPECT_FALSE(std::filesystem::exists(t.path / "q" / "predict_peaks.csv"));
+  // --out: a file, or a directory holding a file of the user's by a table's name, is refused before
+  // anything is computed (exit 2), the file unchanged; an earlier predict's tables are its own.
+  std::ofstream(t.path / "notes.txt") << "mine\n";
+  std::filesystem::create_directories(t.path / "mine");
+  std::ofstream(t.path / "mine" / "predict.csv") << "my own table\n";
+  for (const std::string out : {"notes.txt", "mine"}) {
+    const auto r2 = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", "0.5 N", "--out",
+                                                 (t.path / out).string()},
+                                                t.path);
+    EXPECT_EQ(r2.code, 2) << out << r2.err;
+    EXPECT_NE(r2.err.find("--out"), std::string::npos) << r2.err;
+    EXPECT_EQ(r2.out.find("peak reduction"), std::string::npos) << "refused before computing";
+  }
+  EXPECT_EQ(bagdem::testing::slurp(t.path / "notes.txt"), "mine\n");
+  EXPECT_EQ(bagdem::testing::slurp(t.path / "mine" / "predict.csv"), "my own table\n");
+  const auto again = bagdem::testing::run_bagdem({"predict", t.path.string(), "--map", t.path.string(), "--amplitude", "0.5 N", "--out",
+                                                  (t.path / "p").string()},
+                                                 t.path);
+  EXPECT_EQ(again.code, 0) << again.err;
 }
 
 TEST(Predict, RandomForceOnAConstantMapGivesTheLinearRms) {

@@ -27,10 +27,10 @@ CLI::App* add_characterize(CLI::App& app, Args& args) {
   c->add_option("--skip", a.skip, "Start-up cycles of each run left out before them, at least (default 5)")->check(CLI::Range(0, 100000));
   c->add_option("--window-time", a.window_time,
                 "Seconds of each run that are reduced, at least (default 0.25): at a high frequency the cycles are more than --cycles")
-      ->check(CLI::Range(0.0, 1e4));
+      ->check(finite_range(0.0, 1e4));
   c->add_option("--skip-time", a.skip_time,
                 "Seconds of start-up left out, at least (default 0.1): a bag settles into its motion in a time, not a number of cycles")
-      ->check(CLI::Range(0.0, 1e4));
+      ->check(finite_range(0.0, 1e4));
   c->add_option("--set", a.sets,
                 "Override a key of case.toml in every run (repeatable; simulation.duration, output.skip_cycles and cavity.motion "
                 "are the map's own and left out)")

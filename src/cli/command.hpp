@@ -55,6 +55,8 @@ std::span<const Command> commands();
 int run_reporting(const Command& c, Args& a);
 
 // Shared by the subcommands' files (common.cpp).
+// A number in [lo, hi], refused when it is not finite (CLI::Range lets nan through).
+CLI::Validator finite_range(double lo, double hi);
 void add_fidelity(CLI::App* sub, std::string& fidelity);
 // --fidelity's preset: its overrides appended to a.sets.
 void apply_fidelity(Args& a);

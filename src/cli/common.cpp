@@ -1,12 +1,32 @@
 // What several subcommands share (command.hpp).
 #include <omp.h>
 
+#include <cmath>
 #include <iostream>
+#include <string>
 
 #include "bagdem/study/trade.hpp"
 #include "command.hpp"
 
 namespace bagdem::cli {
+
+CLI::Validator finite_range(double lo, double hi) {
+  const std::string range = "[" + CLI::detail::to_string(lo) + " - " + CLI::detail::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        double v = 0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size()) return "'" + text + "' is not a number";
+        if (!std::isfinite(v) || v < lo || v > hi) return "Value " + text + " not in range " + range;
+        return "";
+      },
+      "FLOAT in " + range);
+}
 
 void add_fidelity(CLI::App* sub, std::string& fidelity) {
   sub->add_option("--fidelity", fidelity,

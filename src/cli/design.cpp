@@ -23,7 +23,7 @@ CLI::App* add_design(CLI::App& app, Args& args) {
       ->allow_extra_args(false);
   c->add_option("--set", a.sets, "Override a key of case.toml in every run (repeatable)")->allow_extra_args(false);
   c->add_option("--budget", a.budget, "The added mass (balls and film) over the structure's mass, at most (default 0.1)")
-      ->check(CLI::Range(1e-6, 10.0));
+      ->check(finite_range(1e-6, 10.0));
   c->add_option("--positions", a.positions, "x/L of the bag on a beam (default 0.05,0.1,...,0.95)")->delimiter(',');
   c->add_option("--modes", a.modes, "The modes whose worst peak reduction is maximized (default: the case's evaluated modes)")->delimiter(',');
   c->add_option("--gamma", a.map.gamma, "The maps' Gamma range lo,hi (default 0.02,20)")->delimiter(',')->expected(2);
@@ -32,8 +32,8 @@ CLI::App* add_design(CLI::App& app, Args& args) {
   c->add_option("--seeds", a.map.seeds, "The maps' starts per cell (default 3)")->check(CLI::Range(1, 100000));
   c->add_option("--cycles", a.map.cycles, "The maps' runs: cycles reduced, at least (default 20)")->check(CLI::Range(4, 100000));
   c->add_option("--skip", a.map.skip, "The maps' runs: start-up cycles left out, at least (default 5)")->check(CLI::Range(0, 100000));
-  c->add_option("--window-time", a.map.window_time, "The maps' runs: seconds reduced, at least (default 0.25)")->check(CLI::Range(0.0, 1e4));
-  c->add_option("--skip-time", a.map.skip_time, "The maps' runs: seconds of start-up left out, at least (default 0.1)")->check(CLI::Range(0.0, 1e4));
+  c->add_option("--window-time", a.map.window_time, "The maps' runs: seconds reduced, at least (default 0.25)")->check(finite_range(0.0, 1e4));
+  c->add_option("--skip-time", a.map.skip_time, "The maps' runs: seconds of start-up left out, at least (default 0.1)")->check(finite_range(0.0, 1e4));
   c->add_option("--dampers", a.dampers,
                 "1: place one bag; 2: also a pair of bags at two places of a beam, their added masses together within --budget, "
                 "the worst chosen mode maximized (OUT/design-pairs.csv, OUT/chosen-pair; --verify checks the best pairs too)")

@@ -68,6 +68,8 @@ void refuse_inside_another(const std::filesystem::path& dir) {
 void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError("--out", "", dir.string(), "is a file, not a directory: give a directory for the outputs (nothing was written)");
   if (!fs::is_directory(dir, ec)) return;
   std::string found;
   if (as == OutputOwner::study) {

@@ -248,6 +248,7 @@ Search set_up_search(const DesignArgs& a) {
   z.beam = P.kind == "beam" || P.kind == "fe-beam";
   z.length = P.length;
   z.modes = chosen_modes(a, s, z.map);
+  map_plan(s, z.map);  // the maps' options (--gamma, --amplitudes, ...) refused here, before anything is written
   if (a.dampers == 2 && (!z.beam || z.modes == std::vector<int>{0}))
     throw InputError("--dampers", "", "2", "places a pair of bags along a beam ([primary] kind beam or fe-beam) under a stepped sine; " +
                                                std::string(z.beam ? "this case's force is random" : "this case's structure is no beam"));
@@ -369,6 +370,12 @@ int design_command(const DesignArgs& a) {
           z.cs[i].status = {Standing::does_not_load, e.what()};
           std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, z.cs[i].status.text().c_str());
         }
+    // Every map failed to load or build: nothing to rank, and an earlier design's files stay.
+    if (n > 0 && std::none_of(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.ranked(); })) {
+      const auto first = std::find_if(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.kind == Standing::does_not_load; });
+      throw InputError(z.cand.out_dir, "", "", "no candidate's map could be built or read, so nothing is ranked and nothing was written; the first: " +
+                                                   (first != z.cs.end() ? first->status.why : std::string("(none said)")));
+    }
     // 2. The predictions.
     std::vector<DesignRow> rows = predict_rows(z);
     rank_rows(rows);

@@ -12,6 +12,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/structure/response.hpp"
@@ -68,6 +69,24 @@ void require_same_damper(const fs::path& map_csv, const Scene& scene, const std:
   throw InputError("--map", "", map_csv.parent_path().string(),
                    "characterised another damper than " + whose + " (" + record.string() + "): " + list + ". Characterize it (" +
                        characterize + "), or give its map");
+}
+
+// Predict's directory, before anything is computed: a directory (or none yet), whose predict
+// tables are bagdem's own (an earlier predict's), never a file of the user's.
+void check_predict_out(const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    throw InputError("--out", "", out.string(), "is a file, not a directory: give a directory for predict's tables (nothing was written)");
+  for (const char* f : {"predict.csv", "predict_peaks.csv", "predict_random.csv"})
+    check_output_target(out / f, "--out", [](const fs::path&, const std::string& head) { return is_bagdem_table_head(head); },
+                        "a table of bagdem predict");
+}
+
+// After a prediction: the other kind's tables of an earlier predict go (a stepped sine's beside a
+// random force's would read as one answer).
+void remove_other_predict_tables(const fs::path& out, bool random) {
+  for (const char* f : random ? std::vector<const char*>{"predict.csv", "predict_peaks.csv"} : std::vector<const char*>{"predict_random.csv"})
+    fs::remove(out / f);
 }
 
 // A prediction's interval over the map's interval corners, or why it is not known.
@@ -143,7 +162,7 @@ std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, 
 
 // --random: the RMS response to each level, with its range over the map's interval corners;
 // OUT/predict_random.csv.
-int predict_random_command(const PredictArgs& a, const Scene& scene) {
+int predict_random_command(const PredictArgs& a, const Scene& scene, const fs::path& out) {
   if (!scene.primary) throw InputError(scene.case_file, "primary", "", "predict needs a structure ([primary])");
   if (a.band.size() != 2 || !(a.band[0] > 0) || !(a.band[1] > a.band[0]))
     throw InputError("--band", "", "", "--random needs the force's band lo,hi in Hz with 0 < lo < hi");
@@ -171,12 +190,12 @@ int predict_random_command(const PredictArgs& a, const Scene& scene) {
     std::printf("%s RMS over %.6g-%.6g Hz: response RMS %.4g m (%s), bare %.4g m: %.2f dB lower\n", short_force(F).c_str(), a.band[0],
                 a.band[1], r.response_rms, interval_text(lo, hi, range.corners, "%.4g", "").c_str(), r.bare_response_rms, db);
   }
-  const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
   fs::create_directories(out);
   write_table_csv(out / "predict_random.csv",
                   {{"force_rms", "N"}, {"band_lo", "Hz"}, {"band_hi", "Hz"}, {"bare_response_rms", "m"}, {"response_rms", "m"},
                    {"response_rms_lo", "m"}, {"response_rms_hi", "m"}, {"cavity_rms", "m"}, {"reduction_dB", "dB"}},
                   rows);
+  remove_other_predict_tables(out, true);
   std::printf("prediction complete -> %s/predict_random.csv\n", out.string().c_str());
   return 0;
 }
@@ -187,7 +206,9 @@ int predict_command(const PredictArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   return reporting_errors([&] {
     const Scene scene = load_case(a.dir, a.sets);
-    if (!a.random.empty()) return predict_random_command(a, scene);
+    const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
+    check_predict_out(out);
+    if (!a.random.empty()) return predict_random_command(a, scene, out);
     if (!scene.primary || !scene.primary->stepped_sine)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");
     const Primary& P = *scene.primary;
@@ -197,7 +218,6 @@ int predict_command(const PredictArgs& a) {
     std::vector<double> forces;
     for (const std::string& t : a.amplitudes) forces.push_back(force_of("--amplitude", t));
     if (forces.empty()) forces.push_back(P.amplitude);
-    const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
     std::vector<std::vector<double>> rows, peaks;
     for (double F : forces) {
       const std::vector<PredictedMode> modes = predict_modes(P, dampers, F, P.stepped_sine->frequencies, a.points);
@@ -261,6 +281,7 @@ int predict_command(const PredictArgs& a) {
                      {"reduction_dB", "dB"}, {"reduction_percent", "%"}, {"reduction_dB_lo", "dB"}, {"reduction_dB_hi", "dB"},
                      {"at_band_edge", "1"}, {"interpolation_dB", "dB"}},
                     peaks);
+    remove_other_predict_tables(out, false);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("prediction complete: %.2f s wall -> %s/predict.csv, predict_peaks.csv\n", wall, out.string().c_str());
     return 0;

@@ -217,7 +217,7 @@ std::vector<Config> assign_maps(const CalibrateArgs& a, const std::string& case_
       throw InputError("--maps", "", "", "no map characterises the damper " + (cfg.given.empty() ? "of the case" : "at " + cfg.given) + " (the nearest: " + list +
                                              "). Characterize it: bagdem characterize " + case_dir + (cfg.set.empty() ? "" : " --set '" + cfg.set + "'"));
     }
-    cfg.map = read_effective_map(cfg.map_csv);
+    cfg.map = read_recorded_map(cfg.map_csv);
     for (std::size_t k = 0; k < targets.list.size(); ++k)
       if (targets.list[k].config == c) cfg.targets.push_back(k);
     configs.push_back(std::move(cfg));

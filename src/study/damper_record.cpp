@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/contact/law.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/fingerprint.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "bagdem/units.hpp"
@@ -52,6 +55,10 @@ DamperRecord damper_record(const Scene& scene) {
   };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
     if (const toml::node* n = root.get(table)) add(*n, table);
+  // The keys that set the time step, as given: a map made at a forced step serves no case at its own.
+  if (const toml::table* sim = root["simulation"].as_table())
+    for (const char* key : {"timestep", "timestep_safety", "steps_per_contact", "force_timestep"})
+      if (const toml::node* n = sim->get(key)) r[std::string("simulation.") + key] = si_text(*n);
   // The materials the contents and the cavity name.
   std::set<std::string> used;
   for (const auto& [key, value] : r)
@@ -73,6 +80,8 @@ DamperRecord damper_record(const Scene& scene) {
     r["model.film.bending_stiffness"] = number(b.film.bending_stiffness);
     r["model.film.damping_ratio"] = number(b.damping_ratio);
     r["model.film.mass_scaling"] = number(b.mass_scaling);
+    // Recorded when not the hinge, so that the maps of the hinge made before the key stay the case's.
+    if (b.film.bending_model == BendingModel::Quadratic) r["model.film.bending_model"] = "quadratic";
     // The radii "auto" are fractions of the mean edge, which the seed's fill moves: recorded as
     // those fractions, and not at all where the case gives a length (its key is in the record).
     if (!r.count("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
@@ -96,14 +105,37 @@ DamperRecord damper_record(const Scene& scene) {
   return r;
 }
 
-void write_damper_record(const std::filesystem::path& path, const DamperRecord& record) {
+void write_damper_record(const std::filesystem::path& path, const DamperRecord& record, const std::string& map_csv_print) {
   toml::table damper;
   for (const auto& [k, v] : record) damper.insert(k, v);
+  toml::table root{{"damper", damper}};
+  if (!map_csv_print.empty()) root.insert("map", toml::table{{"csv", map_csv_print}});
   std::ostringstream s;
-  s << "# The damper this map characterised (bagdem characterize): the case's keys that make it, each in SI.\n"
-       "# bagdem predict and design refuse a case whose damper differs (docs/characterize.md).\n"
-    << toml::table{{"damper", damper}} << "\n";
+  s << "# The damper this map characterised (bagdem characterize): the case's keys that make it, each in SI,\n"
+       "# and the fingerprint of the map.csv written with it ([map] csv).\n"
+       "# bagdem predict and design refuse a case whose damper differs, and a map.csv changed since (docs/characterize.md).\n"
+    << root << "\n";
   write_atomically(path, s.str());
+}
+
+std::string file_print(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (!f && !f.eof()) throw InputError(path.string(), "", "", "cannot be read");
+  return "fnv1a64 " + hex16(fnv1a64(bytes.data(), bytes.size())) + ", " + std::to_string(bytes.size()) + " bytes";
+}
+
+EffectiveMap read_recorded_map(const std::filesystem::path& map_csv) {
+  const std::filesystem::path record = map_csv.parent_path() / "damper.toml";
+  if (std::filesystem::exists(record)) {
+    read_damper_record(record);  // a damaged record is refused here, naming it
+    const auto recorded = toml::parse_file(record.string())["map"]["csv"].value<std::string>();
+    if (recorded && *recorded != file_print(map_csv))
+      throw InputError(map_csv.string(), "", "",
+                       "is not the map.csv bagdem characterize wrote (" + record.string() + " records " + *recorded + "; it is now " +
+                           file_print(map_csv) + "): it was edited or damaged since. Characterize again (the runs' points are kept)");
+  }
+  return read_effective_map(map_csv);
 }
 
 std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path) {

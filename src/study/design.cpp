@@ -160,7 +160,7 @@ std::optional<EffectiveMap> candidate_map(const StudySpec& cand, Candidate& c) {
     c.status = {Standing::other_damper, diff.front() + (diff.size() > 1 ? ", ..." : "")};
     return std::nullopt;
   }
-  return read_effective_map(fs::path(c.map) / "map.csv");
+  return read_recorded_map(fs::path(c.map) / "map.csv");
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "bagdem/io/json.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/study/characterize.hpp"
+#include "bagdem/study/damper_record.hpp"
 
 namespace bagdem::study {
 namespace fs = std::filesystem;
@@ -111,7 +112,7 @@ void write_map(const std::string& out_dir, const MapPlan& grid, const std::vecto
   write_map_csv(out / "map.csv", cells);
   write_json(out / "map.json", grid, cells, case_dir);
   write_h5(out / "map.h5", grid, cells, case_dir);
-  write_damper_record(out / "damper.toml", grid.damper);
+  write_damper_record(out / "damper.toml", grid.damper, file_print(out / "map.csv"));
 }
 
 }  // namespace bagdem::study

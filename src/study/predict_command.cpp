@@ -153,7 +153,7 @@ std::vector<MappedDamper> damper_maps(const PredictArgs& a, const Scene& scene, 
       throw InputError("--map", "", "", "damper " + names[k] + " has no map: give --map " + names[k] + "=DIR (or one --map DIR for every damper)");
     const std::string characterize = characterize_command(a.dir, names, k);
     const fs::path map_csv = map_file(dir, characterize);
-    maps.push_back(read_effective_map(map_csv));
+    maps.push_back(read_recorded_map(map_csv));
     require_same_damper(map_csv, *scenes[k], characterize, names.size() == 1 ? "the case's" : "damper " + names[k] + "'s");
     out.push_back({&maps.back(), scenes[k]->primary->at_cavity, names[k]});
   }

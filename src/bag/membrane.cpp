@@ -397,6 +397,33 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
     }
   });
 
+  if (nh > 0) hinge_forces(x, bending_weight);
+
+  parallel_for(n, [&](std::size_t i) {
+    Vec3 fe = Vec3::Zero(), fd = Vec3::Zero();
+    for (std::uint32_t k = tri_gather_begin_[i]; k < tri_gather_begin_[i + 1]; ++k) {
+      const std::uint32_t r = tri_gather_[k] >> 2, s = tri_gather_[k] & 3;
+      fe += tri_elastic_[r][s];
+      if (damped) fd += tri_damping_[r][s];
+    }
+    if (nh > 0)
+      for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
+        fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
+    f_elastic[i] += fe;
+    if (damped) f_damping[i] += fd;
+  });
+
+  // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.
+  double energy = 0;
+  for (double e : tri_energy_) energy += e;
+  if (nh > 0)
+    for (double e : hinge_energy_) energy += e;
+  return energy;
+}
+
+// Each hinge's force (x bending_weight) and energy into its record (hinge_force_, hinge_energy_).
+void Membrane::hinge_forces(const std::vector<Vec3>& x, double bending_weight) {
+  const std::size_t nh = hinges_.size();
   if (props_.bending_model == BendingModel::Quadratic) {
     // W = k |s|^2, s = sum w_j x_j: f_j = -2 k w_j s (quadratic_bending.hpp).
     parallel_for(nh, [&](std::size_t i) {
@@ -406,7 +433,8 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       const Vec3 c = (-2.0 * h.k * bending_weight) * s;
       hinge_force_[i] = {h.w[0] * c, h.w[1] * c, h.w[2] * c, h.w[3] * c};
     });
-  } else {
+    return;
+  }
   // The hinges kLanes at a time, as the triangles.
   parallel_for((nh + kLanes - 1) / kLanes, [&](std::size_t g) {
     const Hinge* h[kLanes];
@@ -433,28 +461,6 @@ double Membrane::add_forces(const std::vector<Vec3>& x, const std::vector<Vec3>&
       hinge_force_[i] = {lane(c * he.grad[0], l), lane(c * he.grad[1], l), lane(c * he.grad[2], l), lane(c * he.grad[3], l)};
     }
   });
-  }
-
-  parallel_for(n, [&](std::size_t i) {
-    Vec3 fe = Vec3::Zero(), fd = Vec3::Zero();
-    for (std::uint32_t k = tri_gather_begin_[i]; k < tri_gather_begin_[i + 1]; ++k) {
-      const std::uint32_t r = tri_gather_[k] >> 2, s = tri_gather_[k] & 3;
-      fe += tri_elastic_[r][s];
-      if (damped) fd += tri_damping_[r][s];
-    }
-    if (nh > 0)
-      for (std::uint32_t k = hinge_gather_begin_[i]; k < hinge_gather_begin_[i + 1]; ++k)
-        fe += hinge_force_[hinge_gather_[k] >> 2][hinge_gather_[k] & 3];
-    f_elastic[i] += fe;
-    if (damped) f_damping[i] += fd;
-  });
-
-  // Totals in index order, as elastic_energy() sums them: the same bits for any thread count.
-  double energy = 0;
-  for (double e : tri_energy_) energy += e;
-  if (nh > 0)
-    for (double e : hinge_energy_) energy += e;
-  return energy;
 }
 
 double Membrane::elastic_energy(const std::vector<Vec3>& x) const {

@@ -311,6 +311,15 @@ std::vector<DesignRow> predict_rows(Search& z) {
   return rows;
 }
 
+// After the maps: some candidate still ranked, else (every map failed to load or build) nothing is
+// ranked, and an earlier design's files stay (InputError, exit 2).
+void require_a_map(const Search& z) {
+  if (std::any_of(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.ranked(); })) return;
+  const auto first = std::find_if(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.kind == Standing::does_not_load; });
+  throw InputError(z.cand.out_dir, "", "", "no candidate's map could be built or read, so nothing is ranked and nothing was written; the first: " +
+                                               (first != z.cs.end() ? first->status.why : std::string("(none said)")));
+}
+
 }  // namespace
 
 int design_command(const DesignArgs& a) {
@@ -370,12 +379,7 @@ int design_command(const DesignArgs& a) {
           z.cs[i].status = {Standing::does_not_load, e.what()};
           std::fprintf(stderr, "map %zu/%zu: %s\n", k, n, z.cs[i].status.text().c_str());
         }
-    // Every map failed to load or build: nothing to rank, and an earlier design's files stay.
-    if (n > 0 && std::none_of(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.ranked(); })) {
-      const auto first = std::find_if(z.cs.begin(), z.cs.end(), [](const Candidate& c) { return c.status.kind == Standing::does_not_load; });
-      throw InputError(z.cand.out_dir, "", "", "no candidate's map could be built or read, so nothing is ranked and nothing was written; the first: " +
-                                                   (first != z.cs.end() ? first->status.why : std::string("(none said)")));
-    }
+    if (n > 0) require_a_map(z);
     // 2. The predictions.
     std::vector<DesignRow> rows = predict_rows(z);
     rank_rows(rows);

@@ -125,6 +125,7 @@ class Membrane {
   void build_rest_frames(const std::vector<Vec3>& x0);
   void build_hinges(const std::vector<Vec3>& x0);
   void build_gather();
+  void hinge_forces(const std::vector<Vec3>& x, double bending_weight);
   void compute_frequencies(const std::vector<Vec3>& x0);  // max_frequency_ and bending_frequency_
 };
 

@@ -266,6 +266,33 @@ TEST(Study, GridRunsEveryPointAndMergesItsRows) {
   EXPECT_NE(json.find("\"excitation.amplitude (given)\": \"10 N\""), std::string::npos) << json.substr(0, 2000);
   EXPECT_NE(json.find("\"excitation.amplitude\": 10,"), std::string::npos) << json.substr(0, 2000);
   EXPECT_FALSE(fs::exists(fs::path(out) / "export.h5.part"));
+
+  // A point's table changed or removed since its run finished (point.done records each one's
+  // fingerprint): the study run again refuses it, naming the point and the table, and its merged
+  // tables stay; as they were, it merges again without running. Before, an edited table was merged
+  // as the run's (characterize made a map of a C_eff x 2 by hand, exit 0).
+  const std::vector<std::string> again = {c, "--vary", "particles.ball.diameter=5 mm,20 mm", "--vary", "excitation.amplitude=10 N,20 N",
+                                          "--jobs", "2", "--cores", "2", "--out", out};
+  const std::string merged = bagdem::testing::slurp(fs::path(out) / "sweep.csv");
+  const fs::path table = fs::path(point_dir(out, 1)) / "sweep.csv", summary = fs::path(point_dir(out, 2)) / "summary.json";
+  const std::string own = bagdem::testing::slurp(table), own_summary = bagdem::testing::slurp(summary);
+  std::string edited = own;
+  edited[edited.rfind('1')] = '2';
+  std::ofstream(table) << edited;
+  CmdResult refused = sweep(d, again);
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find(point_dir(out, 1) + " changed since its run finished: sweep.csv is not as its run wrote it"), std::string::npos)
+      << refused.err;
+  std::ofstream(table) << own;
+  fs::remove(summary);
+  refused = sweep(d, again);
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("summary.json is gone"), std::string::npos) << refused.err;
+  EXPECT_EQ(bagdem::testing::slurp(fs::path(out) / "sweep.csv"), merged);
+  std::ofstream(summary) << own_summary;
+  const CmdResult merges = sweep(d, again);
+  EXPECT_EQ(merges.code, 0) << merges.err;
+  EXPECT_EQ(bagdem::testing::slurp(fs::path(out) / "sweep.csv"), merged);
 }
 
 // A study and a run each refuse the other's directory, and a study does not clear a point's directory

@@ -3,6 +3,10 @@
 #pragma once
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -22,6 +26,18 @@ inline std::string hex16(std::uint64_t h) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
+}
+
+// A text's or a file's bytes as the fingerprints bagdem records them: "fnv1a64 HEX, N bytes".
+inline std::string fingerprint_text(std::string_view bytes) {
+  return "fnv1a64 " + hex16(fnv1a64(bytes.data(), bytes.size())) + ", " + std::to_string(bytes.size()) + " bytes";
+}
+// The file's (std::nullopt when it cannot be opened).
+inline std::optional<std::string> file_fingerprint(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return std::nullopt;
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  return fingerprint_text(bytes);
 }
 
 }  // namespace bagdem

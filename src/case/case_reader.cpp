@@ -384,11 +384,7 @@ std::string CaseReader::file_path(const std::string& key, const std::string& dir
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     fail(key, "names " + std::string(std::filesystem::is_directory(path, ec) ? "a directory" : "no regular file") + " (" + path +
                   "): give a file, relative to the case directory");
-  std::ifstream f(path, std::ios::binary);
-  std::string bytes;
-  if (f) bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  files_[key] = !f ? std::string("not found")
-                   : "fnv1a64 " + hex16(fnv1a64(bytes.data(), bytes.size())) + ", " + std::to_string(bytes.size()) + " bytes";
+  files_[key] = file_fingerprint(path).value_or("not found");
   return path;
 }
 

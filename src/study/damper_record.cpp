@@ -119,10 +119,9 @@ void write_damper_record(const std::filesystem::path& path, const DamperRecord& 
 }
 
 std::string file_print(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  if (!f && !f.eof()) throw InputError(path.string(), "", "", "cannot be read");
-  return "fnv1a64 " + hex16(fnv1a64(bytes.data(), bytes.size())) + ", " + std::to_string(bytes.size()) + " bytes";
+  const std::optional<std::string> print = file_fingerprint(path);
+  if (!print) throw InputError(path.string(), "", "", "cannot be read");
+  return *print;
 }
 
 EffectiveMap read_recorded_map(const std::filesystem::path& map_csv) {

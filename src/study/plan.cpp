@@ -410,6 +410,39 @@ std::string point_toml(const Plan& plan, const Point& p) {
   return s.str();
 }
 
+std::string point_tables_text(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string ext = e.path().extension().string();
+    if (e.is_regular_file() && (ext == ".csv" || ext == ".json")) names.push_back(e.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  toml::table tables;
+  for (const std::string& n : names)
+    if (const auto print = file_fingerprint(dir / n)) tables.insert(n, *print);
+  std::ostringstream s;
+  s << "# The point's tables as its run left them (a study refuses them changed since):\n" << toml::table{{"tables", tables}} << "\n";
+  return s.str();
+}
+
+// The tables point.done records (point_tables_text) as they are now: the first that differs (or is
+// gone), said; empty when all are as recorded, or point.done records none (an earlier bagdem's).
+std::string changed_point_table(const fs::path& dir) {
+  toml::table t;
+  try {
+    t = toml::parse_file((dir / "point.done").string());
+  } catch (const toml::parse_error&) {
+    return "point.done is not readable";
+  }
+  if (const toml::table* tables = t["tables"].as_table())
+    for (const auto& [name, print] : *tables) {
+      const auto now = file_fingerprint(dir / std::string(name.str()));
+      if (!now) return std::string(name.str()) + " is gone";
+      if (*now != print.value<std::string>().value_or("")) return std::string(name.str()) + " is not as its run wrote it";
+    }
+  return "";
+}
+
 std::vector<bool> done_points(const Plan& plan) {
   std::vector<bool> done(plan.points.size(), false);
   std::set<std::string> names;
@@ -442,6 +475,9 @@ std::vector<bool> done_points(const Plan& plan) {
                        ". Keep the study as it was (its case, options and bagdem), give another --out, or delete " + dir.string() +
                        " to run it again");
     }
+    if (const std::string changed = changed_point_table(dir); !changed.empty())
+      throw InputError("the study's point " + dir.string() + " changed since its run finished: " + changed +
+                       " (point.done records each table's fingerprint). Delete " + dir.string() + " to run it again");
     done[p.index] = true;
   }
   if (fs::is_directory(plan.spec.out_dir))

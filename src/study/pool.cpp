@@ -188,7 +188,7 @@ PointOutcome finish_point(const Plan& plan, const Child& c, int status, const Po
   if (o.done) {
     std::ostringstream d;
     d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
-      << "\"\nwall_time = " << o.wall_seconds << "  # s\n";
+      << "\"\nwall_time = " << o.wall_seconds << "  # s\n" << point_tables_text(dir);
     write_atomically(dir / "point.done", d.str());
   } else {
     std::fprintf(stderr, "%s%s failed (%s) after %s; the end of %s:\n%s", prefix.c_str(), p.name.c_str(), exit_text(o.exit_code).c_str(),

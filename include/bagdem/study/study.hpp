@@ -22,6 +22,7 @@
 // allowed; a point that does not load is named with its overrides.
 #pragma once
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <stdexcept>
@@ -129,8 +130,13 @@ std::string point_toml(const Plan& plan, const Point& p);
 // What OUT already holds for each point: done (point.done and a point.toml matching the plan),
 // or to run (nothing there, or a directory without point.done, which will be deleted).
 // Throws InputError "the study changed: ..." when a done point's point.toml differs from the plan
-// or OUT holds point directories beyond the plan.
+// or OUT holds point directories beyond the plan, and InputError naming the point when one of the
+// tables its point.done records (point_tables_text) was changed or removed since its run finished.
 std::vector<bool> done_points(const Plan& plan);
+
+// point.done's record of a finished point's tables (its *.csv and *.json, each file's fingerprint,
+// as a [tables] TOML table), which done_points checks.
+std::string point_tables_text(const std::filesystem::path& dir);
 
 // ---- budget (sweep.cpp): how many children, how many threads each -------------------------------
 

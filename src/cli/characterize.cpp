@@ -22,7 +22,7 @@ CLI::App* add_characterize(CLI::App& app, Args& args) {
   c->add_option("--amplitudes", a.amplitudes, "Amplitudes per frequency, log-spaced in Gamma (default 8)");
   c->add_option("--band", a.band, "lo,hi in Hz (default: each band of the case's stepped-sine sweep)")->delimiter(',')->expected(2);
   c->add_option("--frequencies", a.frequencies, "Frequencies per band, evenly spaced, the ends included (default 6)");
-  c->add_option("--seeds", a.seeds, "Starts per cell (simulation.seed = 1..N; default 5)")->check(CLI::Range(1, 100000));
+  c->add_option("--seeds", a.seeds, "Starts per cell (simulation.seed = 1..N; 1: once, with the case's own seed, no interval; default 5)")->check(CLI::Range(1, 100000));
   c->add_option("--cycles", a.cycles, "Cycles of each run that are reduced, at least (default 20)")->check(CLI::Range(4, 100000));
   c->add_option("--skip", a.skip, "Start-up cycles of each run left out before them, at least (default 5)")->check(CLI::Range(0, 100000));
   c->add_option("--window-time", a.window_time,

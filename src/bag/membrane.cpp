@@ -320,7 +320,6 @@ void Membrane::compute_frequencies(const std::vector<Vec3>& x0) {
     const std::uint32_t v[4] = {h.v0, h.v1, h.a, h.b};
     // The quadratic model's Hessian is 2 k w w^T (x) I: a row's absolute sum 2 k |w_s| sum_j |w_j|
     // (one axis: it does not couple x, y and z).
-    const auto g = quadratic ? std::array<Vec3, 4>{} : hinge_eval<double>(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
     if (quadratic) {
       double wsum = 0;
       for (double wj : h.w) wsum += std::abs(wj);
@@ -332,6 +331,7 @@ void Membrane::compute_frequencies(const std::vector<Vec3>& x0) {
         }
       continue;
     }
+    const auto g = hinge_eval<double>(x0[h.v0], x0[h.v1], x0[h.a], x0[h.b]).grad;
     double gsum = 0;
     for (const Vec3& gi : g) gsum += gi.cwiseAbs().sum();
     for (int s = 0; s < 4; ++s)

@@ -37,13 +37,14 @@ constexpr double kScale[] = {1.0, 2.0, 4.0};  // each configuration's damping, t
 double damping(double scale, double gamma) { return scale * 4 * gamma / (0.3 + gamma); }
 
 // OUT/map-K/map.csv and its damper.toml (the case at diameter K).
-void write_map(const fs::path& case_dir, const fs::path& dir, int k) {
+// ci: the cells' 95% half-widths ("0", or "nan" for cells of one start).
+void write_map(const fs::path& case_dir, const fs::path& dir, int k, const std::string& ci = "0") {
   fs::create_directories(dir);
   std::ofstream m(dir / "map.csv");
   m << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m],C_eff_ci95 [N s/m]\n";
   for (int i = 0; i <= 30; ++i) {
     const double G = 1e-4 * std::pow(10.0, 6.0 * i / 30);
-    for (double f : {15.0, 20.0, 25.0}) m << G << ',' << f << ",0.05,0," << damping(kScale[k], G) << ",0\n";
+    for (double f : {15.0, 20.0, 25.0}) m << G << ',' << f << ",0.05," << ci << ',' << damping(kScale[k], G) << ',' << ci << "\n";
   }
   const Scene s = load_case(case_dir.string(), {std::string("particles.ball.diameter=\"") + kDiameters[k] + "\""});
   study::write_damper_record(dir / "damper.toml", study::damper_record(s));
@@ -105,6 +106,16 @@ TEST(CalibrateMaps, FitsTheForceAndTheDampingRatioThatMadeTheTargets) {
   ASSERT_EQ(csv.rows.size(), 3u);
   EXPECT_NE(csv.rows[2][csv.find("map")].find("map-2"), std::string::npos) << "the 6-mm configuration's map";
 
+  // Maps of one start a cell (no intervals: the predictions' ranges are not known) fit alike, each
+  // figure weighted by the tolerance (the weight was NaN and every value counted as no fit).
+  for (int k = 0; k < 3; ++k) write_map(s.case_dir, s.maps / ("map-" + std::to_string(k)), k, "nan");
+  r = bagdem::testing::run_bagdem(with(s.command("one-start"), {"--key", "excitation.amplitude", "--key", "primary.damping_ratio", "--bounds",
+                                                               "\"0.01 N\",\"0.25 N\"", "--bounds", "0.005,0.08"}),
+                                  s.t.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = read_json(s.t.path / "one-start" / "calibration.json");
+  EXPECT_NEAR(j["keys"][0]["value"].get<double>(), 0.05, 0.0005);
+  EXPECT_NEAR(j["keys"][1]["value"].get<double>(), 0.02, 0.0002);
 }
 
 // The pipe's beam (cases/pipe-beanbag), swept around modes 1 and 3, with one map and the case's

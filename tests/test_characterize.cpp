@@ -200,6 +200,7 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   // map.csv changed after characterize wrote it (one digit of a figure): refused, naming the file
   // and damper.toml's fingerprint (a C_eff x 1.2 by hand gave another figure, exit 0); as written
   // again, predicted again.
+  EXPECT_NE(bagdem::testing::slurp(out / "damper.toml").find("bands = [ [ "), std::string::npos) << bagdem::testing::slurp(out / "damper.toml");
   std::string text = before;
   text[text.rfind('1')] = '2';
   std::ofstream(out / "map.csv") << text;
@@ -264,6 +265,8 @@ TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   // The film's bending model (recorded when it is not the hinge, so the hinge's older maps stay the
   // case's) and the keys that set the time step are the damper's.
   EXPECT_EQ(made.count("model.film.bending_model"), 0u);
+  EXPECT_EQ(made.count("simulation.timestep") + made.count("simulation.timestep_safety"), 0u)
+      << "the automatic step and its factor are not recorded: the maps made before stay the case's";
   for (const std::string& set : {std::string("bag.film.bending_model=\"quadratic\""), std::string("simulation.timestep=\"1e-6 s\"")}) {
     diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {set})));
     ASSERT_FALSE(diff.empty()) << set;

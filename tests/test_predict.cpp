@@ -134,6 +134,14 @@ TEST(Predict, RefusesWhatLiesOutsideTheMap) {
   EXPECT_FALSE(two.covers(23)) << "a gap wider than the spacing on either side";
   const EffectiveMap dense = make_map({0.5, 20}, {18, 20, 21, 30}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
   EXPECT_TRUE(dense.covers(20.5)) << "a gap no wider than a spacing beside it";
+  // Bands of two lines each beside one of another spacing fool the spacing (40-70 and 75-135 Hz,
+  // as characterize --frequencies 2 maps them): the bands characterize records decide.
+  EffectiveMap recorded = make_map({0.5, 20}, {40, 70, 75, 135}, [](double, double) { return 0.08; }, [](double, double) { return 3.0; });
+  EXPECT_FALSE(recorded.covers(80)) << "told by the spacing alone: wrongly refused";
+  recorded.bands = {{40, 70}, {75, 135}};
+  EXPECT_TRUE(recorded.covers(80));
+  EXPECT_FALSE(recorded.covers(72));
+  EXPECT_TRUE(recorded.covers(70) && recorded.covers(75) && recorded.covers(40) && recorded.covers(135));
   std::ofstream(t.path / "bad.csv") << "gamma [1],frequency [Hz],M_eff [kg],M_eff_ci95 [kg],C_eff [N s/m]\n0.5,18,1,0,1\n";
   try {
     read_effective_map(t.path / "bad.csv");

@@ -52,6 +52,8 @@ std::optional<std::pair<double, double>> EffectiveMap::at(double X, double f, in
 bool EffectiveMap::covers(double f) const {
   const double tol = 1e-8 * frequency.back();  // the map's grid and a sweep's band, each rounded to its digits
   if (!(f >= frequency.front() - tol && f <= frequency.back() + tol)) return false;
+  if (!bands.empty())
+    return std::any_of(bands.begin(), bands.end(), [&](const auto& b) { return f >= b.first - tol && f <= b.second + tol; });
   const std::size_t j = bracket(frequency, std::clamp(f, frequency.front(), frequency.back()));
   if (f <= frequency[j] + tol || f >= frequency[j + 1] - tol) return true;  // on a line
   return !band_gap(j);

@@ -298,7 +298,8 @@ struct Problem {
             continue;
           }
           f.db[k] = m.reduction_db, f.lo[k] = m.reduction_db_lo, f.hi[k] = m.reduction_db_hi, f.edge[k] = m.at_band_edge;
-          f.weight[k] = std::max(0.5 * (m.reduction_db_hi - m.reduction_db_lo), tolerance);
+          const double half = 0.5 * (m.reduction_db_hi - m.reduction_db_lo);  // NaN: not known (docs/calibrate.md, The fit)
+          f.weight[k] = std::isfinite(half) ? std::max(half, tolerance) : tolerance;
         }
     }
     double J = 0;

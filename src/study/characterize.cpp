@@ -58,6 +58,7 @@ MapPlan map_plan(const Scene& scene, const CharacterizeArgs& a) {
   }
   for (const auto& [lo, hi] : bands)
     for (int j = 0; j < a.frequencies; ++j) m.axes.frequency.push_back(lo + (hi - lo) * j / (a.frequencies - 1));
+  m.bands = bands;
   std::sort(m.axes.frequency.begin(), m.axes.frequency.end());
   m.axes.frequency.erase(std::unique(m.axes.frequency.begin(), m.axes.frequency.end()), m.axes.frequency.end());
   m.direction = scene.primary ? scene.primary->direction : excitation_direction(scene);

@@ -55,10 +55,13 @@ DamperRecord damper_record(const Scene& scene) {
   };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
     if (const toml::node* n = root.get(table)) add(*n, table);
-  // The keys that set the time step, as given: a map made at a forced step serves no case at its own.
-  if (const toml::table* sim = root["simulation"].as_table())
-    for (const char* key : {"timestep", "timestep_safety", "steps_per_contact", "force_timestep"})
-      if (const toml::node* n = sim->get(key)) r[std::string("simulation.") + key] = si_text(*n);
+  // A step the case fixes (a number, not "auto"; forced past the critical step or not): a map made at
+  // a fixed step serves no case at its own, nor the reverse. "auto" and its factors are left out, so
+  // that the maps of the automatic step made before this record stay the case's.
+  if (const toml::table* sim = root["simulation"].as_table()) {
+    if (const toml::node* n = sim->get("timestep"); n && n->value<std::string>().value_or("") != "auto") r["simulation.timestep"] = si_text(*n);
+    if (const toml::node* n = sim->get("force_timestep"); n && n->value<bool>() == true) r["simulation.force_timestep"] = "true";
+  }
   // The materials the contents and the cavity name.
   std::set<std::string> used;
   for (const auto& [key, value] : r)
@@ -105,11 +108,15 @@ DamperRecord damper_record(const Scene& scene) {
   return r;
 }
 
-void write_damper_record(const std::filesystem::path& path, const DamperRecord& record, const std::string& map_csv_print) {
+void write_damper_record(const std::filesystem::path& path, const DamperRecord& record, const std::optional<MapRecord>& map) {
   toml::table damper;
   for (const auto& [k, v] : record) damper.insert(k, v);
   toml::table root{{"damper", damper}};
-  if (!map_csv_print.empty()) root.insert("map", toml::table{{"csv", map_csv_print}});
+  if (map) {
+    toml::array bands;
+    for (const auto& [lo, hi] : map->bands) bands.push_back(toml::array{lo, hi});
+    root.insert("map", toml::table{{"csv", map->csv}, {"bands", bands}});
+  }
   std::ostringstream s;
   s << "# The damper this map characterised (bagdem characterize): the case's keys that make it, each in SI,\n"
        "# and the fingerprint of the map.csv written with it ([map] csv).\n"
@@ -126,15 +133,33 @@ std::string file_print(const std::filesystem::path& path) {
 
 EffectiveMap read_recorded_map(const std::filesystem::path& map_csv) {
   const std::filesystem::path record = map_csv.parent_path() / "damper.toml";
+  std::vector<std::pair<double, double>> bands;
   if (std::filesystem::exists(record)) {
     read_damper_record(record);  // a damaged record is refused here, naming it
-    const auto recorded = toml::parse_file(record.string())["map"]["csv"].value<std::string>();
-    if (recorded && *recorded != file_print(map_csv))
-      throw InputError(map_csv.string(), "", "",
-                       "is not the map.csv bagdem characterize wrote (" + record.string() + " records " + *recorded + "; it is now " +
-                           file_print(map_csv) + "): it was edited or damaged since. Characterize again (the runs' points are kept)");
+    const toml::table t = toml::parse_file(record.string());
+    if (const toml::node* m = t.get("map")) {
+      const auto csv = t["map"]["csv"].value<std::string>();
+      const toml::array* b = t["map"]["bands"].as_array();
+      bool good = m->is_table() && csv && b && !b->empty();
+      for (std::size_t k = 0; good && k < b->size(); ++k) {
+        const toml::array* band = b->get(k)->as_array();
+        const auto lo = band && band->size() == 2 ? band->get(0)->value<double>() : std::nullopt,
+                   hi = band && band->size() == 2 ? band->get(1)->value<double>() : std::nullopt;
+        good = lo && hi && *lo > 0 && *hi >= *lo;
+        if (good) bands.emplace_back(*lo, *hi);
+      }
+      if (!good)
+        throw InputError(record.string(), "map", "", "is not as bagdem characterize writes it (csv, the map.csv's fingerprint, and bands, "
+                                                     "[lo, hi] in Hz): characterize again");
+      if (*csv != file_print(map_csv))
+        throw InputError(map_csv.string(), "", "",
+                         "is not the map.csv bagdem characterize wrote (" + record.string() + " records " + *csv + "; it is now " +
+                             file_print(map_csv) + "): it was edited or damaged since. Characterize again (the runs' points are kept)");
+    }
   }
-  return read_effective_map(map_csv);
+  EffectiveMap map = read_effective_map(map_csv);
+  map.bands = bands;
+  return map;
 }
 
 std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path) {

@@ -112,7 +112,7 @@ void write_map(const std::string& out_dir, const MapPlan& grid, const std::vecto
   write_map_csv(out / "map.csv", cells);
   write_json(out / "map.json", grid, cells, case_dir);
   write_h5(out / "map.h5", grid, cells, case_dir);
-  write_damper_record(out / "damper.toml", grid.damper, file_print(out / "map.csv"));
+  write_damper_record(out / "damper.toml", grid.damper, MapRecord{file_print(out / "map.csv"), grid.bands});
 }
 
 }  // namespace bagdem::study

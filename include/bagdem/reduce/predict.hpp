@@ -54,15 +54,17 @@ struct EffectiveMap : MapAxes {
   std::vector<double> M_eff, M_eff_ci95;          // (unit: kg)
   std::vector<double> C_eff, C_eff_ci95;          // (unit: N s/m)
   std::string source;                             // the file read, for messages
+  std::vector<std::pair<double, double>> bands;   // the bands characterize mapped (unit: Hz); empty: told by the lines' spacing
 
   // M_eff and C_eff at cavity amplitude X (m) and frequency f (Hz), each shifted by `m_sign` and
   // `c_sign` times its 95% half-width; nullopt outside the grid (Gamma or f beyond its ends) or in
   // a cell whose corners lack a figure.
   std::optional<std::pair<double, double>> at(double X, double f, int m_sign = 0, int c_sign = 0) const;
-  // Whether one of the map's bands holds f (band_gap), to a relative 1e-8 at its ends (a sweep's frequencies and the map's
+  // Whether one of the map's bands holds f (those recorded; else told by band_gap), to a relative 1e-8 at its ends (a sweep's frequencies and the map's
   // are each rounded to their own digits); a frequency so close is taken at the end.
   bool covers(double f) const;
-  // Whether the lines j and j + 1 of the frequencies lie in two bands (nothing is mapped between).
+  // Whether the lines j and j + 1 of the frequencies lie in two bands (nothing is mapped between), for
+  // a map that does not record its bands: a gap wider than the spacing on either side of it.
   bool band_gap(std::size_t j) const;
   // The amplitude range of the grid at frequency f: Gamma's ends as X (unit: m).
   std::pair<double, double> amplitude_range(double f) const;

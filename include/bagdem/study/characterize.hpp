@@ -60,6 +60,7 @@ std::pair<int, int> run_cycles(const CharacterizeArgs& args, double f);
 // EffectiveMap), the direction it shakes in and the damper it characterises.
 struct MapPlan {
   MapAxes axes;
+  std::vector<std::pair<double, double>> bands;  // the frequency bands of axes.frequency, lo and hi (unit: Hz)
   Vec3 direction = Vec3::UnitX(); // the prescribed motion's direction (unit vector)
   DamperRecord damper;            // the damper characterised (study/damper_record.hpp): OUT/damper.toml
   // The displacement amplitude of cell (i, j) (unit: m).

@@ -5,7 +5,7 @@
 //
 // The fit: weighted least squares over the targets, J(v) = sum_k (r_k / w_k)^2 with r_k the
 // predicted minus the measured reduction and w_k = max(half the prediction's range over the map's
-// 95% intervals, the tolerance). The keys' coordinates are their values, or their logarithms where
+// 95% intervals, the tolerance), the tolerance where that range is not known. The keys' coordinates are their values, or their logarithms where
 // both bounds are positive and at least 3 apart (search_in_log), scaled to [0, 1] over the bounds.
 //   - A scan of `scan` values per key (the bounds included; scan^keys predictions), then a compass
 //     search from the best (Kolda, Lewis & Torczon, SIAM Review 45 (2003) 385, sec. 3): each key
@@ -298,8 +298,7 @@ struct Problem {
             continue;
           }
           f.db[k] = m.reduction_db, f.lo[k] = m.reduction_db_lo, f.hi[k] = m.reduction_db_hi, f.edge[k] = m.at_band_edge;
-          const double half = 0.5 * (m.reduction_db_hi - m.reduction_db_lo);  // NaN: not known (docs/calibrate.md, The fit)
-          f.weight[k] = std::isfinite(half) ? std::max(half, tolerance) : tolerance;
+          f.weight[k] = std::isfinite(m.reduction_db_hi - m.reduction_db_lo) ? std::max(0.5 * (m.reduction_db_hi - m.reduction_db_lo), tolerance) : tolerance;
         }
     }
     double J = 0;

@@ -318,6 +318,8 @@ TEST(BadInputCatalogue, CommandLines) {
       {{"design", c, "--budget", "nan"}, {"--budget", "nan", "not in range"}},  // was blamed on bag.balls.mass_ratio
       {{"characterize", c, "--window-time", "nan"}, {"--window-time", "nan", "not in range"}},  // ran with 0
       {{"design", c, "--skip-time", "1x"}, {"--skip-time", "'1x' is not a number"}},
+      {{"calibrate", c, "--tolerance", "nan"}, {"--tolerance", "nan", "not in range"}},  // wrote "tolerance_dB": nan into calibration.json
+      {{"bench", "--steps", "nan"}, {"--steps", "nan", "not in range"}},
       {{}, {"A subcommand is required"}},
       {{"simulate", c}, {"unknown subcommand 'simulate'", "the subcommands are check, run", "design"}},  // was "A subcommand is required"
   };

@@ -46,7 +46,7 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
   c->add_option("--scan", a.scan, "Values of the first round, the bounds included (default 5)")->check(CLI::Range(3, 1000));
   dem_only.push_back(c->add_option("--rounds", a.rounds, "Refinement rounds after the scan, at most (default 6)")->check(CLI::Range(0, 100)));
   c->add_option("--tolerance", a.tolerance, "dB: a value matches within max(the seeds' 95% half-width, this) (default 0.1)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_range(1e-12, 1e3));
   add_budget_options(c, a.jobs, a.threads, a.cores, "calibration", "this machine's");
   for (const char* name : {"--jobs", "--threads", "--cores"}) dem_only.push_back(c->get_option(name));
   for (CLI::Option* o : dem_only) o->excludes(maps);

@@ -295,11 +295,15 @@ TEST(BadInputCatalogue, CommandLines) {
   fs::create_directories(dir);
   std::ofstream(dir / "case.toml") << kShaken;
   const std::string c = dir.string();
+  const std::string afile = (tmp.path / "afile").string();  // an --out that is a file: exit 2, not a library error (exit 1)
+  std::ofstream(afile) << "mine\n";
   struct Entry {
     std::vector<std::string> args;
     std::vector<std::string> expect;
   };
   const std::vector<Entry> entries = {
+      {{"drop", c, "--out", afile}, {"--out", "is a file, not a directory"}},
+      {{"run", c, "--out", afile}, {"--out", "is a file, not a directory"}},
       {{"run"}, {"case_dir is required"}},
       {{"run", c, "--threads", "0"}, {"--threads", "0", "not in range 1 to 1024"}},
       {{"check", c, "--bogus"}, {"--bogus", "not expected"}},

@@ -63,13 +63,19 @@ void refuse_inside_another(const std::filesystem::path& dir) {
   }
 }
 
+// An output directory that is a file (or a device): InputError naming --out, before anything is written.
+void refuse_a_file(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+    throw InputError("--out", "", dir.string(), "is a file, not a directory: give a directory for the outputs (nothing was written)");
+}
+
 }  // namespace
 
 void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
   namespace fs = std::filesystem;
+  refuse_a_file(dir);
   std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError("--out", "", dir.string(), "is a file, not a directory: give a directory for the outputs (nothing was written)");
   if (!fs::is_directory(dir, ec)) return;
   std::string found;
   if (as == OutputOwner::study) {
@@ -113,6 +119,7 @@ void share_output_with_children(const std::filesystem::path& dir) {
 
 OutputLock::OutputLock(const std::filesystem::path& dir) {
   refuse_inside_another(dir);
+  refuse_a_file(dir);
   std::filesystem::create_directories(dir);
   const std::filesystem::path path = dir / ".bagdem-lock";
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);

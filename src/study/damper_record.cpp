@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -119,7 +117,7 @@ void write_damper_record(const std::filesystem::path& path, const DamperRecord& 
   }
   std::ostringstream s;
   s << "# The damper this map characterised (bagdem characterize): the case's keys that make it, each in SI,\n"
-       "# and the fingerprint of the map.csv written with it ([map] csv).\n"
+       "# and the map's own record ([map]: the fingerprint of the map.csv written with it, and its frequency bands).\n"
        "# bagdem predict and design refuse a case whose damper differs, and a map.csv changed since (docs/characterize.md).\n"
     << root << "\n";
   write_atomically(path, s.str());

@@ -425,6 +425,8 @@ std::string point_tables_text(const fs::path& dir) {
   return s.str();
 }
 
+namespace {
+
 // The tables point.done records (point_tables_text) as they are now: the first that differs (or is
 // gone), said; empty when all are as recorded, or point.done records none (an earlier bagdem's).
 std::string changed_point_table(const fs::path& dir) {
@@ -442,6 +444,8 @@ std::string changed_point_table(const fs::path& dir) {
     }
   return "";
 }
+
+}  // namespace
 
 std::vector<bool> done_points(const Plan& plan) {
   std::vector<bool> done(plan.points.size(), false);

@@ -324,6 +324,7 @@ TEST(BadInputCatalogue, CommandLines) {
       {{"design", c, "--skip-time", "1x"}, {"--skip-time", "'1x' is not a number"}},
       {{"calibrate", c, "--tolerance", "nan"}, {"--tolerance", "nan", "not in range"}},  // wrote "tolerance_dB": nan into calibration.json
       {{"bench", "--steps", "nan"}, {"--steps", "nan", "not in range"}},
+      {{"characterize", c, "--gamma", "0.1,inf", "--band", "10,20", "--check"}, {"--gamma", "both finite"}},  // was a point's 'amplitude -nan m'
       {{}, {"A subcommand is required"}},
       {{"simulate", c}, {"unknown subcommand 'simulate'", "the subcommands are check, run", "design"}},  // was "A subcommand is required"
   };

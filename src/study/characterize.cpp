@@ -39,8 +39,8 @@ std::vector<std::pair<double, double>> stepped_sine_bands(std::vector<double> f)
 MapPlan map_plan(const Scene& scene, const CharacterizeArgs& a) {
   MapPlan m;
   auto range = [](const std::vector<double>& r, const std::string& option, const std::string& what) {
-    if (r.size() != 2 || !(r[0] > 0) || !(r[1] > r[0]))
-      throw InputError(option, "", "", "expected lo,hi with 0 < lo < hi (" + what + ")");
+    if (r.size() != 2 || !(r[0] > 0) || !(r[1] > r[0]) || !std::isfinite(r[1]))
+      throw InputError(option, "", "", "expected lo,hi with 0 < lo < hi, both finite (" + what + ")");
   };
   range(a.gamma, "--gamma", "acceleration ratios Gamma = X w^2 / g");
   if (a.amplitudes < 2) throw InputError("--amplitudes", "", std::to_string(a.amplitudes), "at least 2 (a map interpolates between them)");

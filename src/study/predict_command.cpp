@@ -86,7 +86,7 @@ void check_predict_out(const fs::path& out) {
 // random force's would read as one answer).
 void remove_other_predict_tables(const fs::path& out, bool random) {
   for (const char* f : random ? std::vector<const char*>{"predict.csv", "predict_peaks.csv"} : std::vector<const char*>{"predict_random.csv"})
-    fs::remove(out / f);
+    if (fs::remove(out / f)) std::printf("removed %s: an earlier prediction's, of the other kind\n", (out / f).string().c_str());
 }
 
 // A prediction's interval over the map's interval corners, or why it is not known.

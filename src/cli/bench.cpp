@@ -10,7 +10,7 @@ CLI::App* add_bench(CLI::App& app, Args& a) {
   bench->add_option("--threads", a.bench.threads, "Thread counts (default 1 2)");
   bench->add_option("--methods", a.bench.methods, "Broad phases (default hash kdtree)");
   bench->add_option("--repeats", a.bench.repeats, "Runs per point; the median is reported (default 3)");
-  bench->add_option("--steps", a.bench.step_scale, "Scale of the timed step counts (default 1)")->check(finite_range(1e-6, 1e6));
+  bench->add_option("--steps", a.bench.step_scale, "Scale of the timed step counts (default 1)")->check(finite_range(1e-12, 1e6));
   bench->add_option("--energy", a.bench.energy, "Energy budget tallies on/off (default true; LIGGGHTS/LAMMPS compute none)");
   bench->add_flag("--bag", a.bench.bag, "The bagged scene (cases/box-beanbag) instead: cost per step, its split between balls and film, and the film's cost against its node count");
   bench->add_option("--film-triangles", a.bench.film_triangles, "Film resolutions of the bagged scene (default 200 800 3200)");

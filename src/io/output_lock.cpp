@@ -63,14 +63,13 @@ void refuse_inside_another(const std::filesystem::path& dir) {
   }
 }
 
-// An output directory that is a file (or a device): InputError naming --out, before anything is written.
+}  // namespace
+
 void refuse_a_file(const std::filesystem::path& dir) {
   std::error_code ec;
   if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
     throw InputError("--out", "", dir.string(), "is a file, not a directory: give a directory for the outputs (nothing was written)");
 }
-
-}  // namespace
 
 void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as) {
   namespace fs = std::filesystem;

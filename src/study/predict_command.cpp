@@ -13,6 +13,7 @@
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "bagdem/reduce/predict.hpp"
 #include "bagdem/structure/response.hpp"
@@ -74,9 +75,7 @@ void require_same_damper(const fs::path& map_csv, const Scene& scene, const std:
 // Predict's directory, before anything is computed: a directory (or none yet), whose predict
 // tables are bagdem's own (an earlier predict's), never a file of the user's.
 void check_predict_out(const fs::path& out) {
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-    throw InputError("--out", "", out.string(), "is a file, not a directory: give a directory for predict's tables (nothing was written)");
+  refuse_a_file(out);
   for (const char* f : {"predict.csv", "predict_peaks.csv", "predict_random.csv"})
     check_output_target(out / f, "--out", [](const fs::path&, const std::string& head) { return is_bagdem_table_head(head); },
                         "a table of bagdem predict");
@@ -208,6 +207,7 @@ int predict_command(const PredictArgs& a) {
     const Scene scene = load_case(a.dir, a.sets);
     const fs::path out = a.out.empty() ? fs::path(a.dir) / "predict" : fs::path(a.out);
     check_predict_out(out);
+    const OutputLock lock(out);  // two predicts into one directory would mix their tables
     if (!a.random.empty()) return predict_random_command(a, scene, out);
     if (!scene.primary || !scene.primary->stepped_sine)
       throw InputError(scene.case_file, "excitation.kind", "", "predict needs a structure ([primary]) and a stepped-sine sweep: its band is predicted");

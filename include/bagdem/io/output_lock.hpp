@@ -23,6 +23,10 @@ enum class OutputOwner { run, study };
 // a study's tables and leave its points beside a single run that export then takes for the study.
 void refuse_other_outputs(const std::filesystem::path& dir, OutputOwner as);
 
+// An output directory that is a file (or a device): InputError naming --out, before anything is
+// written (refuse_other_outputs and OutputLock ask it too).
+void refuse_a_file(const std::filesystem::path& dir);
+
 // Refuses (InputError) when a process holds dir's lock now (before a study clears a point's
 // directory that a run started by hand may be writing).
 void refuse_if_locked(const std::filesystem::path& dir);

@@ -267,6 +267,24 @@ TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   EXPECT_EQ(made.count("model.film.bending_model"), 0u);
   EXPECT_EQ(made.count("simulation.timestep") + made.count("simulation.timestep_safety"), 0u)
       << "the automatic step and its factor are not recorded: the maps made before stay the case's";
+  // A key given at its default is the same damper as the key left out, in a map that records the
+  // defaults and in one recorded before they were; a default another bagdem changed is not.
+  EXPECT_EQ(made.at("bag.film.shrink"), "(default) 1");
+  bagdem::study::DamperRecord before_defaults;
+  for (const auto& [k, v] : made)
+    if (v.rfind("(default) ", 0) != 0) before_defaults[k] = v;
+  for (const std::string set : {"bag.film.shrink=1", "bag.film.bending_model=\"hinge\"", "bag.centre=[\"0 mm\", 0, \"-0 m\"]"})
+    for (const bagdem::study::DamperRecord* map : {&made, static_cast<const bagdem::study::DamperRecord*>(&before_defaults)})
+      EXPECT_TRUE(bagdem::study::damper_differences(*map, bagdem::study::damper_record(bagdem::load_case(pipe, {set}))).empty())
+          << set << ": " << bagdem::study::damper_differences(*map, bagdem::study::damper_record(bagdem::load_case(pipe, {set})))[0];
+  bagdem::study::DamperRecord changed_default = made;
+  changed_default["bag.film.shrink"] = "(default) 0.9";
+  diff = bagdem::study::damper_differences(changed_default, made);
+  ASSERT_EQ(diff.size(), 1u);
+  EXPECT_EQ(diff[0], "bag.film.shrink is 0.9 (its default) in the map, 1 (its default) in the case");
+  diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {"bag.film.shrink=0.95"})));
+  ASSERT_EQ(diff.size(), 1u);
+  EXPECT_EQ(diff[0], "bag.film.shrink is 1 (its default) in the map, 0.95 in the case");
   for (const std::string& set : {std::string("bag.film.bending_model=\"quadratic\""), std::string("simulation.timestep=\"1e-6 s\"")}) {
     diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {set})));
     ASSERT_FALSE(diff.empty()) << set;

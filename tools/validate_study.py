@@ -47,7 +47,7 @@
 #   tools/validate-study [--amplitude "0.04 N"] [--damping-ratio Z] [--seeds 3] [--out DIR]
 #                        [--docs DIR] [--jobs J] [--keys] [--impact-amplitude "0.2 N"]
 #                        [--clearance-amplitude "0.5 N"] [--slope [--slope-choices C,...]] [--table3] [--table3-maps]
-#                        [--table3-check [--damping-ratio3 Z3]]
+#                        [--table3-check [--damping-ratio3 Z3] [--table3-modes 1,3]]
 #
 # study.csv's columns: study (ball-size, mass-ratio, position), param (ball_diameter_mm,
 # mass_ratio_pct, position_xL), value (in those units), `mode [1]`, `reduction_db_mean [dB]`,
@@ -610,6 +610,7 @@ def main(argv):
                    help="only step 8: Table 3 by coupled DEM at --amplitude and --damping-ratio (mode 3 at --damping-ratio3), "
                         "table3-check.csv and table3-check-summary.csv (the MAE per mode)")
     p.add_argument("--damping-ratio3", help="with --table3-check: mode 3's damping ratio (default --damping-ratio)")
+    p.add_argument("--table3-modes", default="1,3", help="with --table3-check: the modes run (comma-separated, default 1,3)")
     p.add_argument("--slope", action="store_true",
                    help="only step 5: the mass-ratio trend's slope (5, 8, 12%%) with each model choice varied, slope.csv (needs --damping-ratio)")
     p.add_argument("--slope-choices", help="with --slope: only these (comma-separated: base, tightness, force, ball-stiffness, "
@@ -629,7 +630,11 @@ def main(argv):
     if a.table3_check:
         if zeta is None:
             sys.exit("tools/validate-study: --table3-check needs --damping-ratio (and --amplitude)")
-        table3_check(a.out, a.amplitude, {1: zeta, 3: a.damping_ratio3 or zeta}, a.seeds, a.jobs, a.docs)
+        modes = sorted({int(m) for m in a.table3_modes.split(",")})
+        if not set(modes) <= {1, 3}:
+            sys.exit(f"tools/validate-study: --table3-modes {a.table3_modes}: Table 3 has modes 1 and 3")
+        zetas = {1: zeta, 3: a.damping_ratio3 or zeta}
+        table3_check(a.out, a.amplitude, {m: zetas[m] for m in modes}, a.seeds, a.jobs, a.docs)
         return 0
     if a.table3_maps:
         calibrate_table3_maps(a.out, a.seeds, a.jobs, a.docs)

@@ -60,6 +60,7 @@ struct Scene {
   std::string resolved;   // the resolved configuration as TOML text (written to results.h5), the
                           // fingerprints of the files it reads at its end (CaseReader::text)
   std::map<std::string, std::string> files;  // those fingerprints: the case's key -> CaseReader::files()'s text
+  std::map<std::string, std::string> defaults;  // the keys read with a default: key -> CaseReader::defaults()'s text
 
   std::vector<Material> materials;
   PairLawTable laws;

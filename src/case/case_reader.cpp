@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <functional>
 #include <sstream>
+#include <type_traits>
 
 #include "bagdem/error.hpp"
 #include "bagdem/fingerprint.hpp"
@@ -266,7 +269,47 @@ double CaseReader::quantity(const std::string& key, Dimension d) const {
   return to_quantity(*n, key, d);
 }
 
+// A key's default, offered whether the key is given or not: recorded (defaults()), then returned.
+template <class T>
+T CaseReader::defaulted(const std::string& key, const T& value) const {
+  if constexpr (std::is_same_v<T, Vec3>)
+    defaults_.insert_or_assign(key, toml::array{value.x(), value.y(), value.z()});
+  else if constexpr (std::is_same_v<T, long long>)
+    defaults_.insert_or_assign(key, static_cast<std::int64_t>(value));
+  else
+    defaults_.insert_or_assign(key, value);
+  return value;
+}
+
+std::map<std::string, std::string> CaseReader::defaults() const {
+  std::map<std::string, std::string> out;
+  for (const auto& [key, value] : defaults_) out[std::string(key.str())] = si_text(value);
+  return out;
+}
+
+std::string si_text(const toml::node& n) {
+  auto number = [](double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.12g", x == 0 ? 0.0 : x);  // -0 is 0
+    return std::string(b);
+  };
+  if (const auto* i = n.as_integer()) return number(static_cast<double>(i->get()));
+  if (const auto* d = n.as_floating_point()) return number(d->get());
+  if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+  if (const auto* s = n.as_string()) {
+    const auto q = parse_any_quantity(s->get());
+    return q ? number(q->si) : s->get();
+  }
+  if (const auto* a = n.as_array()) {
+    std::string t = "[";
+    for (std::size_t k = 0; k < a->size(); ++k) t += (k ? ", " : "") + si_text(*a->get(k));
+    return t + "]";
+  }
+  return "(a date or time)";
+}
+
 double CaseReader::quantity(const std::string& key, Dimension d, double fallback) const {
+  defaulted(key, fallback);
   return has(key) ? quantity(key, d) : fallback;
 }
 
@@ -288,6 +331,7 @@ Vec3 CaseReader::vector(const std::string& key, Dimension d) const {
 }
 
 Vec3 CaseReader::vector(const std::string& key, Dimension d, const Vec3& fallback) const {
+  defaulted(key, fallback);
   return has(key) ? vector(key, d) : fallback;
 }
 
@@ -299,6 +343,7 @@ std::string CaseReader::string(const std::string& key) const {
 }
 
 std::string CaseReader::string(const std::string& key, const std::string& fallback) const {
+  defaulted(key, fallback);
   return has(key) ? string(key) : fallback;
 }
 
@@ -313,6 +358,7 @@ std::string CaseReader::choice(const std::string& key, const std::vector<std::st
 }
 
 long long CaseReader::integer(const std::string& key, long long fallback) const {
+  defaulted(key, fallback);
   const toml::node* n = node(key);
   if (!n) return fallback;
   if (!n->is_integer()) fail(key, "must be an integer");
@@ -326,6 +372,7 @@ long long CaseReader::integer(const std::string& key, long long fallback, long l
 }
 
 bool CaseReader::boolean(const std::string& key, bool fallback) const {
+  defaulted(key, fallback);
   const toml::node* n = node(key);
   if (!n) return fallback;
   if (!n->is_boolean()) fail(key, "must be true or false");

@@ -261,6 +261,7 @@ Scene load_one(const std::string& case_dir, const std::vector<std::string>& over
   in.reject_unknown_keys();
   s.resolved = in.text();
   s.files = in.files();
+  s.defaults = in.defaults();
   return s;
 }
 }  // namespace

@@ -19,28 +19,16 @@
 namespace bagdem::study {
 namespace {
 
+const std::string kDefault = "(default) ";
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 std::string number(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%.12g", x);
   return b;
-}
-
-// A value in SI as text: numbers to 12 digits, a string with a unit converted ("4 mm" -> 0.004),
-// arrays element by element.
-std::string si_text(const toml::node& n) {
-  if (const auto* i = n.as_integer()) return number(static_cast<double>(i->get()));
-  if (const auto* d = n.as_floating_point()) return number(d->get());
-  if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
-  if (const auto* s = n.as_string()) {
-    const auto q = parse_any_quantity(s->get());
-    return q ? number(q->si) : s->get();
-  }
-  if (const auto* a = n.as_array()) {
-    std::string t = "[";
-    for (std::size_t k = 0; k < a->size(); ++k) t += (k ? ", " : "") + si_text(*a->get(k));
-    return t + "]";
-  }
-  return "(a date or time)";  // no damper key takes one
 }
 
 }  // namespace
@@ -48,11 +36,23 @@ std::string si_text(const toml::node& n) {
 DamperRecord damper_record(const Scene& scene) {
   const toml::table root = toml::parse(scene.resolved);
   DamperRecord r;
+  auto given = [&](const std::string& key) { return r.count(key) && r[key].rfind(kDefault, 0) != 0; };  // by the case
   auto add = [&](const toml::node& n, const std::string& prefix) {
     for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"})) r[key] = si_text(*leaf);
   };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
     if (const toml::node* n = root.get(table)) add(*n, table);
+  // The keys of those tables read at their defaults, and the keys given at their default value: as
+  // "(default) VALUE", the same damper as the key left out (a map recorded before the defaults were)
+  // or given at that value (damper_differences).
+  auto defaults = [&](auto&& of_damper) {
+    for (const auto& [key, value] : scene.defaults)
+      if (of_damper(key) && !ends_with(key, ".seed") && (!r.count(key) || r[key] == value)) r[key] = kDefault + value;
+  };
+  defaults([](const std::string& key) {
+    return (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("interactions.", 0) == 0 || key.rfind("cavity.", 0) == 0) &&
+           key.rfind("cavity.motion", 0) != 0;
+  });
   // A step the case fixes (a number, not "auto"; forced past the critical step or not): a map made at
   // a fixed step serves no case at its own, nor the reverse. "auto" and its factors are left out, so
   // that the maps of the automatic step made before this record stay the case's.
@@ -63,10 +63,13 @@ DamperRecord damper_record(const Scene& scene) {
   // The materials the contents and the cavity name.
   std::set<std::string> used;
   for (const auto& [key, value] : r)
-    if (key.size() >= 9 && key.compare(key.size() - 9, 9, ".material") == 0) used.insert(value);
+    if (ends_with(key, ".material")) used.insert(value.rfind(kDefault, 0) == 0 ? value.substr(kDefault.size()) : value);
   if (const toml::table* m = root["materials"].as_table())
     for (const std::string& name : used)
       if (const toml::node* n = m->get(name)) add(*n, "materials." + name);
+  defaults([&](const std::string& key) {
+    return std::any_of(used.begin(), used.end(), [&](const std::string& name) { return key.rfind("materials." + name + ".", 0) == 0; });
+  });
   const Vec3 g = scene.gravity, e = excitation_direction(scene), d = e.norm() > 0 ? Vec3(e.normalized()) : e;
   r["simulation.gravity"] = "[" + number(g.x()) + ", " + number(g.y()) + ", " + number(g.z()) + "]";
   r["direction"] = "[" + number(d.x()) + ", " + number(d.y()) + ", " + number(d.z()) + "]";
@@ -85,8 +88,8 @@ DamperRecord damper_record(const Scene& scene) {
     if (b.film.bending_model == BendingModel::Quadratic) r["model.film.bending_model"] = "quadratic";
     // The radii "auto" are fractions of the mean edge, which the seed's fill moves: recorded as
     // those fractions, and not at all where the case gives a length (its key is in the record).
-    if (!r.count("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
-    if (!r.count("bag.film.self_radius")) r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
+    if (!given("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
+    if (!given("bag.film.self_radius")) r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
   }
   for (std::size_t i = 0; i < scene.materials.size(); ++i)
     for (std::size_t j = i; j < scene.materials.size(); ++j) {
@@ -101,7 +104,7 @@ DamperRecord damper_record(const Scene& scene) {
   for (const auto& [key, print] : scene.files)
     if (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("cavity.file", 0) == 0) r["file." + key] = print;
   // A mass ratio is of the structure's mass: the map's runs pin it (study/characterize.cpp).
-  if (r.count("bag.balls.mass_ratio") && !r.count("bag.balls.primary_mass") && scene.primary)
+  if (given("bag.balls.mass_ratio") && !given("bag.balls.primary_mass") && scene.primary)
     r["bag.balls.primary_mass"] = number(scene.primary->structure_mass);
   return r;
 }
@@ -187,10 +190,16 @@ std::vector<std::string> damper_differences(const DamperRecord& map, const Dampe
   std::set<std::string> keys;
   for (const auto& [k, v] : map) keys.insert(k);
   for (const auto& [k, v] : case_record) keys.insert(k);
+  // A key at its default is the same as the key not set (a record made before defaults were
+  // recorded) and as the key given at that value.
+  auto value = [](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v; };
+  auto shown = [&](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? value(v) + " (its default)" : v; };
   for (const std::string& k : keys) {
     const auto a = map.find(k), b = case_record.find(k);
-    const std::string x = a == map.end() ? "(not set)" : a->second, y = b == case_record.end() ? "(not set)" : b->second;
-    if (x != y) out.push_back(k + " is " + x + " in the map, " + y + " in the case");
+    if (a != map.end() && b != case_record.end() && value(a->second) == value(b->second)) continue;
+    if ((a == map.end() && b->second.rfind(kDefault, 0) == 0) || (b == case_record.end() && a->second.rfind(kDefault, 0) == 0)) continue;
+    const std::string x = a == map.end() ? "(not set)" : shown(a->second), y = b == case_record.end() ? "(not set)" : shown(b->second);
+    out.push_back(k + " is " + x + " in the map, " + y + " in the case");
   }
   return out;
 }

@@ -70,6 +70,9 @@ class CaseReader {
   // The TOML text of the case with overrides applied, then a comment line for each file it reads
   // ("# reads <key> = <fingerprint>").
   std::string text() const;
+  // Each key read with a default (given or not) -> that default in SI as text (si_text): a key
+  // given at its default value is the same damper as the key left out (a map's damper record).
+  std::map<std::string, std::string> defaults() const;
 
  private:
   const toml::node* node(const std::string& key) const;  // marks key and parents as read
@@ -83,7 +86,14 @@ class CaseReader {
   mutable std::set<std::string> read_;   // keys present in the case and read
   mutable std::set<std::string> asked_;  // keys asked for, present or not: the allowed keys
   mutable std::map<std::string, std::string> files_;  // file_path's fingerprints, by key
+  mutable toml::table defaults_;                      // the defaults offered, by dotted key (a flat key each)
+  template <class T>
+  T defaulted(const std::string& key, const T& value) const;
 };
+
+// A TOML value in SI as text: numbers to 12 digits, a string with a unit converted ("4 mm" ->
+// 0.004; -0 is 0), other strings as they are, arrays element by element ("[a, b, c]").
+std::string si_text(const toml::node& n);
 
 // The one of `candidates` nearest to `name` in edit distance, if it is close enough to be what a
 // typo of `name` meant (at most 2 edits, or a third of the longer name).

@@ -261,6 +261,33 @@ TEST(Faults, SigtermDuringASweepResumesToTheSameSweep) {
   bagdem::testing::expect_same_sweep(whole.out, c.out);
 }
 
+// A study stopped by SIGTERM says so (it was a silent exit 143): the points done are kept, the
+// running one is stopped and nothing is merged; the same command then goes on and completes.
+TEST(Faults, SigtermDuringAStudySaysWhatItKeptAndTheSameCommandGoesOn) {
+  CaseDir c(shaken_box("0.3 s"));
+  const std::vector<std::string> study = {"--seeds", "3"};
+  Background b(c, study);
+  // The third start running: one of the first two is done (as many run at once as there are cores, 2 here).
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until && !fs::exists(c.out / "point-002" / "log.txt") &&
+         slurp(b.err).find("error") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(fs::exists(c.out / "point-002" / "log.txt")) << slurp(b.err);
+  ASSERT_EQ(kill(b.pid, SIGTERM), 0);
+  ASSERT_EQ(b.wait(), 143) << slurp(b.err);
+  const std::string err = slurp(b.err);
+  std::size_t done = 0;
+  for (const char* p : {"point-000", "point-001", "point-002"}) done += fs::exists(c.out / p / "point.done");
+  ASSERT_GE(done, 1u);
+  EXPECT_NE(err.find("stopped by SIGTERM: " + std::to_string(done) + " of 3 points done and kept"), std::string::npos) << err;
+  EXPECT_NE(err.find("The same command goes on"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(c.out / "reduced.csv")) << "a stopped study merged its tables";
+  const CmdResult again = c.run(study);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("resuming: " + std::to_string(done) + " of 3 points done by an earlier run, skipped"), std::string::npos) << again.err;
+  EXPECT_TRUE(fs::exists(c.out / "point-002" / "point.done"));
+}
+
 // ---- a full disk ----------------------------------------------------------------------------------
 
 // `bagdem run` with the full-disk library preloaded: files take `bytes` bytes in all.

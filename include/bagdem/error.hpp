@@ -32,15 +32,29 @@ class RunError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// SIGINT or SIGTERM stopped a study: what it keeps and how to go on (exit 128 + the signal).
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal(signal) {}
+  int signal;
+};
+
 inline constexpr int kExitInputError = 2;
 inline constexpr int kExitRunError = 3;
 
 // The exit code of an error, the same for every command: bad input 2, a run that went unstable 3,
-// anything else (I/O, a full disk) 1.
+// a signal 128 + it, anything else (I/O, a full disk) 1.
 inline int exit_code_of(const std::exception& e) {
   if (dynamic_cast<const InputError*>(&e)) return kExitInputError;
   if (dynamic_cast<const RunError*>(&e)) return kExitRunError;
+  if (const auto* i = dynamic_cast<const Interrupted*>(&e)) return 128 + i->signal;
   return 1;
+}
+
+// The same once a study's runs have started, where bad input is no longer "nothing was run": 1.
+inline int exit_code_after_runs(const std::exception& e) {
+  const int code = exit_code_of(e);
+  return code == kExitInputError ? 1 : code;
 }
 
 }  // namespace bagdem

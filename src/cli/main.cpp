@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
                ": discrete-element simulation of granular and bean-bag impact dampers.\n"
                "A case is a directory with case.toml (schema: docs/case-schema.md).\n"
                "Exit codes: 0 success, 1 system error (I/O, a full disk), 2 bad input (case or command line), 3 the run "
-               "went unstable, 130/143 a run stopped by SIGINT/SIGTERM (checkpoint written: continue with --resume)."};
+               "went unstable, 130/143 stopped by SIGINT/SIGTERM (a run writes a checkpoint: continue with --resume; a study keeps its points done: the same command goes on)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", BAGDEM_VERSION);
 

@@ -24,7 +24,7 @@
 #include "bagdem/step/dampers.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "checkpoint_file.hpp"
-#include "interrupt.hpp"
+#include "bagdem/interrupt.hpp"
 #include "output_files.hpp"
 #include "run_summary.hpp"
 

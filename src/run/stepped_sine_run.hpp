@@ -30,7 +30,7 @@
 #include "bagdem/step/dampers.hpp"
 #include "bagdem/step/simulation.hpp"
 #include "bagdem/structure/response.hpp"
-#include "interrupt.hpp"
+#include "bagdem/interrupt.hpp"
 #include "output_files.hpp"
 #include "stepped_sine_chains.hpp"
 #include "stepped_sine_files.hpp"

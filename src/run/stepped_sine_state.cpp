@@ -8,7 +8,7 @@
 
 #include "bagdem/error.hpp"
 #include "checkpoint_file.hpp"
-#include "interrupt.hpp"
+#include "bagdem/interrupt.hpp"
 #include "output_files.hpp"
 
 namespace bagdem {

@@ -336,7 +336,7 @@ int calibrate_command(const CalibrateArgs& args) {
     code = e.code;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    code = round == 0 && dynamic_cast<const InputError*>(&e) ? kExitInputError : 1;  // bad input: nothing ran
+    code = round == 0 && dynamic_cast<const InputError*>(&e) ? kExitInputError : exit_code_after_runs(e);  // bad input: nothing ran
   }
   ranks->broadcast(std::vector<double>{});  // no more rounds
   if (code == 0) try {

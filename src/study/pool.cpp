@@ -28,6 +28,8 @@
 #include <system_error>
 #include <thread>
 
+#include "bagdem/error.hpp"
+#include "bagdem/interrupt.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
@@ -251,9 +253,17 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
     }
   };
   if (queue.empty()) return outcomes;
+  // SIGINT or SIGTERM: no point is started after it, the running ones are stopped (the Reaper; a
+  // point is started afresh when the study goes on), and the points done are kept.
+  InterruptGuard guard;
   fill();
   progress();
   while (!running.empty()) {
+    if (const int sig = pending_interrupt())
+      throw Interrupted(sig, plan.spec.command + " stopped by " + signal_name(sig) + ": " + std::to_string(done) + " of " +
+                                 std::to_string(opt.total) + " points done and kept (each with its point.done), " +
+                                 std::to_string(running.size()) + " running stopped, nothing merged. The same command goes on where it "
+                                 "stopped (the stopped points start afresh)");
     bool changed = false;
     for (std::size_t k = 0; k < running.size();) {
       int status = 0;

@@ -213,7 +213,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
     if (ranks->size() > 1) ranks->abort(1);
-    return 1;
+    return exit_code_after_runs(e);
   }
 }
 

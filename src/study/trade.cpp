@@ -421,7 +421,7 @@ int trade_command(const TradeArgs& args) {
     return failed ? kExitRunError : 0;
   } catch (const std::exception& e) {  // after the runs started: not "bad input, nothing run"
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+    return exit_code_after_runs(e);
   }
 }
 

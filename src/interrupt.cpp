@@ -1,5 +1,5 @@
-// SIGINT and SIGTERM during a run (interrupt.hpp).
-#include "interrupt.hpp"
+// SIGINT and SIGTERM during a run or a study (interrupt.hpp).
+#include "bagdem/interrupt.hpp"
 
 namespace bagdem {
 

@@ -1,6 +1,7 @@
-// Internal to src/run: SIGINT and SIGTERM while a run or a sweep steps. The handler only records
-// the signal (async-signal-safe); the loop polls it between steps, writes a checkpoint, marks
-// results.h5.part "interrupted", closes its files and returns, and `bagdem run` exits with
+// SIGINT and SIGTERM while a run steps or a study runs its points. The handler only records the
+// signal (async-signal-safe) and the loop polls it: a run between steps (it writes a checkpoint,
+// marks results.h5.part "interrupted", closes its files and returns), a study between its points'
+// polls (study/pool.cpp: it stops its running points and throws Interrupted). Either exits with
 // 128 + the signal (130 for SIGINT, 143 for SIGTERM). A second signal ends the process at once.
 #pragma once
 #include <csignal>

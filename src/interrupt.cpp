@@ -6,22 +6,34 @@ namespace bagdem {
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
+int g_depth = 0;  // guards alive: the outermost installs and restores
 
-extern "C" void record_signal(int sig) { g_signal = sig; }
+// Records the signal, and gives both signals back their default action: a second one, of either
+// kind, ends the process at once.
+extern "C" void record_signal(int sig) {
+  g_signal = sig;
+  struct sigaction d {};
+  d.sa_handler = SIG_DFL;
+  sigemptyset(&d.sa_mask);
+  sigaction(SIGINT, &d, nullptr);
+  sigaction(SIGTERM, &d, nullptr);
+}
 
 }  // namespace
 
 InterruptGuard::InterruptGuard() {
+  if (g_depth++ > 0) return;  // an outer guard holds them, and any signal it recorded stays
   g_signal = 0;
   struct sigaction a {};
   a.sa_handler = record_signal;
   sigemptyset(&a.sa_mask);
-  a.sa_flags = SA_RESTART | SA_RESETHAND;  // writes go on; a second signal ends the process at once
+  a.sa_flags = SA_RESTART;  // writes go on
   sigaction(SIGINT, &a, &old_int_);
   sigaction(SIGTERM, &a, &old_term_);
 }
 
 InterruptGuard::~InterruptGuard() {
+  if (--g_depth > 0) return;
   sigaction(SIGINT, &old_int_, nullptr);
   sigaction(SIGTERM, &old_term_, nullptr);
 }

@@ -235,6 +235,27 @@ TEST(Characterize, RefusesACaseWithoutABandOrADirection) {
 // the law of each pair of its materials (model.pair.A/B), none of them depending on the seed. So a
 // bagdem whose film default differs (here the bending stiffness, the case's text the same) finds the
 // map stale, naming the choice, and so does a map recorded before them.
+// A material is named, never read as a quantity: one named "4mm" keeps its properties in the record
+// (they were dropped, "4mm" recorded as 0.004, and a map served balls of another modulus).
+TEST(Characterize, TheDamperRecordNamesAMaterialNamedLikeAQuantity) {
+  bagdem::testing::TempDir t;
+  const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
+  fs::create_directories(t.path / "case");
+  for (const auto& e : fs::directory_iterator(pipe))
+    if (e.is_regular_file()) fs::copy_file(e.path(), t.path / "case" / e.path().filename());
+  std::string text = bagdem::testing::slurp(t.path / "case" / "case.toml");
+  for (std::size_t at; (at = text.find("steel")) != std::string::npos;) text.replace(at, 5, "4mm");
+  std::ofstream(t.path / "case" / "case.toml") << text;
+  const std::string dir = (t.path / "case").string();
+  const bagdem::study::DamperRecord made = bagdem::study::damper_record(bagdem::load_case(dir));
+  EXPECT_EQ(made.at("bag.balls.material"), "4mm");
+  EXPECT_TRUE(made.count("materials.4mm.youngs_modulus") && made.count("model.pair.4mm/ldpe"));
+  const std::vector<std::string> diff =
+      bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(dir, {"materials.4mm.youngs_modulus=\"200 GPa\""})));
+  ASSERT_FALSE(diff.empty());
+  EXPECT_NE(diff[0].find("materials.4mm.youngs_modulus"), std::string::npos) << diff[0];
+}
+
 TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
   const bagdem::Scene scene = bagdem::load_case(pipe);
@@ -265,8 +286,7 @@ TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   // The film's bending model (recorded when it is not the hinge, so the hinge's older maps stay the
   // case's) and the keys that set the time step are the damper's.
   EXPECT_EQ(made.count("model.film.bending_model"), 0u);
-  EXPECT_EQ(made.count("simulation.timestep") + made.count("simulation.timestep_safety"), 0u)
-      << "the automatic step and its factor are not recorded: the maps made before stay the case's";
+  EXPECT_EQ(made.count("simulation.timestep"), 0u) << "the automatic step is not recorded: the maps made before stay the case's";
   // A key given at its default is the same damper as the key left out, in a map that records the
   // defaults and in one recorded before they were; a default another bagdem changed is not.
   EXPECT_EQ(made.at("bag.film.shrink"), "(default) 1");
@@ -281,10 +301,20 @@ TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {
   changed_default["bag.film.shrink"] = "(default) 0.9";
   diff = bagdem::study::damper_differences(changed_default, made);
   ASSERT_EQ(diff.size(), 1u);
-  EXPECT_EQ(diff[0], "bag.film.shrink is 0.9 (its default) in the map, 1 (its default) in the case");
+  EXPECT_EQ(diff[0], "bag.film.shrink is 0.9 (the default) in the map, 1 (the default) in the case");
   diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {"bag.film.shrink=0.95"})));
   ASSERT_EQ(diff.size(), 1u);
-  EXPECT_EQ(diff[0], "bag.film.shrink is 1 (its default) in the map, 0.95 in the case");
+  EXPECT_EQ(diff[0], "bag.film.shrink is 1 (the default) in the map, 0.95 in the case");
+  // A radius given "auto" is the default; the automatic step's factors are the damper's (a map
+  // recorded before them is not asked for them).
+  EXPECT_TRUE(bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {"bag.film.contact_radius=\"auto\""}))).empty());
+  EXPECT_TRUE(made.count("model.film.contact_radius_per_edge"));
+  diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {"simulation.timestep_safety=0.1"})));
+  ASSERT_EQ(diff.size(), 1u);
+  EXPECT_EQ(diff[0].rfind("simulation.timestep_safety is", 0), 0u) << diff[0];
+  bagdem::study::DamperRecord before_factors = made;
+  before_factors.erase("simulation.timestep_safety");
+  EXPECT_TRUE(bagdem::study::damper_differences(before_factors, made).empty());
   for (const std::string& set : {std::string("bag.film.bending_model=\"quadratic\""), std::string("simulation.timestep=\"1e-6 s\"")}) {
     diff = bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(pipe, {set})));
     ASSERT_FALSE(diff.empty()) << set;

@@ -73,3 +73,22 @@ TEST(Overrides, EveryNamedKeyIsInTheSchema) {
   }
   EXPECT_GE(keys::all_paths().size(), 25u);
 }
+
+// The defaults the reader offers (CaseReader::defaults, a map's damper record): each in SI as text,
+// whether the key is given or not, and none for a key whose presence was asked (it alone may change
+// the scene: a saved bag is moved only when bag.centre is given).
+TEST(Overrides, TheReaderRecordsTheDefaultsItOffers) {
+  bagdem::testing::TempDir t;
+  t.write("case.toml", "[bag]\nshrink = 1\nname = \"4mm\"\n");
+  const CaseReader in((t.path / "case.toml").string(), {});
+  in.quantity("bag.shrink", dim::none, 1.0);
+  in.quantity("bag.gap", dim::length, -0.0);
+  in.string("bag.name", "4mm");
+  in.vector("bag.axis", dim::none, Vec3(1, 0, -0.0));
+  in.quantity_or_auto("bag.radius", dim::length);
+  in.has("bag.centre");
+  in.vector("bag.centre", dim::length, Vec3::Zero());
+  const std::map<std::string, std::string> expected = {
+      {"bag.axis", "[1, 0, 0]"}, {"bag.gap", "0"}, {"bag.name", "0.004"}, {"bag.radius", "auto"}, {"bag.shrink", "1"}};
+  EXPECT_EQ(in.defaults(), expected) << "(a name default is unit-parsed here; the damper record keeps a material's name as written)";
+}

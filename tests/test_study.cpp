@@ -33,6 +33,7 @@
 
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/interrupt.hpp"
 #include "bagdem/io/output_lock.hpp"
 #include "bagdem/study/study.hpp"
 #include "h5_read.hpp"
@@ -681,4 +682,27 @@ TEST(Study, MpiRanksSharePointsAndMergeTheSerialTable) {
 #else
   GTEST_SKIP() << "built without MPI (configure with -DBAGDEM_MPI=ON to test the ranks)";
 #endif
+}
+
+// A signal while a study plans or writes its merged tables waits until they are whole (it killed
+// the process by the default action, leaving a map.csv without its damper.toml): then the study
+// says so and exits 128 + the signal. The pool's own guard inside keeps the signal recorded.
+TEST(Study, ASignalWhileAStudyWritesItsTablesWaitsForThemAndIsSaid) {
+  ::testing::internal::CaptureStderr();
+  bool finished = false;
+  const int code = study::holding_interrupts("bagdem sweep", [&] {
+    raise(SIGTERM);
+    {
+      const InterruptGuard pool;  // as run_points holds one
+      EXPECT_EQ(pending_interrupt(), SIGTERM);
+    }
+    finished = true;  // the tables written whole
+    return 0;
+  });
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(finished);
+  EXPECT_EQ(code, 143);
+  EXPECT_NE(err.find("bagdem sweep stopped by SIGTERM, which came while it planned or wrote its tables: it finished writing them first"),
+            std::string::npos) << err;
+  EXPECT_EQ(study::holding_interrupts("bagdem sweep", [] { return 3; }), 3) << "no signal: the study's own code";
 }

@@ -1,15 +1,18 @@
 // SIGINT and SIGTERM while a run steps or a study runs its points. The handler only records the
 // signal (async-signal-safe) and the loop polls it: a run between steps (it writes a checkpoint,
 // marks results.h5.part "interrupted", closes its files and returns), a study between its points'
-// polls (study/pool.cpp: it stops its running points and throws Interrupted). Either exits with
-// 128 + the signal (130 for SIGINT, 143 for SIGTERM). A second signal ends the process at once.
+// polls (study/pool.cpp: it keeps the points done, stops the running ones and throws Interrupted);
+// during a study's planning and its merged tables a signal waits until they are written whole
+// (study/study.hpp, holding_interrupts). Either exits with 128 + the signal (130 for SIGINT, 143
+// for SIGTERM). A second signal ends the process at once.
 #pragma once
 #include <csignal>
 
 namespace bagdem {
 
 // Installs the handlers for its lifetime (the previous ones are restored) and clears any signal
-// recorded before.
+// recorded before; inside another guard (a study's, around the pool's) it does nothing, so that
+// a signal the outer one recorded is not lost.
 class InterruptGuard {
  public:
   InterruptGuard();

@@ -208,9 +208,13 @@ std::optional<std::string> CaseReader::misspelling_of(const std::string& key) co
   return std::nullopt;
 }
 
-bool CaseReader::has(const std::string& key) const { return node(key) != nullptr; }
+bool CaseReader::has(const std::string& key) const {
+  presence_.insert(key);
+  return node(key) != nullptr;
+}
 
 bool CaseReader::is_string(const std::string& key) const {
+  presence_.insert(key);
   const toml::node* n = node(key);
   return n && n->is_string();
 }
@@ -283,7 +287,8 @@ T CaseReader::defaulted(const std::string& key, const T& value) const {
 
 std::map<std::string, std::string> CaseReader::defaults() const {
   std::map<std::string, std::string> out;
-  for (const auto& [key, value] : defaults_) out[std::string(key.str())] = si_text(value);
+  for (const auto& [key, value] : defaults_)
+    if (!presence_.count(std::string(key.str()))) out[std::string(key.str())] = si_text(value);
   return out;
 }
 
@@ -310,10 +315,11 @@ std::string si_text(const toml::node& n) {
 
 double CaseReader::quantity(const std::string& key, Dimension d, double fallback) const {
   defaulted(key, fallback);
-  return has(key) ? quantity(key, d) : fallback;
+  return node(key) ? quantity(key, d) : fallback;
 }
 
 std::optional<double> CaseReader::quantity_or_auto(const std::string& key, Dimension d) const {
+  defaulted(key, std::string("auto"));
   const toml::node* n = node(key);
   if (!n) return std::nullopt;
   if (auto* s = n->as_string(); s && s->get() == "auto") return std::nullopt;
@@ -332,7 +338,7 @@ Vec3 CaseReader::vector(const std::string& key, Dimension d) const {
 
 Vec3 CaseReader::vector(const std::string& key, Dimension d, const Vec3& fallback) const {
   defaulted(key, fallback);
-  return has(key) ? vector(key, d) : fallback;
+  return node(key) ? vector(key, d) : fallback;
 }
 
 std::string CaseReader::string(const std::string& key) const {
@@ -344,7 +350,7 @@ std::string CaseReader::string(const std::string& key) const {
 
 std::string CaseReader::string(const std::string& key, const std::string& fallback) const {
   defaulted(key, fallback);
-  return has(key) ? string(key) : fallback;
+  return node(key) ? string(key) : fallback;
 }
 
 std::string CaseReader::choice(const std::string& key, const std::vector<std::string>& allowed,

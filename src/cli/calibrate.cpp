@@ -54,6 +54,8 @@ CLI::App* add_calibrate(CLI::App& app, Args& args) {
   return c;
 }
 
-int run_calibrate(Args& a) { return study::calibrate_command(a.calibrate); }
+int run_calibrate(Args& a) {
+  return study::holding_interrupts("bagdem calibrate", [&] { return study::calibrate_command(a.calibrate); });
+}
 
 }  // namespace bagdem::cli

@@ -41,6 +41,8 @@ CLI::App* add_characterize(CLI::App& app, Args& args) {
   return c;
 }
 
-int run_characterize(Args& a) { return study::characterize_command(a.characterize); }
+int run_characterize(Args& a) {
+  return study::holding_interrupts("bagdem characterize", [&] { return study::characterize_command(a.characterize); });
+}
 
 }  // namespace bagdem::cli

@@ -46,6 +46,8 @@ CLI::App* add_design(CLI::App& app, Args& args) {
   return c;
 }
 
-int run_design(Args& a) { return study::design_command(a.design); }
+int run_design(Args& a) {
+  return study::holding_interrupts("bagdem design", [&] { return study::design_command(a.design); });
+}
 
 }  // namespace bagdem::cli

@@ -114,7 +114,7 @@ int run_run(Args& a) {
   if (a.threads > 0) warn_threads_above_cores({a.threads});
   if (a.seeds > 1) {
     if (a.resume) throw InputError("--resume", "", "", "an ensemble resumes by itself: run the same command again (done starts are kept)");
-    return study::run_ensemble(a.case_dir, a.sets, a.seeds, a.out_dir, a.threads);
+    return study::holding_interrupts("bagdem run --seeds", [&] { return study::run_ensemble(a.case_dir, a.sets, a.seeds, a.out_dir, a.threads); });
   }
   const Scene s = load_case(a.case_dir, a.sets);
   for (const auto& w : s.warnings) std::cerr << "warning: " << w << "\n";

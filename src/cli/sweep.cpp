@@ -33,6 +33,8 @@ CLI::App* add_sweep(CLI::App& app, Args& args) {
   return s;
 }
 
-int run_sweep_command(Args& a) { return study::sweep_command(a.sweep); }
+int run_sweep_command(Args& a) {
+  return study::holding_interrupts("bagdem sweep", [&] { return study::sweep_command(a.sweep); });
+}
 
 }  // namespace bagdem::cli

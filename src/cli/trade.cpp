@@ -27,6 +27,8 @@ CLI::App* add_trade(CLI::App& app, Args& args) {
   return t;
 }
 
-int run_trade(Args& a) { return study::trade_command(a.trade); }
+int run_trade(Args& a) {
+  return study::holding_interrupts("bagdem trade", [&] { return study::trade_command(a.trade); });
+}
 
 }  // namespace bagdem::cli

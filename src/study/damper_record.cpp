@@ -20,6 +20,9 @@ namespace bagdem::study {
 namespace {
 
 const std::string kDefault = "(default) ";
+// Keys recorded since defaults were: a map whose record lacks one was made before, and is not
+// compared on it (its maps of the shipped cases stay theirs).
+const std::set<std::string> kRecordedLater = {"simulation.timestep_safety", "simulation.steps_per_contact", "simulation.expected_speed"};
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -38,7 +41,8 @@ DamperRecord damper_record(const Scene& scene) {
   DamperRecord r;
   auto given = [&](const std::string& key) { return r.count(key) && r[key].rfind(kDefault, 0) != 0; };  // by the case
   auto add = [&](const toml::node& n, const std::string& prefix) {
-    for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"})) r[key] = si_text(*leaf);
+    for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"}))  // a material is named, never a quantity ("4mm")
+      r[key] = ends_with(key, ".material") && leaf->is_string() ? leaf->as_string()->get() : si_text(*leaf);
   };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
     if (const toml::node* n = root.get(table)) add(*n, table);
@@ -60,6 +64,13 @@ DamperRecord damper_record(const Scene& scene) {
     if (const toml::node* n = sim->get("timestep"); n && n->value<std::string>().value_or("") != "auto") r["simulation.timestep"] = si_text(*n);
     if (const toml::node* n = sim->get("force_timestep"); n && n->value<bool>() == true) r["simulation.force_timestep"] = "true";
   }
+  // The automatic step's factors (kRecordedLater: a map recorded before them is not asked for them).
+  if (!r.count("simulation.timestep"))
+    for (const std::string& key : kRecordedLater) {
+      if (const toml::node* n = root.at_path(key).node()) r[key] = si_text(*n);
+      if (const auto d = scene.defaults.find(key); d != scene.defaults.end() && (!r.count(key) || r[key] == d->second))
+        r[key] = kDefault + d->second;
+    }
   // The materials the contents and the cavity name.
   std::set<std::string> used;
   for (const auto& [key, value] : r)
@@ -193,9 +204,10 @@ std::vector<std::string> damper_differences(const DamperRecord& map, const Dampe
   // A key at its default is the same as the key not set (a record made before defaults were
   // recorded) and as the key given at that value.
   auto value = [](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v; };
-  auto shown = [&](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? value(v) + " (its default)" : v; };
+  auto shown = [&](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? value(v) + " (the default)" : v; };
   for (const std::string& k : keys) {
     const auto a = map.find(k), b = case_record.find(k);
+    if (a == map.end() && kRecordedLater.count(k)) continue;
     if (a != map.end() && b != case_record.end() && value(a->second) == value(b->second)) continue;
     if ((a == map.end() && b->second.rfind(kDefault, 0) == 0) || (b == case_record.end() && a->second.rfind(kDefault, 0) == 0)) continue;
     const std::string x = a == map.end() ? "(not set)" : shown(a->second), y = b == case_record.end() ? "(not set)" : shown(b->second);

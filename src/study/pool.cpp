@@ -253,17 +253,20 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
     }
   };
   if (queue.empty()) return outcomes;
-  // SIGINT or SIGTERM: no point is started after it, the running ones are stopped (the Reaper; a
-  // point is started afresh when the study goes on), and the points done are kept.
+  // SIGINT or SIGTERM: no point is started after it, the points that ended well by then are kept,
+  // the running ones are stopped (the Reaper; each starts afresh when the study goes on).
   InterruptGuard guard;
+  auto stop_if_told = [&] {
+    if (const int sig = pending_interrupt())
+      throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
+                                 " of " + std::to_string(opt.total) + " points done and kept (each with its point.done), " +
+                                 std::to_string(running.size()) + " running stopped, nothing merged. The same command goes on where it "
+                                 "stopped (the stopped points start afresh)");
+  };
+  stop_if_told();
   fill();
   progress();
   while (!running.empty()) {
-    if (const int sig = pending_interrupt())
-      throw Interrupted(sig, plan.spec.command + " stopped by " + signal_name(sig) + ": " + std::to_string(done) + " of " +
-                                 std::to_string(opt.total) + " points done and kept (each with its point.done), " +
-                                 std::to_string(running.size()) + " running stopped, nothing merged. The same command goes on where it "
-                                 "stopped (the stopped points start afresh)");
     bool changed = false;
     for (std::size_t k = 0; k < running.size();) {
       int status = 0;
@@ -275,9 +278,12 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       if (r < 0) throw std::system_error(errno, std::generic_category(), "waitpid");
       const Child c = running[k];
       running.erase(running.begin() + static_cast<long>(k));
+      // A run the signal stopped too (Ctrl-C reaches the whole process group) is not a failure.
+      if (pending_interrupt() && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) continue;
       finish(c, status);
       changed = true;
     }
+    stop_if_told();
     if (changed) {
       fill();  // before the report, so that the line shows the pool as it now is
       progress();
@@ -286,6 +292,17 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
     }
   }
   return outcomes;
+}
+
+int holding_interrupts(const std::string& command, const std::function<int()>& body) {
+  InterruptGuard guard;
+  const int code = body();
+  if (const int sig = pending_interrupt(); sig && code < 128) {
+    std::fprintf(stderr, "%s stopped by %s, which came while it planned or wrote its tables: it finished writing them first (its "
+                 "outcome without the signal: exit %d)\n", command.c_str(), signal_name(sig), code);
+    return 128 + sig;
+  }
+  return code;
 }
 
 void run_share(const Plan& plan, const std::vector<bool>& done, const Budget& budget, const std::string& executable,

@@ -70,8 +70,10 @@ class CaseReader {
   // The TOML text of the case with overrides applied, then a comment line for each file it reads
   // ("# reads <key> = <fingerprint>").
   std::string text() const;
-  // Each key read with a default (given or not) -> that default in SI as text (si_text): a key
-  // given at its default value is the same damper as the key left out (a map's damper record).
+  // Each key read with a default (given or not; "auto" for quantity_or_auto) -> that default in SI
+  // as text (si_text): a key given at its default value is the same damper as the key left out (a
+  // map's damper record). Not a key whose presence the loader asks (has, is_string): its presence
+  // alone may change the scene (a saved bag is moved only when bag.centre is given).
   std::map<std::string, std::string> defaults() const;
 
  private:
@@ -87,6 +89,7 @@ class CaseReader {
   mutable std::set<std::string> asked_;  // keys asked for, present or not: the allowed keys
   mutable std::map<std::string, std::string> files_;  // file_path's fingerprints, by key
   mutable toml::table defaults_;                      // the defaults offered, by dotted key (a flat key each)
+  mutable std::set<std::string> presence_;            // keys whose presence was asked (has, is_string)
   template <class T>
   T defaulted(const std::string& key, const T& value) const;
 };

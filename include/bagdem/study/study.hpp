@@ -178,6 +178,12 @@ struct PointOutcome {
 // PR_SET_PDEATHSIG: they die with the sweep.
 std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::size_t>& todo, const PoolOptions& opt);
 
+// A study command's body with SIGINT and SIGTERM held (bagdem/interrupt.hpp): its points stop at
+// once (run_points throws Interrupted, which the body turns into 130 or 143), while a signal during
+// its planning or its merged tables waits until they are written whole; then it says so and
+// returns 128 + the signal. Otherwise the body's code.
+int holding_interrupts(const std::string& command, const std::function<int()>& body);
+
 // This rank's share of the plan (the points whose index mod `ranks` is `rank`): the points of it
 // not `done` run through run_points, budget.jobs at once with budget.threads threads each; a
 // resumed share says so on stderr (`prefix` first).

@@ -11,6 +11,7 @@
 
 #include "bagdem/case/case_reader.hpp"
 #include "bagdem/case/overrides.hpp"
+#include "bagdem/error.hpp"
 #include "support.hpp"
 
 using namespace bagdem;
@@ -91,4 +92,16 @@ TEST(Overrides, TheReaderRecordsTheDefaultsItOffers) {
   const std::map<std::string, std::string> expected = {
       {"bag.axis", "[1, 0, 0]"}, {"bag.gap", "0"}, {"bag.name", "0.004"}, {"bag.radius", "auto"}, {"bag.shrink", "1"}};
   EXPECT_EQ(in.defaults(), expected) << "(a name default is unit-parsed here; the damper record keeps a material's name as written)";
+}
+
+// --set "key = value", spaced as a case file and a study's `set` write it, is key=value (the key's
+// spaces were read as part of its name: "unknown key 'cavity.length '").
+TEST(Overrides, ASpacedSetIsTheKeyAndTheValue) {
+  bagdem::testing::TempDir t;
+  t.write("case.toml", "[cavity]\nlength = \"70 mm\"\n");
+  const CaseReader in((t.path / "case.toml").string(), {" cavity.length \t= \"80 mm\""});
+  EXPECT_DOUBLE_EQ(in.quantity("cavity.length", dim::length), 0.08);
+  EXPECT_NO_THROW(in.reject_unknown_keys());
+  for (const std::string bad : {" = 1", "=1", "  "})
+    EXPECT_THROW(CaseReader((t.path / "case.toml").string(), {bad}), InputError) << bad;
 }

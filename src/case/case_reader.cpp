@@ -121,10 +121,12 @@ CaseReader::CaseReader(const std::string& file, const std::vector<std::string>& 
     throw InputError(m.str());
   }
   for (const std::string& o : overrides) {
+    // "key = value" as a case file writes it is "key=value" (the key's spaces were part of its name).
     const auto eq = o.find('=');
-    if (eq == std::string::npos || eq == 0)
+    const auto first = o.find_first_not_of(" \t"), last = eq == std::string::npos ? eq : o.find_last_not_of(" \t", eq - 1);
+    if (eq == std::string::npos || first == eq || last == std::string::npos || last < first)
       throw InputError("--set " + o + ": expected key=value, e.g. --set particles.balls.count=200");
-    const std::string key = o.substr(0, eq), val = o.substr(eq + 1);
+    const std::string key = o.substr(first, last + 1 - first), val = o.substr(eq + 1);
     toml::table parsed;
     try {
       parsed = toml::parse("v = " + val);

@@ -58,8 +58,8 @@ DamperRecord damper_record(const Scene& scene) {
            key.rfind("cavity.motion", 0) != 0;
   });
   // A step the case fixes (a number, not "auto"; forced past the critical step or not): a map made at
-  // a fixed step serves no case at its own, nor the reverse. "auto" and its factors are left out, so
-  // that the maps of the automatic step made before this record stay the case's.
+  // a fixed step serves no case at its own, nor the reverse. "auto" is left out, so that the maps of
+  // the automatic step made before this record stay the case's; its factors follow.
   if (const toml::table* sim = root["simulation"].as_table()) {
     if (const toml::node* n = sim->get("timestep"); n && n->value<std::string>().value_or("") != "auto") r["simulation.timestep"] = si_text(*n);
     if (const toml::node* n = sim->get("force_timestep"); n && n->value<bool>() == true) r["simulation.force_timestep"] = "true";

@@ -6,7 +6,11 @@
 // are the same; a plain number is SI): every key of [bag], [particles] and [cavity] but its motion,
 // the [materials] they name, [interactions], simulation.gravity, and the direction the contents are
 // shaken in (primary.direction, or the cavity's harmonic motion), and a time step the case fixes
-// (simulation.timestep other than "auto", force_timestep when true). A bag filled to a mass ratio of a
+// (simulation.timestep other than "auto", force_timestep when true; at the automatic step its factors,
+// timestep_safety, steps_per_contact and expected_speed, compared only where the map's record holds
+// them). A key of those tables the case leaves out, or gives at its default value, is recorded as
+// "(default) VALUE" (CaseReader::defaults): the same damper as the key given at that value, or not
+// recorded at all (a map made before). A bag filled to a mass ratio of a
 // structure's mass records that mass as bag.balls.primary_mass, as the map's runs pin it. Where the
 // bag sits on the structure (primary.attach), the structure itself and the drive are not the
 // damper's: a map serves them all.

@@ -11,7 +11,7 @@ int g_depth = 0;  // guards alive: the outermost installs and restores
 // Records the signal, and gives both signals back their default action: a second one, of either
 // kind, ends the process at once.
 extern "C" void record_signal(int sig) {
-  g_signal = sig;
+  if (g_signal == 0) g_signal = sig;
   struct sigaction d {};
   d.sa_handler = SIG_DFL;
   sigemptyset(&d.sa_mask);
@@ -26,7 +26,9 @@ InterruptGuard::InterruptGuard() {
   g_signal = 0;
   struct sigaction a {};
   a.sa_handler = record_signal;
-  sigemptyset(&a.sa_mask);
+  sigemptyset(&a.sa_mask);  // the other signal waits while the handler runs (it gives both back their default)
+  sigaddset(&a.sa_mask, SIGINT);
+  sigaddset(&a.sa_mask, SIGTERM);
   a.sa_flags = SA_RESTART;  // writes go on
   sigaction(SIGINT, &a, &old_int_);
   sigaction(SIGTERM, &a, &old_term_);

@@ -53,6 +53,7 @@ TEST(Overrides, SetsKeyMatchesTheKeyOrAKeyInsideIt) {
   EXPECT_TRUE(sets_key("cavity.motion={kind=\"harmonic\"}", "cavity.motion"));
   EXPECT_TRUE(sets_key("cavity.motion.amplitude=\"1 mm\"", "cavity.motion"));
   EXPECT_TRUE(sets_key("simulation.duration = \"1 s\"", "simulation.duration"));
+  EXPECT_TRUE(sets_key(" \tsimulation.seed\t= 5", "simulation.seed")) << "spaced as CaseReader reads it";
   EXPECT_FALSE(sets_key("cavity.motions=1", "cavity.motion"));
   EXPECT_FALSE(sets_key("simulation.durationx=1", "simulation.duration"));
   EXPECT_FALSE(sets_key("output.skip_cycles=1", "simulation.duration"));

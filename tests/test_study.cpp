@@ -200,6 +200,13 @@ TEST(Study, ValuesGridOrderAndSiNumbers) {
   EXPECT_EQ(plan.point_dir(p), "/nowhere/out/point-005");
   spec.combine = study::Combine::zip;
   EXPECT_THROW(study::make_plan(spec), InputError);
+  // A set spaced as a case file writes it ("key = value", which the case reader applies) is refused
+  // as the same key: it passed as another key, and the study's own value silently won.
+  spec.combine = study::Combine::grid;
+  for (const std::string set : {" a.x = 3", "simulation.seed\t= 5"}) {
+    spec.sets = {set};
+    EXPECT_THROW(study::make_plan(spec), InputError) << set;
+  }
 }
 
 // A grid of 2 ball sizes x 2 force amplitudes: four points, each in its directory; the merged

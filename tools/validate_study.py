@@ -163,8 +163,12 @@ def table3_check(out, amplitude, zetas, seeds, jobs, docs):
                         "mae_db [dB]": f"{mae:.2f}", "max_abs_residual_db [dB]": f"{max(map(abs, done)):.2f}" if done else "nan",
                         "mean_residual_db [dB]": f"{sum(done) / len(done):+.2f}" if done else "nan"})
         print(f"Table 3, mode {mode} at {amplitude}, damping ratio {zeta}: MAE {mae:.2f} dB over {len(done)} figures", flush=True)
-    write_csv(os.path.join(docs, "table3-check.csv"), list(figures[0].keys()), figures)
-    write_csv(os.path.join(docs, "table3-check-summary.csv"), list(summary[0].keys()), summary)
+    # The modes not run now keep their rows of the files there (--table3-modes runs some of them).
+    for name, table in (("table3-check.csv", figures), ("table3-check-summary.csv", summary)):
+        path = os.path.join(docs, name)
+        kept = [r for r in rows(path) if int(r["mode [1]"]) not in zetas] if os.path.exists(path) else []
+        merged = sorted(kept + table, key=lambda r: int(r["mode [1]"]))
+        write_csv(path, list(table[0].keys()), merged)
 
 
 TABLE3_MAP = ["--gamma", "0.01,20", "--amplitudes", "6", "--frequencies", "4"]  # design's default grid, down to Gamma 0.01

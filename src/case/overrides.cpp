@@ -1,6 +1,7 @@
 // Overrides of case keys, built typed (case/overrides.hpp).
 #include "bagdem/case/overrides.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "bagdem/case/case_reader.hpp"
@@ -27,9 +28,10 @@ std::vector<std::string> keys::all_paths() {
 }
 
 bool sets_key(std::string_view set, std::string_view path) {
+  set.remove_prefix(std::min(set.size(), set.find_first_not_of(" \t")));  // " key = v" as CaseReader reads it
   if (set.substr(0, path.size()) != path) return false;
   const std::string_view rest = set.substr(path.size());
-  const std::size_t at = rest.find_first_not_of(' ');
+  const std::size_t at = rest.find_first_not_of(" \t");
   return at != std::string_view::npos && (rest[at] == '=' || rest[at] == '.');
 }
 

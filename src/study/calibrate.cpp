@@ -259,7 +259,7 @@ class Rounds {
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead; it sends no more
       } catch (const std::exception& e) {
         std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks_).c_str(), e.what());
-        ranks_.abort(1);  // the lead planned a round this rank cannot: the ranks see different files
+        ranks_.abort(exit_code_after_runs(e));  // the lead planned a round this rank cannot: the ranks see different files
       }
     }
     return ranks_.broadcast(0);

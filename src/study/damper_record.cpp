@@ -40,18 +40,19 @@ DamperRecord damper_record(const Scene& scene) {
   const toml::table root = toml::parse(scene.resolved);
   DamperRecord r;
   auto given = [&](const std::string& key) { return r.count(key) && r[key].rfind(kDefault, 0) != 0; };  // by the case
+  auto is_auto = [&](const std::string& key) { return !given(key) || r[key] == "auto"; };
   auto add = [&](const toml::node& n, const std::string& prefix) {
     for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"}))  // a material is named, never a quantity ("4mm")
       r[key] = ends_with(key, ".material") && leaf->is_string() ? leaf->as_string()->get() : si_text(*leaf);
   };
   for (const char* table : {"bag", "particles", "cavity", "interactions"})
     if (const toml::node* n = root.get(table)) add(*n, table);
-  // The keys of those tables read at their defaults, and the keys given at their default value: as
-  // "(default) VALUE", the same damper as the key left out (a map recorded before the defaults were)
-  // or given at that value (damper_differences).
+  // The keys of those tables the case leaves out, at their defaults: "(default) VALUE", the same
+  // damper as the key given at that value, and as the key not recorded (a map recorded before the
+  // defaults were: damper_differences). A seed's default is not the damper's (the map's runs vary it).
   auto defaults = [&](auto&& of_damper) {
     for (const auto& [key, value] : scene.defaults)
-      if (of_damper(key) && !ends_with(key, ".seed") && (!r.count(key) || r[key] == value)) r[key] = kDefault + value;
+      if (of_damper(key) && !ends_with(key, ".seed") && !r.count(key)) r[key] = kDefault + value;
   };
   defaults([](const std::string& key) {
     return (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("interactions.", 0) == 0 || key.rfind("cavity.", 0) == 0) &&
@@ -68,8 +69,7 @@ DamperRecord damper_record(const Scene& scene) {
   if (!r.count("simulation.timestep"))
     for (const std::string& key : kRecordedLater) {
       if (const toml::node* n = root.at_path(key).node()) r[key] = si_text(*n);
-      if (const auto d = scene.defaults.find(key); d != scene.defaults.end() && (!r.count(key) || r[key] == d->second))
-        r[key] = kDefault + d->second;
+      else if (const auto d = scene.defaults.find(key); d != scene.defaults.end()) r[key] = kDefault + d->second;
     }
   // The materials the contents and the cavity name.
   std::set<std::string> used;
@@ -99,8 +99,8 @@ DamperRecord damper_record(const Scene& scene) {
     if (b.film.bending_model == BendingModel::Quadratic) r["model.film.bending_model"] = "quadratic";
     // The radii "auto" are fractions of the mean edge, which the seed's fill moves: recorded as
     // those fractions, and not at all where the case gives a length (its key is in the record).
-    if (!given("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
-    if (!given("bag.film.self_radius")) r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
+    if (is_auto("bag.film.contact_radius")) r["model.film.contact_radius_per_edge"] = number(b.contact_radius / b.mean_edge);
+    if (is_auto("bag.film.self_radius")) r["model.film.self_radius_per_edge"] = number(b.self_radius / b.mean_edge);
   }
   for (std::size_t i = 0; i < scene.materials.size(); ++i)
     for (std::size_t j = i; j < scene.materials.size(); ++j) {
@@ -201,13 +201,22 @@ std::vector<std::string> damper_differences(const DamperRecord& map, const Dampe
   std::set<std::string> keys;
   for (const auto& [k, v] : map) keys.insert(k);
   for (const auto& [k, v] : case_record) keys.insert(k);
-  // A key at its default is the same as the key not set (a record made before defaults were
-  // recorded) and as the key given at that value.
+  // A key left out, at its default, is the same as the key given at that value, and as the key not
+  // recorded (a record made before defaults were, whose bagdem left it out too). A key given in one
+  // and not recorded in the other differs: that bagdem's default is not known.
   auto value = [](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v; };
   auto shown = [&](const std::string& v) { return v.rfind(kDefault, 0) == 0 ? value(v) + " (the default)" : v; };
+  // A radius given "auto" was recorded without its fraction of the edge before the fraction was
+  // recorded for it too: not compared where such a record lacks it.
+  auto auto_before = [](const DamperRecord& r, const std::string& k) {
+    if (k.rfind("model.film.", 0) != 0 || !ends_with(k, "_per_edge")) return false;
+    const auto radius = r.find("bag.film." + k.substr(11, k.size() - 11 - 9));
+    return radius != r.end() && radius->second == "auto";
+  };
   for (const std::string& k : keys) {
     const auto a = map.find(k), b = case_record.find(k);
     if (a == map.end() && kRecordedLater.count(k)) continue;
+    if ((a == map.end() && auto_before(map, k)) || (b == case_record.end() && auto_before(case_record, k))) continue;
     if (a != map.end() && b != case_record.end() && value(a->second) == value(b->second)) continue;
     if ((a == map.end() && b->second.rfind(kDefault, 0) == 0) || (b == case_record.end() && a->second.rfind(kDefault, 0) == 0)) continue;
     const std::string x = a == map.end() ? "(not set)" : shown(a->second), y = b == case_record.end() ? "(not set)" : shown(b->second);

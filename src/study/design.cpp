@@ -361,7 +361,7 @@ int design_command(const DesignArgs& a) {
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead
       } catch (const std::exception& e) {
         std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
-        ranks->abort(1);  // the lead sent a study this rank cannot plan: the ranks see different files
+        ranks->abort(exit_code_after_runs(e));  // the lead sent a study this rank cannot plan: the ranks see different files
       }
     }
     return ranks->broadcast(0);

@@ -109,14 +109,14 @@ void write_h5(const fs::path& path, const MapPlan& g, const std::vector<MapCell>
 
 void write_map(const std::string& out_dir, const MapPlan& grid, const std::vector<MapCell>& cells, const std::string& case_dir) {
   const fs::path out(out_dir);
-  // damper.toml (with map.csv's fingerprint) before map.csv takes its name: a map.csv is never
-  // without the record of its damper; stopped between the two, the record refuses the map.csv
-  // there (an earlier one), and characterize run again writes both.
+  // The map's files, then damper.toml (with map.csv's fingerprint), then the files take their names:
+  // a map.csv is never without the record of its damper; stopped between, the record refuses the
+  // map.csv there (an earlier one), and characterize run again writes them all.
   write_map_csv(out / "map.csv.new", cells);
+  write_json(out / "map.json.new", grid, cells, case_dir);
+  write_h5(out / "map.h5.new", grid, cells, case_dir);
   write_damper_record(out / "damper.toml", grid.damper, MapRecord{file_print(out / "map.csv.new"), grid.bands});
-  fs::rename(out / "map.csv.new", out / "map.csv");
-  write_json(out / "map.json", grid, cells, case_dir);
-  write_h5(out / "map.h5", grid, cells, case_dir);
+  for (const char* name : {"map.csv", "map.json", "map.h5"}) fs::rename(out / (std::string(name) + ".new"), out / name);
 }
 
 }  // namespace bagdem::study

@@ -86,7 +86,7 @@ std::string normal_set(const std::string& set, const std::string& where) {
   return trim(set.substr(0, eq)) + "=" + trim(set.substr(eq + 1));
 }
 
-std::string set_key(const std::string& set) { return set.substr(0, set.find('=')); }
+std::string set_key(const std::string& set) { return trim(set.substr(0, set.find('='))); }  // "key = v" as CaseReader reads it
 
 // Keys under [vary], flattened: "a.b.c" = [...] and a.b.c = [...] (nested tables) alike.
 void read_vary(const toml::table& t, const std::string& prefix, const std::string& file, std::vector<Varied>& out) {

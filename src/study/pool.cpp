@@ -256,11 +256,12 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   // SIGINT or SIGTERM: no point is started after it, the points that ended well by then are kept,
   // the running ones are stopped (the Reaper; each starts afresh when the study goes on).
   InterruptGuard guard;
+  std::size_t stopped = 0;  // runs the signal ended too (Ctrl-C reaches the whole process group)
   auto stop_if_told = [&] {
     if (const int sig = pending_interrupt())
       throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
                                  " of " + std::to_string(opt.total) + " points done and kept (each with its point.done), " +
-                                 std::to_string(running.size()) + " running stopped, nothing merged. The same command goes on where it "
+                                 std::to_string(running.size() + stopped) + " running stopped, nothing merged. The same command goes on where it "
                                  "stopped (the stopped points start afresh)");
   };
   stop_if_told();
@@ -278,8 +279,12 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       if (r < 0) throw std::system_error(errno, std::generic_category(), "waitpid");
       const Child c = running[k];
       running.erase(running.begin() + static_cast<long>(k));
-      // A run the signal stopped too (Ctrl-C reaches the whole process group) is not a failure.
-      if (pending_interrupt() && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) continue;
+      // A run the signal stopped too (Ctrl-C reaches the whole process group: 130 or 143) is not a failure.
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 0;
+      if (pending_interrupt() && (code == 130 || code == 143)) {
+        ++stopped;
+        continue;
+      }
       finish(c, status);
       changed = true;
     }
@@ -349,7 +354,7 @@ std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, con
   } catch (const std::exception& e) {
     if (ranks.size() == 1) throw;
     std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks).c_str(), e.what());
-    ranks.abort(1);
+    ranks.abort(exit_code_after_runs(e));
   }
   ranks.barrier();
   const std::vector<bool> finished = finished_points(plan);

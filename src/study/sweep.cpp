@@ -212,7 +212,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
-    if (ranks->size() > 1) ranks->abort(1);
+    if (ranks->size() > 1) ranks->abort(exit_code_after_runs(e));
     return exit_code_after_runs(e);
   }
 }

@@ -285,6 +285,8 @@ TEST(Faults, SigtermDuringAStudySaysWhatItKeptAndTheSameCommandGoesOn) {
   ASSERT_GE(done, 1u);
   EXPECT_NE(err.find("stopped by SIGTERM: " + std::to_string(done) + " of 3 points done and kept"), std::string::npos) << err;
   EXPECT_NE(err.find("The same command goes on"), std::string::npos) << err;
+  EXPECT_EQ(err.find("error:"), std::string::npos) << "a signal is not a fault: " << err;
+  EXPECT_NE(err.find("interrupted: "), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(c.out / "reduced.csv")) << "a stopped study merged its tables";
   const CmdResult again = c.run(study);
   ASSERT_EQ(again.code, 0) << again.err;

@@ -51,6 +51,9 @@ inline int exit_code_of(const std::exception& e) {
   return 1;
 }
 
+// How stderr names an error: "interrupted" for a signal (not a fault), else "error".
+inline const char* error_label(const std::exception& e) { return dynamic_cast<const Interrupted*>(&e) ? "interrupted" : "error"; }
+
 // The same once a study's runs have started, where bad input is no longer "nothing was run": 1.
 inline int exit_code_after_runs(const std::exception& e) {
   const int code = exit_code_of(e);

@@ -24,7 +24,7 @@ int run_reporting(const Command& c, Args& a) {
   try {
     return c.run(a);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "%s: %s\n", error_label(e), e.what());
     return exit_code_of(e);
   }
 }

@@ -258,7 +258,7 @@ class Rounds {
         run_round(plan, done, u_.budget, args_.executable, ranks_, prefix(round), nullptr);
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead; it sends no more
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks_).c_str(), e.what());
+        std::fprintf(stderr, "%s%s: %s\n", rank_prefix(ranks_).c_str(), error_label(e), e.what());
         ranks_.abort(exit_code_after_runs(e));  // the lead planned a round this rank cannot: the ranks see different files
       }
     }
@@ -335,7 +335,7 @@ int calibrate_command(const CalibrateArgs& args) {
   } catch (const Reported& e) {
     code = e.code;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "%s: %s\n", error_label(e), e.what());
     code = round == 0 && dynamic_cast<const InputError*>(&e) ? kExitInputError : exit_code_after_runs(e);  // bad input: nothing ran
   }
   ranks->broadcast(std::vector<double>{});  // no more rounds

@@ -360,7 +360,7 @@ int design_command(const DesignArgs& a) {
         }
       } catch (const RoundFailed&) {  // the lead's failure, said by the lead
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "%serror: %s\n", rank_prefix(*ranks).c_str(), e.what());
+        std::fprintf(stderr, "%s%s: %s\n", rank_prefix(*ranks).c_str(), error_label(e), e.what());
         ranks->abort(exit_code_after_runs(e));  // the lead sent a study this rank cannot plan: the ranks see different files
       }
     }
@@ -412,7 +412,7 @@ int design_command(const DesignArgs& a) {
                 a.dampers == 2 ? ", design-pairs.csv" : "", chosen.empty() ? "" : (", " + chosen).c_str());
     code = failed ? kExitRunError : 0;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "%s: %s\n", error_label(e), e.what());
     code = exit_code_of(e);
   }
   ranks->broadcast(std::vector<double>{});  // no more studies

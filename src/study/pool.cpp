@@ -353,7 +353,7 @@ std::vector<bool> run_round(const Plan& plan, const std::vector<bool>& done, con
     run_share(plan, done, budget, executable, ranks.rank(), ranks.size(), rank_prefix(ranks) + prefix);
   } catch (const std::exception& e) {
     if (ranks.size() == 1) throw;
-    std::fprintf(stderr, "%serror: %s\n", rank_prefix(ranks).c_str(), e.what());
+    std::fprintf(stderr, "%s%s: %s\n", rank_prefix(ranks).c_str(), error_label(e), e.what());
     ranks.abort(exit_code_after_runs(e));
   }
   ranks.barrier();

@@ -56,7 +56,7 @@ int reporting_errors(const std::function<int()>& body) {
   try {
     return body();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "%s: %s\n", error_label(e), e.what());
     return exit_code_of(e);
   }
 }
@@ -77,16 +77,16 @@ std::string rank_prefix(const Ranks& ranks) {
 
 int agreed(const Ranks& ranks, const std::function<int()>& body) {
   int failure = 0;
-  std::string message;
+  std::string message, label = "error";
   try {
     failure = body();
   } catch (const std::exception& e) {
-    failure = exit_code_of(e), message = e.what();
+    failure = exit_code_of(e), message = e.what(), label = error_label(e);
   }
   const bool lead = ranks.rank() == 0;
   const int lead_failure = ranks.broadcast(failure);
   if (!message.empty() && (lead || lead_failure == 0))
-    std::fprintf(stderr, "%serror: %s\n", lead ? "" : rank_prefix(ranks).c_str(), message.c_str());
+    std::fprintf(stderr, "%s%s: %s\n", lead ? "" : rank_prefix(ranks).c_str(), label.c_str(), message.c_str());
   return ranks.max(failure);
 }
 
@@ -211,7 +211,7 @@ int study_command(const std::function<StudySpec()>& read, bool check, const std:
     if (ranks->size() > 1) ranks->abort(2);
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%serror: %s\n", prefix.c_str(), e.what());
+    std::fprintf(stderr, "%s%s: %s\n", prefix.c_str(), error_label(e), e.what());
     if (ranks->size() > 1) ranks->abort(exit_code_after_runs(e));
     return exit_code_after_runs(e);
   }

@@ -420,7 +420,7 @@ int trade_command(const TradeArgs& args) {
                 ladder.size(), wall, plan.spec.out_dir.c_str());
     return failed ? kExitRunError : 0;
   } catch (const std::exception& e) {  // after the runs started: not "bad input, nothing run"
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "%s: %s\n", error_label(e), e.what());
     return exit_code_after_runs(e);
   }
 }

@@ -7,15 +7,19 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 int g_depth = 0;  // guards alive: the outermost installs and restores
+// A signal the process was started ignoring (a job started with `&` by a script, or under nohup, ignores
+// SIGINT) stays ignored: the guard neither catches it nor gives it the default action.
+bool g_ignored_int = false, g_ignored_term = false;
 
-// Records the signal, and gives both signals back their default action: a second one, of either
-// kind, ends the process at once.
+// Records the signal, and gives both signals back their default action (or their SIG_IGN): a second
+// one, of either kind, ends the process at once.
 extern "C" void record_signal(int sig) {
   if (g_signal == 0) g_signal = sig;
   struct sigaction d {};
-  d.sa_handler = SIG_DFL;
   sigemptyset(&d.sa_mask);
+  d.sa_handler = g_ignored_int ? SIG_IGN : SIG_DFL;
   sigaction(SIGINT, &d, nullptr);
+  d.sa_handler = g_ignored_term ? SIG_IGN : SIG_DFL;
   sigaction(SIGTERM, &d, nullptr);
 }
 
@@ -30,8 +34,12 @@ InterruptGuard::InterruptGuard() {
   sigaddset(&a.sa_mask, SIGINT);
   sigaddset(&a.sa_mask, SIGTERM);
   a.sa_flags = SA_RESTART;  // writes go on
-  sigaction(SIGINT, &a, &old_int_);
-  sigaction(SIGTERM, &a, &old_term_);
+  sigaction(SIGINT, nullptr, &old_int_);
+  sigaction(SIGTERM, nullptr, &old_term_);
+  g_ignored_int = old_int_.sa_handler == SIG_IGN;
+  g_ignored_term = old_term_.sa_handler == SIG_IGN;
+  if (!g_ignored_int) sigaction(SIGINT, &a, nullptr);
+  if (!g_ignored_term) sigaction(SIGTERM, &a, nullptr);
 }
 
 InterruptGuard::~InterruptGuard() {

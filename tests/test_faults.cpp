@@ -288,6 +288,17 @@ TEST(Faults, SigtermDuringAStudySaysWhatItKeptAndTheSameCommandGoesOn) {
   EXPECT_EQ(err.find("error:"), std::string::npos) << "a signal is not a fault: " << err;
   EXPECT_NE(err.find("interrupted: "), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(c.out / "reduced.csv")) << "a stopped study merged its tables";
+  // A start stopped while it ran says, last in its log, that the study runs it afresh.
+  std::size_t noted = 0;
+  for (const char* p : {"point-000", "point-001", "point-002"}) {
+    if (fs::exists(c.out / p / "point.done") || !fs::exists(c.out / p / "log.txt")) continue;
+    const std::string log = slurp(c.out / p / "log.txt");
+    EXPECT_NE(log.find(std::string("# bagdem run --seeds: ") + p + " stopped by SIGTERM with the study; the same command runs it afresh"),
+              std::string::npos) << log;
+    ++noted;
+  }
+  EXPECT_NE(err.find(", " + std::to_string(noted) + " running stopped"), std::string::npos) << "the starts noted are those stopped: " << err;
+  EXPECT_NE(err.find("run --seeds (" + c.out.string() + ") stopped by SIGTERM"), std::string::npos) << "named as the command it is: " << err;
   const CmdResult again = c.run(study);
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.err.find("resuming: " + std::to_string(done) + " of 3 points done by an earlier run, skipped"), std::string::npos) << again.err;

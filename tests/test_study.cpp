@@ -694,6 +694,30 @@ TEST(Study, MpiRanksSharePointsAndMergeTheSerialTable) {
 // A signal while a study plans or writes its merged tables waits until they are whole (it killed
 // the process by the default action, leaving a map.csv without its damper.toml): then the study
 // says so and exits 128 + the signal. The pool's own guard inside keeps the signal recorded.
+// A signal the process was started ignoring (a script's `cmd &` ignores SIGINT; nohup, SIGHUP) stays
+// ignored under the guard, and after the other signal, and afterwards.
+TEST(Study, ASignalTheProcessIgnoresStaysIgnoredUnderTheGuard) {
+  struct sigaction ignore {}, before {}, now {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGINT, &ignore, &before);
+  {
+    const InterruptGuard guard;
+    sigaction(SIGINT, nullptr, &now);
+    EXPECT_EQ(now.sa_handler, SIG_IGN);
+    raise(SIGINT);  // ignored: nothing recorded, and the process goes on
+    EXPECT_EQ(pending_interrupt(), 0);
+    raise(SIGTERM);  // caught, recorded; SIGINT is given back its SIG_IGN, not the default action
+    EXPECT_EQ(pending_interrupt(), SIGTERM);
+    sigaction(SIGINT, nullptr, &now);
+    EXPECT_EQ(now.sa_handler, SIG_IGN);
+    raise(SIGINT);  // still ignored: this test goes on
+  }
+  sigaction(SIGINT, nullptr, &now);
+  EXPECT_EQ(now.sa_handler, SIG_IGN);
+  sigaction(SIGINT, &before, nullptr);
+}
+
 TEST(Study, ASignalWhileAStudyWritesItsTablesWaitsForThemAndIsSaid) {
   ::testing::internal::CaptureStderr();
   bool finished = false;

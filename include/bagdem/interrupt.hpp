@@ -11,7 +11,8 @@
 namespace bagdem {
 
 // Installs the handlers for its lifetime (the previous ones are restored) and clears any signal
-// recorded before; inside another guard (a study's, around the pool's) it does nothing, so that
+// recorded before; a signal the process ignores (SIG_IGN, as a script's background job ignores
+// SIGINT) stays ignored; inside another guard (a study's, around the pool's) it does nothing, so that
 // a signal the outer one recorded is not lost.
 class InterruptGuard {
  public:

@@ -55,6 +55,7 @@ int run_ensemble(const std::string& case_dir, const std::vector<std::string>& se
   a.sets = sets;
   a.seeds = seeds;
   a.threads = threads;
+  a.command = "run --seeds";
   a.out = out.empty() ? (fs::path(case_dir) / "out").string() : out;
   const int code = sweep_command(a);
   if (code == 0) describe_ensemble(a.out, seeds);

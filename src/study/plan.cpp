@@ -247,6 +247,7 @@ StudySpec read_spec(const SweepArgs& a) {
   if (a.dir.empty()) throw InputError("bagdem sweep", "", "", "needs CASE_DIR or STUDY_DIR");
   const fs::path dir = fs::absolute(a.dir).lexically_normal();
   StudySpec s;
+  s.command = a.command;
   if (fs::is_regular_file(dir / "study.toml")) {
     s.source = (dir / "study.toml").string();
     read_study_file(dir / "study.toml", s);

@@ -177,6 +177,14 @@ Child start_point(const Plan& plan, std::size_t index, const PoolOptions& opt, c
   return c;
 }
 
+// A point the signal stopped: the last line of its log says that the study runs it afresh (its run may
+// have written "continue with --resume", which the study does not do: its directory is made anew).
+void note_stopped(const Plan& plan, const Child& c, int sig) {
+  std::ofstream log(fs::path(plan.point_dir(plan.points[c.index])) / "log.txt", std::ios::app);
+  log << "# bagdem " << plan.spec.command << ": " << plan.points[c.index].name << " stopped by " << signal_name(sig)
+      << " with the study; the same command runs it afresh (its checkpoint and partial results are not used)\n";
+}
+
 // A point's child ended with `status`: point.done when it exited 0, else the end of its log.
 PointOutcome finish_point(const Plan& plan, const Child& c, int status, const PoolOptions& opt, const std::string& host,
                           const std::string& prefix) {
@@ -256,13 +264,22 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   // SIGINT or SIGTERM: no point is started after it, the points that ended well by then are kept,
   // the running ones are stopped (the Reaper; each starts afresh when the study goes on).
   InterruptGuard guard;
-  std::size_t stopped = 0;  // runs the signal ended too (Ctrl-C reaches the whole process group)
+  std::vector<Child> stopped;  // runs the signal ended too (Ctrl-C reaches the whole process group)
   auto stop_if_told = [&] {
-    if (const int sig = pending_interrupt())
-      throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
-                                 " of " + std::to_string(opt.total) + " points done and kept (each with its point.done), " +
-                                 std::to_string(running.size() + stopped) + " running stopped, nothing merged. The same command goes on where it "
-                                 "stopped (the stopped points start afresh)");
+    const int sig = pending_interrupt();
+    if (sig == 0) return;
+    for (const Child& c : running) kill(c.pid, SIGKILL);
+    for (const Child& c : running) {
+      int st = 0;
+      waitpid(c.pid, &st, 0);
+      stopped.push_back(c);
+    }
+    running.clear();
+    for (const Child& c : stopped) note_stopped(plan, c, sig);
+    throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
+                               " of " + std::to_string(opt.total) + " points done and kept (each with its point.done), " +
+                               std::to_string(stopped.size()) + " running stopped, nothing merged. The same command goes on where it "
+                               "stopped (the stopped points start afresh)");
   };
   stop_if_told();
   fill();
@@ -282,7 +299,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       // A run the signal stopped too (Ctrl-C reaches the whole process group: 130 or 143) is not a failure.
       const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 0;
       if (pending_interrupt() && (code == 130 || code == 143)) {
-        ++stopped;
+        stopped.push_back(c);
         continue;
       }
       finish(c, status);

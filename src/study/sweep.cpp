@@ -91,7 +91,7 @@ int agreed(const Ranks& ranks, const std::function<int()>& body) {
 }
 
 int sweep_command(const SweepArgs& args) {
-  return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem sweep", nullptr);
+  return study_command([&] { return read_spec(args); }, args.check, args.executable, "bagdem " + args.command, nullptr);
 }
 
 namespace {

@@ -76,6 +76,7 @@ struct SweepArgs {
   int seeds = 0, jobs = 0, threads = 0, cores = 0;  // 0: not given
   std::string out;
   std::string executable = "/proc/self/exe";  // what runs the points (tests may point elsewhere)
+  std::string command = "sweep";              // the command as its messages name it ("run --seeds" for an ensemble)
 };
 
 // study.toml (when args.dir holds one) merged with the command line: --vary of a key the file

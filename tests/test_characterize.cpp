@@ -191,7 +191,7 @@ TEST(Characterize, ABallRollingOnAShakenFloorWeighsTwoSeventhsAndDissipatesNothi
   }
   for (const Other& o : {Other{"particles.ball.diameter=\"8 mm\"", "particles.ball.diameter is 0.01 in the map, 0.008 in the case"},
                          Other{"cavity.max=[\"20 mm\", \"12 mm\", \"10 mm\"]", "cavity.max is [0.02, 0.01, 0.01] in the map, [0.02, 0.012, 0.01]"},
-                         Other{"interactions.default.friction=0.5", "interactions.default.friction is 0.3 in the map, 0.5 in the case"}}) {
+                         Other{"interactions.default.friction=0.5", "(the law of steel on steel, from [interactions]): mu_s 0.3 in the map, mu_s 0.5 in the case"}}) {
     const auto r = predict({o.set});
     EXPECT_EQ(r.code, 2) << o.set << ": " << r.err << r.out;
     EXPECT_NE(r.err.find("characterised another damper than the case's"), std::string::npos) << r.err;
@@ -254,6 +254,57 @@ TEST(Characterize, TheDamperRecordNamesAMaterialNamedLikeAQuantity) {
       bagdem::study::damper_differences(made, bagdem::study::damper_record(bagdem::load_case(dir, {"materials.4mm.youngs_modulus=\"200 GPa\""})));
   ASSERT_FALSE(diff.empty());
   EXPECT_NE(diff[0].find("materials.4mm.youngs_modulus"), std::string::npos) << diff[0];
+}
+
+// One damper said in other words is the same damper: a pair's table named b-a for a-b, a law given
+// at its default, a pair of a material the damper does not use, an axis as "x" or as any vector
+// along x, the bag's strings in another order. A change of any of them is another damper.
+TEST(Characterize, OneDamperSaidOtherwiseIsTheSameDamper) {
+  namespace st = bagdem::study;
+  const std::string pipe = std::string(BAGDEM_SOURCE_DIR) + "/cases/pipe-beanbag";
+  const st::DamperRecord made = st::damper_record(bagdem::load_case(pipe));
+  const std::string tail = R"({at = "tail", anchor = ["-35 mm", "0 mm", "0 mm"], stiffness = "200 N/m", damping = "0.05 N s/m"})",
+                    head = R"({at = "head", anchor = ["35 mm", "0 mm", "0 mm"], stiffness = "200 N/m", damping = "0.05 N s/m"})";
+  // The pair's table of the balls on the film named ldpe-steel (its restitution 0.35: another damper).
+  std::string text = bagdem::testing::slurp(pipe + "/case.toml");
+  const std::size_t at = text.find("[interactions.steel-ldpe]");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 25, "[interactions.ldpe-steel]");
+  const bagdem::testing::TempDir renamed, changed;
+  renamed.write("case.toml", text);
+  const std::size_t e = text.find("restitution = 0.3", at);
+  ASSERT_NE(e, std::string::npos);
+  changed.write("case.toml", text.replace(e, 17, "restitution = 0.35"));
+  EXPECT_TRUE(st::damper_differences(made, st::damper_record(bagdem::load_case(renamed.str()))).empty());
+  const std::vector<std::string> law = st::damper_differences(made, st::damper_record(bagdem::load_case(changed.str())));
+  ASSERT_EQ(law.size(), 1u);
+  EXPECT_EQ(law[0].rfind("model.pair.ldpe/steel (the law of ldpe on steel, from [interactions]): e 0.3 in the map, e 0.35 in the case; damping ", 0), 0u)
+      << law[0];
+  const std::vector<std::vector<std::string>> same = {
+      {"interactions.default.law=\"hertz-mindlin\""},
+      {"materials.glass={density = \"2500 kg/m^3\", youngs_modulus = \"60 GPa\", poisson_ratio = 0.2}",
+       "interactions.glass-steel={restitution = 0.9}"},
+      {"cavity.axis=[1, 0, 0]"},
+      {"cavity.axis=[2.5, 0, 0]"},
+      {"bag.strings=[" + head + ", " + tail + "]"},
+  };
+  for (const std::vector<std::string>& sets : same) {
+    SCOPED_TRACE(sets[0]);
+    const st::DamperRecord other = st::damper_record(bagdem::load_case(pipe, sets));
+    const std::vector<std::string> d = st::damper_differences(made, other), back = st::damper_differences(other, made);
+    EXPECT_TRUE(d.empty()) << sets[0] << ": " << (d.empty() ? "" : d[0]);
+    EXPECT_TRUE(back.empty()) << sets[0] << ": " << (back.empty() ? "" : back[0]);
+  }
+  const std::string stiffer = R"({at = "head", anchor = ["35 mm", "0 mm", "0 mm"], stiffness = "300 N/m", damping = "0.05 N s/m"})";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> other = {
+      {{"cavity.axis=[1, 0.01, 0]"}, "cavity.axis is [1, 0, 0] in the map, [0.99995"},
+      {{"bag.strings=[" + tail + ", " + stiffer + "]"}, "bag.strings.1.stiffness is 200 in the map, 300 in the case"},
+  };
+  for (const auto& [sets, said] : other) {
+    const std::vector<std::string> d = st::damper_differences(made, st::damper_record(bagdem::load_case(pipe, sets)));
+    ASSERT_FALSE(d.empty()) << sets[0];
+    EXPECT_EQ(d[0].rfind(said, 0), 0u) << d[0];
+  }
 }
 
 TEST(Characterize, TheDamperRecordHoldsTheResolvedModelChoices) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -34,6 +35,80 @@ std::string number(double x) {
   return b;
 }
 
+// An axis as recorded ("x", "[2, 0, 0]", either as a default "(default) ..."), as its unit vector's
+// text; any other text as it is.
+std::string unit_axis(const std::string& recorded) {
+  const bool by_default = recorded.rfind(kDefault, 0) == 0;
+  const std::string v = by_default ? recorded.substr(kDefault.size()) : recorded;
+  Vec3 u = Vec3::Zero();
+  if (v == "x" || v == "y" || v == "z") u[v[0] - 'x'] = 1;
+  if (u.norm() == 0) {
+    double a = 0, b = 0, c = 0;
+    int end = 0;
+    if (std::sscanf(v.c_str(), "[%lf, %lf, %lf]%n", &a, &b, &c, &end) != 3 || end != static_cast<int>(v.size())) return recorded;
+    u = Vec3(a, b, c);
+    if (!(u.norm() > 0) || !u.allFinite()) return recorded;
+    u.normalize();
+  }
+  return (by_default ? kDefault : "") + "[" + number(u.x()) + ", " + number(u.y()) + ", " + number(u.z()) + "]";
+}
+
+// Two laws of one pair (model.pair.A/B: "LAW, e E, damping D, ..."), as the parts that differ:
+// "model.pair.A/B (the law of A on B, from [interactions]): e 0.3 in the map, 0.35 in the case".
+std::string law_difference(const std::string& key, const std::string& map, const std::string& case_law) {
+  auto parts = [](const std::string& law) {
+    std::vector<std::string> p;
+    for (std::size_t at = 0; at <= law.size();) {
+      const std::size_t cut = std::min(law.find(", ", at), law.size());
+      p.push_back(law.substr(at, cut - at));
+      at = cut + 2;
+    }
+    return p;
+  };
+  const std::vector<std::string> a = parts(map), b = parts(case_law);
+  const std::string pair = key.substr(11);
+  const std::size_t slash = pair.find('/');
+  std::string text = key + " (the law of " + pair.substr(0, slash) + " on " + pair.substr(slash + 1) + ", from [interactions])";
+  if (a.size() != b.size()) return text + " is " + map + " in the map, " + case_law + " in the case";
+  for (std::size_t i = 0, shown = 0; i < a.size(); ++i)
+    if (a[i] != b[i]) text += (shown++ ? "; " : ": ") + a[i] + " in the map, " + b[i] + " in the case";
+  return text;
+}
+
+// What a record says, with the ways of saying one damper made one (damper_differences):
+// - interactions.*: not compared. The resolved law of each pair of the damper's materials
+//   (model.pair.A/B, in every record that has model.*) decides, so [interactions.a-b] and
+//   [interactions.b-a], a law given at its default and a pair of an unused material are one damper.
+// - an axis (KEY.axis): "x", "y", "z" or a vector, as its unit vector.
+// - the bag's strings (bag.strings.N.*): in any order, each compared with its like.
+DamperRecord canonical(const DamperRecord& r) {
+  DamperRecord out;
+  std::map<std::string, DamperRecord> strings;  // N -> its keys
+  const std::string s_prefix = "bag.strings.";
+  for (const auto& [k, v] : r) {
+    if (k.rfind("interactions.", 0) == 0) continue;
+    if (k.rfind(s_prefix, 0) == 0) {
+      const std::size_t dot = k.find('.', s_prefix.size());
+      if (dot != std::string::npos) {
+        strings[k.substr(s_prefix.size(), dot - s_prefix.size())][k.substr(dot + 1)] = v;
+        continue;
+      }
+    }
+    out[k] = ends_with(k, ".axis") ? unit_axis(v) : v;
+  }
+  // Each string as the text of its keys (defaults as given), in that text's order.
+  std::vector<std::pair<std::string, const DamperRecord*>> order;
+  for (const auto& [n, keys] : strings) {
+    std::string text;
+    for (const auto& [field, v] : keys) text += field + "=" + (v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v) + ";";
+    order.emplace_back(text, &keys);
+  }
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t i = 0; i < order.size(); ++i)
+    for (const auto& [field, v] : *order[i].second) out[s_prefix + std::to_string(i) + "." + field] = v;
+  return out;
+}
+
 }  // namespace
 
 DamperRecord damper_record(const Scene& scene) {
@@ -45,7 +120,7 @@ DamperRecord damper_record(const Scene& scene) {
     for (const auto& [key, leaf] : toml_leaves(n, prefix, {"cavity.motion"}))  // a material is named, never a quantity ("4mm")
       r[key] = ends_with(key, ".material") && leaf->is_string() ? leaf->as_string()->get() : si_text(*leaf);
   };
-  for (const char* table : {"bag", "particles", "cavity", "interactions"})
+  for (const char* table : {"bag", "particles", "cavity"})  // the interactions: as the resolved laws, model.pair (below)
     if (const toml::node* n = root.get(table)) add(*n, table);
   // The keys of those tables the case leaves out, at their defaults: "(default) VALUE", the same
   // damper as the key given at that value, and as the key not recorded (a map recorded before the
@@ -55,7 +130,7 @@ DamperRecord damper_record(const Scene& scene) {
       if (of_damper(key) && !ends_with(key, ".seed") && !r.count(key)) r[key] = kDefault + value;
   };
   defaults([](const std::string& key) {
-    return (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("interactions.", 0) == 0 || key.rfind("cavity.", 0) == 0) &&
+    return (key.rfind("bag.", 0) == 0 || key.rfind("particles.", 0) == 0 || key.rfind("cavity.", 0) == 0) &&
            key.rfind("cavity.motion", 0) != 0;
   });
   // A step the case fixes (a number, not "auto"; forced past the critical step or not): a map made at
@@ -193,7 +268,8 @@ std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path
   return r;
 }
 
-std::vector<std::string> damper_differences(const DamperRecord& map, const DamperRecord& case_record) {
+std::vector<std::string> damper_differences(const DamperRecord& map_as_recorded, const DamperRecord& case_as_recorded) {
+  const DamperRecord map = canonical(map_as_recorded), case_record = canonical(case_as_recorded);
   std::vector<std::string> out;
   auto models = [](const DamperRecord& r) { return std::any_of(r.begin(), r.end(), [](const auto& kv) { return kv.first.rfind("model.", 0) == 0; }); };
   if (!models(map) && models(case_record))
@@ -219,6 +295,10 @@ std::vector<std::string> damper_differences(const DamperRecord& map, const Dampe
     if ((a == map.end() && auto_before(map, k)) || (b == case_record.end() && auto_before(case_record, k))) continue;
     if (a != map.end() && b != case_record.end() && value(a->second) == value(b->second)) continue;
     if ((a == map.end() && b->second.rfind(kDefault, 0) == 0) || (b == case_record.end() && a->second.rfind(kDefault, 0) == 0)) continue;
+    if (a != map.end() && b != case_record.end() && k.rfind("model.pair.", 0) == 0) {
+      out.push_back(law_difference(k, a->second, b->second));
+      continue;
+    }
     const std::string x = a == map.end() ? "(not set)" : shown(a->second), y = b == case_record.end() ? "(not set)" : shown(b->second);
     out.push_back(k + " is " + x + " in the map, " + y + " in the case");
   }

@@ -185,6 +185,24 @@ void note_stopped(const Plan& plan, const Child& c, int sig) {
       << " with the study; the same command runs it afresh (its checkpoint and partial results are not used)\n";
 }
 
+// The study stopped by signal sig: its running points killed and reaped, each stopped point's log
+// noted (note_stopped), and Interrupted thrown, saying what was kept.
+[[noreturn]] void stop_points(const Plan& plan, int sig, std::vector<Child>& running, std::vector<Child>& stopped, std::size_t done,
+                              std::size_t total) {
+  for (const Child& c : running) kill(c.pid, SIGKILL);
+  for (const Child& c : running) {
+    int st = 0;
+    waitpid(c.pid, &st, 0);
+    stopped.push_back(c);
+  }
+  running.clear();
+  for (const Child& c : stopped) note_stopped(plan, c, sig);
+  throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
+                             " of " + std::to_string(total) + " points done and kept (each with its point.done), " +
+                             std::to_string(stopped.size()) + " running stopped, nothing merged. The same command goes on where it "
+                             "stopped (the stopped points start afresh)");
+}
+
 // A point's child ended with `status`: point.done when it exited 0, else the end of its log.
 PointOutcome finish_point(const Plan& plan, const Child& c, int status, const PoolOptions& opt, const std::string& host,
                           const std::string& prefix) {
@@ -266,20 +284,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   InterruptGuard guard;
   std::vector<Child> stopped;  // runs the signal ended too (Ctrl-C reaches the whole process group)
   auto stop_if_told = [&] {
-    const int sig = pending_interrupt();
-    if (sig == 0) return;
-    for (const Child& c : running) kill(c.pid, SIGKILL);
-    for (const Child& c : running) {
-      int st = 0;
-      waitpid(c.pid, &st, 0);
-      stopped.push_back(c);
-    }
-    running.clear();
-    for (const Child& c : stopped) note_stopped(plan, c, sig);
-    throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
-                               " of " + std::to_string(opt.total) + " points done and kept (each with its point.done), " +
-                               std::to_string(stopped.size()) + " running stopped, nothing merged. The same command goes on where it "
-                               "stopped (the stopped points start afresh)");
+    if (const int sig = pending_interrupt()) stop_points(plan, sig, running, stopped, done, opt.total);
   };
   stop_if_told();
   fill();

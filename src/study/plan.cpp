@@ -404,7 +404,7 @@ std::string point_toml(const Plan& plan, const Point& p) {
   for (const std::string& line : p.scene) scene.push_back(line);
   t.insert("scene", scene);
   std::ostringstream s;
-  s << "# bagdem sweep: " << p.name << " of " << plan.points.size() << ". Written before its run; point.done beside it\n"
+  s << "# bagdem " << plan.spec.command << ": " << p.name << " of " << plan.points.size() << ". Written before its run; point.done beside it\n"
     << "# marks a run that exited 0. case_hash fingerprints the resolved case text (a changed case shows);\n"
     << "# scene is what `bagdem check` says of it (a bagdem with other defaults shows).\n"
     << toml::toml_formatter(t) << "\n";

@@ -158,7 +158,7 @@ Child start_point(const Plan& plan, std::size_t index, const PoolOptions& opt, c
   const std::string log = (dir / "log.txt").string();
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
   if (fd < 0) throw std::system_error(errno, std::generic_category(), "cannot write " + log);
-  std::string head = "# bagdem sweep: " + p.name + " on rank " + std::to_string(opt.rank) + " of " + std::to_string(opt.ranks) + " (" +
+  std::string head = "# bagdem " + plan.spec.command + ": " + p.name + " on rank " + std::to_string(opt.rank) + " of " + std::to_string(opt.ranks) + " (" +
                      host + "):";
   for (const std::string& a : args) head.append(" ").append(quoted(a));
   head += "\n";
@@ -185,15 +185,18 @@ void note_stopped(const Plan& plan, const Child& c, int sig) {
       << " with the study; the same command runs it afresh (its checkpoint and partial results are not used)\n";
 }
 
-// The study stopped by signal sig: its running points killed and reaped, each stopped point's log
-// noted (note_stopped), and Interrupted thrown, saying what was kept.
-[[noreturn]] void stop_points(const Plan& plan, int sig, std::vector<Child>& running, std::vector<Child>& stopped, std::size_t done,
-                              std::size_t total) {
+// The study stopped by signal sig: its running points killed and reaped (one that had exited 0 by
+// then is finished, and kept: `finish`), each stopped point's log noted (note_stopped), and
+// Interrupted thrown, saying what was kept (done: the points done by then).
+[[noreturn]] void stop_points(const Plan& plan, int sig, std::vector<Child>& running, std::vector<Child>& stopped, const std::size_t& done,
+                              std::size_t total, const std::function<void(const Child&, int)>& finish) {
   for (const Child& c : running) kill(c.pid, SIGKILL);
   for (const Child& c : running) {
     int st = 0;
-    waitpid(c.pid, &st, 0);
-    stopped.push_back(c);
+    while (waitpid(c.pid, &st, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(st) && WEXITSTATUS(st) == 0) finish(c, st);
+    else stopped.push_back(c);
   }
   running.clear();
   for (const Child& c : stopped) note_stopped(plan, c, sig);
@@ -215,7 +218,7 @@ PointOutcome finish_point(const Plan& plan, const Child& c, int status, const Po
   o.done = o.exit_code == 0;
   if (o.done) {
     std::ostringstream d;
-    d << "# bagdem sweep: the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
+    d << "# bagdem " << plan.spec.command << ": the run of " << p.name << " exited 0\nrank = " << opt.rank << "\nranks = " << opt.ranks << "\nhost = \"" << host
       << "\"\nwall_time = " << o.wall_seconds << "  # s\n" << point_tables_text(dir);
     write_atomically(dir / "point.done", d.str());
   } else {
@@ -284,7 +287,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   InterruptGuard guard;
   std::vector<Child> stopped;  // runs the signal ended too (Ctrl-C reaches the whole process group)
   auto stop_if_told = [&] {
-    if (const int sig = pending_interrupt()) stop_points(plan, sig, running, stopped, done, opt.total);
+    if (const int sig = pending_interrupt()) stop_points(plan, sig, running, stopped, done, opt.total, finish);
   };
   stop_if_told();
   fill();

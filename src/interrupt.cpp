@@ -7,7 +7,7 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 int g_depth = 0;  // guards alive: the outermost installs and restores
-// A signal the process was started ignoring (a job started with `&` by a script, or under nohup, ignores
+// A signal the process was started ignoring (a job that a non-interactive shell starts with `&` ignores
 // SIGINT) stays ignored: the guard neither catches it nor gives it the default action.
 bool g_ignored_int = false, g_ignored_term = false;
 

@@ -691,12 +691,11 @@ TEST(Study, MpiRanksSharePointsAndMergeTheSerialTable) {
 #endif
 }
 
-// A signal while a study plans or writes its merged tables waits until they are whole (it killed
-// the process by the default action, leaving a map.csv without its damper.toml): then the study
-// says so and exits 128 + the signal. The pool's own guard inside keeps the signal recorded.
 // A point whose run ends as the signal comes is kept: its point.done is written, the points not
 // started are not, and the study says how many it kept. The runs are a stand-in for `bagdem run`
-// that writes a table into its --out, signals the study and exits 0.
+// that writes a table into its --out, signals the study and exits 0: the pool reaps it before it
+// stops (the 50-ms poll finds it ended). A run that ends between that reaping and the stop's kill
+// is kept too (stop_points), a window too short to be timed by a test.
 TEST(Study, APointThatEndsAsTheSignalComesIsKept) {
   const bagdem::testing::TempDir t;
   t.write("fake-run", "#!/bin/sh\nwhile [ $# -gt 0 ]; do if [ \"$1\" = --out ]; then out=$2; fi; shift; done\n"
@@ -726,8 +725,8 @@ TEST(Study, APointThatEndsAsTheSignalComesIsKept) {
   EXPECT_FALSE(fs::exists(t.path / "out" / "point-001")) << "no point is started after the signal";
 }
 
-// A signal the process was started ignoring (a script's `cmd &` ignores SIGINT; nohup, SIGHUP) stays
-// ignored under the guard, and after the other signal, and afterwards.
+// A signal the process was started ignoring (a script's `cmd &` ignores SIGINT) stays ignored under
+// the guard, and after the other signal, and afterwards.
 TEST(Study, ASignalTheProcessIgnoresStaysIgnoredUnderTheGuard) {
   struct sigaction ignore {}, before {}, now {};
   ignore.sa_handler = SIG_IGN;
@@ -750,6 +749,9 @@ TEST(Study, ASignalTheProcessIgnoresStaysIgnoredUnderTheGuard) {
   sigaction(SIGINT, &before, nullptr);
 }
 
+// A signal while a study plans or writes its merged tables waits until they are whole (it killed
+// the process by the default action, leaving a map.csv without its damper.toml): then the study
+// says so and exits 128 + the signal. The pool's own guard inside keeps the signal recorded.
 TEST(Study, ASignalWhileAStudyWritesItsTablesWaitsForThemAndIsSaid) {
   ::testing::internal::CaptureStderr();
   bool finished = false;

@@ -86,6 +86,7 @@ std::vector<Interaction> resolve_interactions(const CaseReader& in, const std::v
     in.fail("interactions.default.restitution", "is required: the restitution of every pair not named otherwise");
   const Interaction def = read_interaction(in, "interactions.default", Interaction{});
   std::vector<Interaction> table(n * n, def);
+  std::vector<std::string> named(n * n);  // the table that set each pair: one per pair ([a-b] and [b-a] would overwrite each other)
   for (const auto& key : in.keys("interactions")) {
     if (key == "default") continue;
     bool found = false;
@@ -94,7 +95,11 @@ std::vector<Interaction> resolve_interactions(const CaseReader& in, const std::v
       const auto b = std::find(names.begin(), names.end(), key.substr(cut + 1));
       if (a == names.end() || b == names.end()) continue;
       const auto ia = static_cast<std::size_t>(a - names.begin()), ib = static_cast<std::size_t>(b - names.begin());
+      if (!named[ia * n + ib].empty())
+        in.fail("interactions." + key, "sets the pair " + *a + "-" + *b + " again (also [interactions." + named[ia * n + ib] +
+                                           "]): give one table per pair of materials");
       table[ia * n + ib] = table[ib * n + ia] = read_interaction(in, "interactions." + key, def);
+      named[ia * n + ib] = named[ib * n + ia] = key;
       found = true;
     }
     if (!found) in.fail("interactions." + key, "must be named \"<material>-<material>\" with materials from [materials], or \"default\"");

@@ -53,8 +53,9 @@ std::string unit_axis(const std::string& recorded) {
   return (by_default ? kDefault : "") + "[" + number(u.x()) + ", " + number(u.y()) + ", " + number(u.z()) + "]";
 }
 
-// Two laws of one pair (model.pair.A/B: "LAW, e E, damping D, ..."), as the parts that differ:
-// "model.pair.A/B (the law of A on B, from [interactions]): e 0.3 in the map, 0.35 in the case".
+// Two laws of one pair (model.pair.A/B: damper_record's "LAW, e E, damping D, ..."), as the parts
+// that differ: "model.pair.A/B (the law of A on B, from [interactions] and [materials]): e 0.3 in the
+// map, e 0.35 in the case".
 std::string law_difference(const std::string& key, const std::string& map, const std::string& case_law) {
   auto parts = [](const std::string& law) {
     std::vector<std::string> p;
@@ -66,9 +67,9 @@ std::string law_difference(const std::string& key, const std::string& map, const
     return p;
   };
   const std::vector<std::string> a = parts(map), b = parts(case_law);
-  const std::string pair = key.substr(11);
+  const std::string pair = key.substr(std::string("model.pair.").size());
   const std::size_t slash = pair.find('/');
-  std::string text = key + " (the law of " + pair.substr(0, slash) + " on " + pair.substr(slash + 1) + ", from [interactions])";
+  std::string text = key + " (the law of " + pair.substr(0, slash) + " on " + pair.substr(slash + 1) + ", from [interactions] and [materials])";
   if (a.size() != b.size()) return text + " is " + map + " in the map, " + case_law + " in the case";
   for (std::size_t i = 0, shown = 0; i < a.size(); ++i)
     if (a[i] != b[i]) text += (shown++ ? "; " : ": ") + a[i] + " in the map, " + b[i] + " in the case";
@@ -80,33 +81,40 @@ std::string law_difference(const std::string& key, const std::string& map, const
 //   (model.pair.A/B, in every record that has model.*) decides, so [interactions.a-b] and
 //   [interactions.b-a], a law given at its default and a pair of an unused material are one damper.
 // - an axis (KEY.axis): "x", "y", "z" or a vector, as its unit vector.
-// - the bag's strings (bag.strings.N.*): in any order, each compared with its like.
+// (The bag's strings: same_strings.)
 DamperRecord canonical(const DamperRecord& r) {
   DamperRecord out;
-  std::map<std::string, DamperRecord> strings;  // N -> its keys
-  const std::string s_prefix = "bag.strings.";
-  for (const auto& [k, v] : r) {
-    if (k.rfind("interactions.", 0) == 0) continue;
-    if (k.rfind(s_prefix, 0) == 0) {
-      const std::size_t dot = k.find('.', s_prefix.size());
-      if (dot != std::string::npos) {
-        strings[k.substr(s_prefix.size(), dot - s_prefix.size())][k.substr(dot + 1)] = v;
-        continue;
-      }
-    }
-    out[k] = ends_with(k, ".axis") ? unit_axis(v) : v;
-  }
-  // Each string as the text of its keys (defaults as given), in that text's order.
-  std::vector<std::pair<std::string, const DamperRecord*>> order;
-  for (const auto& [n, keys] : strings) {
-    std::string text;
-    for (const auto& [field, v] : keys) text += field + "=" + (v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v) + ";";
-    order.emplace_back(text, &keys);
-  }
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (std::size_t i = 0; i < order.size(); ++i)
-    for (const auto& [field, v] : *order[i].second) out[s_prefix + std::to_string(i) + "." + field] = v;
+  for (const auto& [k, v] : r)
+    if (k.rfind("interactions.", 0) != 0) out[k] = ends_with(k, ".axis") ? unit_axis(v) : v;
   return out;
+}
+
+const std::string kStrings = "bag.strings.";
+
+// The bag's strings (bag.strings.N.*), each as the text of its keys (defaults as their values),
+// sorted: two records with the same strings in another order give the same list.
+std::vector<std::string> strings_of(const DamperRecord& r) {
+  std::map<std::string, std::string> text;  // N -> its keys' text
+  for (const auto& [k, v] : r) {
+    if (k.rfind(kStrings, 0) != 0) continue;
+    const std::size_t dot = k.find('.', kStrings.size());
+    if (dot == std::string::npos) continue;
+    text[k.substr(kStrings.size(), dot - kStrings.size())] +=
+        k.substr(dot + 1) + "=" + (v.rfind(kDefault, 0) == 0 ? v.substr(kDefault.size()) : v) + ";";
+  }
+  std::vector<std::string> out;
+  for (const auto& [n, t] : text) out.push_back(t);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The bag's strings listed in another order are one damper: when the two records hold the same
+// strings, their keys are taken out of both. Otherwise they are compared as the case numbers them,
+// so that a refusal names each string by its own index.
+void same_strings(DamperRecord& a, DamperRecord& b) {
+  if (strings_of(a) != strings_of(b)) return;
+  for (DamperRecord* r : {&a, &b})
+    for (auto it = r->begin(); it != r->end();) it = it->first.rfind(kStrings, 0) == 0 ? r->erase(it) : std::next(it);
 }
 
 }  // namespace
@@ -269,7 +277,8 @@ std::optional<DamperRecord> read_damper_record(const std::filesystem::path& path
 }
 
 std::vector<std::string> damper_differences(const DamperRecord& map_as_recorded, const DamperRecord& case_as_recorded) {
-  const DamperRecord map = canonical(map_as_recorded), case_record = canonical(case_as_recorded);
+  DamperRecord map = canonical(map_as_recorded), case_record = canonical(case_as_recorded);
+  same_strings(map, case_record);
   std::vector<std::string> out;
   auto models = [](const DamperRecord& r) { return std::any_of(r.begin(), r.end(), [](const auto& kv) { return kv.first.rfind("model.", 0) == 0; }); };
   if (!models(map) && models(case_record))

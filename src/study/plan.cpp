@@ -244,7 +244,7 @@ std::vector<Value> parse_value_list(const std::string& list) {
 }
 
 StudySpec read_spec(const SweepArgs& a) {
-  if (a.dir.empty()) throw InputError("bagdem sweep", "", "", "needs CASE_DIR or STUDY_DIR");
+  if (a.dir.empty()) throw InputError("bagdem " + a.command, "", "", "needs CASE_DIR or STUDY_DIR");
   const fs::path dir = fs::absolute(a.dir).lexically_normal();
   StudySpec s;
   s.command = a.command;

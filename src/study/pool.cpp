@@ -119,7 +119,7 @@ pid_t spawn(const std::string& executable, const std::vector<std::string>& args,
     if (close_range(3, ~0U, 0) != 0)
       for (int fd = 3; fd < 1024; ++fd) close(fd);
     execv(executable.c_str(), argv.data());
-    static const char msg[] = "bagdem sweep: cannot execute the bagdem binary\n";
+    static const char msg[] = "bagdem: a study cannot execute the bagdem binary\n";
     const ssize_t ignored = write(2, msg, sizeof msg - 1);
     (void)ignored;
     _exit(127);
@@ -133,16 +133,26 @@ struct Child {
   Clock::time_point start;
 };
 
+// Kills the children still running and reaps them, each taken out of `running` as it is reaped (its
+// pid is then free for another process). reaped(child, status), when given, is told of each:
+// status is -1 if waitpid failed (no status known).
+void kill_and_reap(std::vector<Child>& running, const std::function<void(const Child&, int)>& reaped = nullptr) {
+  for (const Child& c : running) kill(c.pid, SIGKILL);
+  while (!running.empty()) {
+    const Child c = running.back();
+    int st = 0;
+    pid_t r;
+    do r = waitpid(c.pid, &st, 0);
+    while (r < 0 && errno == EINTR);
+    running.pop_back();
+    if (reaped) reaped(c, r == c.pid ? st : -1);
+  }
+}
+
 // Kills and reaps the children still running if run_points leaves by an exception.
 struct Reaper {
   std::vector<Child>& running;
-  ~Reaper() {
-    for (const Child& c : running) {
-      kill(c.pid, SIGKILL);
-      int st = 0;
-      waitpid(c.pid, &st, 0);
-    }
-  }
+  ~Reaper() { kill_and_reap(running); }
 };
 
 // A point started: its directory made afresh (whatever an interrupted run left is not trusted),
@@ -180,7 +190,11 @@ Child start_point(const Plan& plan, std::size_t index, const PoolOptions& opt, c
 // A point the signal stopped: the last line of its log says that the study runs it afresh (its run may
 // have written "continue with --resume", which the study does not do: its directory is made anew).
 void note_stopped(const Plan& plan, const Child& c, int sig) {
-  std::ofstream log(fs::path(plan.point_dir(plan.points[c.index])) / "log.txt", std::ios::app);
+  const fs::path path = fs::path(plan.point_dir(plan.points[c.index])) / "log.txt";
+  char last = '\n';
+  if (std::ifstream in(path, std::ios::binary); in.seekg(-1, std::ios::end)) in.get(last);
+  std::ofstream log(path, std::ios::app);
+  if (last != '\n') log << "\n";  // a run killed in the middle of a line
   log << "# bagdem " << plan.spec.command << ": " << plan.points[c.index].name << " stopped by " << signal_name(sig)
       << " with the study; the same command runs it afresh (its checkpoint and partial results are not used)\n";
 }
@@ -190,15 +204,11 @@ void note_stopped(const Plan& plan, const Child& c, int sig) {
 // Interrupted thrown, saying what was kept (done: the points done by then).
 [[noreturn]] void stop_points(const Plan& plan, int sig, std::vector<Child>& running, std::vector<Child>& stopped, const std::size_t& done,
                               std::size_t total, const std::function<void(const Child&, int)>& finish) {
-  for (const Child& c : running) kill(c.pid, SIGKILL);
-  for (const Child& c : running) {
-    int st = 0;
-    while (waitpid(c.pid, &st, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFEXITED(st) && WEXITSTATUS(st) == 0) finish(c, st);
+  std::vector<std::pair<Child, int>> ended;  // finished after the kill and reap, which never throw
+  kill_and_reap(running, [&](const Child& c, int st) { ended.emplace_back(c, st); });
+  for (const auto& [c, st] : ended)
+    if (st >= 0 && WIFEXITED(st) && WEXITSTATUS(st) == 0) finish(c, st);
     else stopped.push_back(c);
-  }
-  running.clear();
   for (const Child& c : stopped) note_stopped(plan, c, sig);
   throw Interrupted(sig, plan.spec.command + " (" + plan.spec.out_dir + ") stopped by " + signal_name(sig) + ": " + std::to_string(done) +
                              " of " + std::to_string(total) + " points done and kept (each with its point.done), " +
@@ -283,7 +293,7 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
   };
   if (queue.empty()) return outcomes;
   // SIGINT or SIGTERM: no point is started after it, the points that ended well by then are kept,
-  // the running ones are stopped (the Reaper; each starts afresh when the study goes on).
+  // the running ones are stopped (stop_points; each starts afresh when the study goes on).
   InterruptGuard guard;
   std::vector<Child> stopped;  // runs the signal ended too (Ctrl-C reaches the whole process group)
   auto stop_if_told = [&] {
@@ -304,9 +314,10 @@ std::vector<PointOutcome> run_points(const Plan& plan, const std::vector<std::si
       if (r < 0) throw std::system_error(errno, std::generic_category(), "waitpid");
       const Child c = running[k];
       running.erase(running.begin() + static_cast<long>(k));
-      // A run the signal stopped too (Ctrl-C reaches the whole process group: 130 or 143) is not a failure.
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 0;
-      if (pending_interrupt() && (code == 130 || code == 143)) {
+      // A run the signal stopped too (Ctrl-C reaches the whole process group: it exits 130 or 143, or
+      // dies by the signal itself before its own guard is up) is not a failure.
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 0;
+      if (pending_interrupt() && (code == 128 + SIGINT || code == 128 + SIGTERM)) {
         stopped.push_back(c);
         continue;
       }

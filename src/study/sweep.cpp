@@ -131,12 +131,13 @@ int merge_points(const Plan& plan, const std::vector<bool>& finished, std::chron
   const std::vector<std::string> written = merge_tables(plan, finished);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (failed.empty()) {
-    std::printf("sweep complete: %zu points done, %.1f s wall -> %s\n", plan.points.size(), wall, plan.spec.out_dir.c_str());
+    std::printf("%s complete: %zu points done, %.1f s wall -> %s\n", plan.spec.command.c_str(), plan.points.size(), wall,
+                plan.spec.out_dir.c_str());
   } else {
     std::string list;
     for (std::size_t k = 0; k < failed.size() && k < 10; ++k) list += (k ? ", " : "") + failed[k];
     if (failed.size() > 10) list += ", ...";
-    std::printf("sweep finished with %zu failed point%s of %zu (%s: see %s log.txt), %.1f s wall -> %s\n", failed.size(),
+    std::printf("%s finished with %zu failed point%s of %zu (%s: see %s log.txt), %.1f s wall -> %s\n", plan.spec.command.c_str(), failed.size(),
                 failed.size() > 1 ? "s" : "", plan.points.size(), list.c_str(), failed.size() > 1 ? "their" : "its", wall,
                 plan.spec.out_dir.c_str());
     code = kExitRunError;

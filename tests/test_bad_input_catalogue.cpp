@@ -181,6 +181,12 @@ const std::vector<BadCase>& bad_cases() {
       {"frequency 1e300 Hz", Base::sdof, "frequency = \"25 Hz\"", "frequency = \"1e300 Hz\"", {},
        {"'excitation.frequency'", "\"1e300 Hz\"", "at least 8 steps per cycle"}},
       {"frequency nan", Base::sdof, "frequency = \"25 Hz\"", "frequency = nan", {}, {"'excitation.frequency'", "nan", "finite"}},
+      {"a sweep's frequency twice", Base::sdof, "kind = \"harmonic\"\namplitude = \"5 N\"\nfrequency = \"25 Hz\"",
+       "kind = \"stepped-sine\"\namplitude = \"5 N\"\nfrequencies = [\"20 Hz\", \"25 Hz\", 25]", {},
+       {"'excitation.frequencies'", "gives 25 Hz twice", "each frequency once"}},
+      {"a sweep's band of one frequency in 3 points", Base::sdof, "kind = \"harmonic\"\namplitude = \"5 N\"\nfrequency = \"25 Hz\"",
+       "kind = \"stepped-sine\"\namplitude = \"5 N\"\nband = [\"25 Hz\", \"25 Hz\"]\npoints = 3", {},
+       {"'excitation.band'", "gives 25 Hz twice", "points = 1"}},
       // [bag] (the shipped bean bag)
       {"balls 0", Base::bag, "", "", {"bag.balls.count=0"}, {"'bag.balls.count'", "= 0:", "[1, 1e7]"}},
       {"film thickness inf", Base::bag, "", "", {"bag.film.thickness=inf"}, {"'bag.film.thickness'", "inf", "finite"}},

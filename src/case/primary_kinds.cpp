@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/structure/excitation.hpp"
 #include "bagdem/structure/modal_table.hpp"
 #include "bagdem/structure/modes.hpp"
@@ -296,6 +297,14 @@ std::shared_ptr<Primary::SteppedSine> stepped_sine(const CaseReader& in, const P
   if (f.empty()) in.fail("excitation", "the sweep has no frequencies");
   for (double x : f)
     if (!(x > 0)) in.fail("excitation.frequencies", "must all be > 0 (Hz)");
+  // One response per frequency: the peak search would take either of two at one frequency.
+  std::vector<double> sorted = f;
+  std::sort(sorted.begin(), sorted.end());
+  if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end()) {
+    const char* key = has_list ? "excitation.frequencies" : has_band ? "excitation.band" : "excitation.around_modes";
+    in.fail(key, "gives " + short_text(*twice) + " Hz twice: a sweep visits each frequency once" +
+                     (has_band ? " (a band of lo = hi has one point: points = 1)" : has_modes ? " (name each mode once)" : ""));
+  }
   sw->frequencies = f;
   sw->tolerance = in.quantity("excitation.steady_tolerance", dim::none, 0.01);
   if (!(sw->tolerance > 0)) in.fail("excitation.steady_tolerance", "must be > 0");

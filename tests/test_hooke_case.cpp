@@ -214,8 +214,9 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   // run's results, a file of the user's, a directory, a device. Both used to replace any path.
   EXPECT_EQ(cli({"export", out}).code, 0);
   EXPECT_EQ(cli({"modes", c, "--to", table.string()}).code, 0);
-  const fs::path results = fs::path(out) / "results.h5", mine = fs::path(out) / "notes.csv";
+  const fs::path results = fs::path(out) / "results.h5", mine = fs::path(out) / "notes.csv", measured = fs::path(out) / "measured.csv";
   std::ofstream(mine) << "my,own\n1,2\n";
+  std::ofstream(measured) << "frequency [Hz],measured_amplitude [m]\n30,0.00123\n";  // a table of the user's with units in its head
   const std::string before = slurp(results);
   for (const auto& [args, says] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"modes", c, "--to", results.string()}, "holds a file that is not a table of modes bagdem wrote"},
@@ -225,13 +226,17 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
            {{"modes", c, "--to", out}, "is a directory"},
            {{"modes", c, "--to", "/dev/null"}, "is not a regular file"},
            {{"export", out, "--to", (fs::path(out) / "results").string()}, "holds a file that is not an export bagdem wrote (export.h5)"},
-           {{"export", out, "--to", (fs::path(out) / "notes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"}}) {
+           {{"export", out, "--to", (fs::path(out) / "notes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"},
+           {{"export", out, "--to", (fs::path(out) / "measured").string(), "--formats", "csv"},
+            "holds a file that is not an export bagdem wrote (export.csv)"},
+           {{"export", out, "--to", (table.parent_path() / "modes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"}}) {
     const CmdResult r = cli(args);
     EXPECT_EQ(r.code, 2) << args[0] << " " << args.back() << ": " << r.err;
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
   }
   EXPECT_EQ(slurp(results), before);
   EXPECT_EQ(slurp(mine), "my,own\n1,2\n");
+  EXPECT_EQ(slurp(measured), "frequency [Hz],measured_amplitude [m]\n30,0.00123\n");
 
   // A damaged reduced.csv is refused, not exported with strings in number columns; a byte-order
   // mark is read.
@@ -359,8 +364,10 @@ TEST_F(HookeCase, CharacterizePredictDesign) {
   for (std::size_t i = 0; i < m.rows.size(); ++i)
     EXPECT_NEAR(number(m, i, "M_eff_ratio"), 2.0 / 7.0, 1e-3 * 2.0 / 7.0) << "rolling without slip, cell " << i;
   const std::string damper = slurp(map / "damper.toml");
-  EXPECT_NE(damper.find("'interactions.default.law' = 'hooke'"), npos) << damper;
-  EXPECT_NE(damper.find("'interactions.default.stiffness' = '1000000'"), npos) << damper;
+  // The pair's law as resolved (its [interactions] table is not recorded: the law stands for it).
+  const std::size_t law = damper.find("'model.pair.steel/steel' = 'hooke, ");
+  ASSERT_NE(law, npos) << damper;
+  EXPECT_NE(damper.substr(law, damper.find('\n', law) - law).find(", stiffness 1000000,"), npos) << damper;
 
   const fs::path p = at("floor") / "predict";
   const CmdResult pr = cli({"predict", c, "--map", map.string(), "--out", p.string()});
@@ -373,7 +380,9 @@ TEST_F(HookeCase, CharacterizePredictDesign) {
   const CmdResult other = cli({"predict", c, "--map", map.string(), "--out", p.string(), "--set",
                                   "interactions.default.stiffness=\"2e6 N/m\""});
   EXPECT_EQ(other.code, 2) << other.err;
-  EXPECT_NE(other.err.find("interactions.default.stiffness is 1000000 in the map"), npos) << other.err;
+  EXPECT_NE(other.err.find("model.pair.steel/steel (the law of steel on steel, from [interactions] and [materials]): stiffness 1000000 in "
+                           "the map, stiffness 2000000 in the case"),
+            npos) << other.err;
 
   const fs::path d = at("floor") / "design";
   const CmdResult de = cli({"design", c, "--vary", "particles.ball.diameter=\"6 mm\",\"8 mm\"", "--budget", "0.15", "--gamma",

@@ -153,7 +153,13 @@ bool earlier_export(const fs::path& path, const std::string& head) {
   if (name.find("_ensemble.") != std::string::npos) return false;
   for (const char* own : {"reduced", "sweep", "peaks", "compare", "bare_curve", "drop", "drop_result", "map", "design", "calibrate", "trade"})
     if (name == std::string(own) + ".csv" || name == std::string(own) + ".json") return false;
-  if (path.extension() == ".csv") return is_bagdem_table_head(head) && head.find("displacement_re [") == std::string::npos;
+  // An export's table: the reduced quantities (M_eff, Cb_over_Mbw, ...) without a run's raw columns.
+  // A table of another kind whose head has units ("frequency [Hz],amplitude [m]") is not one.
+  if (path.extension() == ".csv") {
+    const std::string line = "," + head.substr(0, head.find('\n'));
+    return is_bagdem_table_head(head) && line.find(",M_eff [") != std::string::npos && line.find(",Cb_over_Mbw [") != std::string::npos &&
+           line.find(",displacement_re [") == std::string::npos;
+  }
   if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
   if (head.rfind("\x89HDF\r\n\x1a\n", 0) != 0) return false;
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);

@@ -173,8 +173,35 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
   EXPECT_LT(e_drop, 1.0);
   EXPECT_GT(read_text_table(fs::path(out) / "drop.csv").rows.size(), 100u) << "the impact's time series";
 
+  // A drop test is attached only to a run of its own case: one of another case (here another
+  // restitution), or an edited one, is refused, the run's tables untouched; one without its record
+  // (an earlier bagdem's) is attached with a warning.
+  {
+    const fs::path d = fs::path(out) / "drop_result.csv", record = fs::path(out) / "drop_result.toml";
+    const std::string own = slurp(d), own_record = slurp(record), reduced_before = slurp(fs::path(out) / "reduced.csv");
+    ASSERT_NE(own_record.find("csv = "), npos) << own_record;
+    ASSERT_EQ(cli({"drop", c, "--out", out, "--threads", "1", "--set", "interactions.default.restitution=0.9"}).code, 0);
+    CmdResult r = cli({"reduce", c, "--out", out});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("is the drop test of another case than this run's (interactions.default.restitution"), npos) << r.err;
+    EXPECT_EQ(slurp(fs::path(out) / "reduced.csv"), reduced_before);
+    std::ofstream(d) << own, std::ofstream(record) << own_record;
+    std::string edited = own;
+    edited[edited.rfind('0')] = '1';
+    std::ofstream(d) << edited;
+    r = cli({"reduce", c, "--out", out});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("is not the table bagdem drop wrote"), npos) << r.err;
+    std::ofstream(d) << own;
+    fs::remove(record);
+    r = cli({"reduce", c, "--out", out});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("has no drop_result.toml (a drop test of an earlier bagdem): its e is attached unchecked"), npos) << r.err;
+    std::ofstream(record) << own_record;
+  }
   const CmdResult reduce = cli({"reduce", c, "--out", out});
   ASSERT_EQ(reduce.code, 0) << reduce.err;
+  EXPECT_EQ(reduce.err.find("warning"), npos) << reduce.err;
   const TextTable reduced = read_text_table(fs::path(out) / "reduced.csv");
   ASSERT_EQ(reduced.rows.size(), points) << "a row per swept frequency";
   for (std::size_t i = 0; i < reduced.rows.size(); ++i) {

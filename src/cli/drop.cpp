@@ -41,7 +41,7 @@ int run_drop(Args& a) {
   const Scene s = load_case(a.case_dir, a.sets);
   const OutputLock lock(a.out());
   const DropResult d = run_drop_test(s, a.drop_speed, a.out(), false);
-  write_drop_result(std::filesystem::path(a.out()) / "drop_result.csv", d);
+  write_drop_result(std::filesystem::path(a.out()) / "drop_result.csv", d, s);
   std::printf("e_drop = %.4f (launched at %.4g m/s: approach %.4g m/s, rebound %.4g m/s, peak force %.4g N, contact %.4g ms)\n",
               d.restitution, d.speed, d.v_before, d.v_after, d.peak_force, 1e3 * d.duration);
   return 0;

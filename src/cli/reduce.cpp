@@ -20,7 +20,7 @@ int run_reduce(Args& a) {
   const Scene s = load_case(a.case_dir, a.sets);
   refuse_several_dampers(s, "bagdem reduce", "reduces the case's own damper's results.h5 (the others' are in OUT/dampers)");
   std::vector<ReducedRow> rows = reduce_run(s, a.out());
-  attach_drop_result(rows, a.out());
+  attach_drop_result(rows, a.out(), s);
   std::printf("%s%s", describe_reduced(rows).c_str(), describe_restitution(rows).c_str());
   return 0;
 }

@@ -1,10 +1,12 @@
 // Reduction of a run to the damper's effective parameters (reduce/reduce.hpp).
 #include "bagdem/reduce/reduce.hpp"
+#include "bagdem/reduce/drop_record.hpp"
 
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -423,9 +425,11 @@ std::string describe_restitution(const std::vector<ReducedRow>& rows) {
   return o.str();
 }
 
-void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir) {
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir, const Scene& scene) {
   const fs::path p = fs::path(out_dir) / "drop_result.csv";
   if (!fs::exists(p)) return;
+  if (!check_drop_record(p, scene))
+    std::fprintf(stderr, "warning: %s has no drop_result.toml (a drop test of an earlier bagdem): its e is attached unchecked\n", p.c_str());
   const std::vector<std::vector<double>> v = read_table_csv(p, {{"restitution", "1"}});
   if (v.empty()) return;
   for (ReducedRow& r : rows) {

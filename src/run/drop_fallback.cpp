@@ -21,7 +21,7 @@ std::string drop_where_no_restitution(const Scene& scene, std::vector<ReducedRow
   } catch (const RunError& e) {
     return e.what();
   }
-  write_drop_result(out_dir / "drop_result.csv", d);
+  write_drop_result(out_dir / "drop_result.csv", d, scene);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (ReducedRow& r : rows) {
     r.e_drop = d.restitution;

@@ -1,5 +1,6 @@
 // Drop test of the bag (run/drop_test.hpp).
 #include "bagdem/run/drop_test.hpp"
+#include "bagdem/reduce/drop_record.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -213,11 +214,13 @@ void write_drop_series(const std::filesystem::path& path, const DropSeries& d) {
   write_table_csv(path, {{"time", "s"}, {"wall_force", "N"}, {"approach_velocity", "m/s"}}, rows);
 }
 
-void write_drop_result(const std::filesystem::path& path, const DropResult& r) {
+void write_drop_result(const std::filesystem::path& path, const DropResult& r, const Scene& scene) {
+  std::filesystem::remove(std::filesystem::path(path).replace_extension(".toml"));  // a stopped write leaves no record of another table
   write_table_csv(path,
                   {{"speed", "m/s"}, {"v_before", "m/s"}, {"v_after", "m/s"}, {"restitution", "1"}, {"peak_force", "N"},
                    {"duration", "s"}, {"gap", "m"}},
                   {{r.speed, r.v_before, r.v_after, r.restitution, r.peak_force, r.duration, r.gap}});
+  write_drop_record(path, scene);
 }
 
 }  // namespace bagdem

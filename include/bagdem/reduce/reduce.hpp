@@ -136,7 +136,8 @@ std::string describe_reduced(const std::vector<ReducedRow>& rows);
 // The restitution three ways per row (per impact, Eq. 19a, drop test) and how far they disagree.
 std::string describe_restitution(const std::vector<ReducedRow>& rows);
 // When out_dir/drop_result.csv exists (bagdem drop), sets e_drop of every row and rewrites
-// out_dir/reduced.csv.
-void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir);
+// out_dir/reduced.csv; a drop test of another case than `scene`, or an edited one, is refused
+// (reduce/drop_record.hpp).
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir, const Scene& scene);
 
 }  // namespace bagdem

@@ -52,6 +52,6 @@ struct DropResult {
 DropResult run_drop_test(const Scene& scene, double speed, const std::filesystem::path& out_dir, bool quiet);
 void write_drop_series(const std::filesystem::path& path, const DropSeries& series);
 // drop_result.csv: the figures above, one row (read by `bagdem reduce`).
-void write_drop_result(const std::filesystem::path& path, const DropResult& result);
+void write_drop_result(const std::filesystem::path& path, const DropResult& result, const Scene& scene);
 
 }  // namespace bagdem

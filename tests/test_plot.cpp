@@ -328,6 +328,27 @@ TEST(Plot, EnsembleStudyWritesWhereOutSays) {
   EXPECT_EQ(pngs_in_study, 0);
 }
 
+// A figure is written only over a figure of tools/plot: a file of the user's under a figure's name
+// is refused (exit 2) before any figure is written, and stays; plotting again replaces its own.
+TEST(Plot, AFileOfTheUsersUnderAFiguresNameStays) {
+  TempDir dir;
+  const fs::path run = dir.path / "run", figures = dir.path / "figures";
+  fs::create_directories(run);
+  write_run_tables(run);
+  fs::create_directories(figures);
+  std::ofstream(figures / "response.png") << "my own figure\n";
+  const CmdResult r = run_plot({run.string(), "--out", figures.string()}, dir.path);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("response.png: holds a file that is not a figure of tools/plot"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(figures / "response.png"), "my own figure\n");
+  EXPECT_FALSE(fs::exists(figures / "reduced.png")) << "nothing is written";
+  fs::remove(figures / "response.png");
+  ASSERT_EQ(run_plot({run.string(), "--out", figures.string()}, dir.path).code, 0);
+  const CmdResult again = run_plot({run.string(), "--out", figures.string()}, dir.path);
+  EXPECT_EQ(again.code, 0) << again.err;
+  for (const auto& e : fs::directory_iterator(figures)) EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
+}
+
 TEST(Plot, BadInputExitsWithTwoAndSaysWhy) {
   struct Case {
     std::string what;

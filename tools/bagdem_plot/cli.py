@@ -47,15 +47,40 @@ def main(argv):
     plot_design(a.dir, out_dir, figures)
     if not figures:
         raise BadInput(f"{a.dir}: no figure drawn: its tables have no rows to plot")
+    for _, path in figures:  # before anything is written: a file of the user's under a figure's name stays
+        refuse_other_file(path)
     try:
         os.makedirs(out_dir, exist_ok=True)
     except OSError as e:
         raise OSError(f"--out {out_dir}: cannot create the directory: {e.strerror}") from e
     for fig, path in figures:
-        fig.savefig(path, dpi=DPI)
+        # Written whole under a temporary name, then renamed: a stopped plot leaves the earlier figure.
+        part = path + ".part.png"
+        fig.savefig(part, dpi=DPI, metadata={"Software": SOFTWARE})
+        os.replace(part, path)
         plt().close(fig)
         print(path)
     return 0
+
+
+SOFTWARE = "bagdem tools/plot"
+
+
+def refuse_other_file(path):
+    """A figure is written only over a figure tools/plot wrote: a PNG whose Software text is tools/plot's,
+    or matplotlib's default (the figures of tools/plot before it named itself); anything else (a file of
+    the user's, another program's image, a directory) is bad input."""
+    if not os.path.lexists(path):
+        return
+    ours = False
+    if os.path.isfile(path):
+        with open(path, "rb") as f:
+            head = f.read(4096)
+        ours = head.startswith(b"\x89PNG\r\n\x1a\n") and (b"tEXtSoftware\x00" + SOFTWARE.encode() in head or
+                                                       b"tEXtSoftware\x00Matplotlib" in head)
+    if not ours:
+        raise BadInput(f"{path}: holds a file that is not a figure of tools/plot (a file of yours, or another program's), "
+                       "which it would replace: give another --out, or move that file away")
 
 
 def run(argv):

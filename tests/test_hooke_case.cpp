@@ -256,7 +256,8 @@ TEST_F(HookeCase, CheckRunDropReduceComparePeaksExportModes) {
            {{"export", out, "--to", (fs::path(out) / "notes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"},
            {{"export", out, "--to", (fs::path(out) / "measured").string(), "--formats", "csv"},
             "holds a file that is not an export bagdem wrote (export.csv)"},
-           {{"export", out, "--to", (table.parent_path() / "modes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"}}) {
+           {{"export", out, "--to", (table.parent_path() / "modes").string()}, "holds a file that is not an export bagdem wrote (export.csv)"},
+           {{"export", out, "--to", (mine / "x").string()}, "which is a file, not a directory"}}) {
     const CmdResult r = cli(args);
     EXPECT_EQ(r.code, 2) << args[0] << " " << args.back() << ": " << r.err;
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;

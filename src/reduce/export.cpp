@@ -199,6 +199,10 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
   }
   check_reduced_table(in, t, known, cols, descriptions);
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
+  std::error_code ec;
+  for (fs::path up = base.parent_path(); !up.empty() && up != up.parent_path(); up = up.parent_path())
+    if (fs::exists(up, ec) && !fs::is_directory(up, ec))
+      throw InputError(to.empty() ? "out" : "--to", "", base.string(), "lies under " + up.string() + ", which is a file, not a directory: give another path");
   for (const std::string& f : formats)
     check_output_target(base.string() + "." + f, to.empty() ? "out" : "--to", earlier_export, "an export bagdem wrote (export." + f + ")");
   if (!base.parent_path().empty()) fs::create_directories(base.parent_path());

@@ -35,6 +35,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/interrupt.hpp"
 #include "bagdem/io/output_lock.hpp"
+#include "bagdem/io/table_csv.hpp"
 #include "bagdem/study/study.hpp"
 #include "h5_read.hpp"
 #include "case_texts.hpp"
@@ -274,6 +275,26 @@ TEST(Study, GridRunsEveryPointAndMergesItsRows) {
   EXPECT_NE(json.find("\"excitation.amplitude (given)\": \"10 N\""), std::string::npos) << json.substr(0, 2000);
   EXPECT_NE(json.find("\"excitation.amplitude\": 10,"), std::string::npos) << json.substr(0, 2000);
   EXPECT_FALSE(fs::exists(fs::path(out) / "export.h5.part"));
+  // reduced.csv edited since the study merged it (one figure): export refuses it, naming study.h5's
+  // record, and the earlier export stays.
+  {
+    const fs::path reduced = fs::path(out) / "reduced.csv";
+    const std::string as_merged = bagdem::testing::slurp(reduced), exported = bagdem::testing::slurp(fs::path(out) / "export.csv");
+    const TextTable t = read_text_table(reduced);
+    const std::size_t col = t.find("M_eff");
+    ASSERT_LT(col, t.names.size());
+    std::string edited = as_merged;
+    const std::size_t line = edited.find('\n') + 1;  // the first row
+    std::size_t at = line;
+    for (std::size_t k = 0; k < col; ++k) at = edited.find(',', at) + 1;
+    edited.insert(at, "9");
+    std::ofstream(reduced) << edited;
+    const CmdResult refused = bagdem::testing::run_bagdem({"export", out}, d.path);
+    EXPECT_EQ(refused.code, 2) << refused.err;
+    EXPECT_NE(refused.err.find("differs from study.h5's /reduced at row 1"), std::string::npos) << refused.err;
+    EXPECT_EQ(bagdem::testing::slurp(fs::path(out) / "export.csv"), exported);
+    std::ofstream(reduced) << as_merged;
+  }
 
   // A point's table changed or removed since its run finished (point.done records each one's
   // fingerprint): the study run again refuses it, naming the point and the table, and its merged

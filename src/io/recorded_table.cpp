@@ -33,9 +33,9 @@ void require_recorded_table(const std::filesystem::path& csv, const std::filesys
     if (r < rows.size() || recorded.size() != rows.size())
       throw InputError(csv.string(), columns[c].name, "",
                        recorded.size() != rows.size()
-                           ? "has " + std::to_string(rows.size()) + " rows where results.h5's /" + group + " has " + std::to_string(recorded.size()) +
+                           ? "has " + std::to_string(rows.size()) + " rows where " + h5.filename().string() + "'s /" + group + " has " + std::to_string(recorded.size()) +
                                  ": not this run's table (run it again)"
-                           : "differs from results.h5's /" + group + " at row " + std::to_string(r + 1) +
+                           : "differs from " + h5.filename().string() + "'s /" + group + " at row " + std::to_string(r + 1) +
                                  ": the table was edited or is another run's (run it again)");
   }
 }

@@ -15,6 +15,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/json.hpp"
+#include "bagdem/io/recorded_table.hpp"
 #include "bagdem/io/table_csv.hpp"
 #include "../io/h5.hpp"
 
@@ -169,6 +170,33 @@ bool earlier_export(const fs::path& path, const std::string& head) {
   return has;
 }
 
+// reduced.csv as its run or study recorded it (results.h5's or study.h5's /reduced), where there is
+// that record: an edited table is refused, not exported. The reduced figures only: not a study's
+// inputs, not the restitution's columns (reduce attaches a drop test's e after the run).
+void require_as_recorded(const fs::path& dir, const fs::path& csv, const TextTable& t) {
+  for (const char* name : {"results.h5", "study.h5"}) {
+    const fs::path h5 = dir / name;
+    if (!fs::exists(h5)) continue;
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    std::vector<TableColumn> cols;
+    {
+      const hid_t f = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      if (f < 0) throw InputError(h5.string(), "", "", "cannot be read: a damaged record of " + csv.string());
+      const bool has = H5Lexists(f, "/reduced", H5P_DEFAULT) > 0;
+      for (std::size_t k = 0; has && k < t.names.size(); ++k) {
+        const std::string& n = t.names[k];
+        if (t.units[k].empty() || t.units[k] == "text" || n == "e_drop" || n == "e" || n == "e_se" || n == "e_ci95") continue;
+        // A study's inputs (case keys, given and in SI under one name) are not figures of the run.
+        if (n.find('/') == std::string::npos && n.find('.') == std::string::npos && H5Lexists(f, ("/reduced/" + n).c_str(), H5P_DEFAULT) > 0)
+          cols.push_back({t.names[k].c_str(), t.units[k].c_str()});
+      }
+      H5Fclose(f);
+    }
+    if (!cols.empty()) require_recorded_table(csv, h5, "reduced", cols);
+    return;
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats) {
@@ -198,6 +226,7 @@ std::vector<std::string> export_reduced(const std::string& dir, const std::strin
     if (!is_known(t.names[k]) && !raw) cols.push_back(k), descriptions.push_back("study input");
   }
   check_reduced_table(in, t, known, cols, descriptions);
+  require_as_recorded(dir, in, t);
   const fs::path base = to.empty() ? fs::path(dir) / "export" : fs::path(to);
   std::error_code ec;
   for (fs::path up = base.parent_path(); !up.empty() && up != up.parent_path(); up = up.parent_path())

@@ -319,9 +319,15 @@ TEST(Study, GridRunsEveryPointAndMergesItsRows) {
   EXPECT_NE(refused.err.find("summary.json is gone"), std::string::npos) << refused.err;
   EXPECT_EQ(bagdem::testing::slurp(fs::path(out) / "sweep.csv"), merged);
   std::ofstream(summary) << own_summary;
+  ASSERT_TRUE(fs::exists(fs::path(out) / "export.csv"));
   const CmdResult merges = sweep(d, again);
   EXPECT_EQ(merges.code, 0) << merges.err;
   EXPECT_EQ(bagdem::testing::slurp(fs::path(out) / "sweep.csv"), merged);
+  // The earlier export goes with the earlier tables (it was left beside new ones, stale).
+  for (const char* f : {"export.csv", "export.json", "export.h5"}) {
+    EXPECT_FALSE(fs::exists(fs::path(out) / f)) << f;
+    EXPECT_NE(merges.err.find(std::string("/") + f + ": an export of the earlier tables"), std::string::npos) << merges.err;
+  }
 }
 
 // A study and a run each refuse the other's directory, and a study does not clear a point's directory

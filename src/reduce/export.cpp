@@ -8,7 +8,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -198,6 +200,21 @@ void require_as_recorded(const fs::path& dir, const fs::path& csv, const TextTab
 }
 
 }  // namespace
+
+void remove_earlier_export(const std::string& dir) {
+  for (const char* f : {"export.csv", "export.json", "export.h5"}) {
+    const fs::path path = fs::path(dir) / f;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) continue;
+    std::ifstream in(path, std::ios::binary);
+    std::string head(512, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    in.close();
+    if (earlier_export(path, head) && fs::remove(path, ec))
+      std::fprintf(stderr, "removed %s: an export of the earlier tables (bagdem export makes it again)\n", path.c_str());
+  }
+}
 
 std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats) {
   const fs::path in = fs::path(dir) / "reduced.csv";

@@ -69,7 +69,7 @@ inline constexpr const char* kSweepPartial = "sweep.partial.csv";
 inline constexpr const char* kReducedPartial = "reduced.partial.csv";
 
 inline constexpr const char* kDerivedTables[] = {"summary.json", "reduced.csv", "compare.csv", "peaks.csv",
-                                                 "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv",
+                                                 "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv", "drop_result.toml",
                                                  kSweepPartial, kReducedPartial,
                                                  "export.csv", "export.json", "export.h5",
                                                  "results.failed.h5", "results.failed.xmf", "sweep.failed.csv",

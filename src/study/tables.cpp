@@ -14,6 +14,7 @@
 
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/table_csv.hpp"
+#include "bagdem/reduce/export.hpp"
 #include "bagdem/reduce/interval.hpp"
 #include "bagdem/study/study.hpp"
 #include "bagdem/units.hpp"
@@ -260,6 +261,7 @@ void remove_merged_tables(const Plan& plan) {
     }
   fs::remove(out / "study.h5");
   fs::remove(out / "study.h5.part");
+  remove_earlier_export(out.string());
 }
 
 }  // namespace bagdem::study

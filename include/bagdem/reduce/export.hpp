@@ -26,4 +26,9 @@ const std::vector<ExportColumn>& export_columns();
 // paths written. Throws InputError naming the file when dir/reduced.csv is missing or malformed.
 std::vector<std::string> export_reduced(const std::string& dir, const std::string& to, const std::vector<std::string>& formats);
 
+// Removes dir/export.csv, .json and .h5 where they are an earlier export (never a file of the
+// user's), and says so: a study that runs again makes new tables, and an export of the earlier
+// ones would be left beside them, stale.
+void remove_earlier_export(const std::string& dir);
+
 }  // namespace bagdem

@@ -242,7 +242,8 @@ void write_study_h5(const std::string& path, const std::vector<std::pair<std::st
 // {"sweep.csv (6 rows)", "study.h5"}.
 std::vector<std::string> merge_tables(const Plan& plan, const std::vector<bool>& done);
 
-// Removes merged tables of an earlier sweep in OUT, so that none outlives the points it summarised.
+// Removes merged tables of an earlier sweep in OUT, so that none outlives the points it summarised,
+// and an earlier export of them (reduce/export.hpp, remove_earlier_export).
 void remove_merged_tables(const Plan& plan);
 
 // ---- mpi.cpp: the ranks of an MPI launch ---------------------------------------------------------

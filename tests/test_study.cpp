@@ -590,6 +590,11 @@ TEST(Study, FailedPointIsReportedAndTheOthersFinish) {
   EXPECT_EQ(m.at(2, "receptance_re [m/N]"), "");
   EXPECT_EQ(m.at(0, "status"), "done");
   EXPECT_EQ(m.at(4, "status"), "done");
+  // Exported: refused at the failed point's row, said as a point that did not finish (it read "the
+  // table is damaged").
+  const CmdResult ex = bagdem::testing::run_bagdem({"export", out}, d.path);
+  EXPECT_EQ(ex.code, 2) << ex.err;
+  EXPECT_NE(ex.err.find("'row 3, status' = failed: is a point that did not finish"), std::string::npos) << ex.err;
 }
 
 // The studies shipped in cases/studies: each plans and loads every point as `bagdem sweep` would

@@ -139,6 +139,13 @@ void check_reduced_table(const fs::path& in, const TextTable& t, const std::vect
       throw InputError(in.string(), c.name, "", "is not a column: the table is damaged or not one bagdem wrote (run or reduce again)");
     cols.push_back(k), descriptions.push_back(c.description);
   }
+  // A study's row of a point that did not finish has no figures: said as such, not as damage.
+  if (const std::size_t status = t.find("status"); status < t.names.size())
+    for (std::size_t r = 0; r < t.rows.size(); ++r)
+      if (t.rows[r][status] != "done")
+        throw InputError(in.string(), "row " + std::to_string(r + 1) + ", status", t.rows[r][status],
+                         "is a point that did not finish: its figures are not there. Run the study again (its point's log.txt says "
+                         "why it failed), then export");
   for (std::size_t k = 0; k < t.names.size(); ++k) {
     if (t.units[k].empty() || t.units[k] == "text") continue;
     for (std::size_t r = 0; r < t.rows.size(); ++r)

@@ -56,15 +56,17 @@ TEST(RunOutputs, RerunRemovesTheEarlierRunsTables) {
   ASSERT_EQ(c.cli("run").code, 0);
   ASSERT_TRUE(fs::exists(c.out / "reduced.csv"));
   // Tables other commands and other kinds of run leave in the same directory, and a file of the user's.
-  for (const char* f : {"compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv"})
+  for (const char* f : {"compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv", "drop_result.toml"})
     std::ofstream(c.out / f) << "stale\n";
   std::ofstream(c.out / "notes.txt") << "mine\n";
   // Under two cycles after settling: the rerun reduces nothing and writes no reduced.csv.
   const CmdResult r = c.cli("run", {"--set", "simulation.duration=\"0.05 s\""});
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("reduction skipped: the run measured"), std::string::npos) << "said, not silent: " << r.err;
+  EXPECT_NE(r.err.find("needs at least 2: no reduced.csv"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(c.out / "summary.json"));
   EXPECT_TRUE(fs::exists(c.out / "results.h5"));
-  for (const char* f : {"reduced.csv", "compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv"})
+  for (const char* f : {"reduced.csv", "compare.csv", "peaks.csv", "sweep.csv", "bare_curve.csv", "drop.csv", "drop_result.csv", "drop_result.toml"})
     EXPECT_FALSE(fs::exists(c.out / f)) << f << " of the earlier run is still there";
   EXPECT_EQ(slurp(c.out / "notes.txt"), "mine\n") << "a file bagdem does not write was touched";
 }

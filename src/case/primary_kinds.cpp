@@ -303,7 +303,10 @@ std::shared_ptr<Primary::SteppedSine> stepped_sine(const CaseReader& in, const P
   if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end()) {
     const char* key = has_list ? "excitation.frequencies" : has_band ? "excitation.band" : "excitation.around_modes";
     in.fail(key, "gives " + short_text(*twice) + " Hz twice: a sweep visits each frequency once" +
-                     (has_band ? " (a band of lo = hi has one point: points = 1)" : has_modes ? " (name each mode once)" : ""));
+                     (has_band ? " (a band of lo = hi has one point: points = 1)"
+                      : has_modes ? " (a mode named twice, or two modes' bands that share a frequency: name each mode once, or "
+                                    "narrow excitation.span so that the bands do not meet)"
+                                  : ""));
   }
   sw->frequencies = f;
   sw->tolerance = in.quantity("excitation.steady_tolerance", dim::none, 0.01);

@@ -19,13 +19,17 @@ void check_output_target(const std::filesystem::path& path, const std::string& o
   if (!fs::is_regular_file(st))
     throw InputError(option, "", path.string(), std::string("is ") + (fs::is_directory(st) ? "a directory" : "not a regular file") +
                                                     ": give the path of the file to write (" + kind + ")");
+  if (!ours(path, file_head(path)))
+    throw InputError(option, "", path.string(), "holds a file that is not " + kind + " (another command's results, or a file of yours), "
+                                                "which it would replace: give another path, or move that file away");
+}
+
+std::string file_head(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
   std::string head(512, '\0');
   f.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(f.gcount()));
-  if (!ours(path, head))
-    throw InputError(option, "", path.string(), "holds a file that is not " + kind + " (another command's results, or a file of yours), "
-                                                "which it would replace: give another path, or move that file away");
+  return head;
 }
 
 bool is_bagdem_table_head(const std::string& head) {

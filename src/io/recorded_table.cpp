@@ -27,7 +27,7 @@ void require_recorded_table(const std::filesystem::path& csv, const std::filesys
     const std::vector<double> recorded = h5::read_doubles(ds, name, ok);
     std::size_t r = 0;  // the first row that differs
     while (r < rows.size() && r < recorded.size() &&
-           (std::abs(rows[r][c] - recorded[r]) <= 1e-11 * std::max(std::abs(rows[r][c]), std::abs(recorded[r])) ||
+           (rows[r][c] == recorded[r] || std::abs(rows[r][c] - recorded[r]) <= 1e-11 * std::max(std::abs(rows[r][c]), std::abs(recorded[r])) ||
             (std::isnan(rows[r][c]) && std::isnan(recorded[r]))))
       ++r;
     if (r < rows.size() || recorded.size() != rows.size())

@@ -9,6 +9,7 @@
 #include "bagdem/error.hpp"
 #include "bagdem/fingerprint.hpp"
 #include "bagdem/io/atomic_file.hpp"
+#include "bagdem/reduce/reduce.hpp"
 
 namespace bagdem {
 
@@ -18,9 +19,9 @@ namespace {
 fs::path record_of(const fs::path& csv) { return fs::path(csv).replace_extension(".toml"); }
 }  // namespace
 
-void write_drop_record(const fs::path& csv, const Scene& scene) {
-  const auto print = file_fingerprint(csv);
-  if (!print) throw InputError(csv.string(), "", "", "cannot be read back");
+void write_drop_record(const fs::path& table, const fs::path& csv, const Scene& scene) {
+  const auto print = file_fingerprint(table);
+  if (!print) throw InputError(table.string(), "", "", "cannot be read back");
   std::ostringstream s;
   s << "# The drop test of drop_result.csv (bagdem drop): the fingerprint of that table as written, and the case it\n"
        "# was run with, as resolved. bagdem reduce attaches its e only to a run of this case (docs/outputs.md).\n"
@@ -43,7 +44,7 @@ bool check_drop_record(const fs::path& csv, const Scene& scene) {
   if (*print != file_fingerprint(csv).value_or("(unreadable)"))
     throw InputError(csv.string(), "", "", "is not the table bagdem drop wrote (" + record.string() + " records " + *print +
                                                "): it was edited or damaged since. Run bagdem drop again");
-  const std::string diff = case_differences(*resolved, scene.resolved, {"output.skip_cycles"});
+  const std::string diff = case_differences(*resolved, scene.resolved, kReducedAtAnyCycles);
   if (!diff.empty())
     throw InputError(csv.string(), "", "", "is the drop test of another case than this run's (" + diff +
                                                "): run bagdem drop with the run's case and --set options, or remove it and its " +

@@ -1,5 +1,6 @@
 // `bagdem export` (reduce/export.hpp).
 #include "bagdem/reduce/export.hpp"
+#include "bagdem/reduce/reduce.hpp"
 
 #include <hdf5.h>
 
@@ -165,9 +166,13 @@ bool earlier_export(const fs::path& path, const std::string& head) {
     if (name == std::string(own) + ".csv" || name == std::string(own) + ".json") return false;
   // An export's table: the reduced quantities (M_eff, Cb_over_Mbw, ...) without a run's raw columns.
   // A table of another kind whose head has units ("frequency [Hz],amplitude [m]") is not one.
+  // The whole first line (a study's inputs come first: the head's first bytes may not reach them).
   if (path.extension() == ".csv") {
-    const std::string line = "," + head.substr(0, head.find('\n'));
-    return is_bagdem_table_head(head) && line.find(",M_eff [") != std::string::npos && line.find(",Cb_over_Mbw [") != std::string::npos &&
+    std::ifstream in(path, std::ios::binary);
+    std::string first;
+    std::getline(in, first);
+    const std::string line = "," + first;
+    return is_bagdem_table_head(first) && line.find(",M_eff [") != std::string::npos && line.find(",Cb_over_Mbw [") != std::string::npos &&
            line.find(",displacement_re [") == std::string::npos;
   }
   if (path.extension() == ".json") return head.rfind("{\n  \"source\": ", 0) == 0;
@@ -194,7 +199,9 @@ void require_as_recorded(const fs::path& dir, const fs::path& csv, const TextTab
       const bool has = H5Lexists(f, "/reduced", H5P_DEFAULT) > 0;
       for (std::size_t k = 0; has && k < t.names.size(); ++k) {
         const std::string& n = t.names[k];
-        if (t.units[k].empty() || t.units[k] == "text" || n == "e_drop" || n == "e" || n == "e_se" || n == "e_ci95") continue;
+        if (t.units[k].empty() || t.units[k] == "text" ||
+            std::any_of(std::begin(kRestitutionColumns), std::end(kRestitutionColumns), [&](const char* e) { return n == e; }))
+          continue;
         // A study's inputs (case keys, given and in SI under one name) are not figures of the run.
         if (n.find('/') == std::string::npos && n.find('.') == std::string::npos && H5Lexists(f, ("/reduced/" + n).c_str(), H5P_DEFAULT) > 0)
           cols.push_back({t.names[k].c_str(), t.units[k].c_str()});
@@ -213,12 +220,7 @@ void remove_earlier_export(const std::string& dir) {
     const fs::path path = fs::path(dir) / f;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) continue;
-    std::ifstream in(path, std::ios::binary);
-    std::string head(512, '\0');
-    in.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(in.gcount()));
-    in.close();
-    if (earlier_export(path, head) && fs::remove(path, ec))
+    if (earlier_export(path, file_head(path)) && fs::remove(path, ec))
       std::fprintf(stderr, "removed %s: an export of the earlier tables (bagdem export makes it again)\n", path.c_str());
   }
 }

@@ -318,7 +318,7 @@ void require_case_of_run(const fs::path& h5, const Scene& scene, const char* mis
   const ResultsReader in{h5.string(), h5::H5(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose)};
   if (in.file < 0) throw InputError(h5.string(), "", "", "is not a readable HDF5 file");
   // output.skip_cycles chooses what is reduced, not what was run: it may differ.
-  const std::string diff = case_differences(in.text("resolved_config"), scene.resolved, {"output.skip_cycles"});
+  const std::string diff = case_differences(in.text("resolved_config"), scene.resolved, kReducedAtAnyCycles);
   if (!diff.empty())
     throw InputError(h5.string(), "resolved_config", "",
                      "the case differs from the one the run was made with (" + diff +
@@ -344,7 +344,7 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
             .has("/reduced")) {
       std::vector<TableColumn> measured;
       for (const TableColumn& c : kColumns)
-        if (std::string_view(c.name) != "e_drop" && std::string_view(c.name) != "e" && std::string_view(c.name) != "e_se" && std::string_view(c.name) != "e_ci95")
+        if (std::none_of(std::begin(kRestitutionColumns), std::end(kRestitutionColumns), [&](const char* e) { return std::string_view(c.name) == e; }))
           measured.push_back(c);
       require_recorded_table(csv, out / "results.h5", "reduced", measured);
     }
@@ -425,11 +425,17 @@ std::string describe_restitution(const std::vector<ReducedRow>& rows) {
   return o.str();
 }
 
-void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir, const Scene& scene) {
+bool check_drop_result(const std::string& out_dir, const Scene& scene) {
   const fs::path p = fs::path(out_dir) / "drop_result.csv";
-  if (!fs::exists(p)) return;
+  if (!fs::exists(p)) return false;
   if (!check_drop_record(p, scene))
     std::fprintf(stderr, "warning: %s has no drop_result.toml (a drop test of an earlier bagdem): its e is attached unchecked\n", p.c_str());
+  return true;
+}
+
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir) {
+  const fs::path p = fs::path(out_dir) / "drop_result.csv";
+  if (!fs::exists(p)) return;
   const std::vector<std::vector<double>> v = read_table_csv(p, {{"restitution", "1"}});
   if (v.empty()) return;
   for (ReducedRow& r : rows) {

@@ -214,13 +214,17 @@ void write_drop_series(const std::filesystem::path& path, const DropSeries& d) {
   write_table_csv(path, {{"time", "s"}, {"wall_force", "N"}, {"approach_velocity", "m/s"}}, rows);
 }
 
+// The table is written under a temporary name, its record (reduce/drop_record.hpp) beside the final
+// name, then the table renamed: a write stopped between them leaves a record that refuses the table
+// there, never a table without its record.
 void write_drop_result(const std::filesystem::path& path, const DropResult& r, const Scene& scene) {
-  std::filesystem::remove(std::filesystem::path(path).replace_extension(".toml"));  // a stopped write leaves no record of another table
-  write_table_csv(path,
+  const std::filesystem::path part = path.string() + ".new";
+  write_table_csv(part,
                   {{"speed", "m/s"}, {"v_before", "m/s"}, {"v_after", "m/s"}, {"restitution", "1"}, {"peak_force", "N"},
                    {"duration", "s"}, {"gap", "m"}},
                   {{r.speed, r.v_before, r.v_after, r.restitution, r.peak_force, r.duration, r.gap}});
-  write_drop_record(path, scene);
+  write_drop_record(part, path, scene);
+  std::filesystem::rename(part, path);
 }
 
 }  // namespace bagdem

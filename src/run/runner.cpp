@@ -12,6 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "bagdem/case/overrides.hpp"
 #include "bagdem/error.hpp"
 #include "bagdem/io/atomic_file.hpp"
 #include "bagdem/io/json.hpp"
@@ -404,11 +405,8 @@ void RunLoop::finish(double wall, std::uint64_t first_step, std::size_t particle
       rep_.reduce_message = e.what();
     }
   } else if (!scene_.primary && at_.f_drive > 0) {
-    char measured[32];
-    std::snprintf(measured, sizeof measured, "%.3g", cycles);
-    rep_.reduce_message = std::string("the run measured ") + measured +
-                          " cycles of the drive after settling, the motion's ramp and output.skip_cycles, and the reduction needs at "
-                          "least 2: no reduced.csv. Give a longer simulation.duration";
+    rep_.reduce_message = "the run measured " + short_text(cycles) + " cycles of the drive after settling, the motion's ramp and "
+                          "output.skip_cycles, and the reduction needs at least 2: no reduced.csv. Give a longer simulation.duration";
   }
 }
 

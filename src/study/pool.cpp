@@ -199,12 +199,26 @@ void note_stopped(const Plan& plan, const Child& c, int sig) {
       << " with the study; the same command runs it afresh (its checkpoint and partial results are not used)\n";
 }
 
-// The study stopped by signal sig: its running points killed and reaped (one that had exited 0 by
-// then is finished, and kept: `finish`), each stopped point's log noted (note_stopped), and
+// The study stopped by signal sig: its running points let end for a moment, then killed, and reaped
+// (one that exited 0 by then is finished, and kept: `finish`), each stopped point's log noted (note_stopped), and
 // Interrupted thrown, saying what was kept (done: the points done by then).
 [[noreturn]] void stop_points(const Plan& plan, int sig, std::vector<Child>& running, std::vector<Child>& stopped, const std::size_t& done,
                               std::size_t total, const std::function<void(const Child&, int)>& finish) {
   std::vector<std::pair<Child, int>> ended;  // finished after the kill and reap, which never throw
+  // A run that ends on its own within a moment of the signal (it was finishing, or its own guard
+  // stops it) is let end: one that exits 0 is kept. Then the rest are killed.
+  for (const auto until = Clock::now() + std::chrono::milliseconds(200); !running.empty() && Clock::now() < until;) {
+    for (std::size_t k = 0; k < running.size();) {
+      int st = 0;
+      if (waitpid(running[k].pid, &st, WNOHANG) == running[k].pid) {
+        ended.emplace_back(running[k], st);
+        running.erase(running.begin() + static_cast<long>(k));
+      } else {
+        ++k;
+      }
+    }
+    if (!running.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   kill_and_reap(running, [&](const Child& c, int st) { ended.emplace_back(c, st); });
   for (const auto& [c, st] : ended)
     if (st >= 0 && WIFEXITED(st) && WEXITSTATUS(st) == 0) finish(c, st);

@@ -56,8 +56,12 @@ def main(argv):
     for fig, path in figures:
         # Written whole under a temporary name, then renamed: a stopped plot leaves the earlier figure.
         part = path + ".part.png"
-        fig.savefig(part, dpi=DPI, metadata={"Software": SOFTWARE})
-        os.replace(part, path)
+        try:
+            fig.savefig(part, dpi=DPI, metadata={"Software": SOFTWARE})
+            os.replace(part, path)
+        finally:
+            if os.path.exists(part):
+                os.remove(part)
         plt().close(fig)
         print(path)
     return 0
@@ -67,20 +71,20 @@ SOFTWARE = "bagdem tools/plot"
 
 
 def refuse_other_file(path):
-    """A figure is written only over a figure tools/plot wrote: a PNG whose Software text is tools/plot's,
-    or matplotlib's default (the figures of tools/plot before it named itself); anything else (a file of
-    the user's, another program's image, a directory) is bad input."""
+    """A figure is written only over a figure tools/plot wrote, a PNG whose Software text is tools/plot's;
+    anything else (a file of the user's, a figure of theirs or of a tools/plot before it named itself,
+    a link, a directory) is bad input."""
     if not os.path.lexists(path):
         return
     ours = False
-    if os.path.isfile(path):
+    if os.path.isfile(path) and not os.path.islink(path):
         with open(path, "rb") as f:
             head = f.read(4096)
-        ours = head.startswith(b"\x89PNG\r\n\x1a\n") and (b"tEXtSoftware\x00" + SOFTWARE.encode() in head or
-                                                       b"tEXtSoftware\x00Matplotlib" in head)
+        ours = head.startswith(b"\x89PNG\r\n\x1a\n") and b"tEXtSoftware\x00" + SOFTWARE.encode() in head
     if not ours:
-        raise BadInput(f"{path}: holds a file that is not a figure of tools/plot (a file of yours, or another program's), "
-                       "which it would replace: give another --out, or move that file away")
+        raise BadInput(f"{path}: holds a file that is not a figure of tools/plot (a file of yours, another program's, or a "
+                       "figure of a tools/plot before figures were marked), which it would replace: give another --out, or "
+                       "move that file away")
 
 
 def run(argv):

@@ -21,4 +21,8 @@ void check_output_target(const std::filesystem::path& path, const std::string& o
 // A CSV table's head as bagdem writes them: a first line of `name [unit]` entries.
 bool is_bagdem_table_head(const std::string& head);
 
+// A file's first 512 bytes (fewer if it is shorter; empty if it cannot be read): what
+// check_output_target shows its `ours`.
+std::string file_head(const std::filesystem::path& path);
+
 }  // namespace bagdem

@@ -8,8 +8,9 @@
 
 namespace bagdem {
 
-// Writes csv's record (csv written first): scene.resolved and csv's fingerprint.
-void write_drop_record(const std::filesystem::path& csv, const Scene& scene);
+// Writes the record of `csv`: scene.resolved and the fingerprint of `table`, the table's bytes (written
+// first, under a temporary name, and renamed to csv after the record).
+void write_drop_record(const std::filesystem::path& table, const std::filesystem::path& csv, const Scene& scene);
 
 // Refuses (InputError) a drop_result.csv whose record says it is of another case than `scene`
 // (output.skip_cycles may differ, as for results.h5) or that changed since it was written. Returns

@@ -131,13 +131,23 @@ std::vector<ReducedRow> reduce_run(const Scene& scene, const std::string& out_di
 // `missing` when there is no results.h5.
 void require_case_of_run(const std::filesystem::path& h5, const Scene& scene, const char* missing);
 
+// The keys a reduction may give otherwise than its run (output.skip_cycles chooses what is reduced,
+// not what was run): for results.h5 and a drop test alike.
+inline const std::vector<std::string> kReducedAtAnyCycles = {"output.skip_cycles"};
+
+// The restitution's columns: reduce attaches a drop test's e after the run, so they are not the
+// run's record (results.h5's /reduced) and are left out of the checks against it.
+inline constexpr const char* kRestitutionColumns[] = {"e_drop", "e", "e_se", "e_ci95"};
+
 // A terminal table of the rows.
 std::string describe_reduced(const std::vector<ReducedRow>& rows);
 // The restitution three ways per row (per impact, Eq. 19a, drop test) and how far they disagree.
 std::string describe_restitution(const std::vector<ReducedRow>& rows);
-// When out_dir/drop_result.csv exists (bagdem drop), sets e_drop of every row and rewrites
-// out_dir/reduced.csv; a drop test of another case than `scene`, or an edited one, is refused
-// (reduce/drop_record.hpp).
-void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir, const Scene& scene);
+// Whether out_dir holds a drop test (drop_result.csv) of `scene`'s case: one of another case, or an
+// edited one, is refused (InputError; reduce/drop_record.hpp), before anything is written.
+bool check_drop_result(const std::string& out_dir, const Scene& scene);
+// When out_dir/drop_result.csv exists (bagdem drop; checked by check_drop_result), sets e_drop of
+// every row and rewrites out_dir/reduced.csv.
+void attach_drop_result(std::vector<ReducedRow>& rows, const std::string& out_dir);
 
 }  // namespace bagdem

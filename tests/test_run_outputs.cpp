@@ -111,6 +111,14 @@ TEST(RunOutputs, ReduceRefusesAnotherCaseThanTheRun) {
   const CmdResult same = c.cli("reduce");
   EXPECT_EQ(same.code, 0) << same.err;
   EXPECT_EQ(slurp(c.out / "reduced.csv"), reduced);
+  // A drop test of another case in the directory is refused before reduce rewrites reduced.csv (a
+  // harmonic run's is rewritten by the reduction itself).
+  ASSERT_EQ(c.cli("drop", {"--threads", "1", "--set", "interactions.default.restitution=0.9"}).code, 0);
+  const CmdResult other_drop = c.cli("reduce");
+  EXPECT_EQ(other_drop.code, 2) << other_drop.err;
+  EXPECT_NE(other_drop.err.find("is the drop test of another case"), std::string::npos) << other_drop.err;
+  EXPECT_EQ(slurp(c.out / "reduced.csv"), reduced) << "a refused reduce rewrote reduced.csv";
+  fs::remove(c.out / "drop_result.csv"), fs::remove(c.out / "drop_result.toml");
   // output.skip_cycles chooses the cycles reduced, not the run: another value reduces (fewer cycles).
   const CmdResult later = c.cli("reduce", {"--set", "output.skip_cycles=2"});
   EXPECT_EQ(later.code, 0) << later.err;

@@ -87,6 +87,15 @@ TEST(RunOutputs, ARunIntoADirectoryAnotherRunWritesIsRefused) {
     EXPECT_EQ(slurp(c.out / "results.h5"), before) << "the refused run touched results.h5";
     EXPECT_FALSE(fs::exists(c.out / "results.h5.part"));
     EXPECT_FALSE(fs::exists(c.out / "drop.csv"));
+    // Nor do the commands that read its record and write tables beside it (they paired an earlier
+    // record with the new run's tables).
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"reduce", c.dir.string()}, {"export", c.out.string()}}) {
+      const CmdResult r = run_bagdem(args, c.tmp.path);
+      EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+      EXPECT_NE(r.err.find("another bagdem run is writing to this output directory"), std::string::npos) << args[0] << ": " << r.err;
+    }
+    EXPECT_FALSE(fs::exists(c.out / "export.csv"));
   }
   EXPECT_EQ(c.cli("run", {"--set", "simulation.duration=\"0.05 s\""}).code, 0) << "the lock outlived its holder";
 }

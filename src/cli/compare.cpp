@@ -1,6 +1,7 @@
 // `bagdem compare`: a coupled sweep against the continuum model (command.hpp).
 #include "bagdem/case/load_case.hpp"
 #include "bagdem/error.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/compare.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "command.hpp"
@@ -24,6 +25,7 @@ int run_compare(Args& a) {
   refuse_several_dampers(s, "bagdem compare", "compares with the continuum model of one damper");
   if (!s.primary || !s.primary->stepped_sine)
     throw InputError(s.case_file, "excitation.kind", "", "compare needs a coupled stepped-sine sweep (a primary structure with excitation.kind = \"stepped-sine\")");
+  const std::optional<OutputLock> lock = lock_existing(a.out());  // not while a run writes there
   const continuum::Form f = a.form == "printed" ? continuum::Form::printed : continuum::Form::consistent;
   const std::vector<CompareRow> rows = compare_with_continuum(*s.primary, s.primary->amplitude, reduce_run(s, a.out()), f);
   write_compare_csv(std::filesystem::path(a.out()) / "compare.csv", rows);

@@ -1,4 +1,5 @@
 // `bagdem export`: a reduced table for FE and continuum codes (command.hpp).
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/export.hpp"
 #include "command.hpp"
 
@@ -15,6 +16,7 @@ CLI::App* add_export(CLI::App& app, Args& a) {
 }
 
 int run_export(Args& a) {
+  const std::optional<OutputLock> lock = lock_existing(a.out_dir);  // not while a run or a study writes there
   for (const std::string& p : export_reduced(a.out_dir, a.export_to, a.formats)) std::printf("wrote %s\n", p.c_str());
   return 0;
 }

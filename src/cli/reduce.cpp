@@ -1,5 +1,6 @@
 // `bagdem reduce`: a finished run reduced to the effective parameters (command.hpp).
 #include "bagdem/case/load_case.hpp"
+#include "bagdem/io/output_lock.hpp"
 #include "bagdem/reduce/reduce.hpp"
 #include "command.hpp"
 
@@ -19,6 +20,7 @@ int run_reduce(Args& a) {
   apply_fidelity(a);
   const Scene s = load_case(a.case_dir, a.sets);
   refuse_several_dampers(s, "bagdem reduce", "reduces the case's own damper's results.h5 (the others' are in OUT/dampers)");
+  const std::optional<OutputLock> lock = lock_existing(a.out());  // not while a run writes there
   // A drop test of another case is refused before reduced.csv is written (a harmonic run's is rewritten).
   const bool drop = check_drop_result(a.out(), s);
   std::vector<ReducedRow> rows = reduce_run(s, a.out());

@@ -7,6 +7,7 @@
 // the study's own children (share_output_with_children).
 #pragma once
 #include <filesystem>
+#include <optional>
 
 namespace bagdem {
 
@@ -45,5 +46,15 @@ class OutputLock {
  private:
   int fd_ = -1;
 };
+
+// The lock of an output directory that a command reads and writes tables in (reduce, compare,
+// export): refused while a run or a study writes there, so that no table is made from a record
+// being replaced. None when the directory does not exist (the command then refuses by its own
+// message, and makes no directory).
+inline std::optional<OutputLock> lock_existing(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return std::nullopt;
+  return std::optional<OutputLock>(std::in_place, dir);
+}
 
 }  // namespace bagdem

@@ -194,7 +194,7 @@ void require_as_recorded(const fs::path& dir, const fs::path& csv, const TextTab
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     std::vector<TableColumn> cols;
     {
-      const hid_t f = H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      const h5::H5 f(H5Fopen(h5.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       if (f < 0) throw InputError(h5.string(), "", "", "cannot be read: a damaged record of " + csv.string());
       const bool has = H5Lexists(f, "/reduced", H5P_DEFAULT) > 0;
       for (std::size_t k = 0; has && k < t.names.size(); ++k) {
@@ -206,7 +206,6 @@ void require_as_recorded(const fs::path& dir, const fs::path& csv, const TextTab
         if (n.find('/') == std::string::npos && n.find('.') == std::string::npos && H5Lexists(f, ("/reduced/" + n).c_str(), H5P_DEFAULT) > 0)
           cols.push_back({t.names[k].c_str(), t.units[k].c_str()});
       }
-      H5Fclose(f);
     }
     if (!cols.empty()) require_recorded_table(csv, h5, "reduced", cols);
     return;
